@@ -1,0 +1,181 @@
+#include "core/assembly.h"
+
+#include "core/mesh.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace jetshell {
+
+std::vector<std::vector<int>> colorElements(const StencilTable& table, int numVertices) {
+  // usedColors[v] is a bit set (64 colours per word) of colours already taken by elements touching v.
+  std::vector<std::vector<std::uint64_t>> usedColors(static_cast<std::size_t>(numVertices));
+  std::vector<std::vector<int>> colors;
+  std::vector<std::uint64_t> taken;
+  for (int e = 0; e < table.size(); ++e) {
+    const int* ids = table.element(e);
+    taken.clear();
+    for (int k = 0; k < table.width; ++k) {
+      if (ids[k] < 0) continue;
+      const auto& u = usedColors[ids[k]];
+      if (taken.size() < u.size()) taken.resize(u.size(), 0);
+      for (std::size_t w = 0; w < u.size(); ++w) taken[w] |= u[w];
+    }
+    int color = 0;
+    for (std::size_t w = 0;; ++w) {
+      const std::uint64_t word = w < taken.size() ? taken[w] : 0;
+      if (word != ~std::uint64_t{0}) {
+        color = static_cast<int>(w) * 64 + __builtin_ctzll(~word);
+        break;
+      }
+    }
+    if (color >= static_cast<int>(colors.size())) colors.resize(color + 1);
+    colors[color].push_back(e);
+    for (int k = 0; k < table.width; ++k) {
+      if (ids[k] < 0) continue;
+      auto& u = usedColors[ids[k]];
+      const std::size_t w = static_cast<std::size_t>(color) / 64;
+      if (u.size() <= w) u.resize(w + 1, 0);
+      u[w] |= std::uint64_t{1} << (color % 64);
+    }
+  }
+  return colors;
+}
+
+int HessianAssembler::addStencils(const StencilTable& table) {
+  if (finalized_) throw std::logic_error("HessianAssembler::addStencils after finalize");
+  slots_.push_back(Slot{table, {}});
+  return static_cast<int>(slots_.size()) - 1;
+}
+
+void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedDof) {
+  const int n = numVertices;
+  const int ndof = 3 * n;
+  fixedDof_ = fixedDof.empty() ? std::vector<char>(static_cast<std::size_t>(ndof), 0) : fixedDof;
+  if (static_cast<int>(fixedDof_.size()) != ndof) throw std::invalid_argument("fixedDof has the wrong size");
+
+  // Vertex-block adjacency: for column vertex j, the row vertices i <= j it couples with (sorted, unique).
+  std::vector<std::vector<int>> rowsOf(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) rowsOf[j].push_back(j);
+  for (const Slot& s : slots_) {
+    const int w = s.table.width;
+    for (int e = 0; e < s.table.size(); ++e) {
+      const int* ids = s.table.element(e);
+      for (int a = 0; a < w; ++a) {
+        for (int b = 0; b < w; ++b) {
+          if (ids[a] < 0 || ids[b] < 0 || ids[a] > ids[b]) continue;
+          if (ids[a] >= n || ids[b] >= n) throw std::out_of_range("stencil vertex id out of range");
+          rowsOf[ids[b]].push_back(ids[a]);
+        }
+      }
+    }
+  }
+  std::vector<int> vertStart(static_cast<std::size_t>(n) + 1, 0);
+  for (int j = 0; j < n; ++j) {
+    auto& r = rowsOf[j];
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    r.shrink_to_fit();
+  }
+
+  // CSC upper triangle: column 3j+c holds rows 3i..3i+2 of each i < j, then rows 3j..3j+c.
+  std::vector<std::int64_t> outer(static_cast<std::size_t>(ndof) + 1, 0);
+  for (int j = 0; j < n; ++j) {
+    const std::int64_t offDiag = 3 * (static_cast<std::int64_t>(rowsOf[j].size()) - 1);
+    for (int c = 0; c < 3; ++c) outer[3 * j + c + 1] = offDiag + c + 1;
+  }
+  for (int d = 0; d < ndof; ++d) outer[d + 1] += outer[d];
+  if (outer[ndof] > std::numeric_limits<int>::max()) throw std::length_error("Hessian pattern exceeds 2^31 entries");
+  const int nnz = static_cast<int>(outer[ndof]);
+
+  matrix_ = Eigen::SparseMatrix<double>(ndof, ndof);
+  matrix_.resizeNonZeros(nnz);
+  int* outerPtr = matrix_.outerIndexPtr();
+  int* innerPtr = matrix_.innerIndexPtr();
+  for (int d = 0; d <= ndof; ++d) outerPtr[d] = static_cast<int>(outer[d]);
+  for (int j = 0; j < n; ++j) {
+    for (int c = 0; c < 3; ++c) {
+      int p = outerPtr[3 * j + c];
+      for (int i : rowsOf[j]) {
+        const int rmax = i == j ? c : 2;
+        for (int r = 0; r <= rmax; ++r) innerPtr[p++] = 3 * i + r;
+      }
+    }
+  }
+  diagonalIndex_.resize(static_cast<std::size_t>(ndof));
+  for (int d = 0; d < ndof; ++d) diagonalIndex_[d] = outerPtr[d + 1] - 1;
+
+  auto valueIndex = [&](int vi, int ci, int vj, int cj) -> std::int32_t {
+    // Entry (3vi+ci, 3vj+cj) with 3vi+ci <= 3vj+cj.
+    const auto& r = rowsOf[vj];
+    const int k = static_cast<int>(std::lower_bound(r.begin(), r.end(), vi) - r.begin());
+    return outerPtr[3 * vj + cj] + 3 * k + ci;
+  };
+
+  for (Slot& s : slots_) {
+    const int w = s.table.width;
+    const int m = 3 * w;
+    const std::size_t perElement = static_cast<std::size_t>(m) * (m + 1) / 2;
+    s.scatter.assign(perElement * static_cast<std::size_t>(s.table.size()), -1);
+    for (int e = 0; e < s.table.size(); ++e) {
+      const int* ids = s.table.element(e);
+      std::int32_t* out = s.scatter.data() + perElement * static_cast<std::size_t>(e);
+      std::size_t k = 0;
+      for (int q = 0; q < m; ++q) {      // local column
+        for (int p = 0; p <= q; ++p) {   // local row
+          const int vp = ids[p / 3], vq = ids[q / 3];
+          std::int32_t idx = -1;
+          if (vp >= 0 && vq >= 0) {
+            int rowDof = 3 * vp + p % 3, colDof = 3 * vq + q % 3;
+            if (!fixedDof_[rowDof] && !fixedDof_[colDof]) {
+              if (rowDof > colDof) std::swap(rowDof, colDof);
+              idx = valueIndex(rowDof / 3, rowDof % 3, colDof / 3, colDof % 3);
+              // A repeated vertex maps an off-diagonal local entry onto a global diagonal: count it twice.
+              if (p != q && rowDof == colDof) idx = -2 - idx;
+            }
+          }
+          out[k++] = idx;
+        }
+      }
+    }
+  }
+  finalized_ = true;
+  ++patternVersion_;
+  setZero();
+}
+
+void HessianAssembler::setZero() {
+  double* v = matrix_.valuePtr();
+  std::fill(v, v + matrix_.nonZeros(), 0.0);
+  for (std::size_t d = 0; d < fixedDof_.size(); ++d) {
+    if (fixedDof_[d]) v[diagonalIndex_[d]] = 1.0;
+  }
+}
+
+void HessianAssembler::addElementHessian(int slot, int element, const double* H) {
+  const Slot& s = slots_[slot];
+  const int m = 3 * s.table.width;
+  const std::size_t perElement = static_cast<std::size_t>(m) * (m + 1) / 2;
+  const std::int32_t* idx = s.scatter.data() + perElement * static_cast<std::size_t>(element);
+  double* v = matrix_.valuePtr();
+  std::size_t k = 0;
+  for (int q = 0; q < m; ++q) {
+    const double* col = H + static_cast<std::size_t>(q) * m;
+    for (int p = 0; p <= q; ++p, ++k) {
+      const std::int32_t i = idx[k];
+      if (i >= 0) {
+        v[i] += col[p];
+      } else if (i <= -2) {
+        v[-2 - i] += 2.0 * col[p];
+      }
+    }
+  }
+}
+
+std::size_t HessianAssembler::memoryBytes() const {
+  std::size_t bytes = static_cast<std::size_t>(matrix_.nonZeros()) * (sizeof(double) + sizeof(int));
+  for (const Slot& s : slots_) bytes += s.scatter.size() * sizeof(std::int32_t) + s.table.ids.size() * sizeof(int);
+  return bytes;
+}
+
+}  // namespace jetshell

@@ -1,0 +1,63 @@
+// Sparse Hessian assembly with a pattern computed once and value-only refills.
+//
+// Data flow: every term declares its StencilTable (addStencils) -> finalize() builds the upper-triangular CSC
+// pattern of the 3N×3N matrix, one scatter table per element (the value index of every entry of the element's
+// local upper triangle) -> at each evaluation, setZero() and the terms add dense element blocks. Terms colour
+// their elements (colorElements: one colour = no shared vertex) and run one colour at a time in parallel
+// (core/element_loop.h), so every entry is summed in the same order whatever the thread count (same bits).
+// Fixed (eliminated) dofs scatter into a discarded slot and get 1 on the diagonal: their rows and columns are
+// identity, so a Newton step never moves them.
+#pragma once
+
+#include "core/stencil.h"
+
+#include <Eigen/Sparse>
+
+#include <cstdint>
+#include <vector>
+
+namespace jetshell {
+
+class HessianAssembler {
+ public:
+  /// Declares one term's stencils; returns its slot. Call before finalize().
+  int addStencils(const StencilTable& table);
+  /// Builds the pattern for numVertices vertices. fixedDof (size 3N, or empty) marks eliminated dofs.
+  void finalize(int numVertices, const std::vector<char>& fixedDof = {});
+  bool finalized() const { return finalized_; }
+
+  /// Zeroes the values (pattern kept). Fixed dofs get their unit diagonal.
+  void setZero();
+  /// Adds a dense symmetric element block H (3K×3K, column-major, leading dimension 3K); reads the upper
+  /// triangle only. Safe to call concurrently for elements of one colour.
+  void addElementHessian(int slot, int element, const double* H);
+
+  const StencilTable& stencils(int slot) const { return slots_[slot].table; }
+  int numSlots() const { return static_cast<int>(slots_.size()); }
+
+  /// The assembled matrix: upper triangle, column-major, compressed.
+  const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
+  Eigen::SparseMatrix<double>& matrix() { return matrix_; }
+  const std::vector<char>& fixedDof() const { return fixedDof_; }
+  /// Bumped every finalize(): linear solvers redo their symbolic analysis only when it changes.
+  std::uint64_t patternVersion() const { return patternVersion_; }
+  /// Bytes held by scatter tables and the matrix (for memory reports).
+  std::size_t memoryBytes() const;
+
+ private:
+  struct Slot {
+    StencilTable table;
+    std::vector<std::int32_t> scatter;  // per element: (3K)(3K+1)/2 value indices; -1 discard; <= -2 doubled
+  };
+  std::vector<Slot> slots_;
+  std::vector<char> fixedDof_;
+  Eigen::SparseMatrix<double> matrix_;
+  std::vector<std::int32_t> diagonalIndex_;
+  bool finalized_ = false;
+  std::uint64_t patternVersion_ = 0;
+};
+
+/// Greedy colouring of elements so that no two elements of one colour share a vertex.
+std::vector<std::vector<int>> colorElements(const StencilTable& table, int numVertices);
+
+}  // namespace jetshell

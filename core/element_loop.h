@@ -1,0 +1,66 @@
+// The parallel, deterministic element loop every term uses.
+//
+// For each colour (elements sharing no vertex), elements run in parallel with OpenMP; colours run in order.
+// Gradient and Hessian entries are therefore summed in a fixed order whatever the thread count, and the
+// energy is summed serially from per-element values: the same input gives the same bits.
+#pragma once
+
+#include "core/assembly.h"
+#include "core/psd_projection.h"
+#include "core/stencil.h"
+#include "core/term.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace jetshell {
+
+/// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
+/// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
+template <int K, typename Kernel>
+double runElementLoop(const StencilTable& table, const std::vector<std::vector<int>>& colors,
+                      const Eigen::VectorXd& /*x*/, const EvalRequest& request, PsdProjection projection,
+                      std::vector<double>& elementEnergy, Kernel&& kernel) {
+  constexpr int M = 3 * K;
+  const int ne = table.size();
+  elementEnergy.resize(static_cast<std::size_t>(ne));
+  const bool wantG = request.gradient != nullptr;
+  const bool wantH = request.hessian != nullptr;
+  auto body = [&](int e) {
+    Eigen::Matrix<double, M, 1> g;
+    Eigen::Matrix<double, M, M> H;
+    const int* ids = table.element(e);
+    elementEnergy[e] = kernel(e, ids, wantG, wantH, g, H);
+    if (wantG) {
+      double* G = request.gradient->data();
+      for (int k = 0; k < K; ++k) {
+        if (ids[k] < 0) continue;
+        for (int c = 0; c < 3; ++c) G[3 * ids[k] + c] += g[3 * k + c];
+      }
+    }
+    if (wantH) {
+      projectPsd<M>(H, projection);
+      request.hessian->addElementHessian(request.hessianSlot, e, H.data());
+    }
+  };
+  if (wantG || wantH) {
+    for (const std::vector<int>& color : colors) {
+      const int n = static_cast<int>(color.size());
+#pragma omp parallel for schedule(static)
+      for (int i = 0; i < n; ++i) body(color[i]);
+    }
+  } else {
+#pragma omp parallel for schedule(static)
+    for (int e = 0; e < ne; ++e) {
+      Eigen::Matrix<double, M, 1> g;
+      Eigen::Matrix<double, M, M> H;
+      elementEnergy[e] = kernel(e, table.element(e), false, false, g, H);
+    }
+  }
+  double total = 0.0;
+  for (double v : elementEnergy) total += v;
+  return total;
+}
+
+}  // namespace jetshell

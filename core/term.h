@@ -1,0 +1,58 @@
+// The energy-term interface the objective sums and the derivative checker tests.
+//
+// A term knows its stencils, its parameters and its energy; evaluate() adds value, gradient and Hessian at a
+// configuration. Terms built from one templated element energy derive from ElementEnergyTerm
+// (energies/element_energy_term.h) and get all of this from the framework.
+#pragma once
+
+#include "core/assembly.h"
+#include "core/psd_projection.h"
+#include "core/stencil.h"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <string>
+
+namespace jetshell {
+
+/// Which derivatives serve: forward-mode duals (Ceres Jet) or the hand-derived twin, where a term has one.
+enum class DerivativePath { AutoDiff, Analytic };
+/// Exact bending Hessian, or Gauss–Newton J_bᵀ W'' J_b without the second derivatives of b.
+enum class BendingHessian { Exact, GaussNewton };
+
+struct EvalOptions {
+  DerivativePath path = DerivativePath::Analytic;
+  PsdProjection projection = PsdProjection::None;
+  BendingHessian bendingHessian = BendingHessian::Exact;
+};
+
+/// What to compute. gradient and hessian may be null; the energy is always returned.
+/// The gradient is added into *gradient (size 3N); Hessian blocks go into *hessian at hessianSlot.
+struct EvalRequest {
+  Eigen::VectorXd* gradient = nullptr;
+  HessianAssembler* hessian = nullptr;
+  int hessianSlot = -1;
+};
+
+class EnergyTerm {
+ public:
+  virtual ~EnergyTerm() = default;
+  /// Short name, unique within an objective ("membrane", "bending", "gravity", ...).
+  virtual std::string name() const = 0;
+  /// The vertices each element touches (declares the Hessian pattern). Empty width for Hessian-free terms.
+  virtual StencilTable stencils() const = 0;
+  /// True when a hand-derived gradient and Hessian exist (DerivativePath::Analytic).
+  virtual bool hasAnalytic() const { return false; }
+  /// Energy at x (size 3N); adds derivatives as requested.
+  virtual double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) = 0;
+  /// True when the energy is zero (with zero gradient) at the reference configuration, for the conformance
+  /// suite. Loads (gravity, nodal forces) are not.
+  virtual bool zeroAtRest() const { return true; }
+  /// True when the energy is invariant under rigid motions of the whole configuration.
+  virtual bool rigidInvariant() const { return true; }
+};
+
+using EnergyTermPtr = std::shared_ptr<EnergyTerm>;
+
+}  // namespace jetshell

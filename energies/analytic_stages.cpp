@@ -1,0 +1,53 @@
+#include "energies/analytic_stages.h"
+
+#include <Eigen/Dense>
+
+namespace jetshell::analytic {
+
+void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
+                   Eigen::Vector3d& gradient, Eigen::Matrix3d& hessian) {
+  // tr_P d = t·d with t = (P00, 2P01, P11); tr(PdPd) = dᵀ G d with G = uuᵀ + vwᵀ + wvᵀ + zzᵀ built from the
+  // rows of P d: (Pd)00 = u·d, (Pd)01 = v·d, (Pd)10 = w·d, (Pd)11 = z·d.
+  const Eigen::Vector3d t(P[0], 2.0 * P[1], P[2]);
+  const Eigen::Vector3d u(P[0], P[1], 0.0), v(0.0, P[0], P[1]), w(P[1], P[2], 0.0), z(0.0, P[1], P[2]);
+  const Eigen::Matrix3d G = u * u.transpose() + v * w.transpose() + w * v.transpose() + z * z.transpose();
+  const Eigen::Vector3d dv(d[0], d[1], d[2]);
+  const double tr = t.dot(dv);
+  const Eigen::Vector3d Gd = G * dv;
+  value = 0.5 * c1 * tr * tr + c2 * dv.dot(Gd);
+  gradient = c1 * tr * t + 2.0 * c2 * Gd;
+  hessian = c1 * t * t.transpose() + 2.0 * c2 * G;
+}
+
+void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian,
+                std::array<Eigen::Matrix3d, 3>& hessians) {
+  const double r = c.norm();
+  n = c / r;
+  jacobian = (Eigen::Matrix3d::Identity() - n * n.transpose()) / r;
+  // ∂²n_k/∂c_j∂c_l = −(δ_kj n_l + δ_kl n_j + δ_jl n_k − 3 n_k n_j n_l)/r².
+  const double r2 = r * r;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Matrix3d& H = hessians[k];
+    H = (3.0 * n[k]) * n * n.transpose() - n[k] * Eigen::Matrix3d::Identity();
+    H.row(k) -= n.transpose();
+    H.col(k) -= n;
+    H /= r2;
+  }
+}
+
+void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian,
+                     std::array<Eigen::Matrix3d, 3>& hessians) {
+  const double q = m.squaredNorm();
+  nbar = m / q;
+  jacobian = Eigen::Matrix3d::Identity() / q - (2.0 / (q * q)) * m * m.transpose();
+  // ∂²n̄_k/∂m_j∂m_l = −2(δ_kj m_l + δ_kl m_j + δ_jl m_k)/q² + 8 m_k m_j m_l/q³.
+  const double q2 = q * q, q3 = q2 * q;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Matrix3d& H = hessians[k];
+    H = (8.0 * m[k] / q3) * m * m.transpose() - (2.0 * m[k] / q2) * Eigen::Matrix3d::Identity();
+    H.row(k) -= (2.0 / q2) * m.transpose();
+    H.col(k) -= (2.0 / q2) * m;
+  }
+}
+
+}  // namespace jetshell::analytic

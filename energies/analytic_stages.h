@@ -1,0 +1,25 @@
+// Hand-derived twins of the nonlinear stages in energies/shell_geometry.h. The conformance suite checks each
+// against its Jet-derived counterpart (energies/stage_derivatives.h) to ~1e-12 relative.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+
+namespace jetshell::analytic {
+
+/// Value, gradient and Hessian of the St. Venant–Kirchhoff quadratic in a symmetric 2×2 tensor d stored as
+/// (d00, d01, d11):  W = c1/2 (tr_P d)² + c2 tr(P d P d), traces with the symmetric P = A⁻¹.
+/// Membrane: d = a − A, c1 = λ/4, c2 = μ/4. Bending: d = b − B, c1 = α, c2 = β/2.
+void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
+                   Eigen::Vector3d& gradient, Eigen::Matrix3d& hessian);
+
+/// n = c/‖c‖: value, Jacobian, and Hessian of each component.
+void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian,
+                std::array<Eigen::Matrix3d, 3>& hessians);
+
+/// n̄ = m/‖m‖²: value, Jacobian, and Hessian of each component.
+void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian,
+                     std::array<Eigen::Matrix3d, 3>& hessians);
+
+}  // namespace jetshell::analytic

@@ -1,0 +1,316 @@
+// Bending term, differentiated in stages.
+//
+// Data flow per evaluation:
+//   pass 1, per face f:  c_f = e0 × e1 -> n_f = unitNormal(c_f); keeps n, ∂n/∂c, ∇²_c n_k and ∂n/∂x_f (3×9).
+//   pass 2, per edge e:  m_e = ½(n_A + n_B) -> n̄_e = kelvinInversion(m_e); keeps n̄, ∂n̄/∂m, ∇²_m n̄_k.
+//   pass 3, per face f (the 6-vertex stencil): b(e0, e1, n̄0, n̄1, n̄2) (bilinear primitive) -> W_b(b) (the
+//     templated density). Gradient = area · J_bᵀ w. Hessian = area · (J_bᵀ W'' J_b [Gauss–Newton part]
+//     + Σ_k w_k ∇²b_k [exact only]), the second part by the chain rule through passes 2 and 1.
+// The nonlinear stages (unitNormal, kelvinInversion, bendingDensity: 3 inputs each) get their derivatives from
+// Jet<Jet<double,3>,3> on the AD path and from energies/analytic_stages.h on the analytic path; everything
+// else is shared. Each face normal serves four stencils and each mid-edge normal two, computed once.
+#include "core/element_loop.h"
+#include "energies/analytic_stages.h"
+#include "energies/element_energy_term.h"
+#include "energies/shell_geometry.h"
+#include "energies/shell_terms.h"
+#include "energies/stage_derivatives.h"
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+
+namespace jetshell {
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+using Vec3 = Eigen::Vector3d;
+using Mat39 = Eigen::Matrix<double, 3, 9>;
+using Mat3x18 = Eigen::Matrix<double, 3, 18>;
+using Mat18 = Eigen::Matrix<double, 18, 18>;
+
+Mat3 skew(const Vec3& v) {
+  Mat3 s;
+  s << 0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0;
+  return s;
+}
+
+/// ∂c/∂x (3×9) for c = (x1 − x0) × (x2 − x0).
+Mat39 crossJacobian(const Vec3& e0, const Vec3& e1) {
+  Mat39 C;
+  C.block<3, 3>(0, 3) = -skew(e1);
+  C.block<3, 3>(0, 6) = skew(e0);
+  C.block<3, 3>(0, 0) = -(C.block<3, 3>(0, 3) + C.block<3, 3>(0, 6));
+  return C;
+}
+
+struct FaceStage {
+  Vec3 n;
+  Mat3 dndc;
+  std::array<Mat3, 3> hessian;  // ∇²_c n_k
+  Mat39 dndx;                   // in the face's own vertex order
+};
+
+struct EdgeStage {
+  Vec3 nbar;
+  Mat3 dndm;
+  std::array<Mat3, 3> hessian;  // ∇²_m n̄_k
+};
+
+class BendingTerm : public EnergyTerm {
+ public:
+  BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellReference& ref, double alpha, double beta)
+      : F_(mesh.F), topo_(topo), ref_(ref), alpha_(alpha), beta_(beta) {
+    const int nf = mesh.numFaces();
+    table_.width = 6;
+    table_.ids.assign(topo.bendingStencil.data(), topo.bendingStencil.data() + topo.bendingStencil.size());
+    colors_ = colorElements(table_, mesh.numVertices());
+    neighborLocal_.resize(static_cast<std::size_t>(nf));
+    for (int f = 0; f < nf; ++f) {
+      for (int i = 0; i < 3; ++i) {
+        const int g = topo.faceNeighbors(f, i);
+        for (int k = 0; k < 3; ++k) {
+          std::int8_t local = static_cast<std::int8_t>(k);  // boundary: the face itself
+          if (g >= 0) {
+            const int v = mesh.F(g, k);
+            local = v == mesh.F(f, (i + 1) % 3) ? static_cast<std::int8_t>((i + 1) % 3)
+                    : v == mesh.F(f, (i + 2) % 3) ? static_cast<std::int8_t>((i + 2) % 3)
+                                                  : static_cast<std::int8_t>(3 + i);
+          }
+          neighborLocal_[f][3 * i + k] = local;
+        }
+      }
+    }
+    faces_.resize(static_cast<std::size_t>(nf));
+    edges_.resize(static_cast<std::size_t>(topo.numEdges()));
+  }
+
+  std::string name() const override { return "bending"; }
+  StencilTable stencils() const override { return table_; }
+  bool hasAnalytic() const override { return true; }
+
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
+    const bool ad = options.path == DerivativePath::AutoDiff;
+    const bool derivatives = request.gradient != nullptr || request.hessian != nullptr;
+    const bool exact = options.bendingHessian == BendingHessian::Exact;
+    computeFaceStages(x, derivatives, ad);
+    computeEdgeStages(derivatives, ad);
+    return runElementLoop<6>(table_, colors_, x, request, options.projection, elementEnergy_,
+                             [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 18, 1>& g,
+                                 Mat18& H) { return stencil(x, f, ids, wantG, wantH, ad, exact, g, H); });
+  }
+
+ private:
+  Vec3 position(const Eigen::VectorXd& x, int v) const { return x.segment<3>(3 * v); }
+
+  void computeFaceStages(const Eigen::VectorXd& x, bool derivatives, bool ad) {
+    const int nf = static_cast<int>(F_.rows());
+#pragma omp parallel for schedule(static)
+    for (int f = 0; f < nf; ++f) {
+      const Vec3 x0 = position(x, F_(f, 0));
+      const Vec3 e0 = position(x, F_(f, 1)) - x0, e1 = position(x, F_(f, 2)) - x0;
+      const Vec3 c = e0.cross(e1);
+      FaceStage& s = faces_[f];
+      if (!derivatives) {
+        s.n = c.normalized();
+        continue;
+      }
+      if (ad) {
+        vectorStageDerivatives([](const auto& z) { return unitNormal(z); }, c, s.n, s.dndc, s.hessian);
+      } else {
+        analytic::unitNormal(c, s.n, s.dndc, s.hessian);
+      }
+      s.dndx = s.dndc * crossJacobian(e0, e1);
+    }
+  }
+
+  void computeEdgeStages(bool derivatives, bool ad) {
+    const int ne = topo_.numEdges();
+#pragma omp parallel for schedule(static)
+    for (int e = 0; e < ne; ++e) {
+      const int fa = topo_.edgeFaces(e, 0), fb = topo_.edgeFaces(e, 1);
+      const Vec3 m = 0.5 * (faces_[fa].n + faces_[fb >= 0 ? fb : fa].n);
+      EdgeStage& s = edges_[e];
+      if (!derivatives) {
+        s.nbar = m / m.squaredNorm();
+      } else if (ad) {
+        vectorStageDerivatives([](const auto& z) { return kelvinInversion(z); }, m, s.nbar, s.dndm, s.hessian);
+      } else {
+        analytic::kelvinInversion(m, s.nbar, s.dndm, s.hessian);
+      }
+    }
+  }
+
+  /// Scatters a 3×9 block given in face g's vertex order into stencil-local columns.
+  template <typename Dst>
+  static void addFaceColumns(Dst& dst, const Mat39& src, const std::int8_t* local, double scale) {
+    for (int k = 0; k < 3; ++k) dst.template middleCols<3>(3 * local[k]) += scale * src.middleCols<3>(3 * k);
+  }
+
+  double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
+                 Eigen::Matrix<double, 18, 1>& g, Mat18& H) const {
+    const Vec3 p0 = position(x, ids[0]);
+    const Vec3 e0 = position(x, ids[1]) - p0, e1 = position(x, ids[2]) - p0;
+    const EdgeStage* edge[3];
+    for (int i = 0; i < 3; ++i) edge[i] = &edges_[topo_.faceEdges(f, i)];
+    const V3<double> ve0{{e0[0], e0[1], e0[2]}}, ve1{{e1[0], e1[1], e1[2]}};
+    V3<double> nb[3];
+    for (int i = 0; i < 3; ++i) nb[i] = {{edge[i]->nbar[0], edge[i]->nbar[1], edge[i]->nbar[2]}};
+    double b[3];
+    secondFundamentalForm(ve0, ve1, nb[0], nb[1], nb[2], b);
+    const double* B = ref_.secondFundamentalForm[f].data();
+    const double* P = ref_.inverseMetric[f].data();
+    const double area = ref_.area[f];
+    if (!wantG && !wantH) return area * bendingDensity(b, B, P, alpha_, beta_);
+
+    double W;
+    Vec3 w;
+    Mat3 Wbb;
+    if (ad) {
+      auto density = [&](const auto* z) { return bendingDensity(z, B, P, alpha_, beta_); };
+      scalarStageDerivatives<3>(density, b, W, w, Wbb);
+    } else {
+      const double d[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
+      analytic::stvkQuadratic(P, alpha_, 0.5 * beta_, d, W, w, Wbb);
+    }
+
+    // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x in stencil-local dofs (3×18).
+    const std::int8_t* nloc = neighborLocal_[f].data();
+    static constexpr std::int8_t kSelf[3] = {0, 1, 2};
+    const int fn[3] = {topo_.faceNeighbors(f, 0), topo_.faceNeighbors(f, 1), topo_.faceNeighbors(f, 2)};
+    Mat3x18 M[3], N[3];
+    for (int i = 0; i < 3; ++i) {
+      M[i].setZero();
+      addFaceColumns(M[i], faces_[f].dndx, kSelf, 0.5);
+      if (fn[i] >= 0) {
+        addFaceColumns(M[i], faces_[fn[i]].dndx, nloc + 3 * i, 0.5);
+      } else {
+        addFaceColumns(M[i], faces_[f].dndx, kSelf, 0.5);
+      }
+      N[i] = edge[i]->dndm * M[i];
+    }
+    const Vec3& n0 = edge[0]->nbar;
+    const Vec3& n1 = edge[1]->nbar;
+    const Vec3& n2 = edge[2]->nbar;
+    // J_b (3×18): b00 = 2(n̄1 − n̄0)·e0, b01 = −2 n̄0·e1, b11 = 2(n̄2 − n̄0)·e1; e0 = x1 − x0, e1 = x2 − x0.
+    Mat3x18 Jb;
+    Jb.row(0) = 2.0 * e0.transpose() * (N[1] - N[0]);
+    Jb.row(1) = -2.0 * e1.transpose() * N[0];
+    Jb.row(2) = 2.0 * e1.transpose() * (N[2] - N[0]);
+    const Vec3 d0 = 2.0 * (n1 - n0), d1 = -2.0 * n0, d2 = 2.0 * (n2 - n0);
+    Jb.block<1, 3>(0, 3) += d0.transpose();
+    Jb.block<1, 3>(0, 0) -= d0.transpose();
+    Jb.block<1, 3>(1, 6) += d1.transpose();
+    Jb.block<1, 3>(1, 0) -= d1.transpose();
+    Jb.block<1, 3>(2, 6) += d2.transpose();
+    Jb.block<1, 3>(2, 0) -= d2.transpose();
+
+    if (wantG) g = area * (Jb.transpose() * w);
+    if (!wantH) return area * W;
+
+    const Mat3x18 WJ = Wbb * Jb;
+    H.noalias() = Jb.transpose() * WJ;
+    if (exact) addCurvatureOfB(x, f, ids, e0, e1, w, M, N, nloc, fn, H);
+    H *= area;
+    return area * W;
+  }
+
+  /// Adds Σ_k w_k ∇²b_k(x): the bilinear e–n̄ coupling and the second derivatives of the mid-edge normals
+  /// (through the Kelvin inversion and the face normals).
+  void addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Vec3& e0, const Vec3& e1,
+                       const Vec3& w, const Mat3x18* M, const Mat3x18* N, const std::int8_t* nloc, const int* fn,
+                       Mat18& H) const {
+    // s = w·b = Σ c_ai e_a·n̄_i with c_00 = −2w0, c_01 = 2w0, c_10 = −2(w1 + w2), c_12 = 2w2.
+    const Mat3x18 R0 = 2.0 * w[0] * (N[1] - N[0]);
+    const Mat3x18 R1 = -2.0 * (w[1] + w[2]) * N[0] + 2.0 * w[2] * N[2];
+    // E_aᵀ R_a + R_aᵀ E_a with e0 = x1 − x0, e1 = x2 − x0.
+    Mat18 cross = Mat18::Zero();
+    cross.middleRows<3>(3) += R0;
+    cross.middleRows<3>(6) += R1;
+    cross.middleRows<3>(0) -= R0 + R1;
+    H += cross + cross.transpose();
+
+    const Vec3 gnb[3] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};
+    Vec3 hFace[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // this face, neighbours 0..2
+    for (int i = 0; i < 3; ++i) {
+      const EdgeStage& s = edges_[topo_.faceEdges(f, i)];
+      const Mat3 Hm = gnb[i][0] * s.hessian[0] + gnb[i][1] * s.hessian[1] + gnb[i][2] * s.hessian[2];
+      H.noalias() += M[i].transpose() * (Hm * M[i]);
+      const Vec3 h = 0.5 * (s.dndm.transpose() * gnb[i]);
+      hFace[0] += h;
+      hFace[fn[i] >= 0 ? 1 + i : 0] += h;
+    }
+    static constexpr std::int8_t kSelf[3] = {0, 1, 2};
+    for (int j = 0; j < 4; ++j) {
+      if (j > 0 && fn[j - 1] < 0) continue;
+      const int face = j == 0 ? f : fn[j - 1];
+      const std::int8_t* local = j == 0 ? kSelf : nloc + 3 * (j - 1);
+      const FaceStage& s = faces_[face];
+      const Vec3& h = hFace[j];
+      const Vec3 q0 = position(x, ids[local[0]]);
+      const Vec3 fe0 = position(x, ids[local[1]]) - q0, fe1 = position(x, ids[local[2]]) - q0;
+      const Mat39 C = crossJacobian(fe0, fe1);
+      const Mat3 Hc = h[0] * s.hessian[0] + h[1] * s.hessian[1] + h[2] * s.hessian[2];
+      Eigen::Matrix<double, 9, 9> Hf = C.transpose() * Hc * C;
+      // k·c = k·(e0 × e1) = e0ᵀ Q e1 with Q = −[k]×, k = (∂n/∂c)ᵀ h.
+      const Mat3 Q = -skew(s.dndc.transpose() * h);
+      Hf.block<3, 3>(3, 6) += Q;
+      Hf.block<3, 3>(6, 3) += Q.transpose();
+      Hf.block<3, 3>(0, 6) -= Q;
+      Hf.block<3, 3>(6, 0) -= Q.transpose();
+      Hf.block<3, 3>(3, 0) -= Q;
+      Hf.block<3, 3>(0, 3) -= Q.transpose();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) H.block<3, 3>(3 * local[r], 3 * local[c]) += Hf.block<3, 3>(3 * r, 3 * c);
+    }
+  }
+
+  Faces F_;
+  Topology topo_;
+  ShellReference ref_;
+  double alpha_, beta_;
+  StencilTable table_;
+  std::vector<std::vector<int>> colors_;
+  std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k
+  std::vector<FaceStage> faces_;
+  std::vector<EdgeStage> edges_;
+  std::vector<double> elementEnergy_;
+};
+
+/// The whole stencil as one 18-dof element energy: the naive nested-Jet reference.
+struct BendingStencilEnergy {
+  static constexpr int kVertices = 6;
+  std::vector<std::array<bool, 3>> boundary;
+  ShellReference ref;
+  double alpha, beta;
+  template <typename T>
+  T operator()(const T* x, int f) const {
+    T b[3];
+    stencilSecondFundamentalForm(x, boundary[f].data(), b);
+    return constant<T>(ref.area[f]) *
+           bendingDensity(b, ref.secondFundamentalForm[f].data(), ref.inverseMetric[f].data(), alpha, beta);
+  }
+};
+
+}  // namespace
+
+EnergyTermPtr makeBendingTerm(const TriMesh& mesh, const Topology& topology, const ShellReference& reference,
+                              double alpha, double beta) {
+  return std::make_shared<BendingTerm>(mesh, topology, reference, alpha, beta);
+}
+
+EnergyTermPtr makeBendingTermNestedJet(const TriMesh& mesh, const Topology& topology,
+                                       const ShellReference& reference, double alpha, double beta) {
+  BendingStencilEnergy energy{{}, reference, alpha, beta};
+  energy.boundary.resize(static_cast<std::size_t>(mesh.numFaces()));
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int i = 0; i < 3; ++i) energy.boundary[f][i] = topology.bendingStencil(f, 3 + i) < 0;
+  StencilTable table;
+  table.width = 6;
+  table.ids.assign(topology.bendingStencil.data(), topology.bendingStencil.data() + topology.bendingStencil.size());
+  return std::make_shared<ElementEnergyTerm<BendingStencilEnergy>>("bending_nested_jet", std::move(table),
+                                                                   mesh.numVertices(), std::move(energy));
+}
+
+}  // namespace jetshell

@@ -1,0 +1,52 @@
+#include "energies/material.h"
+
+#include "core/mesh.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+void require(bool ok, const std::string& where, const char* field, double value, const char* rule) {
+  if (ok) return;
+  std::ostringstream s;
+  s << where << "." << field << " = " << value << ": " << rule;
+  throw InputError(s.str());
+}
+
+}  // namespace
+
+ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double E, double nu, double rho0, double h) {
+  const std::string w = "ShellMaterialParamsFrom3dIsotropic";
+  require(std::isfinite(E) && E > 0, w, "youngsModulus", E, "must be finite and > 0");
+  require(std::isfinite(nu) && nu > -1.0 && nu < 0.5, w, "poissonRatio", nu, "must lie in (-1, 0.5)");
+  require(std::isfinite(rho0) && rho0 >= 0, w, "density", rho0, "must be finite and >= 0");
+  require(std::isfinite(h) && h > 0, w, "thickness", h, "must be finite and > 0");
+  ShellMaterialParams m;
+  const double d = 1.0 - nu * nu;
+  m.membraneLambda = h * E * nu / d;
+  m.membraneMu = h * E / (2.0 * (1.0 + nu));
+  m.bendingAlpha = h * h * h * E * nu / (12.0 * d);
+  m.bendingBeta = h * h * h * E * (1.0 - nu) / (12.0 * d);
+  m.density = h * rho0;
+  return m;
+}
+
+void validate(const ShellMaterialParams& m, const std::string& w) {
+  require(std::isfinite(m.membraneLambda), w, "membraneLambda", m.membraneLambda, "must be finite");
+  require(std::isfinite(m.membraneMu) && m.membraneMu >= 0, w, "membraneMu", m.membraneMu, "must be finite and >= 0");
+  require(m.membraneMu == 0 || m.membraneLambda + m.membraneMu > 0, w, "membraneLambda", m.membraneLambda,
+          "must satisfy lambda + mu > 0");
+  require(std::isfinite(m.bendingAlpha), w, "bendingAlpha", m.bendingAlpha, "must be finite");
+  require(std::isfinite(m.bendingBeta) && m.bendingBeta >= 0, w, "bendingBeta", m.bendingBeta, "must be finite and >= 0");
+  require(m.bendingBeta == 0 || m.bendingAlpha + m.bendingBeta > 0, w, "bendingAlpha", m.bendingAlpha,
+          "must satisfy alpha + beta > 0");
+  require(std::isfinite(m.density) && m.density >= 0, w, "density", m.density, "must be finite and >= 0");
+  require(std::isfinite(m.massDampingCoefficient) && m.massDampingCoefficient >= 0, w, "massDampingCoefficient",
+          m.massDampingCoefficient, "must be finite and >= 0");
+  require(std::isfinite(m.stiffnessDampingCoefficient) && m.stiffnessDampingCoefficient >= 0, w,
+          "stiffnessDampingCoefficient", m.stiffnessDampingCoefficient, "must be finite and >= 0");
+}
+
+}  // namespace jetshell

@@ -1,0 +1,27 @@
+// Shell material parameters (the spec's ShellMaterialParams) and their derivation from 3D isotropic data.
+#pragma once
+
+#include <string>
+
+namespace jetshell {
+
+struct ShellMaterialParams {
+  double membraneLambda = 300.0;             // Pa·m, 2D Lamé first parameter
+  double membraneMu = 400.0;                 // Pa·m, 2D Lamé second parameter
+  double bendingAlpha = 2e-5;                // Pa·m³
+  double bendingBeta = 7e-5;                 // Pa·m³
+  double density = 1.0;                      // kg/m², mass per unit reference area ρ_A0
+  double massDampingCoefficient = 0.0;       // 1/s, α_R
+  double stiffnessDampingCoefficient = 0.0;  // s, β_R
+};
+
+/// λ = hEν/(1−ν²), μ = hE/(2(1+ν)), α = h³Eν/(12(1−ν²)), β = h³E(1−ν)/(12(1−ν²)), ρ_A0 = hρ0.
+/// Throws InputError for E <= 0, ν outside (−1, 0.5), ρ0 < 0, h <= 0 or non-finite values.
+ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double youngsModulus, double poissonRatio,
+                                                       double density3d, double thickness);
+
+/// Throws InputError naming the field (prefixed by `where`) when a parameter is negative or non-finite, or
+/// when the membrane is not positive definite (μ <= 0 or λ + μ <= 0).
+void validate(const ShellMaterialParams& m, const std::string& where = "material");
+
+}  // namespace jetshell

@@ -1,0 +1,94 @@
+// Membrane term: per face, x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the
+// templated density, differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
+#include "core/element_loop.h"
+#include "energies/analytic_stages.h"
+#include "energies/shell_geometry.h"
+#include "energies/shell_terms.h"
+#include "energies/stage_derivatives.h"
+
+namespace jetshell {
+namespace {
+
+class MembraneTerm : public EnergyTerm {
+ public:
+  MembraneTerm(const TriMesh& mesh, const ShellReference& ref, double lambda, double mu)
+      : ref_(ref), lambda_(lambda), mu_(mu) {
+    table_.width = 3;
+    table_.ids.assign(mesh.F.data(), mesh.F.data() + mesh.F.size());
+    colors_ = colorElements(table_, mesh.numVertices());
+  }
+  std::string name() const override { return "membrane"; }
+  StencilTable stencils() const override { return table_; }
+  bool hasAnalytic() const override { return true; }
+
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
+    const bool ad = options.path == DerivativePath::AutoDiff;
+    return runElementLoop<3>(table_, colors_, x, request, options.projection, elementEnergy_,
+                             [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
+                                 Eigen::Matrix<double, 9, 9>& H) {
+                               return element(x, f, ids, wantG, wantH, ad, g, H);
+                             });
+  }
+
+ private:
+  double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
+                 Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const {
+    const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]), x1 = x.segment<3>(3 * ids[1]), x2 = x.segment<3>(3 * ids[2]);
+    const Eigen::Vector3d e0 = x1 - x0, e1 = x2 - x0;
+    const double a[3] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
+    const double* A = ref_.metric[f].data();
+    const double* P = ref_.inverseMetric[f].data();
+    const double area = ref_.area[f];
+    if (!wantG && !wantH) return area * membraneDensity(a, A, P, lambda_, mu_);
+
+    double W;
+    Eigen::Vector3d w;
+    Eigen::Matrix3d Waa;
+    if (ad) {
+      auto density = [&](const auto* z) { return membraneDensity(z, A, P, lambda_, mu_); };
+      scalarStageDerivatives<3>(density, a, W, w, Waa);
+    } else {
+      const double d[3] = {a[0] - A[0], a[1] - A[1], a[2] - A[2]};
+      analytic::stvkQuadratic(P, 0.25 * lambda_, 0.25 * mu_, d, W, w, Waa);
+    }
+    // ∂a/∂e (3×6): a00 -> (2e0, 0), a01 -> (e1, e0), a11 -> (0, 2e1).
+    Eigen::Matrix<double, 3, 6> Ja;
+    Ja << 2.0 * e0.transpose(), Eigen::RowVector3d::Zero(), e1.transpose(), e0.transpose(),
+        Eigen::RowVector3d::Zero(), 2.0 * e1.transpose();
+    const Eigen::Matrix<double, 6, 1> ge = Ja.transpose() * w;
+    g.segment<3>(3) = area * ge.head<3>();
+    g.segment<3>(6) = area * ge.tail<3>();
+    g.head<3>() = -(g.segment<3>(3) + g.segment<3>(6));
+    if (wantH) {
+      Eigen::Matrix<double, 6, 6> He = Ja.transpose() * Waa * Ja;
+      He.topLeftCorner<3, 3>().diagonal().array() += 2.0 * w[0];
+      He.bottomRightCorner<3, 3>().diagonal().array() += 2.0 * w[2];
+      He.topRightCorner<3, 3>().diagonal().array() += w[1];
+      He.bottomLeftCorner<3, 3>().diagonal().array() += w[1];
+      He *= area;
+      // e0 = x1 − x0, e1 = x2 − x0: H_x = Lᵀ H_e L.
+      H.block<6, 6>(3, 3) = He;
+      for (int j = 0; j < 2; ++j) {
+        const Eigen::Matrix3d s = -(He.block<3, 3>(0, 3 * j) + He.block<3, 3>(3, 3 * j));
+        H.block<3, 3>(0, 3 + 3 * j) = s;
+        H.block<3, 3>(3 + 3 * j, 0) = s.transpose();
+      }
+      H.block<3, 3>(0, 0) = -(H.block<3, 3>(0, 3) + H.block<3, 3>(0, 6));
+    }
+    return area * W;
+  }
+
+  StencilTable table_;
+  std::vector<std::vector<int>> colors_;
+  ShellReference ref_;  // a copy: the term must not outlive borrowed data
+  double lambda_, mu_;
+  std::vector<double> elementEnergy_;
+};
+
+}  // namespace
+
+EnergyTermPtr makeMembraneTerm(const TriMesh& mesh, const ShellReference& reference, double lambda, double mu) {
+  return std::make_shared<MembraneTerm>(mesh, reference, lambda, mu);
+}
+
+}  // namespace jetshell

@@ -1,0 +1,110 @@
+// The discrete shell geometry, written once as templated functions of the scalar type (double, Ceres Jets of
+// any nesting depth). The membrane and bending energies, the reference state and the derivative checks all
+// call these; the staged derivatives differentiate exactly these functions.
+//
+// Notation follows ../shared/spec/SHELL_MODEL.md: e0 = x1 − x0, e1 = x2 − x0; a = [e_a·e_b];
+// n̄_i = m_i / ‖m_i‖² with m_i = ½(n_A + n_B) for the edge opposite vertex i (Kelvin inversion);
+// b = 2 [[(n̄1 − n̄0)·e0, −n̄0·e1], [−n̄0·e1, (n̄2 − n̄0)·e1]]. Symmetric 2×2 tensors are (t00, t01, t11).
+#pragma once
+
+#include "core/scalar.h"
+
+namespace jetshell {
+
+/// Metric a = (e0·e0, e0·e1, e1·e1).
+template <typename T>
+void metric(const V3<T>& e0, const V3<T>& e1, T a[3]) {
+  a[0] = dot(e0, e0);
+  a[1] = dot(e0, e1);
+  a[2] = dot(e1, e1);
+}
+
+/// Unit normal from the (unnormalized) cross product c = e0 × e1.
+template <typename T>
+V3<T> unitNormal(const V3<T>& c) {
+  const T inv = constant<T>(1.0) / norm(c);
+  return inv * c;
+}
+
+/// Kelvin inversion of the mean normal m = ½(n_A + n_B): n̄ = m / ‖m‖².
+template <typename T>
+V3<T> kelvinInversion(const V3<T>& m) {
+  const T inv = constant<T>(1.0) / squaredNorm(m);
+  return inv * m;
+}
+
+/// Mid-edge normal of an edge whose two adjacent unit face normals are nA and nB (nB = nA on the boundary).
+template <typename T>
+V3<T> midEdgeNormal(const V3<T>& nA, const V3<T>& nB) {
+  return kelvinInversion(constant<T>(0.5) * (nA + nB));
+}
+
+/// Discrete second fundamental form from the face's edge vectors and its three mid-edge normals.
+template <typename T>
+void secondFundamentalForm(const V3<T>& e0, const V3<T>& e1, const V3<T>& n0, const V3<T>& n1, const V3<T>& n2,
+                           T b[3]) {
+  const T two = constant<T>(2.0);
+  b[0] = two * dot(n1 - n0, e0);
+  b[1] = -two * dot(n0, e1);
+  b[2] = two * dot(n2 - n0, e1);
+}
+
+/// tr(P t) for symmetric P, t stored as (00, 01, 11).
+template <typename T>
+T trace(const double P[3], const T t[3]) {
+  return constant<T>(P[0]) * t[0] + constant<T>(2.0 * P[1]) * t[1] + constant<T>(P[2]) * t[2];
+}
+
+/// tr(P t P t) for symmetric P, t.
+template <typename T>
+T traceOfSquare(const double P[3], const T t[3]) {
+  const T p0 = constant<T>(P[0]), p1 = constant<T>(P[1]), p2 = constant<T>(P[2]);
+  const T pt00 = p0 * t[0] + p1 * t[1], pt01 = p0 * t[1] + p1 * t[2];
+  const T pt10 = p1 * t[0] + p2 * t[1], pt11 = p1 * t[1] + p2 * t[2];
+  return pt00 * pt00 + constant<T>(2.0) * pt01 * pt10 + pt11 * pt11;
+}
+
+/// St. Venant–Kirchhoff membrane energy density W_m = λ/2 (tr ε)² + μ tr(ε²), ε = ½(a − A), traces with A⁻¹.
+template <typename T>
+T membraneDensity(const T a[3], const double A[3], const double Ainv[3], double lambda, double mu) {
+  const T half = constant<T>(0.5);
+  const T eps[3] = {half * (a[0] - constant<T>(A[0])), half * (a[1] - constant<T>(A[1])),
+                    half * (a[2] - constant<T>(A[2]))};
+  const T tr = trace(Ainv, eps);
+  return constant<T>(0.5 * lambda) * tr * tr + constant<T>(mu) * traceOfSquare(Ainv, eps);
+}
+
+/// Bending energy density W_b = ½(α (tr κ)² + β tr(κ²)), κ = B − b, traces with A⁻¹.
+template <typename T>
+T bendingDensity(const T b[3], const double B[3], const double Ainv[3], double alpha, double beta) {
+  const T kappa[3] = {constant<T>(B[0]) - b[0], constant<T>(B[1]) - b[1], constant<T>(B[2]) - b[2]};
+  const T tr = trace(Ainv, kappa);
+  return constant<T>(0.5 * alpha) * tr * tr + constant<T>(0.5 * beta) * traceOfSquare(Ainv, kappa);
+}
+
+/// Everything the bending energy of one face sees, from the 6 stencil positions x (18 values: the face's
+/// vertices 0,1,2, then the opposite vertices across edges 0,1,2). boundary[i] marks edge i as a boundary
+/// edge (its opposite vertex is ignored and the missing normal is this face's normal). The staged evaluator
+/// in energies/bending_term.cpp differentiates the same pieces separately; this composite serves the value,
+/// the reference state, and the whole-stencil nested-Jet reference in the checks.
+template <typename T>
+void stencilSecondFundamentalForm(const T* x, const bool boundary[3], T b[3]) {
+  const V3<T> p[3] = {load3(x), load3(x + 3), load3(x + 6)};
+  const V3<T> e0 = p[1] - p[0], e1 = p[2] - p[0];
+  const V3<T> nA = unitNormal(cross(e0, e1));
+  V3<T> nbar[3];
+  for (int i = 0; i < 3; ++i) {
+    if (boundary[i]) {
+      nbar[i] = midEdgeNormal(nA, nA);
+    } else {
+      // The neighbour traverses edge i backwards: its vertices in order are (p[i+2], p[i+1], opposite).
+      const V3<T>& q0 = p[(i + 2) % 3];
+      const V3<T>& q1 = p[(i + 1) % 3];
+      const V3<T> q2 = load3(x + 9 + 3 * i);
+      nbar[i] = midEdgeNormal(nA, unitNormal(cross(q1 - q0, q2 - q0)));
+    }
+  }
+  secondFundamentalForm(e0, e1, nbar[0], nbar[1], nbar[2], b);
+}
+
+}  // namespace jetshell

@@ -1,0 +1,57 @@
+// Forward-mode derivatives of one small stage of a staged energy (value, Jacobian and Hessians), from its
+// templated function, with nested Ceres Jets whose size is the stage's input count (3 for every nonlinear
+// stage of the shell energies). Between stages the chain rule is applied by the term (energies/*_term.cpp),
+// so the cost of nesting never grows with the stencil's dof count.
+#pragma once
+
+#include "core/scalar.h"
+
+#include <Eigen/Core>
+#include <ceres/jet.h>
+
+#include <array>
+
+namespace jetshell {
+
+/// f: T[N] -> T (scalar stage). Fills value, gradient and symmetric Hessian.
+template <int N, typename F>
+void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient,
+                            Eigen::Matrix<double, N, N>& hessian) {
+  using J1 = ceres::Jet<double, N>;
+  using J2 = ceres::Jet<J1, N>;
+  J2 zj[N];
+  for (int i = 0; i < N; ++i) {
+    zj[i] = J2(J1(z[i], i));
+    zj[i].v[i] = J1(1.0);
+  }
+  const J2 y = f(zj);
+  value = y.a.a;
+  for (int i = 0; i < N; ++i) {
+    gradient[i] = y.a.v[i];
+    for (int j = i; j < N; ++j) hessian(i, j) = hessian(j, i) = y.v[i].v[j];
+  }
+}
+
+/// f: V3<T> -> V3<T> (vector stage with 3 inputs). Fills value, Jacobian J(k, i) = ∂y_k/∂z_i and the
+/// Hessian of each output component.
+template <typename F>
+void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian,
+                            std::array<Eigen::Matrix3d, 3>& hessians) {
+  using J1 = ceres::Jet<double, 3>;
+  using J2 = ceres::Jet<J1, 3>;
+  V3<J2> zj;
+  for (int i = 0; i < 3; ++i) {
+    zj[i] = J2(J1(z[i], i));
+    zj[i].v[i] = J1(1.0);
+  }
+  const V3<J2> y = f(zj);
+  for (int k = 0; k < 3; ++k) {
+    value[k] = y[k].a.a;
+    for (int i = 0; i < 3; ++i) {
+      jacobian(k, i) = y[k].a.v[i];
+      for (int j = i; j < 3; ++j) hessians[k](i, j) = hessians[k](j, i) = y[k].v[i].v[j];
+    }
+  }
+}
+
+}  // namespace jetshell
