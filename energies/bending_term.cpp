@@ -9,6 +9,8 @@
 // The nonlinear stages (unitNormal, kelvinInversion, bendingDensity: 3 inputs each) get their derivatives from
 // Jet<Jet<double,3>,3> on the AD path and from energies/analytic_stages.h on the analytic path; everything
 // else is shared. Each face normal serves four stencils and each mid-edge normal two, computed once.
+#include "energies/bending_term.h"
+
 #include "core/element_loop.h"
 #include "energies/analytic_stages.h"
 #include "energies/element_energy_term.h"
@@ -45,52 +47,81 @@ Mat39 crossJacobian(const Vec3& e0, const Vec3& e1) {
   return C;
 }
 
-struct FaceStage {
-  Vec3 n;
-  Mat3 dndc;
-  std::array<Mat3, 3> hessian;  // ∇²_c n_k
-  Mat39 dndx;                   // in the face's own vertex order
-};
+Vec3 position(const Eigen::VectorXd& x, int v) { return x.segment<3>(3 * v); }
 
-struct EdgeStage {
-  Vec3 nbar;
-  Mat3 dndm;
-  std::array<Mat3, 3> hessian;  // ∇²_m n̄_k
-};
+/// Adds scale × a 3×9 block given in a face's own vertex order into stencil-local columns.
+template <typename Dst>
+void addFaceColumns(Dst& dst, const Mat39& src, const std::int8_t* local, double scale) {
+  for (int k = 0; k < 3; ++k) dst.template middleCols<3>(3 * local[k]) += scale * src.middleCols<3>(3 * k);
+}
 
-class BendingTerm : public EnergyTerm {
- public:
-  BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellReference& ref, double alpha, double beta)
-      : F_(mesh.F), topo_(topo), ref_(ref), alpha_(alpha), beta_(beta) {
-    const int nf = mesh.numFaces();
-    table_.width = 6;
-    table_.ids.assign(topo.bendingStencil.data(), topo.bendingStencil.data() + topo.bendingStencil.size());
-    colors_ = colorElements(table_, mesh.numVertices());
-    neighborLocal_.resize(static_cast<std::size_t>(nf));
-    for (int f = 0; f < nf; ++f) {
-      for (int i = 0; i < 3; ++i) {
-        const int g = topo.faceNeighbors(f, i);
-        for (int k = 0; k < 3; ++k) {
-          std::int8_t local = static_cast<std::int8_t>(k);  // boundary: the face itself
-          if (g >= 0) {
-            const int v = mesh.F(g, k);
-            local = v == mesh.F(f, (i + 1) % 3) ? static_cast<std::int8_t>((i + 1) % 3)
-                    : v == mesh.F(f, (i + 2) % 3) ? static_cast<std::int8_t>((i + 2) % 3)
-                                                  : static_cast<std::int8_t>(3 + i);
-          }
-          neighborLocal_[f][3 * i + k] = local;
+constexpr std::int8_t kSelf[3] = {0, 1, 2};
+
+}  // namespace
+
+BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellReference& ref, double alpha,
+                         double beta)
+    : F_(mesh.F), topo_(topo), ref_(ref), alpha_(alpha), beta_(beta) {
+  const int nf = mesh.numFaces();
+  table_.width = 6;
+  table_.ids.assign(topo.bendingStencil.data(), topo.bendingStencil.data() + topo.bendingStencil.size());
+  colors_ = colorElements(table_, mesh.numVertices());
+  neighborLocal_.resize(static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f) {
+    for (int i = 0; i < 3; ++i) {
+      const int g = topo.faceNeighbors(f, i);
+      for (int k = 0; k < 3; ++k) {
+        std::int8_t local = static_cast<std::int8_t>(k);  // boundary: the face itself
+        if (g >= 0) {
+          const int v = mesh.F(g, k);
+          local = v == mesh.F(f, (i + 1) % 3)   ? static_cast<std::int8_t>((i + 1) % 3)
+                  : v == mesh.F(f, (i + 2) % 3) ? static_cast<std::int8_t>((i + 2) % 3)
+                                                : static_cast<std::int8_t>(3 + i);
         }
+        neighborLocal_[f][3 * i + k] = local;
       }
     }
-    faces_.resize(static_cast<std::size_t>(nf));
-    edges_.resize(static_cast<std::size_t>(topo.numEdges()));
   }
+  faces_.resize(static_cast<std::size_t>(nf));
+  edges_.resize(static_cast<std::size_t>(topo.numEdges()));
+  referenceNormal_.resize(static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 x0 = mesh.V.row(mesh.F(f, 0));
+    referenceNormal_[f] = (Vec3(mesh.V.row(mesh.F(f, 1))) - x0).cross(Vec3(mesh.V.row(mesh.F(f, 2))) - x0).normalized();
+  }
+}
 
-  std::string name() const override { return "bending"; }
-  StencilTable stencils() const override { return table_; }
-  bool hasAnalytic() const override { return true; }
+int BendingTerm::setClampedBoundary(const std::vector<char>& vertexMask) {
+  clamped_.assign(static_cast<std::size_t>(topo_.numEdges()), 0);
+  int count = 0;
+  for (int e = 0; e < topo_.numEdges(); ++e) {
+    if (!topo_.isBoundaryEdge(e)) continue;
+    const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
+    if (a < static_cast<int>(vertexMask.size()) && b < static_cast<int>(vertexMask.size()) && vertexMask[a] &&
+        vertexMask[b]) {
+      clamped_[e] = 1;
+      ++count;
+    }
+  }
+  if (count == 0) clamped_.clear();
+  return count;
+}
 
-  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
+void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale) {
+  computeFaceStages(xOrigin, false, false);
+  computeEdgeStages(false, false);
+  for (int f = 0; f < static_cast<int>(F_.rows()); ++f) {
+    const Vec3 p0 = xOrigin.segment<3>(3 * F_(f, 0));
+    const Vec3 e0 = xOrigin.segment<3>(3 * F_(f, 1)) - p0, e1 = xOrigin.segment<3>(3 * F_(f, 2)) - p0;
+    const Vec3& n0 = edges_[topo_.faceEdges(f, 0)].nbar;
+    const Vec3& n1 = edges_[topo_.faceEdges(f, 1)].nbar;
+    const Vec3& n2 = edges_[topo_.faceEdges(f, 2)].nbar;
+    ref_.secondFundamentalForm[f] = {2.0 * (n1 - n0).dot(e0), -2.0 * n0.dot(e1), 2.0 * (n2 - n0).dot(e1)};
+  }
+  scale_ = scale;
+}
+
+double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
     const bool ad = options.path == DerivativePath::AutoDiff;
     const bool derivatives = request.gradient != nullptr || request.hessian != nullptr;
     const bool exact = options.bendingHessian == BendingHessian::Exact;
@@ -101,10 +132,7 @@ class BendingTerm : public EnergyTerm {
                                  Mat18& H) { return stencil(x, f, ids, wantG, wantH, ad, exact, g, H); });
   }
 
- private:
-  Vec3 position(const Eigen::VectorXd& x, int v) const { return x.segment<3>(3 * v); }
-
-  void computeFaceStages(const Eigen::VectorXd& x, bool derivatives, bool ad) {
+void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, bool derivatives, bool ad) {
     const int nf = static_cast<int>(F_.rows());
 #pragma omp parallel for schedule(static)
     for (int f = 0; f < nf; ++f) {
@@ -125,12 +153,13 @@ class BendingTerm : public EnergyTerm {
     }
   }
 
-  void computeEdgeStages(bool derivatives, bool ad) {
+void BendingTerm::computeEdgeStages(bool derivatives, bool ad) {
     const int ne = topo_.numEdges();
 #pragma omp parallel for schedule(static)
     for (int e = 0; e < ne; ++e) {
       const int fa = topo_.edgeFaces(e, 0), fb = topo_.edgeFaces(e, 1);
-      const Vec3 m = 0.5 * (faces_[fa].n + faces_[fb >= 0 ? fb : fa].n);
+      const Vec3& nB = fb >= 0 ? faces_[fb].n : isClamped(e) ? referenceNormal_[fa] : faces_[fa].n;
+      const Vec3 m = 0.5 * (faces_[fa].n + nB);
       EdgeStage& s = edges_[e];
       if (!derivatives) {
         s.nbar = m / m.squaredNorm();
@@ -142,13 +171,7 @@ class BendingTerm : public EnergyTerm {
     }
   }
 
-  /// Scatters a 3×9 block given in face g's vertex order into stencil-local columns.
-  template <typename Dst>
-  static void addFaceColumns(Dst& dst, const Mat39& src, const std::int8_t* local, double scale) {
-    for (int k = 0; k < 3; ++k) dst.template middleCols<3>(3 * local[k]) += scale * src.middleCols<3>(3 * k);
-  }
-
-  double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
+double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
                  Eigen::Matrix<double, 18, 1>& g, Mat18& H) const {
     const Vec3 p0 = position(x, ids[0]);
     const Vec3 e0 = position(x, ids[1]) - p0, e1 = position(x, ids[2]) - p0;
@@ -161,7 +184,7 @@ class BendingTerm : public EnergyTerm {
     secondFundamentalForm(ve0, ve1, nb[0], nb[1], nb[2], b);
     const double* B = ref_.secondFundamentalForm[f].data();
     const double* P = ref_.inverseMetric[f].data();
-    const double area = ref_.area[f];
+    const double area = scale_ * ref_.area[f];
     if (!wantG && !wantH) return area * bendingDensity(b, B, P, alpha_, beta_);
 
     double W;
@@ -177,7 +200,6 @@ class BendingTerm : public EnergyTerm {
 
     // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x in stencil-local dofs (3×18).
     const std::int8_t* nloc = neighborLocal_[f].data();
-    static constexpr std::int8_t kSelf[3] = {0, 1, 2};
     const int fn[3] = {topo_.faceNeighbors(f, 0), topo_.faceNeighbors(f, 1), topo_.faceNeighbors(f, 2)};
     Mat3x18 M[3], N[3];
     for (int i = 0; i < 3; ++i) {
@@ -185,8 +207,8 @@ class BendingTerm : public EnergyTerm {
       addFaceColumns(M[i], faces_[f].dndx, kSelf, 0.5);
       if (fn[i] >= 0) {
         addFaceColumns(M[i], faces_[fn[i]].dndx, nloc + 3 * i, 0.5);
-      } else {
-        addFaceColumns(M[i], faces_[f].dndx, kSelf, 0.5);
+      } else if (!isClamped(topo_.faceEdges(f, i))) {
+        addFaceColumns(M[i], faces_[f].dndx, kSelf, 0.5);  // the missing normal is this face's own
       }
       N[i] = edge[i]->dndm * M[i];
     }
@@ -216,9 +238,7 @@ class BendingTerm : public EnergyTerm {
     return area * W;
   }
 
-  /// Adds Σ_k w_k ∇²b_k(x): the bilinear e–n̄ coupling and the second derivatives of the mid-edge normals
-  /// (through the Kelvin inversion and the face normals).
-  void addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Vec3& e0, const Vec3& e1,
+void BendingTerm::addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Vec3& e0, const Vec3& e1,
                        const Vec3& w, const Mat3x18* M, const Mat3x18* N, const std::int8_t* nloc, const int* fn,
                        Mat18& H) const {
     // s = w·b = Σ c_ai e_a·n̄_i with c_00 = −2w0, c_01 = 2w0, c_10 = −2(w1 + w2), c_12 = 2w2.
@@ -239,9 +259,12 @@ class BendingTerm : public EnergyTerm {
       H.noalias() += M[i].transpose() * (Hm * M[i]);
       const Vec3 h = 0.5 * (s.dndm.transpose() * gnb[i]);
       hFace[0] += h;
-      hFace[fn[i] >= 0 ? 1 + i : 0] += h;
+      if (fn[i] >= 0) {
+        hFace[1 + i] += h;
+      } else if (!isClamped(topo_.faceEdges(f, i))) {
+        hFace[0] += h;
+      }
     }
-    static constexpr std::int8_t kSelf[3] = {0, 1, 2};
     for (int j = 0; j < 4; ++j) {
       if (j > 0 && fn[j - 1] < 0) continue;
       const int face = j == 0 ? f : fn[j - 1];
@@ -266,17 +289,7 @@ class BendingTerm : public EnergyTerm {
     }
   }
 
-  Faces F_;
-  Topology topo_;
-  ShellReference ref_;
-  double alpha_, beta_;
-  StencilTable table_;
-  std::vector<std::vector<int>> colors_;
-  std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k
-  std::vector<FaceStage> faces_;
-  std::vector<EdgeStage> edges_;
-  std::vector<double> elementEnergy_;
-};
+namespace {
 
 /// The whole stencil as one 18-dof element energy: the naive nested-Jet reference.
 struct BendingStencilEnergy {

@@ -41,6 +41,21 @@ double NodalForceTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& req
   return -scale_ * forces_.dot(x);
 }
 
+StiffnessDampingTerms makeStiffnessDampingTerms(const TriMesh& mesh, const Topology& topology,
+                                                const ShellReference& reference, const ShellMaterialParams& m) {
+  StiffnessDampingTerms t;
+  if (m.stiffnessDampingCoefficient <= 0.0) return t;
+  if (m.membraneLambda != 0.0 || m.membraneMu != 0.0) {
+    t.membrane = std::make_shared<MembraneTerm>(mesh, reference, m.membraneLambda, m.membraneMu);
+    t.membrane->setName("membrane_damping");
+  }
+  if (m.bendingAlpha != 0.0 || m.bendingBeta != 0.0) {
+    t.bending = std::make_shared<BendingTerm>(mesh, topology, reference, m.bendingAlpha, m.bendingBeta);
+    t.bending->setName("bending_damping");
+  }
+  return t;
+}
+
 std::shared_ptr<NodalForceTerm> makeNodalForceTerm(const Eigen::VectorXd& forces) {
   return std::make_shared<NodalForceTerm>(forces);
 }

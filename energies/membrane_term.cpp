@@ -1,5 +1,7 @@
 // Membrane term: per face, x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the
 // templated density, differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
+#include "energies/membrane_term.h"
+
 #include "core/element_loop.h"
 #include "energies/analytic_stages.h"
 #include "energies/shell_geometry.h"
@@ -7,38 +9,39 @@
 #include "energies/stage_derivatives.h"
 
 namespace jetshell {
-namespace {
 
-class MembraneTerm : public EnergyTerm {
- public:
-  MembraneTerm(const TriMesh& mesh, const ShellReference& ref, double lambda, double mu)
-      : ref_(ref), lambda_(lambda), mu_(mu) {
-    table_.width = 3;
-    table_.ids.assign(mesh.F.data(), mesh.F.data() + mesh.F.size());
-    colors_ = colorElements(table_, mesh.numVertices());
+MembraneTerm::MembraneTerm(const TriMesh& mesh, const ShellReference& ref, double lambda, double mu)
+    : ref_(ref), lambda_(lambda), mu_(mu) {
+  table_.width = 3;
+  table_.ids.assign(mesh.F.data(), mesh.F.data() + mesh.F.size());
+  colors_ = colorElements(table_, mesh.numVertices());
+}
+
+double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+  const bool ad = options.path == DerivativePath::AutoDiff;
+  return runElementLoop<3>(table_, colors_, x, request, options.projection, elementEnergy_,
+                           [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
+                               Eigen::Matrix<double, 9, 9>& H) { return element(x, f, ids, wantG, wantH, ad, g, H); });
+}
+
+void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale) {
+  for (std::size_t f = 0; f < ref_.metric.size(); ++f) {
+    const int* ids = table_.element(static_cast<int>(f));
+    const Eigen::Vector3d x0 = xOrigin.segment<3>(3 * ids[0]);
+    const Eigen::Vector3d e0 = xOrigin.segment<3>(3 * ids[1]) - x0, e1 = xOrigin.segment<3>(3 * ids[2]) - x0;
+    ref_.metric[f] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
   }
-  std::string name() const override { return "membrane"; }
-  StencilTable stencils() const override { return table_; }
-  bool hasAnalytic() const override { return true; }
+  scale_ = scale;
+}
 
-  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
-    const bool ad = options.path == DerivativePath::AutoDiff;
-    return runElementLoop<3>(table_, colors_, x, request, options.projection, elementEnergy_,
-                             [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
-                                 Eigen::Matrix<double, 9, 9>& H) {
-                               return element(x, f, ids, wantG, wantH, ad, g, H);
-                             });
-  }
-
- private:
-  double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
-                 Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const {
+double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
+                             Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const {
     const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]), x1 = x.segment<3>(3 * ids[1]), x2 = x.segment<3>(3 * ids[2]);
     const Eigen::Vector3d e0 = x1 - x0, e1 = x2 - x0;
     const double a[3] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
     const double* A = ref_.metric[f].data();
     const double* P = ref_.inverseMetric[f].data();
-    const double area = ref_.area[f];
+    const double area = scale_ * ref_.area[f];
     if (!wantG && !wantH) return area * membraneDensity(a, A, P, lambda_, mu_);
 
     double W;
@@ -75,17 +78,8 @@ class MembraneTerm : public EnergyTerm {
       }
       H.block<3, 3>(0, 0) = -(H.block<3, 3>(0, 3) + H.block<3, 3>(0, 6));
     }
-    return area * W;
-  }
-
-  StencilTable table_;
-  std::vector<std::vector<int>> colors_;
-  ShellReference ref_;  // a copy: the term must not outlive borrowed data
-  double lambda_, mu_;
-  std::vector<double> elementEnergy_;
-};
-
-}  // namespace
+  return area * W;
+}
 
 EnergyTermPtr makeMembraneTerm(const TriMesh& mesh, const ShellReference& reference, double lambda, double mu) {
   return std::make_shared<MembraneTerm>(mesh, reference, lambda, mu);

@@ -5,7 +5,9 @@
 #include "core/reference_state.h"
 #include "core/term.h"
 #include "core/topology.h"
+#include "energies/bending_term.h"
 #include "energies/material.h"
+#include "energies/membrane_term.h"
 
 #include <Eigen/Core>
 
@@ -23,6 +25,18 @@ EnergyTermPtr makeBendingTerm(const TriMesh& mesh, const Topology& topology, con
 /// staged evaluator is checked against).
 EnergyTermPtr makeBendingTermNestedJet(const TriMesh& mesh, const Topology& topology,
                                        const ShellReference& reference, double alpha, double beta);
+
+/// Stiffness damping (β_R) for an implicit step: "membrane_damping" and "bending_damping", the membrane and
+/// bending energies with their origin moved to x_prev and scaled by β_R/Δt, which makes
+/// Δt·β_R·(W_m(ε̇) + W_b(κ̇)) with ε̇ = (ε(x) − ε(x_prev))/Δt, κ̇ likewise, a potential. Before each step call
+/// membrane->setStrainOrigin(x_prev, β_R/Δt) and bending->setCurvatureOrigin(x_prev, β_R/Δt).
+/// Either pointer is null when its coefficients are zero (the term is not needed).
+struct StiffnessDampingTerms {
+  std::shared_ptr<MembraneTerm> membrane;
+  std::shared_ptr<BendingTerm> bending;
+};
+StiffnessDampingTerms makeStiffnessDampingTerms(const TriMesh& mesh, const Topology& topology,
+                                                const ShellReference& reference, const ShellMaterialParams& material);
 
 /// Lumped mass per vertex: each face gives a third of ρ_A0 · area to each of its vertices.
 Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference, double density);

@@ -1,0 +1,79 @@
+// Bending term Σ_f scale · area_f · W_b(κ_f), κ = B_origin − b, on the four-triangle stencil with Kelvin-inverted
+// mid-edge normals, differentiated in stages (see bending_term.cpp for the data flow).
+#pragma once
+
+#include "core/mesh.h"
+#include "core/reference_state.h"
+#include "core/term.h"
+#include "core/topology.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+class BendingTerm : public EnergyTerm {
+ public:
+  BendingTerm(const TriMesh& mesh, const Topology& topology, const ShellReference& reference, double alpha,
+              double beta);
+  std::string name() const override { return name_; }
+  StencilTable stencils() const override { return table_; }
+  bool hasAnalytic() const override { return true; }
+  bool rigidInvariant() const override { return clamped_.empty(); }
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
+
+  /// Clamps the boundary edges whose two endpoints are both marked in vertexMask (size N): the missing
+  /// neighbour's normal becomes the face's reference normal instead of the face's current normal, so the
+  /// mid-edge normal resists rotation about the edge (a mesh-independent clamp). Returns the number of
+  /// clamped edges. An empty mask unclamps.
+  int setClampedBoundary(const std::vector<char>& vertexMask);
+
+  /// Moves the curvature origin to b(xOrigin) and scales the energy: with scale = β_R/Δt and xOrigin = x_prev
+  /// this is the stiffness-damping potential Δt·β_R·W_b(κ̇), κ̇ = (κ(x) − κ(x_prev))/Δt.
+  void setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale);
+  void setName(std::string name) { name_ = std::move(name); }
+
+ private:
+  struct FaceStage {
+    Eigen::Vector3d n;
+    Eigen::Matrix3d dndc;
+    std::array<Eigen::Matrix3d, 3> hessian;  // ∇²_c n_k
+    Eigen::Matrix<double, 3, 9> dndx;        // in the face's own vertex order
+  };
+  struct EdgeStage {
+    Eigen::Vector3d nbar;
+    Eigen::Matrix3d dndm;
+    std::array<Eigen::Matrix3d, 3> hessian;  // ∇²_m n̄_k
+  };
+
+  void computeFaceStages(const Eigen::VectorXd& x, bool derivatives, bool ad);
+  void computeEdgeStages(bool derivatives, bool ad);
+  double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
+                 Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
+  void addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Eigen::Vector3d& e0,
+                       const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 18>* M,
+                       const Eigen::Matrix<double, 3, 18>* N, const std::int8_t* nloc, const int* fn,
+                       Eigen::Matrix<double, 18, 18>& H) const;
+  bool isClamped(int edge) const { return !clamped_.empty() && clamped_[edge]; }
+
+  std::string name_ = "bending";
+  Faces F_;
+  Topology topo_;
+  ShellReference ref_;  // secondFundamentalForm = curvature origin
+  double alpha_, beta_;
+  double scale_ = 1.0;
+  StencilTable table_;
+  std::vector<std::vector<int>> colors_;
+  std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k
+  std::vector<char> clamped_;                              // per edge; empty = none
+  std::vector<Eigen::Vector3d> referenceNormal_;           // per face, for clamped edges
+  std::vector<FaceStage> faces_;
+  std::vector<EdgeStage> edges_;
+  std::vector<double> elementEnergy_;
+};
+
+}  // namespace jetshell

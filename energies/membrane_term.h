@@ -1,0 +1,41 @@
+// Membrane term: Σ_f scale · area_f · W_m(ε_f), ε = ½(a − A_origin), traces with the reference A⁻¹.
+// Stages: x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the templated density,
+// differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
+#pragma once
+
+#include "core/mesh.h"
+#include "core/reference_state.h"
+#include "core/term.h"
+
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+class MembraneTerm : public EnergyTerm {
+ public:
+  MembraneTerm(const TriMesh& mesh, const ShellReference& reference, double lambda, double mu);
+  std::string name() const override { return name_; }
+  StencilTable stencils() const override { return table_; }
+  bool hasAnalytic() const override { return true; }
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
+
+  /// Moves the strain origin to the metric of xOrigin and scales the energy: with scale = β_R/Δt and
+  /// xOrigin = x_prev this is the stiffness-damping potential Δt·β_R·W_m(ε̇), ε̇ = (ε(x) − ε(x_prev))/Δt.
+  void setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale);
+  void setName(std::string name) { name_ = std::move(name); }
+
+ private:
+  double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
+                 Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
+
+  std::string name_ = "membrane";
+  StencilTable table_;
+  std::vector<std::vector<int>> colors_;
+  ShellReference ref_;  // a copy: the term must not outlive borrowed data; metric = strain origin
+  double lambda_, mu_;
+  double scale_ = 1.0;
+  std::vector<double> elementEnergy_;
+};
+
+}  // namespace jetshell
