@@ -29,6 +29,17 @@ struct RegisteredSubcommand {
 
 std::vector<RegisteredSubcommand>& subcommandRegistry();
 
+/// The shared parent of all `jetshell bench <name>` benchmarks (created on first use). Benchmark files add
+/// their own subcommand to it: `benchCommand(app)->add_subcommand("solver", ...)`.
+inline CLI::App* benchCommand(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands({})) {
+    if (sub->get_name() == "bench") return sub;
+  }
+  CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print figures (and --json)");
+  bench->require_subcommand(1);
+  return bench;
+}
+
 struct RegisterSubcommand {
   RegisterSubcommand(std::string name, SubcommandSetup setup) {
     subcommandRegistry().push_back({std::move(name), std::move(setup)});
