@@ -1,0 +1,84 @@
+#include "core/mesh_generators.h"
+#include "core/mesh_io.h"
+#include "core/topology.h"
+
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+using namespace jetshell;
+
+namespace {
+
+ObjMesh parse(const std::string& text) {
+  std::istringstream in(text);
+  return parseObj(in, "m.obj");
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+const char* kSquare = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+}  // namespace
+
+TEST_CASE("obj: reads triangles, polygons, slashed corners and relative indices") {
+  const ObjMesh m = parse(std::string("# square\n") + kSquare + "vt 0 0\nvn 0 0 1\ng top\nf 1/1/1 2//1 3\nf -4 -2 -1\n");
+  REQUIRE(m.mesh.numVertices() == 4);
+  REQUIRE(m.mesh.numFaces() == 2);
+  CHECK(m.mesh.F.row(1) == Eigen::RowVector3i(0, 2, 3));
+  CHECK(m.faceLine == std::vector<int>{9, 10});
+  const ObjMesh quad = parse(std::string(kSquare) + "f 1 2 3 4\n");
+  CHECK(quad.mesh.numFaces() == 2);
+  CHECK(quad.faceLine == std::vector<int>{5, 5});
+}
+
+TEST_CASE("obj: write then read reproduces the mesh bit for bit") {
+  const TriMesh a = makeSlitAnnulus(0.6, 1.0, 3, 9);
+  std::stringstream s;
+  writeObj(s, a.V, a.F);
+  const ObjMesh b = parseObj(s, "roundtrip.obj");
+  CHECK(b.mesh.V == a.V);
+  CHECK(b.mesh.F == a.F);
+}
+
+TEST_CASE("obj: broken files name the file and line") {
+  CHECK(errorOf(std::string(kSquare) + "f 1 2 9\n") ==
+        "m.obj:5: face index 9 is out of range (the file has 4 vertices)");
+  CHECK(errorOf(std::string(kSquare) + "f 1 2 -7\n").rfind("m.obj:5: face index -7 is out of range", 0) == 0);
+  CHECK(errorOf(std::string(kSquare) + "f 0 1 2\n") == "m.obj:5: face index 0 is invalid (OBJ indices start at 1)");
+  CHECK(errorOf(std::string(kSquare) + "f 1 2 2\n") == "m.obj:5: face repeats a vertex");
+  CHECK(errorOf(std::string(kSquare) + "f 1 2\n") == "m.obj:5: a face needs at least 3 corners");
+  CHECK(errorOf(std::string(kSquare) + "f 1 x 3\n") == "m.obj:5: face corner 'x' is not an index");
+  CHECK(errorOf("v 0 0\n") == "m.obj:1: a vertex needs 3 coordinates (x y z [w])");
+  CHECK(errorOf("v 0 nan 0\n") == "m.obj:1: vertex coordinate 'nan' is not finite");
+  CHECK(errorOf("v 0 1e999 0\n") == "m.obj:1: vertex coordinate '1e999' is not finite");
+  CHECK(errorOf("v 0 1.5q 0\n") == "m.obj:1: '1.5q' is not a number");
+  CHECK(errorOf("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n") == "m.obj:4: degenerate face (zero area)");
+  CHECK(errorOf(std::string(kSquare) + "f 1 2 3\nf 1 2 4\n").rfind("m.obj:6: face orientation is inconsistent with "
+                                                                   "the face on line 5",
+                                                                   0) == 0);
+  CHECK(errorOf("") == "m.obj: no vertices ('v' lines)");
+  CHECK(errorOf(kSquare) == "m.obj: no faces ('f' lines)");
+  CHECK(errorOf(std::string(kSquare) + "l 1 2\n").rfind("m.obj:5: 'l' elements are not supported", 0) == 0);
+}
+
+TEST_CASE("obj: an edge shared by three faces is reported with all three lines") {
+  const std::string fin = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+  CHECK(errorOf(fin) == "m.obj:8: non-manifold edge between vertices 1 and 2: also used by the faces on lines 6 and 7");
+}
+
+TEST_CASE("obj: a missing file is named") {
+  try {
+    readObj("/nonexistent/dir/mesh.obj");
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()) == "/nonexistent/dir/mesh.obj: cannot open mesh file");
+  }
+}
