@@ -1,0 +1,269 @@
+#include "core/mesh_generators.h"
+#include "core/mesh_io.h"
+#include "tools/scene/json_reader.h"
+#include "tools/scene/scene_json.h"
+#include "tools/scene/scene_model.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace jetshell;
+using Json = nlohmann::json;
+
+namespace {
+
+/// A small valid scene: a 4 × 2 strip, left edge fixed, a load on the right edge, one probe.
+Json baseScene() {
+  return Json::parse(R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [{
+      "type": "shell", "name": "strip",
+      "shape": {"generator": "rectangle", "width": 4, "height": 1, "nx": 8, "ny": 2},
+      "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.01, "volumeDensity": 100},
+      "fixed": [{"select": {"group": "left"}}],
+      "loads": [{"select": {"group": "right"}, "force": [0, 0, 1], "distribution": "edgeLength"}],
+      "probes": [{"name": "tip", "select": {"nearest": [4, 0.5, 0]}}]
+    }],
+    "analysis": {"type": "static", "loadSteps": 2}
+  })");
+}
+
+std::string tempDir() {
+  const auto dir = std::filesystem::temp_directory_path() / "jetshell_scene_tests";
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+/// The error message of loading (and resolving) a scene, or "no error".
+std::string errorOf(const Json& scene) {
+  try {
+    buildSceneModel(sceneFromJson(scene, tempDir()));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::string errorOfText(const std::string& text) {
+  try {
+    buildSceneModel(sceneFromJson(jetshell::json::parse(text, "s.json"), tempDir()));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+template <typename Edit>
+std::string errorAfter(Edit edit) {
+  Json s = baseScene();
+  edit(s);
+  return errorOf(s);
+}
+
+void writeFile(const std::string& name, const std::string& text) {
+  std::ofstream(std::filesystem::path(tempDir()) / name) << text;
+}
+
+bool startsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
+
+}  // namespace
+
+TEST_CASE("scene: every example parses and resolves") {
+  const std::filesystem::path dir = std::filesystem::path(JETSHELL_SOURCE_DIR) / "examples";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    INFO(entry.path().string());
+    const Scene scene = loadSceneFile(entry.path().string());
+    const SceneModel model = buildSceneModel(scene);
+    CHECK(model.numVertices() > 0);
+    CHECK(!model.prescribed.empty());
+    CHECK(!model.probes.empty());
+    ++count;
+  }
+  CHECK(count >= 3);
+}
+
+TEST_CASE("scene: the slit annular ring resolves to the page's setup") {
+  const Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/slit_annular_ring.json");
+  const SceneModel m = buildSceneModel(scene);
+  REQUIRE(m.numVertices() == 325);
+  CHECK(m.prescribed.size() == 2 * 5 * 3);  // two columns of 5 nodes, all components
+  for (const PrescribedCoordinate& p : m.prescribed) CHECK(p.vertex % 65 <= 1);
+  // 0.32 N in total, on the θ = 2π column only, with the end nodes carrying half a segment each.
+  double total = 0;
+  for (int v = 0; v < 325; ++v) {
+    const double fz = m.appliedForces[3 * v + 2];
+    total += fz;
+    if (fz != 0.0) CHECK(v % 65 == 64);
+  }
+  CHECK(total == Approx(0.32));
+  CHECK(m.appliedForces[3 * 64 + 2] == Approx(0.04));
+  CHECK(m.appliedForces[3 * (65 + 64) + 2] == Approx(0.08));
+  REQUIRE(m.probes.size() == 2);
+  CHECK(m.probes[0].vertex == 64);
+  CHECK(m.probes[1].vertex == 4 * 65 + 64);
+  CHECK(scene.shells[0].material.membraneMu == Approx(0.003 * 210e6 / 2));
+  CHECK(scene.shells[0].material.density == Approx(3.0));
+  CHECK(scene.shells[0].material.massDampingCoefficient == 0.3);
+  CHECK(!scene.shells[0].hasGravity);
+  CHECK(scene.analysis.type == AnalysisType::DynamicRelaxation);
+}
+
+TEST_CASE("scene: prescribed motion follows the load factor, per component") {
+  Json s = baseScene();
+  s["actors"][0]["fixed"] = Json::parse(R"([
+    {"select": {"group": "left"}},
+    {"select": {"group": "right"}, "components": "xz", "displacement": [0.5, 0, -1]}
+  ])");
+  const SceneModel m = buildSceneModel(sceneFromJson(s, tempDir()));
+  CHECK(m.prescribed.size() == 3 * 3 + 3 * 2);
+  int moving = 0;
+  for (const PrescribedCoordinate& p : m.prescribed) {
+    if (!p.value) continue;
+    ++moving;
+    CHECK(p.component != 1);
+    const double X = m.world.V(p.vertex, p.component);
+    CHECK(p.value(0.5) == Approx(X + 0.5 * (p.component == 0 ? 0.5 : -1.0)));
+  }
+  CHECK(moving == 3 * 2);
+}
+
+TEST_CASE("scene: transforms place actors and loads are spread as asked") {
+  Json s = baseScene();
+  s["actors"][0]["worldFromLocalTransform"] = Json::parse(R"({"translation": [1, 2, 3], "rotation": {"axis": [0, 0, 1], "degrees": 90}})");
+  s["actors"][0]["loads"] = Json::parse(R"([{"select": {"all": true}, "force": [0, 0, 2], "distribution": "area"},
+                                             {"select": {"indices": [0, 1]}, "force": [1, 0, 0], "distribution": "perVertex"}])");
+  s["actors"][0]["probes"][0]["select"]["nearest"] = {0.5, 6, 3};
+  const SceneModel m = buildSceneModel(sceneFromJson(s, tempDir()));
+  CHECK(m.world.V(0, 0) == Approx(1));
+  CHECK(m.world.V(8, 1) == Approx(6));  // (4, 0, 0) rotated by 90° about z, then shifted
+  CHECK(m.probes[0].vertex == 8 + 9);   // local (4, 0.5) after the transform: (−0.5, 4) + (1, 2)
+  double fz = 0, fx = 0;
+  for (int v = 0; v < m.numVertices(); ++v) fz += m.appliedForces[3 * v + 2], fx += m.appliedForces[3 * v];
+  CHECK(fz == Approx(2.0));
+  CHECK(fx == Approx(2.0));
+  // A corner carries a sixth of one face's area (alternating diagonals), an interior vertex more.
+  CHECK(m.appliedForces[3 * 10 + 2] > m.appliedForces[3 * 0 + 2]);
+}
+
+TEST_CASE("scene: several actors stack into one set of unknowns") {
+  Json s = baseScene();
+  Json second = s["actors"][0];
+  second["name"] = "second";
+  second["worldFromLocalTransform"] = {{"translation", {0, 0, 1}}};
+  second.erase("probes");
+  s["actors"].push_back(second);
+  s["actors"].push_back(Json::parse(R"({"type": "plane", "name": "floor", "point": [0, 0, -1], "normal": [0, 0, 1]})"));
+  const Scene scene = sceneFromJson(s, tempDir());
+  CHECK(scene.volumes.size() == 1);
+  CHECK(unsupportedFeatures(scene).size() == 1);
+  const SceneModel m = buildSceneModel(scene);
+  REQUIRE(m.actors.size() == 2);
+  CHECK(m.actors[1].firstVertex == 27);
+  CHECK(m.numVertices() == 54);
+  CHECK(m.actors[1].mesh.F.minCoeff() == 27);
+  CHECK(m.world.V(27, 2) == 1.0);
+}
+
+TEST_CASE("scene: malformed scenes give one clear line naming the field") {
+  CHECK(startsWith(errorOfText("{\n  \"actors\": [\n    {\"type\": \"shell\",,}\n  ]\n}"),
+                   "s.json:3:22: invalid JSON: syntax error while parsing object key - unexpected ','"));
+  CHECK(errorOfText(R"({"actors": [], "actors": []})") == "s.json: /actors: repeated key (each key may appear once per object)");
+  CHECK(errorAfter([](Json& s) { s.erase("actors"); }) == "/actors: missing (required)");
+  CHECK(errorAfter([](Json& s) { s.erase("analysis"); }) == "/analysis: missing (required)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0].erase("shape"); }) == "/actors/0/shape: missing (required)");
+  CHECK(errorAfter([](Json& s) { s["solvr"] = Json::object(); }) ==
+        "/solvr: unknown key in a scene (did you mean \"solver\"?)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["material"]["poisonRatio"] = 0.3; }) ==
+        "/actors/0/material/poisonRatio: unknown key in a shell material (did you mean \"poissonRatio\"?)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["material"]["poissonRatio"] = "0.3"; }) ==
+        "/actors/0/material/poissonRatio: expected a number, got a string");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["material"]["poissonRatio"] = 0.5; }) ==
+        "/actors/0/material/poissonRatio = 0.5: must lie in (-1, 0.5)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["material"]["thickness"] = 0; }) ==
+        "/actors/0/material/thickness = 0: must be finite and > 0");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["material"].erase("thickness"); }) ==
+        "/actors/0/material/thickness: missing (required)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["material"] = {{"density", -1}}; }) ==
+        "/actors/0/material/density = -1: must be finite and >= 0");
+  CHECK(startsWith(errorAfter([](Json& s) { s["actors"][0]["material"]["membraneMu"] = 10; }),
+                   "/actors/0/material/membraneMu: cannot be combined with \"youngsModulus\""));
+  CHECK(errorAfter([](Json& s) { s["gravity"] = {0, -9.81}; }) ==
+        "/gravity: expected an array of 3 numbers [x, y, z], got an array");
+  CHECK(errorAfter([](Json& s) { s["gravity"][2] = std::numeric_limits<double>::infinity(); }) ==
+        "/gravity/2 = inf: must be finite");
+  CHECK(errorOfText(R"({"gravity": [0, 0, 1e999]})") == "s.json:1:20: invalid JSON: number overflow parsing '1e999'");
+  CHECK(startsWith(errorOfText(R"({"gravity": [0, 0, NaN]})"), "s.json:1:20: invalid JSON: syntax error while parsing value - invalid literal"));
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"]["nx"] = 2.5; }) ==
+        "/actors/0/shape/nx: expected an integer, got 2.5");
+  CHECK(startsWith(errorAfter([](Json& s) { s["actors"][0]["shape"]["generator"] = "disk"; }),
+                   "/actors/0/shape/generator: \"disk\" is not one of \"rectangle\""));
+  CHECK(errorAfter([](Json& s) {
+          s["actors"][0]["shape"] = {{"generator", "slitAnnulus"}, {"innerRadius", 1}, {"outerRadius", 2},
+                                     {"rings", 1}, {"nodesPerRing", 8}};
+        }) == "/actors/0/shape/rings = 1: must be >= 2");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["type"] = "cloth"; }) ==
+        "/actors/0/type: \"cloth\" is not one of \"shell\", \"plane\", \"box\", \"sphere\"");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["colliderType"] = "Sphere"; }) ==
+        "/actors/0/colliderType: \"Sphere\" is not one of \"PointCloud\", \"None\"");
+  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "static"}, {"timeStep", 0.1}}; }) ==
+        "/analysis/timeStep: unknown key in a static analysis (allowed: type, loadSteps)");
+  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", -0.1}, {"duration", 1}}; }) ==
+        "/analysis/timeStep = -0.1: must be finite and > 0");
+  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"duration", 1}}; }) ==
+        "/analysis/timeStep: missing (required)");
+  CHECK(errorAfter([](Json& s) { s["solver"] = {{"lineSearch", "wolf"}}; }) ==
+        "/solver/lineSearch: \"wolf\" is not one of \"default\", \"none\", \"armijo\", \"residual\", \"wolfe\" "
+        "(did you mean \"wolfe\"?)");
+  CHECK(errorAfter([](Json& s) { s["actors"].push_back({{"type", "sphere"}, {"radius", -1}}); }) ==
+        "/actors/1/radius = -1: must be finite and > 0");
+}
+
+TEST_CASE("scene: selections that cannot resolve name the selector") {
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["fixed"][0]["select"] = {{"indices", {0, 99}}}; }) ==
+        "/actors/0/fixed/0/select/indices/1 = 99: out of range [0, 27)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["fixed"][0]["select"] = {{"group", "slitEnd"}}; }) ==
+        "/actors/0/fixed/0/select/group = \"slitEnd\": unknown group of generator rectangle (known: bottom, left, "
+        "right, top)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["fixed"][0]["select"] = Json::object(); }) ==
+        "/actors/0/fixed/0/select: selects nothing (give at least one criterion, or \"all\": true)");
+  CHECK(errorAfter([](Json& s) {
+          s["actors"][0]["fixed"][0]["select"] = {{"box", {{"min", {10, 10, 10}}, {"max", {11, 11, 11}}}}};
+        }) == "/actors/0/fixed/0/select: no vertex matches the selection");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["fixed"][0]["components"] = "xw"; }) ==
+        "/actors/0/fixed/0/components: \"xw\" must be made of the letters x, y, z");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["probes"][0]["select"] = {{"group", "left"}}; }) ==
+        "/actors/0/probes/0/select: picks 3 vertices; a probe needs exactly one (add \"nearest\": [x, y, z])");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["probes"].push_back(s["actors"][0]["probes"][0]); }) ==
+        "/actors/0/probes/1/name = \"tip\": duplicate probe name");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["loads"][0]["select"] = {{"nearest", {2, 0.5, 0}}}; }) ==
+        "/actors/0/loads/0/distribution = \"edgeLength\": no boundary edge joins two selected vertices (select a "
+        "line of boundary vertices)");
+  CHECK(errorAfter([](Json& s) {
+          s["actors"][0]["fixed"][0]["select"] = {{"plane", {{"point", {0, 0, 0}}, {"normal", {0, 0, 0}}, {"distance", 0}}}};
+        }) == "/actors/0/fixed/0/select/plane/normal = [0, 0, 0]: must be a non-zero vector");
+}
+
+TEST_CASE("scene: broken and missing meshes name the file and line") {
+  writeFile("bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+  writeFile("fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+  const std::string dir = tempDir();
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = {{"obj", "missing.obj"}}; }) ==
+        "/actors/0/shape/obj: " + dir + "/missing.obj: cannot open mesh file");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = {{"obj", "bad_index.obj"}}; }) ==
+        "/actors/0/shape/obj: " + dir + "/bad_index.obj:4: face index 4 is out of range (the file has 3 vertices)");
+  CHECK(startsWith(errorAfter([](Json& s) { s["actors"][0]["shape"] = {{"obj", "fin.obj"}}; }),
+                   "/actors/0/shape/obj: " + dir + "/fin.obj:8: non-manifold edge between vertices 1 and 2"));
+  CHECK(errorAfter([](Json& s) {
+          s["actors"][0]["shape"] = {{"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, {"faces", {{0, 1, 5}}}};
+        }) == "/actors/0/shape: mesh: face 0 (0, 1, 5) has vertex index 5 out of range [0, 3)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = {{"obj", 3}}; }) ==
+        "/actors/0/shape/obj: expected a string, got a number");
+}
+
+TEST_CASE("scene: a missing scene file is named") {
+  CHECK_THROWS_WITH(loadSceneFile("/nonexistent/scene.json"), "/nonexistent/scene.json: cannot open scene file");
+}

@@ -1,0 +1,75 @@
+#include "tools/scene/actor_params.h"
+
+#include "tools/scene/checks.h"
+
+namespace jetshell {
+
+RigidTransform RigidTransform::fromAxisAngle(const Eigen::Vector3d& axis, double angleRadians,
+                                             const Eigen::Vector3d& translation) {
+  check::nonZero(axis, "rotation axis");
+  check::finite(angleRadians, "rotation angle");
+  RigidTransform t;
+  t.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(angleRadians, axis.normalized()));
+  t.translation = translation;
+  return t;
+}
+
+namespace {
+
+void validate(const RigidTransform& t, const std::string& where) {
+  check::finite(t.translation, where + ".translation");
+  const double n = t.rotation.norm();
+  if (!(std::abs(n - 1.0) < 1e-9)) check::fail(where + ".rotation (quaternion norm)", n, "must be 1");
+}
+
+}  // namespace
+
+void validate(const ContactParams& p, const std::string& where) {
+  check::nonNegative(p.penaltyStiffness, where + ".penaltyStiffness");
+  check::nonNegative(p.activationDistance, where + ".activationDistance");
+  check::nonNegative(p.smoothingDistance, where + ".smoothingDistance");
+  check::nonNegative(p.huntCrossleyDamping, where + ".huntCrossleyDamping");
+  check::nonNegative(p.frictionCoefficient, where + ".frictionCoefficient");
+  check::positive(p.frictionSlipVelocity, where + ".frictionSlipVelocity");
+}
+
+void validate(const ShellActorParams& p, const std::string& where) {
+  if (!p.shape) throw InputError(where + ".shape: missing (required; create it with CreateTriMeshShape)");
+  validate(p.worldFromLocalTransform, where + ".worldFromLocalTransform");
+  jetshell::validate(p.material, where + ".material");
+  validate(p.contact, where + ".contact");
+  check::positive(p.pointCloudCollider.radius, where + ".pointCloudCollider.radius");
+  check::nonNegative(p.pointCloudCollider.selfContactExclusionRatio,
+                     where + ".pointCloudCollider.selfContactExclusionRatio");
+}
+
+void validate(const VolumeActorParams& p, const std::string& where) {
+  validate(p.worldFromLocalTransform, where + ".worldFromLocalTransform");
+  if (p.kind == VolumeActorParams::Kind::Box)
+    for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], where + ".halfExtents[" + std::to_string(c) + "]");
+  if (p.kind == VolumeActorParams::Kind::Sphere) check::positive(p.radius, where + ".radius");
+  validate(p.contact, where + ".contact");
+}
+
+const char* toString(ColliderType t) { return t == ColliderType::PointCloud ? "PointCloud" : "None"; }
+
+const char* toString(ActorBoundaryElementType t) {
+  switch (t) {
+    case ActorBoundaryElementType::Default: return "Default";
+    case ActorBoundaryElementType::Vertices: return "Vertices";
+    case ActorBoundaryElementType::FaceCentroids: return "FaceCentroids";
+    case ActorBoundaryElementType::FaceThreePoint: return "FaceThreePoint";
+  }
+  return "?";
+}
+
+const char* toString(VolumeActorParams::Kind k) {
+  switch (k) {
+    case VolumeActorParams::Kind::Plane: return "plane";
+    case VolumeActorParams::Kind::Box: return "box";
+    case VolumeActorParams::Kind::Sphere: return "sphere";
+  }
+  return "?";
+}
+
+}  // namespace jetshell

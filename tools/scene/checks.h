@@ -1,0 +1,47 @@
+// One-line range checks shared by the C++ API validation and the JSON reader, so both word errors alike:
+// "<field> = <value>: must be ...". `field` is "where.name" from the API or a JSON pointer from a scene file.
+#pragma once
+
+#include "core/mesh.h"
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace jetshell::check {
+
+[[noreturn]] inline void fail(const std::string& field, double value, const char* rule) {
+  std::ostringstream s;
+  s << field << " = " << value << ": " << rule;
+  throw InputError(s.str());
+}
+
+inline void finite(double v, const std::string& field) {
+  if (!std::isfinite(v)) fail(field, v, "must be finite");
+}
+inline void positive(double v, const std::string& field) {
+  if (!(std::isfinite(v) && v > 0)) fail(field, v, "must be finite and > 0");
+}
+inline void nonNegative(double v, const std::string& field) {
+  if (!(std::isfinite(v) && v >= 0)) fail(field, v, "must be finite and >= 0");
+}
+inline void atLeast(int v, int minimum, const std::string& field) {
+  if (v < minimum) {
+    std::ostringstream s;
+    s << "must be >= " << minimum;
+    const std::string rule = s.str();
+    fail(field, v, rule.c_str());
+  }
+}
+inline void finite(const Eigen::Vector3d& v, const std::string& field) {
+  for (int c = 0; c < 3; ++c)
+    if (!std::isfinite(v[c])) fail(field + "[" + std::to_string(c) + "]", v[c], "must be finite");
+}
+inline void nonZero(const Eigen::Vector3d& v, const std::string& field) {
+  finite(v, field);
+  if (v.norm() == 0.0) throw InputError(field + " = [0, 0, 0]: must be a non-zero vector");
+}
+
+}  // namespace jetshell::check

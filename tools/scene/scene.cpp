@@ -1,0 +1,164 @@
+#include "tools/scene/scene.h"
+
+#include "tools/scene/checks.h"
+
+#include <set>
+
+namespace jetshell {
+
+int Scene::addShellActor(ShellActorParams params) {
+  const int index = static_cast<int>(shells.size());
+  if (params.name.empty()) params.name = "shell" + std::to_string(index);
+  const std::string where = "shell actor '" + params.name + "'";
+  validate(params, where);
+  for (const ShellActorParams& s : shells)
+    if (s.name == params.name) throw InputError(where + ": the name is already used by another shell actor");
+  shells.push_back(std::move(params));
+  return index;
+}
+
+int Scene::addVolumeActor(VolumeActorParams params) {
+  const int index = static_cast<int>(volumes.size());
+  if (params.name.empty()) params.name = std::string(toString(params.kind)) + std::to_string(index);
+  const std::string where = "volume actor '" + params.name + "'";
+  validate(params, where);
+  for (const VolumeActorParams& v : volumes)
+    if (v.name == params.name) throw InputError(where + ": the name is already used by another volume actor");
+  volumes.push_back(std::move(params));
+  return index;
+}
+
+int Scene::shellIndex(const std::string& name, const std::string& where) const {
+  for (std::size_t i = 0; i < shells.size(); ++i)
+    if (shells[i].name == name) return static_cast<int>(i);
+  std::string known;
+  for (const ShellActorParams& s : shells) known += (known.empty() ? "'" : ", '") + s.name + "'";
+  throw InputError(where + " = \"" + name + "\": no shell actor has this name" +
+                   (known.empty() ? "" : " (known: " + known + ")"));
+}
+
+namespace {
+
+void requireActor(const Scene& scene, int actor, const std::string& where) {
+  if (actor < 0 || actor >= static_cast<int>(scene.shells.size()))
+    throw InputError(where + ".actor = " + std::to_string(actor) + ": no such shell actor (the scene has " +
+                     std::to_string(scene.shells.size()) + ")");
+}
+
+void validateSelection(const VertexSelection& selection, const std::string& where) {
+  if (selection.empty()) throw InputError(where + ": selects nothing (an empty list)");
+  for (std::size_t k = 0; k < selection.size(); ++k)
+    validate(selection[k], selection.size() == 1 ? where : where + "/" + std::to_string(k));
+}
+
+void requireOneOf(const std::string& value, std::initializer_list<const char*> options, const std::string& field) {
+  std::string list;
+  for (const char* o : options) {
+    if (value == o) return;
+    list += (list.empty() ? "" : ", ") + std::string(o);
+  }
+  throw InputError(field + " = \"" + value + "\": must be one of " + list);
+}
+
+}  // namespace
+
+void validate(const Scene& scene) {
+  check::finite(scene.gravity, "gravity");
+  if (scene.shells.empty()) throw InputError("scene: no shell actor (nothing to simulate)");
+  std::set<std::string> shellNames, volumeNames;
+  for (std::size_t i = 0; i < scene.shells.size(); ++i) {
+    const ShellActorParams& s = scene.shells[i];
+    validate(s, "shell actor " + std::to_string(i));
+    if (!shellNames.insert(s.name).second) throw InputError("shell actor " + std::to_string(i) + ": duplicate name '" + s.name + "'");
+  }
+  for (std::size_t i = 0; i < scene.volumes.size(); ++i) {
+    validate(scene.volumes[i], "volume actor " + std::to_string(i));
+    if (!volumeNames.insert(scene.volumes[i].name).second)
+      throw InputError("volume actor " + std::to_string(i) + ": duplicate name '" + scene.volumes[i].name + "'");
+  }
+  for (const FixedCondition& c : scene.fixed) {
+    requireActor(scene, c.actor, c.where);
+    validateSelection(c.select, c.where + "/select");
+    if (!c.components[0] && !c.components[1] && !c.components[2])
+      throw InputError(c.where + "/components: fixes no component (use some of \"x\", \"y\", \"z\")");
+    check::finite(c.displacement, c.where + "/displacement");
+    check::finite(c.velocity, c.where + "/velocity");
+    if (c.rotation) {
+      check::nonZero(c.rotation->axis, c.where + "/rotation/axis");
+      check::finite(c.rotation->center, c.where + "/rotation/center");
+      check::finite(c.rotation->radians, c.where + "/rotation/degrees");
+    }
+  }
+  for (const LoadCondition& l : scene.loads) {
+    requireActor(scene, l.actor, l.where);
+    validateSelection(l.select, l.where + "/select");
+    check::finite(l.force, l.where + "/force");
+  }
+  std::set<std::string> probeNames;
+  for (const Probe& p : scene.probes) {
+    requireActor(scene, p.actor, p.where);
+    validateSelection(p.select, p.where + "/select");
+    if (p.name.empty()) throw InputError(p.where + "/name: must not be empty");
+    if (!probeNames.insert(p.name).second) throw InputError(p.where + "/name = \"" + p.name + "\": duplicate probe name");
+  }
+  const AnalysisSettings& a = scene.analysis;
+  if (a.type == AnalysisType::Static) check::atLeast(a.loadSteps, 1, "/analysis/loadSteps");
+  if (a.type != AnalysisType::Static) {
+    check::positive(a.timeStep, "/analysis/timeStep");
+    check::nonNegative(a.loadRampTime, "/analysis/loadRampTime");
+  }
+  if (a.type == AnalysisType::Dynamic) {
+    check::positive(a.duration, "/analysis/duration");
+    if (a.duration < a.timeStep) check::fail("/analysis/duration", a.duration, "must be >= timeStep");
+  }
+  if (a.type == AnalysisType::DynamicRelaxation) {
+    check::atLeast(a.maxSteps, 1, "/analysis/maxSteps");
+    check::positive(a.tolerance, "/analysis/tolerance");
+  }
+  const SolverSettings& s = scene.solver;
+  if (s.maxIterations) check::atLeast(*s.maxIterations, 1, "/solver/maxIterations");
+  if (s.residualTolerance) check::nonNegative(*s.residualTolerance, "/solver/residualTolerance");
+  if (s.decrementTolerance) check::nonNegative(*s.decrementTolerance, "/solver/decrementTolerance");
+  requireOneOf(s.lineSearch, {"default", "none", "armijo", "residual", "wolfe"}, "/solver/lineSearch");
+  requireOneOf(s.linearSolver, {"auto", "cholmod", "ldlt", "pcg"}, "/solver/linearSolver");
+  requireOneOf(s.preconditioner, {"jacobi", "block_jacobi", "ic"}, "/solver/preconditioner");
+  requireOneOf(s.psdProjection, {"none", "clamp", "abs"}, "/solver/psdProjection");
+  requireOneOf(s.derivatives, {"analytic", "autodiff"}, "/solver/derivatives");
+  requireOneOf(s.bendingHessian, {"exact", "gaussNewton"}, "/solver/bendingHessian");
+  check::atLeast(s.threads, 0, "/solver/threads");
+  check::atLeast(scene.outputs.frameStride, 1, "/outputs/frameStride");
+}
+
+std::vector<std::string> unsupportedFeatures(const Scene& scene) {
+  std::vector<std::string> notes;
+  if (!scene.volumes.empty())
+    notes.push_back("contact with volume actors is not implemented yet: the " + std::to_string(scene.volumes.size()) +
+                    " volume actor(s) are written to the outputs but do not push on the shells");
+  for (const ShellActorParams& s : scene.shells)
+    if (s.colliderType == ColliderType::PointCloud && s.pointCloudCollider.selfContact)
+      notes.push_back("shell actor '" + s.name + "': point-cloud self-contact is not implemented yet (ignored)");
+  return notes;
+}
+
+const char* toString(AnalysisType t) {
+  switch (t) {
+    case AnalysisType::Static: return "static";
+    case AnalysisType::Dynamic: return "dynamic";
+    case AnalysisType::DynamicRelaxation: return "dynamicRelaxation";
+  }
+  return "?";
+}
+
+const char* toString(Integrator i) { return i == Integrator::BackwardEuler ? "backwardEuler" : "bdf2"; }
+
+const char* toString(LoadCondition::Distribution d) {
+  switch (d) {
+    case LoadCondition::Distribution::Uniform: return "uniform";
+    case LoadCondition::Distribution::EdgeLength: return "edgeLength";
+    case LoadCondition::Distribution::Area: return "area";
+    case LoadCondition::Distribution::PerVertex: return "perVertex";
+  }
+  return "?";
+}
+
+}  // namespace jetshell

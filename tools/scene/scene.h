@@ -1,0 +1,131 @@
+// A scene: shell actors and rigid volume actors, their boundary conditions, loads and probes, gravity, the
+// analysis (static, dynamic, dynamic relaxation), solver settings and outputs. The C++ form of a scene file
+// (tools/scene/scene_json.h reads one; SCENES.md documents both).
+#pragma once
+
+#include "tools/scene/actor_params.h"
+#include "tools/scene/selector.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+/// The load factor λ drives loads and prescribed motion: in statics λ runs over the load steps to 1; in
+/// dynamics λ(t) = min(1, t / loadRampTime) (1 throughout when loadRampTime is 0).
+struct FixedCondition {
+  int actor = 0;
+  VertexSelection select;
+  std::array<bool, 3> components{true, true, true};  // which of x, y, z are prescribed
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();  // m, reached at λ = 1: u = λ·displacement
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();      // m/s, dynamics only: u += velocity·t
+  struct Rotation {  // rigid rotation of the selected vertices about an axis, angle λ·radians
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
+    double radians = 0.0;
+  };
+  std::optional<Rotation> rotation;
+  /// Also clamp the rotation about the boundary edges among the selected vertices (a mesh-independent clamp:
+  /// fixing edge nodes alone is a hinge).
+  bool clampRotation = false;
+  std::string where;  // for messages, e.g. "/actors/0/fixed/1"
+};
+
+/// A force on the selected vertices, scaled by λ.
+struct LoadCondition {
+  enum class Distribution {
+    Uniform,     // `force` is the total, shared equally
+    EdgeLength,  // the total, shared by length along the boundary edges joining selected vertices (line loads)
+    Area,        // the total, shared by lumped area (pressure-like, in a fixed direction)
+    PerVertex    // `force` on every selected vertex
+  };
+  int actor = 0;
+  VertexSelection select;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N
+  Distribution distribution = Distribution::Uniform;
+  std::string where;
+};
+
+/// A vertex whose displacement is reported (probes.csv, summary.json). The selection must pick exactly one.
+struct Probe {
+  std::string name;
+  int actor = 0;
+  VertexSelection select;
+  std::string where;
+};
+
+enum class AnalysisType { Static, Dynamic, DynamicRelaxation };
+enum class Integrator { BackwardEuler, BDF2 };
+
+struct AnalysisSettings {
+  AnalysisType type = AnalysisType::Static;
+  int loadSteps = 10;                // static: λ = k / loadSteps, k = 1..loadSteps
+  double timeStep = 1.0 / 60.0;      // s, dynamic and dynamic relaxation
+  double duration = 1.0;             // s, dynamic
+  Integrator integrator = Integrator::BackwardEuler;
+  double loadRampTime = 0.0;         // s, dynamic and dynamic relaxation
+  int maxSteps = 1000;               // dynamic relaxation: give up after this many steps
+  double tolerance = 1e-6;           // dynamic relaxation: stop when max |Δx| per step < tolerance · mean edge length
+};
+
+/// Nonlinear and linear solver options. Unset values take the analysis' defaults (see SCENES.md).
+struct SolverSettings {
+  std::optional<int> maxIterations;          // Newton iterations per step (load step or time step)
+  std::optional<double> residualTolerance;   // × force scale [N] (see solvers/newton.h)
+  std::optional<double> decrementTolerance;  // × force scale × length scale [J]
+  std::string lineSearch = "default";        // default | none | armijo | residual | wolfe
+  std::string linearSolver = "auto";         // auto | cholmod | ldlt | pcg
+  std::string preconditioner = "ic";         // pcg only: jacobi | block_jacobi | ic
+  std::string psdProjection = "clamp";       // none | clamp | abs
+  std::string derivatives = "analytic";      // analytic | autodiff
+  std::string bendingHessian = "exact";      // exact | gaussNewton
+  int threads = 0;                           // 0: all cores
+};
+
+struct OutputSettings {
+  bool vtu = true;        // frames/frame_NNNNN.vtu + frames.pvd
+  bool obj = false;       // obj/frame_NNNNN.obj
+  int frameStride = 1;    // write every n-th step (the last step is always written)
+  bool probesCsv = true;  // probes.csv
+  bool png = true;        // final.png: a shaded picture of the last frame
+  bool plots = true;      // probes.png: probe displacement over the run (gnuplot)
+};
+
+struct Scene {
+  std::string description;
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};  // m/s²
+  std::vector<ShellActorParams> shells;
+  std::vector<VolumeActorParams> volumes;
+  std::vector<FixedCondition> fixed;
+  std::vector<LoadCondition> loads;
+  std::vector<Probe> probes;
+  AnalysisSettings analysis;
+  SolverSettings solver;
+  OutputSettings outputs;
+
+  /// Adds a shell actor after validating it; an empty name becomes "shell<index>". Returns its index.
+  /// Throws InputError for an invalid actor or a name already used.
+  int addShellActor(ShellActorParams params);
+  /// Adds a rigid volume actor after validating it; an empty name becomes "<kind><index>".
+  int addVolumeActor(VolumeActorParams params);
+  /// The index of the shell actor with this name; throws InputError naming `where` when there is none.
+  int shellIndex(const std::string& name, const std::string& where) const;
+};
+
+/// Checks everything that can be checked without solving: every actor, condition (actor index in range,
+/// selectors, finite vectors, at least one component), load, probe (unique names), the analysis and the solver
+/// option names. Throws InputError naming the field.
+void validate(const Scene& scene);
+
+/// What the scene asks for that this build does not do yet (contact, colliders), one line each, for the log.
+std::vector<std::string> unsupportedFeatures(const Scene& scene);
+
+const char* toString(AnalysisType t);
+const char* toString(Integrator i);
+const char* toString(LoadCondition::Distribution d);
+
+}  // namespace jetshell

@@ -1,0 +1,480 @@
+#include "tools/scene/scene_json.h"
+
+#include "tools/scene/checks.h"
+#include "tools/scene/generated_shapes.h"
+#include "tools/scene/json_reader.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+using json::Object;
+using json::Value;
+
+constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
+
+/// Runs f and prefixes any InputError it throws with `pointer` (generator and mesh errors do not know it).
+template <typename F>
+auto at(const std::string& pointer, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw InputError(pointer + ": " + e.what());
+  }
+}
+
+double positive(const Object& o, const std::string& key) {
+  const double v = o.at(key).number();
+  check::positive(v, o.member(key));
+  return v;
+}
+
+int atLeast(const Object& o, const std::string& key, int minimum) {
+  const int v = o.at(key).integer();
+  check::atLeast(v, minimum, o.member(key));
+  return v;
+}
+
+ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
+  if (!v.isObject()) v.typeError("an object (a shape: {\"obj\": path}, {\"generator\": ...} or {\"vertices\", \"faces\"})");
+  const nlohmann::json& j = v.raw();
+  if (j.contains("obj")) {
+    const Object o = v.object({"obj"}, "an OBJ shape");
+    std::filesystem::path path = o.at("obj").string();
+    if (path.is_relative()) path = std::filesystem::path(baseDirectory) / path;
+    return at(o.member("obj"), [&] { return CreateTriMeshShape(path.lexically_normal().string()); });
+  }
+  if (j.contains("vertices") || j.contains("faces")) {
+    const Object o = v.object({"vertices", "faces"}, "a shape given by arrays");
+    const std::vector<Value> rows = o.at("vertices").array(), faces = o.at("faces").array();
+    Positions V(static_cast<Eigen::Index>(rows.size()), 3);
+    for (std::size_t k = 0; k < rows.size(); ++k) V.row(static_cast<Eigen::Index>(k)) = rows[k].vec3().transpose();
+    Faces F(static_cast<Eigen::Index>(faces.size()), 3);
+    for (std::size_t k = 0; k < faces.size(); ++k) {
+      const std::vector<Value> corners = faces[k].array();
+      if (corners.size() != 3) faces[k].typeError("an array of 3 vertex indices");
+      for (int c = 0; c < 3; ++c) F(static_cast<Eigen::Index>(k), c) = corners[static_cast<std::size_t>(c)].integer();
+    }
+    return at(v.pointer(), [&] { return CreateTriMeshShape(V, F); });
+  }
+  if (!j.contains("generator"))
+    v.error("missing \"obj\", \"generator\" or \"vertices\"/\"faces\" (a shell needs a triangle mesh)");
+  const std::string generator =
+      Object(v).choice("generator", {"rectangle", "slitAnnulus", "cylinder", "hemisphere"}, "");
+  if (generator == "rectangle") {
+    const Object o = v.object({"generator", "width", "height", "nx", "ny"}, "a rectangle generator");
+    const double w = positive(o, "width"), h = positive(o, "height");
+    const int nx = atLeast(o, "nx", 1), ny = atLeast(o, "ny", 1);
+    return at(v.pointer(), [&] { return makeRectangleShape(w, h, nx, ny); });
+  }
+  if (generator == "slitAnnulus") {
+    const Object o = v.object({"generator", "innerRadius", "outerRadius", "rings", "nodesPerRing"},
+                              "a slitAnnulus generator");
+    const double ri = positive(o, "innerRadius"), ro = positive(o, "outerRadius");
+    if (!(ro > ri)) check::fail(o.member("outerRadius"), ro, "must be > innerRadius");
+    const int rings = atLeast(o, "rings", 2), nodes = atLeast(o, "nodesPerRing", 4);
+    return at(v.pointer(), [&] { return makeSlitAnnulusShape(ri, ro, rings, nodes); });
+  }
+  if (generator == "cylinder") {
+    const Object o = v.object({"generator", "radius", "length", "arcDegrees", "nAround", "nAlong"},
+                              "a cylinder generator");
+    const double r = positive(o, "radius"), length = positive(o, "length");
+    const double arc = o.number("arcDegrees", 360.0);
+    if (!(arc > 0 && arc <= 360)) check::fail(o.member("arcDegrees"), arc, "must lie in (0, 360]");
+    const int nAround = atLeast(o, "nAround", arc == 360.0 ? 3 : 1), nAlong = atLeast(o, "nAlong", 1);
+    return at(v.pointer(), [&] { return makeCylinderShape(r, length, arc * kRadiansPerDegree, nAround, nAlong); });
+  }
+  const Object o = v.object({"generator", "radius", "rings", "segments", "holeDegrees", "azimuthDegrees"},
+                            "a hemisphere generator");
+  const double r = positive(o, "radius");
+  const int rings = atLeast(o, "rings", 1);
+  const double hole = o.number("holeDegrees", 0.0), azimuth = o.number("azimuthDegrees", 360.0);
+  if (!(hole >= 0 && hole < 90)) check::fail(o.member("holeDegrees"), hole, "must lie in [0, 90)");
+  if (!(azimuth > 0 && azimuth <= 360)) check::fail(o.member("azimuthDegrees"), azimuth, "must lie in (0, 360]");
+  const int segments = atLeast(o, "segments", azimuth == 360.0 ? 3 : 1);
+  return at(v.pointer(), [&] {
+    return makeHemisphereShape(r, rings, segments, hole * kRadiansPerDegree, azimuth * kRadiansPerDegree);
+  });
+}
+
+Eigen::Quaterniond readRotation(const Value& v) {
+  const Object o = v.object({"axis", "degrees"}, "a rotation");
+  const Eigen::Vector3d axis = o.at("axis").vec3();
+  check::nonZero(axis, o.member("axis"));
+  const double degrees = o.at("degrees").number();
+  check::finite(degrees, o.member("degrees"));
+  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * kRadiansPerDegree, axis.normalized()));
+}
+
+RigidTransform readTransform(const Value& v) {
+  const Object o = v.object({"translation", "rotation"}, "a rigid transform");
+  RigidTransform t;
+  t.translation = o.vec3("translation", Eigen::Vector3d::Zero());
+  if (const auto r = o.find("rotation")) t.rotation = readRotation(*r);
+  return t;
+}
+
+ShellMaterialParams readMaterial(const Value& v) {
+  static const std::vector<std::string> lame = {"membraneLambda", "membraneMu", "bendingAlpha", "bendingBeta", "density"};
+  static const std::vector<std::string> iso = {"youngsModulus", "poissonRatio", "thickness", "volumeDensity"};
+  std::vector<std::string> allowed = lame;
+  allowed.insert(allowed.end(), iso.begin(), iso.end());
+  allowed.insert(allowed.end(), {"massDampingCoefficient", "stiffnessDampingCoefficient"});
+  const Object o = v.object(allowed, "a shell material");
+  std::string firstLame, firstIso;
+  for (const std::string& k : lame)
+    if (firstLame.empty() && o.has(k)) firstLame = k;
+  for (const std::string& k : iso)
+    if (firstIso.empty() && o.has(k)) firstIso = k;
+  if (!firstLame.empty() && !firstIso.empty())
+    throw InputError(o.member(firstLame) + ": cannot be combined with \"" + firstIso +
+                     "\" (give either membraneLambda, membraneMu, bendingAlpha, bendingBeta, density, or "
+                     "youngsModulus, poissonRatio, thickness, volumeDensity)");
+  ShellMaterialParams m;
+  if (!firstIso.empty()) {
+    const double E = o.at("youngsModulus").number();
+    check::positive(E, o.member("youngsModulus"));
+    const double nu = o.at("poissonRatio").number();
+    if (!(nu > -1.0 && nu < 0.5)) check::fail(o.member("poissonRatio"), nu, "must lie in (-1, 0.5)");
+    const double h = o.at("thickness").number();
+    check::positive(h, o.member("thickness"));
+    const double rho0 = o.at("volumeDensity").number();
+    check::nonNegative(rho0, o.member("volumeDensity"));
+    m = ShellMaterialParamsFrom3dIsotropic(E, nu, rho0, h);
+  } else {
+    m.membraneLambda = o.number("membraneLambda", m.membraneLambda);
+    check::finite(m.membraneLambda, o.member("membraneLambda"));
+    m.membraneMu = o.number("membraneMu", m.membraneMu);
+    check::nonNegative(m.membraneMu, o.member("membraneMu"));
+    m.bendingAlpha = o.number("bendingAlpha", m.bendingAlpha);
+    check::finite(m.bendingAlpha, o.member("bendingAlpha"));
+    m.bendingBeta = o.number("bendingBeta", m.bendingBeta);
+    check::nonNegative(m.bendingBeta, o.member("bendingBeta"));
+    m.density = o.number("density", m.density);
+    check::nonNegative(m.density, o.member("density"));
+  }
+  m.massDampingCoefficient = o.number("massDampingCoefficient", 0.0);
+  check::nonNegative(m.massDampingCoefficient, o.member("massDampingCoefficient"));
+  m.stiffnessDampingCoefficient = o.number("stiffnessDampingCoefficient", 0.0);
+  check::nonNegative(m.stiffnessDampingCoefficient, o.member("stiffnessDampingCoefficient"));
+  at(o.pointer(), [&] { validate(m, "material"); });  // the combined rules (λ + μ > 0, α + β > 0)
+  return m;
+}
+
+ContactParams readContact(const Value& v) {
+  const Object o = v.object({"penaltyStiffness", "activationDistance", "smoothingDistance", "huntCrossleyDamping",
+                             "frictionCoefficient", "frictionSlipVelocity"},
+                            "contact parameters");
+  ContactParams c;
+  auto read = [&](const char* key, double& field, bool strictlyPositive) {
+    field = o.number(key, field);
+    if (strictlyPositive) check::positive(field, o.member(key));
+    else check::nonNegative(field, o.member(key));
+  };
+  read("penaltyStiffness", c.penaltyStiffness, false);
+  read("activationDistance", c.activationDistance, false);
+  read("smoothingDistance", c.smoothingDistance, false);
+  read("huntCrossleyDamping", c.huntCrossleyDamping, false);
+  read("frictionCoefficient", c.frictionCoefficient, false);
+  read("frictionSlipVelocity", c.frictionSlipVelocity, true);
+  return c;
+}
+
+PointCloudColliderParams readPointCloud(const Value& v) {
+  const Object o = v.object({"radius", "selfContact", "selfContactExclusionRatio"}, "point-cloud collider parameters");
+  PointCloudColliderParams p;
+  p.radius = o.number("radius", p.radius);
+  check::positive(p.radius, o.member("radius"));
+  p.selfContact = o.boolean("selfContact", p.selfContact);
+  p.selfContactExclusionRatio = o.number("selfContactExclusionRatio", p.selfContactExclusionRatio);
+  check::nonNegative(p.selfContactExclusionRatio, o.member("selfContactExclusionRatio"));
+  return p;
+}
+
+VertexSelector readSelector(const Value& v) {
+  const Object o = v.object({"all", "indices", "range", "group", "box", "plane", "boundary", "nearest"},
+                            "a vertex selector");
+  VertexSelector s;
+  s.all = o.boolean("all", false);
+  if (o.has("indices") && o.has("range"))
+    throw InputError(o.member("range") + ": cannot be combined with \"indices\" (use one)");
+  if (const auto list = o.find("indices")) {
+    s.indices.emplace();
+    for (const Value& e : list->array()) s.indices->push_back(e.integer());
+    if (s.indices->empty()) list->error("selects nothing (an empty list)");
+  }
+  if (const auto r = o.find("range")) {
+    const std::vector<Value> parts = r->array();
+    if (parts.size() != 2 && parts.size() != 3) r->typeError("[start, stop] or [start, stop, step]");
+    const int start = parts[0].integer(), stop = parts[1].integer(), step = parts.size() == 3 ? parts[2].integer() : 1;
+    check::atLeast(start, 0, parts[0].pointer());
+    check::atLeast(step, 1, parts.size() == 3 ? parts[2].pointer() : r->pointer() + "/2");
+    if (stop <= start) check::fail(parts[1].pointer(), stop, "must be > start (stop is exclusive)");
+    s.indices.emplace();
+    for (int k = start; k < stop; k += step) s.indices->push_back(k);
+  }
+  if (const auto g = o.find("group")) s.group = g->string();
+  if (const auto b = o.find("box")) {
+    const Object box = b->object({"min", "max"}, "a box selector");
+    s.box = VertexSelector::Box{box.at("min").vec3(), box.at("max").vec3()};
+  }
+  if (const auto p = o.find("plane")) {
+    const Object plane = p->object({"point", "normal", "distance"}, "a plane selector");
+    s.plane = VertexSelector::PlaneBand{plane.at("point").vec3(), plane.at("normal").vec3(),
+                                        plane.at("distance").number()};
+  }
+  s.boundaryOnly = o.boolean("boundary", false);
+  if (const auto n = o.find("nearest")) s.nearest = n->vec3();
+  validate(s, v.pointer());
+  return s;
+}
+
+VertexSelection readSelection(const Value& v) {
+  VertexSelection selection;
+  if (v.isArray()) {
+    for (const Value& e : v.array()) selection.push_back(readSelector(e));
+    if (selection.empty()) v.error("selects nothing (an empty list)");
+  } else if (v.isObject()) {
+    selection.push_back(readSelector(v));
+  } else {
+    v.typeError("a selector object or an array of them");
+  }
+  return selection;
+}
+
+void readFixed(const Value& v, int actor, Scene& scene) {
+  const Object o = v.object({"select", "components", "displacement", "velocity", "rotation", "clampRotation"},
+                            "a fixed condition");
+  FixedCondition c;
+  c.actor = actor;
+  c.where = v.pointer();
+  c.select = readSelection(o.at("select"));
+  if (const auto comp = o.find("components")) {
+    const std::string s = comp->string();
+    c.components = {false, false, false};
+    for (char ch : s) {
+      if (ch < 'x' || ch > 'z') comp->error("\"" + s + "\" must be made of the letters x, y, z");
+      c.components[static_cast<std::size_t>(ch - 'x')] = true;
+    }
+    if (s.empty()) comp->error("fixes no component (use some of \"x\", \"y\", \"z\")");
+  }
+  c.displacement = o.vec3("displacement", Eigen::Vector3d::Zero());
+  c.velocity = o.vec3("velocity", Eigen::Vector3d::Zero());
+  if (const auto r = o.find("rotation")) {
+    const Object rot = r->object({"axis", "center", "degrees"}, "a prescribed rotation");
+    FixedCondition::Rotation R;
+    R.axis = rot.at("axis").vec3();
+    check::nonZero(R.axis, rot.member("axis"));
+    R.center = rot.vec3("center", Eigen::Vector3d::Zero());
+    R.radians = rot.at("degrees").number() * kRadiansPerDegree;
+    check::finite(R.radians, rot.member("degrees"));
+    c.rotation = R;
+  }
+  c.clampRotation = o.boolean("clampRotation", false);
+  scene.fixed.push_back(std::move(c));
+}
+
+void readLoad(const Value& v, int actor, Scene& scene) {
+  const Object o = v.object({"select", "force", "distribution"}, "a load");
+  LoadCondition l;
+  l.actor = actor;
+  l.where = v.pointer();
+  l.select = readSelection(o.at("select"));
+  l.force = o.at("force").vec3();
+  const std::string d = o.choice("distribution", {"uniform", "edgeLength", "area", "perVertex"}, "uniform");
+  using D = LoadCondition::Distribution;
+  l.distribution = d == "uniform" ? D::Uniform : d == "edgeLength" ? D::EdgeLength : d == "area" ? D::Area : D::PerVertex;
+  scene.loads.push_back(std::move(l));
+}
+
+void readProbe(const Value& v, int actor, Scene& scene) {
+  const Object o = v.object({"name", "select"}, "a probe");
+  Probe p;
+  p.actor = actor;
+  p.where = v.pointer();
+  p.name = o.at("name").string();
+  if (p.name.empty()) throw InputError(o.member("name") + ": must not be empty");
+  for (const Probe& q : scene.probes)
+    if (q.name == p.name) throw InputError(o.member("name") + " = \"" + p.name + "\": duplicate probe name");
+  p.select = readSelection(o.at("select"));
+  scene.probes.push_back(std::move(p));
+}
+
+template <typename F>
+void forEach(const Object& o, const std::string& key, F&& f) {
+  if (const auto list = o.find(key))
+    for (const Value& e : list->array()) f(e);
+}
+
+void readShell(const Value& v, Scene& scene, const std::string& baseDirectory) {
+  const Object o = v.object({"type", "name", "layer", "shape", "worldFromLocalTransform", "material", "colliderType",
+                             "contact", "pointCloudCollider", "hasGravity", "contactElementType", "fixed", "loads",
+                             "probes"},
+                            "a shell actor");
+  ShellActorParams p;
+  p.name = o.string("name", "");
+  p.layer = o.string("layer", "");
+  p.shape = readShape(o.at("shape"), baseDirectory);
+  if (const auto t = o.find("worldFromLocalTransform")) p.worldFromLocalTransform = readTransform(*t);
+  if (const auto m = o.find("material")) p.material = readMaterial(*m);
+  p.colliderType = o.choice("colliderType", {"PointCloud", "None"}, "PointCloud") == "None" ? ColliderType::None
+                                                                                          : ColliderType::PointCloud;
+  if (const auto c = o.find("contact")) p.contact = readContact(*c);
+  if (const auto c = o.find("pointCloudCollider")) p.pointCloudCollider = readPointCloud(*c);
+  p.hasGravity = o.boolean("hasGravity", true);
+  const std::string element =
+      o.choice("contactElementType", {"Default", "Vertices", "FaceCentroids", "FaceThreePoint"}, "Default");
+  using B = ActorBoundaryElementType;
+  p.contactElementType = element == "Vertices" ? B::Vertices
+                         : element == "FaceCentroids" ? B::FaceCentroids
+                         : element == "FaceThreePoint" ? B::FaceThreePoint
+                                                       : B::Default;
+  const int actor = at(v.pointer(), [&] { return scene.addShellActor(std::move(p)); });
+  forEach(o, "fixed", [&](const Value& e) { readFixed(e, actor, scene); });
+  forEach(o, "loads", [&](const Value& e) { readLoad(e, actor, scene); });
+  forEach(o, "probes", [&](const Value& e) { readProbe(e, actor, scene); });
+}
+
+void readVolume(const Value& v, const std::string& type, Scene& scene) {
+  VolumeActorParams p;
+  std::vector<std::string> keys = {"type", "name", "layer", "contact"};
+  if (type == "plane") keys.insert(keys.end(), {"point", "normal"});
+  if (type == "box") keys.insert(keys.end(), {"center", "halfExtents", "rotation"});
+  if (type == "sphere") keys.insert(keys.end(), {"center", "radius"});
+  const Object o = v.object(keys, "a " + type + " actor");
+  p.name = o.string("name", "");
+  p.layer = o.string("layer", "");
+  if (const auto c = o.find("contact")) p.contact = readContact(*c);
+  if (type == "plane") {
+    p.kind = VolumeActorParams::Kind::Plane;
+    const Eigen::Vector3d normal = o.vec3("normal", Eigen::Vector3d::UnitZ());
+    check::nonZero(normal, o.member("normal"));
+    p.worldFromLocalTransform.rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal);
+    p.worldFromLocalTransform.translation = o.vec3("point", Eigen::Vector3d::Zero());
+  } else if (type == "box") {
+    p.kind = VolumeActorParams::Kind::Box;
+    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
+    if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
+    p.halfExtents = o.at("halfExtents").vec3();
+    for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], o.member("halfExtents") + "/" + std::to_string(c));
+  } else {
+    p.kind = VolumeActorParams::Kind::Sphere;
+    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
+    p.radius = positive(o, "radius");
+  }
+  at(v.pointer(), [&] { scene.addVolumeActor(std::move(p)); });
+}
+
+AnalysisSettings readAnalysis(const Value& v) {
+  if (!v.isObject()) v.typeError("an object (the analysis)");
+  const std::string type = Object(v).choice("type", {"static", "dynamic", "dynamicRelaxation"}, "");
+  if (type.empty()) throw InputError(v.pointer() + "/type: missing (required: static, dynamic or dynamicRelaxation)");
+  AnalysisSettings a;
+  if (type == "static") {
+    const Object o = v.object({"type", "loadSteps"}, "a static analysis");
+    a.type = AnalysisType::Static;
+    a.loadSteps = o.integer("loadSteps", a.loadSteps);
+    check::atLeast(a.loadSteps, 1, o.member("loadSteps"));
+    return a;
+  }
+  const bool dynamic = type == "dynamic";
+  const Object o = dynamic ? v.object({"type", "timeStep", "duration", "integrator", "loadRampTime"}, "a dynamic analysis")
+                           : v.object({"type", "timeStep", "maxSteps", "tolerance", "loadRampTime"},
+                                      "a dynamicRelaxation analysis");
+  a.type = dynamic ? AnalysisType::Dynamic : AnalysisType::DynamicRelaxation;
+  a.timeStep = positive(o, "timeStep");
+  a.loadRampTime = o.number("loadRampTime", 0.0);
+  check::nonNegative(a.loadRampTime, o.member("loadRampTime"));
+  if (dynamic) {
+    a.duration = positive(o, "duration");
+    if (a.duration < a.timeStep) check::fail(o.member("duration"), a.duration, "must be >= timeStep");
+    a.integrator = o.choice("integrator", {"backwardEuler", "bdf2"}, "backwardEuler") == "bdf2" ? Integrator::BDF2
+                                                                                            : Integrator::BackwardEuler;
+  } else {
+    a.maxSteps = o.integer("maxSteps", a.maxSteps);
+    check::atLeast(a.maxSteps, 1, o.member("maxSteps"));
+    a.tolerance = o.number("tolerance", a.tolerance);
+    check::positive(a.tolerance, o.member("tolerance"));
+  }
+  return a;
+}
+
+SolverSettings readSolver(const Value& v) {
+  const Object o = v.object({"maxIterations", "residualTolerance", "decrementTolerance", "lineSearch", "linearSolver",
+                             "preconditioner", "psdProjection", "derivatives", "bendingHessian", "threads"},
+                            "solver settings");
+  SolverSettings s;
+  if (const auto m = o.find("maxIterations")) {
+    s.maxIterations = m->integer();
+    check::atLeast(*s.maxIterations, 1, m->pointer());
+  }
+  if (const auto t = o.find("residualTolerance")) {
+    s.residualTolerance = t->number();
+    check::nonNegative(*s.residualTolerance, t->pointer());
+  }
+  if (const auto t = o.find("decrementTolerance")) {
+    s.decrementTolerance = t->number();
+    check::nonNegative(*s.decrementTolerance, t->pointer());
+  }
+  s.lineSearch = o.choice("lineSearch", {"default", "none", "armijo", "residual", "wolfe"}, s.lineSearch);
+  s.linearSolver = o.choice("linearSolver", {"auto", "cholmod", "ldlt", "pcg"}, s.linearSolver);
+  s.preconditioner = o.choice("preconditioner", {"jacobi", "block_jacobi", "ic"}, s.preconditioner);
+  s.psdProjection = o.choice("psdProjection", {"none", "clamp", "abs"}, s.psdProjection);
+  s.derivatives = o.choice("derivatives", {"analytic", "autodiff"}, s.derivatives);
+  s.bendingHessian = o.choice("bendingHessian", {"exact", "gaussNewton"}, s.bendingHessian);
+  s.threads = o.integer("threads", s.threads);
+  check::atLeast(s.threads, 0, o.member("threads"));
+  return s;
+}
+
+OutputSettings readOutputs(const Value& v) {
+  const Object o = v.object({"vtu", "obj", "frameStride", "probesCsv", "png", "plots"}, "output settings");
+  OutputSettings out;
+  out.vtu = o.boolean("vtu", out.vtu);
+  out.obj = o.boolean("obj", out.obj);
+  out.frameStride = o.integer("frameStride", out.frameStride);
+  check::atLeast(out.frameStride, 1, o.member("frameStride"));
+  out.probesCsv = o.boolean("probesCsv", out.probesCsv);
+  out.png = o.boolean("png", out.png);
+  out.plots = o.boolean("plots", out.plots);
+  return out;
+}
+
+}  // namespace
+
+Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirectory) {
+  const Value root(document, "");
+  const Object o = root.object({"description", "gravity", "actors", "analysis", "solver", "outputs"}, "a scene");
+  Scene scene;
+  scene.description = o.string("description", "");
+  scene.gravity = o.vec3("gravity", scene.gravity);
+  const std::vector<Value> actors = o.at("actors").array();
+  for (const Value& a : actors) {
+    if (!a.isObject()) a.typeError("an object (an actor)");
+    const std::string type = Object(a).choice("type", {"shell", "plane", "box", "sphere"}, "");
+    if (type.empty()) throw InputError(a.pointer() + "/type: missing (required: shell, plane, box or sphere)");
+    if (type == "shell") readShell(a, scene, baseDirectory);
+    else readVolume(a, type, scene);
+  }
+  if (scene.shells.empty()) throw InputError("/actors: no shell actor (nothing to simulate)");
+  scene.analysis = readAnalysis(o.at("analysis"));
+  if (const auto s = o.find("solver")) scene.solver = readSolver(*s);
+  if (const auto out = o.find("outputs")) scene.outputs = readOutputs(*out);
+  validate(scene);
+  return scene;
+}
+
+Scene loadSceneFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const nlohmann::json document = json::parse(text.str(), path);
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+  return sceneFromJson(document, base.empty() ? "." : base.string());
+}
+
+}  // namespace jetshell

@@ -1,0 +1,188 @@
+#include "tools/scene/scene_model.h"
+
+#include "tools/scene/shapes.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <map>
+
+namespace jetshell {
+
+Positions worldPositions(const ShellActorParams& actor) {
+  const Positions& X = actor.shape->mesh.V;
+  Positions W(X.rows(), 3);
+  for (Eigen::Index v = 0; v < X.rows(); ++v)
+    W.row(v) = actor.worldFromLocalTransform.apply(Eigen::Vector3d(X.row(v))).transpose();
+  return W;
+}
+
+namespace {
+
+std::vector<char> boundaryVertices(const TriMesh& mesh, const Topology& t) {
+  std::vector<char> b(static_cast<std::size_t>(mesh.numVertices()), 0);
+  for (int e = 0; e < t.numEdges(); ++e)
+    if (t.isBoundaryEdge(e)) b[static_cast<std::size_t>(t.edges(e, 0))] = b[static_cast<std::size_t>(t.edges(e, 1))] = 1;
+  return b;
+}
+
+/// What selection needs about one actor, in its local numbering.
+struct ActorGeometry {
+  Positions world;
+  std::vector<char> boundary;
+  Topology topology;  // local ids
+};
+
+/// Per-vertex weights (local ids) of a total force for the chosen distribution.
+std::vector<double> loadWeights(const LoadCondition& load, const std::vector<int>& ids, const ActorGeometry& g,
+                                const TriMesh& local) {
+  using D = LoadCondition::Distribution;
+  std::vector<double> w(ids.size(), 1.0);
+  if (load.distribution == D::Uniform || load.distribution == D::PerVertex) return w;
+  std::map<int, std::size_t> slot;
+  for (std::size_t k = 0; k < ids.size(); ++k) slot[ids[k]] = k;
+  std::fill(w.begin(), w.end(), 0.0);
+  if (load.distribution == D::EdgeLength) {
+    // Consistent nodal forces of a uniform line load: each vertex gets half of each adjacent loaded segment.
+    for (int e = 0; e < g.topology.numEdges(); ++e) {
+      if (!g.topology.isBoundaryEdge(e)) continue;
+      const auto a = slot.find(g.topology.edges(e, 0)), b = slot.find(g.topology.edges(e, 1));
+      if (a == slot.end() || b == slot.end()) continue;
+      const double length = (g.world.row(a->first) - g.world.row(b->first)).norm();
+      w[a->second] += 0.5 * length;
+      w[b->second] += 0.5 * length;
+    }
+    double total = 0;
+    for (double x : w) total += x;
+    if (total == 0.0)
+      throw InputError(load.where + "/distribution = \"edgeLength\": no boundary edge joins two selected vertices "
+                                    "(select a line of boundary vertices)");
+    return w;
+  }
+  for (int f = 0; f < local.numFaces(); ++f) {  // Area: lumped, a third of each face to each corner
+    const Eigen::Vector3d x0 = g.world.row(local.F(f, 0)), x1 = g.world.row(local.F(f, 1)), x2 = g.world.row(local.F(f, 2));
+    const double third = (x1 - x0).cross(x2 - x0).norm() / 6.0;
+    for (int c = 0; c < 3; ++c) {
+      const auto it = slot.find(local.F(f, c));
+      if (it != slot.end()) w[it->second] += third;
+    }
+  }
+  return w;
+}
+
+}  // namespace
+
+SceneModel buildSceneModel(const Scene& scene) {
+  validate(scene);
+  SceneModel model;
+  std::vector<ActorGeometry> geometry;
+  int numVertices = 0, numFaces = 0;
+  for (const ShellActorParams& a : scene.shells) {
+    numVertices += a.shape->mesh.numVertices();
+    numFaces += a.shape->mesh.numFaces();
+  }
+  model.world.V.resize(numVertices, 3);
+  model.world.F.resize(numFaces, 3);
+  int v0 = 0, f0 = 0;
+  for (const ShellActorParams& a : scene.shells) {
+    const TriMesh& local = a.shape->mesh;
+    ActorGeometry g;
+    g.world = worldPositions(a);
+    g.topology = buildTopology(local);
+    g.boundary = boundaryVertices(local, g.topology);
+    ActorBlock block;
+    block.firstVertex = v0;
+    block.numVertices = local.numVertices();
+    block.firstFace = f0;
+    block.numFaces = local.numFaces();
+    model.world.V.middleRows(v0, local.numVertices()) = g.world;
+    model.world.F.middleRows(f0, local.numFaces()) = local.F.array() + v0;
+    model.actors.push_back(std::move(block));
+    geometry.push_back(std::move(g));
+    v0 += local.numVertices();
+    f0 += local.numFaces();
+  }
+  for (ActorBlock& b : model.actors) {
+    b.mesh.V = model.world.V;
+    b.mesh.F = model.world.F.middleRows(b.firstFace, b.numFaces);
+    b.topology = buildTopology(b.mesh);
+  }
+  auto select = [&](int actor, const VertexSelection& s, const std::string& where) {
+    const ShellActorParams& a = scene.shells[static_cast<std::size_t>(actor)];
+    const ActorGeometry& g = geometry[static_cast<std::size_t>(actor)];
+    return selectVertices(s, SelectionContext{&g.world, a.shape.get(), &g.boundary}, where);
+  };
+
+  model.appliedForces = Eigen::VectorXd::Zero(3 * numVertices);
+  for (const LoadCondition& load : scene.loads) {
+    const std::vector<int> ids = select(load.actor, load.select, load.where + "/select");
+    const std::vector<double> w =
+        loadWeights(load, ids, geometry[static_cast<std::size_t>(load.actor)], scene.shells[static_cast<std::size_t>(load.actor)].shape->mesh);
+    double total = 0;
+    for (double x : w) total += x;
+    const int offset = model.actors[static_cast<std::size_t>(load.actor)].firstVertex;
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const double share = load.distribution == LoadCondition::Distribution::PerVertex ? 1.0 : w[k] / total;
+      model.appliedForces.segment<3>(3 * (offset + ids[k])) += share * load.force;
+    }
+  }
+
+  const AnalysisSettings& analysis = scene.analysis;
+  const bool statics = analysis.type == AnalysisType::Static;
+  const double ramp = analysis.loadRampTime;
+  model.loadFactorAtTime = [ramp](double t) { return ramp > 0 ? std::min(1.0, std::max(0.0, t / ramp)) : 1.0; };
+  std::map<std::pair<int, int>, PrescribedCoordinate> prescribed;  // later conditions replace earlier ones
+  for (const FixedCondition& c : scene.fixed) {
+    const std::vector<int> ids = select(c.actor, c.select, c.where + "/select");
+    const ActorBlock& block = model.actors[static_cast<std::size_t>(c.actor)];
+    const bool moving = c.displacement.norm() > 0 || (!statics && c.velocity.norm() > 0) ||
+                        (c.rotation && c.rotation->radians != 0.0);
+    const auto loadFactor = model.loadFactorAtTime;
+    for (int local : ids) {
+      const int v = block.firstVertex + local;
+      const Eigen::Vector3d X = model.world.V.row(v);
+      // Position of this vertex at s (λ in statics, t in dynamics).
+      std::function<Eigen::Vector3d(double)> position;
+      if (moving) {
+        const FixedCondition cond = c;
+        position = [cond, X, statics, loadFactor](double s) {
+          const double lambda = statics ? s : loadFactor(s);
+          Eigen::Vector3d x = X;
+          if (cond.rotation) {
+            const Eigen::AngleAxisd R(lambda * cond.rotation->radians, cond.rotation->axis.normalized());
+            x = cond.rotation->center + R * (x - cond.rotation->center);
+          }
+          x += lambda * cond.displacement;
+          if (!statics) x += s * cond.velocity;
+          return x;
+        };
+      }
+      for (int comp = 0; comp < 3; ++comp) {
+        if (!c.components[static_cast<std::size_t>(comp)]) continue;
+        PrescribedCoordinate p;
+        p.vertex = v;
+        p.component = comp;
+        p.constant = X[comp];
+        if (position) p.value = [position, comp](double s) { return position(s)[comp]; };
+        prescribed[{v, comp}] = std::move(p);
+      }
+    }
+    if (c.clampRotation) {
+      ActorBlock& b = model.actors[static_cast<std::size_t>(c.actor)];
+      if (b.clampedVertices.empty()) b.clampedVertices.assign(static_cast<std::size_t>(numVertices), 0);
+      for (int local : ids) b.clampedVertices[static_cast<std::size_t>(b.firstVertex + local)] = 1;
+    }
+  }
+  for (auto& entry : prescribed) model.prescribed.push_back(std::move(entry.second));
+
+  for (const Probe& p : scene.probes) {
+    const std::vector<int> ids = select(p.actor, p.select, p.where + "/select");
+    if (ids.size() != 1)
+      throw InputError(p.where + "/select: picks " + std::to_string(ids.size()) +
+                       " vertices; a probe needs exactly one (add \"nearest\": [x, y, z])");
+    model.probes.push_back({p.name, p.actor, model.actors[static_cast<std::size_t>(p.actor)].firstVertex + ids[0]});
+  }
+  return model;
+}
+
+}  // namespace jetshell

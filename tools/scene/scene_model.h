@@ -1,0 +1,66 @@
+// A scene resolved onto one set of unknowns: every shell actor's reference mesh placed in world coordinates and
+// stacked into one mesh (actor a owns vertices [firstVertex, firstVertex + numVertices)), selections turned
+// into vertex ids, loads into a nodal force vector, fixed conditions into prescribed coordinates, probes into
+// vertices. This is what the solvers consume; nothing here solves.
+#pragma once
+
+#include "tools/scene/scene.h"
+
+#include "core/mesh.h"
+#include "core/topology.h"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+struct ActorBlock {
+  int firstVertex = 0, numVertices = 0;
+  int firstFace = 0, numFaces = 0;
+  /// The actor's faces with world (stacked) vertex ids over the full stacked positions: energy terms built on
+  /// it touch only this actor's vertices but share the global 3N unknowns.
+  TriMesh mesh;
+  Topology topology;
+  /// Vertices (stacked ids, size N) whose boundary edges are clamped against rotation; empty when none.
+  std::vector<char> clampedVertices;
+};
+
+/// A prescribed coordinate: x[3·vertex + component] = value(s), where s is the load factor λ in statics and
+/// the time t in dynamics (the functions already include the λ(t) ramp). Constant when `value` is null.
+struct PrescribedCoordinate {
+  int vertex = 0;
+  int component = 0;
+  double constant = 0.0;
+  std::function<double(double)> value;
+};
+
+struct ResolvedProbe {
+  std::string name;
+  int actor = 0;
+  int vertex = 0;  // stacked id
+};
+
+struct SceneModel {
+  TriMesh world;                    // all shell actors, stacked, reference configuration in world coordinates
+  std::vector<ActorBlock> actors;   // one per Scene::shells entry
+  Eigen::VectorXd appliedForces;    // 3N, nodal forces at λ = 1
+  std::vector<PrescribedCoordinate> prescribed;  // sorted by (vertex, component); later conditions win
+  std::vector<ResolvedProbe> probes;
+
+  int numVertices() const { return world.numVertices(); }
+  /// The load factor at time t in dynamics: min(1, t / loadRampTime), or 1 without a ramp.
+  std::function<double(double)> loadFactorAtTime;
+};
+
+/// Resolves a validated scene. Throws InputError naming the field when a selection picks nothing or an index is
+/// out of range, when an edgeLength load finds no boundary edge between its vertices, or when a probe does not
+/// pick exactly one vertex.
+SceneModel buildSceneModel(const Scene& scene);
+
+/// The rest positions of each actor's vertices in world coordinates (N_a × 3).
+Positions worldPositions(const ShellActorParams& actor);
+
+}  // namespace jetshell

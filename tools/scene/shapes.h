@@ -1,0 +1,34 @@
+// Triangle-mesh shapes of shell actors (the spec's TriangularMeshShape and CreateTriMeshShape).
+#pragma once
+
+#include "core/mesh.h"
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+/// A validated triangle mesh in actor-local coordinates, with optional named vertex groups (the built-in
+/// generators name their boundaries, e.g. a slit annulus's "slitStart" and "slitEnd", so scenes can select them).
+struct TriangularMeshShape {
+  TriMesh mesh;
+  std::string source;                                   // "file.obj", "generator slitAnnulus", "arrays"
+  std::map<std::string, std::vector<int>> vertexGroups;  // sorted vertex ids
+};
+
+/// Shared and immutable, like the spec's ShapeHandle: several actors may use one shape.
+using ShapeHandle = std::shared_ptr<const TriangularMeshShape>;
+
+/// A shape from vertex positions (N×3) and faces (F×3). Throws InputError when the mesh is invalid (index out
+/// of range, degenerate or non-manifold faces, inconsistent orientation, non-finite coordinates, empty).
+ShapeHandle CreateTriMeshShape(const Positions& vertices, const Faces& faces);
+
+/// A shape read from a Wavefront OBJ file. Throws InputError naming the file and line on any problem.
+ShapeHandle CreateTriMeshShape(const std::string& objPath);
+
+/// A shape from an already built mesh and its groups (used by the generators); validates like the others.
+ShapeHandle CreateTriMeshShape(TriMesh mesh, std::string source, std::map<std::string, std::vector<int>> groups);
+
+}  // namespace jetshell
