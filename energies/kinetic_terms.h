@@ -1,0 +1,54 @@
+// Diagonal quadratic terms of an incremental potential: inertia and mass damping.
+//
+// Both have the form ½ c Σ_v m_v |x_v − y_v|² with lumped vertex masses m_v, a coefficient c and a centre y
+// that the time integrator moves before every step:
+//   inertia       c = 1/Δt² (backward Euler) or 9/(4Δt²) (BDF2), y = the inertial predictor x̃;
+//   mass damping  c = α_R/Δt (backward Euler) or 3α_R/(2Δt) (BDF2), y = x_prev (BE) or (4x_n − x_{n−1})/3 (BDF2),
+// so that ∇ = c M (x − y) is M ẍ-like or α_R M ẋ with the integrator's velocity. The Hessian is c·m_v·I per
+// vertex (one 1-vertex stencil per vertex).
+#pragma once
+
+#include "core/term.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+class DiagonalQuadraticTerm : public EnergyTerm {
+ public:
+  /// name: the term's name in an objective ("inertia", "mass_damping"). vertexMass: m_v (size N, >= 0).
+  /// Starts with c = 0 and y = 0: call setCentre before use.
+  DiagonalQuadraticTerm(std::string name, Eigen::VectorXd vertexMass);
+
+  std::string name() const override { return name_; }
+  StencilTable stencils() const override { return table_; }
+  bool hasAnalytic() const override { return true; }
+  bool zeroAtRest() const override { return false; }
+  bool rigidInvariant() const override { return false; }
+  /// ½ c Σ m_v |x_v − y_v|²; adds c m_v (x_v − y_v) and c m_v I (one block per vertex). Projection is moot
+  /// (the blocks are PSD for c >= 0).
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
+
+  /// Sets the centre y (size 3N) and the coefficient c (>= 0).
+  void setCentre(const Eigen::VectorXd& centre, double coefficient);
+  const Eigen::VectorXd& centre() const { return centre_; }
+  double coefficient() const { return coefficient_; }
+  const Eigen::VectorXd& vertexMass() const { return mass_; }
+
+ private:
+  std::string name_;
+  Eigen::VectorXd mass_;
+  Eigen::VectorXd centre_;
+  double coefficient_ = 0.0;
+  StencilTable table_;
+};
+
+/// Inertia ½ c Σ m_v |x_v − x̃_v|² ("inertia").
+std::shared_ptr<DiagonalQuadraticTerm> makeInertiaTerm(const Eigen::VectorXd& vertexMass);
+/// Mass damping ½ c Σ m_v |x_v − y_v|² with c ∝ α_R ("mass_damping").
+std::shared_ptr<DiagonalQuadraticTerm> makeMassDampingTerm(const Eigen::VectorXd& vertexMass);
+
+}  // namespace jetshell

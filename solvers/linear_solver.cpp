@@ -1,0 +1,121 @@
+#include "solvers/linear_solver.h"
+
+#include "core/mesh.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace jetshell {
+
+LinearSolverType linearSolverTypeFromString(const std::string& name) {
+  if (name == "auto") return LinearSolverType::Auto;
+  if (name == "cholmod") return LinearSolverType::Cholmod;
+  if (name == "ldlt") return LinearSolverType::EigenLDLT;
+  if (name == "pcg") return LinearSolverType::PCG;
+  throw InputError("linear solver '" + name + "': expected auto, cholmod, ldlt or pcg");
+}
+
+const char* toString(LinearSolverType t) {
+  switch (t) {
+    case LinearSolverType::Auto: return "auto";
+    case LinearSolverType::Cholmod: return "cholmod";
+    case LinearSolverType::EigenLDLT: return "ldlt";
+    case LinearSolverType::PCG: return "pcg";
+  }
+  return "?";
+}
+
+Preconditioner preconditionerFromString(const std::string& name) {
+  if (name == "jacobi") return Preconditioner::Jacobi;
+  if (name == "block_jacobi") return Preconditioner::BlockJacobi;
+  if (name == "ic") return Preconditioner::IncompleteCholesky;
+  throw InputError("preconditioner '" + name + "': expected jacobi, block_jacobi or ic");
+}
+
+const char* toString(Preconditioner p) {
+  switch (p) {
+    case Preconditioner::Jacobi: return "jacobi";
+    case Preconditioner::BlockJacobi: return "block_jacobi";
+    case Preconditioner::IncompleteCholesky: return "ic";
+  }
+  return "?";
+}
+
+namespace {
+
+/// Mean |H_ii| over the free dofs: the scale of the regularizing shift.
+double meanDiagonal(const Eigen::SparseMatrix<double>& upper, const std::vector<char>* fixedDof) {
+  double sum = 0.0;
+  int count = 0;
+  for (int j = 0; j < upper.outerSize(); ++j) {
+    if (fixedDof != nullptr && (*fixedDof)[static_cast<std::size_t>(j)]) continue;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(upper, j); it; ++it) {
+      if (it.row() == j && std::isfinite(it.value())) {
+        sum += std::abs(it.value());
+        ++count;
+      }
+    }
+  }
+  return count > 0 && sum > 0.0 ? sum / count : 1.0;
+}
+
+}  // namespace
+
+LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion,
+                                      const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                                      const std::vector<char>* fixedDof, int maxRegularizations) {
+  LinearSolveReport report;
+  if (upper.rows() != upper.cols() || upper.rows() != b.size() || !upper.isCompressed())
+    throw std::invalid_argument("LinearSolver::solve: H must be square, compressed and match b");
+  if (!b.allFinite()) {
+    report.message = "right-hand side is not finite";
+    return report;
+  }
+  const bool analyze = !analyzed_ || patternVersion != analyzedVersion_;
+  double shift = 0.0;
+  std::ostringstream retries;
+  const int maxRetries = maxRegularizations >= 0 ? maxRegularizations : options_.maxRegularizations;
+  for (int k = 0; k <= maxRetries; ++k) {
+    if (k > 0) {
+      shift = shift == 0.0 ? 1e-8 * meanDiagonal(upper, fixedDof) : 10.0 * shift;
+      report.regularizations = k;
+    }
+    report.message.clear();
+    const Attempt a = attempt(upper, analyze && k == 0, shift, b, x, report);
+    if (analyze && k == 0 && a != Attempt::Fatal) {
+      report.symbolicAnalysis = true;
+      analyzed_ = true;
+      analyzedVersion_ = patternVersion;
+      ++analyses_;
+    }
+    if (a == Attempt::Ok && x.allFinite()) {
+      report.success = true;
+      report.shift = shift;
+      if (k > 0) {
+        std::ostringstream s;
+        s << "regularized with shift " << shift << " after " << k << " retr" << (k == 1 ? "y" : "ies") << " ("
+          << retries.str() << ")";
+        report.message = s.str();
+      }
+      return report;
+    }
+    if (a == Attempt::Ok) report.message = "non-finite solution";
+    retries << (k > 0 ? "; " : "") << (report.message.empty() ? "failed" : report.message);
+    if (a == Attempt::Fatal) break;
+  }
+  report.success = false;
+  report.message = "linear solve failed: " + retries.str();
+  return report;
+}
+
+std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions& options, int numDofs) {
+  switch (options.type) {
+    case LinearSolverType::Cholmod: return makeCholmodSolver(options);
+    case LinearSolverType::EigenLDLT: return makeEigenLdltSolver(options);
+    case LinearSolverType::PCG: return makePcgSolver(options);
+    case LinearSolverType::Auto: break;
+  }
+  return numDofs <= options.autoDirectMaxDofs ? makeCholmodSolver(options) : makePcgSolver(options);
+}
+
+}  // namespace jetshell

@@ -1,0 +1,107 @@
+// Sparse symmetric linear solvers for Newton steps: H d = −g with H given as its upper triangle (CSC, the
+// HessianAssembler's matrix).
+//
+// Every solver follows the same contract:
+//  - The symbolic part (ordering, elimination tree, supernodes) is redone only when the pattern version changes,
+//    so one analysis serves every iteration of every step while the pattern stays the same.
+//  - H must be positive definite for a descent direction. When it is not (a non-positive pivot, negative
+//    curvature in CG, a singular matrix), the solver retries with H + δI, δ = 1e-8 × mean |diag H| (free dofs)
+//    growing ×10 per retry, and reports the retries and the δ that worked.
+//  - A solution with non-finite entries is a failure, never returned as a success.
+#pragma once
+
+#include "core/assembly.h"
+
+#include <Eigen/Sparse>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+enum class LinearSolverType {
+  Auto,       // CHOLMOD up to autoDirectMaxDofs unknowns, PCG with incomplete Cholesky above
+  Cholmod,    // CHOLMOD supernodal LLᵀ
+  EigenLDLT,  // Eigen::SimplicialLDLT (the fallback without SuiteSparse features)
+  PCG         // preconditioned conjugate gradients
+};
+enum class Preconditioner { Jacobi, BlockJacobi, IncompleteCholesky };
+
+LinearSolverType linearSolverTypeFromString(const std::string& name);  // auto | cholmod | ldlt | pcg
+const char* toString(LinearSolverType t);
+Preconditioner preconditionerFromString(const std::string& name);  // jacobi | block_jacobi | ic
+const char* toString(Preconditioner p);
+
+struct LinearSolverOptions {
+  LinearSolverType type = LinearSolverType::Auto;
+  Preconditioner preconditioner = Preconditioner::IncompleteCholesky;  // PCG only
+  /// Auto chooses CHOLMOD at or below this many dofs (direct factorization of shell Hessians stays cheap on
+  /// 2D meshes: nested-dissection fill grows as n log n).
+  int autoDirectMaxDofs = 300000;
+  double cgRelativeTolerance = 1e-10;  // ‖r‖ ≤ tol ‖b‖
+  int cgMaxIterations = 20000;
+  /// Diagonal-shift retries before giving up (δ from 1e-8 to 1e-8·10^(n−1) times the mean diagonal).
+  int maxRegularizations = 10;
+};
+
+/// The outcome of one solve.
+struct LinearSolveReport {
+  bool success = false;
+  bool symbolicAnalysis = false;  // this solve (re)did the symbolic analysis
+  int regularizations = 0;        // retries with a diagonal shift
+  double shift = 0.0;             // the δ of the successful attempt (0 = none)
+  int cgIterations = 0;
+  double factorizationSeconds = 0.0;  // analysis + numeric factorization, or preconditioner set-up
+  double solveSeconds = 0.0;          // triangular solves, or CG iterations
+  std::string message;                // why it failed, or what was retried
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  virtual std::string name() const = 0;
+
+  /// Solves H x = b. upper: the upper triangle of the symmetric H (compressed CSC). patternVersion: changes
+  /// whenever the sparsity pattern changes. fixedDof (size n or null) marks identity rows, left out of the
+  /// shift's scale. maxRegularizations >= 0 overrides the options' retry count (0: report an indefinite H
+  /// instead of shifting it). On failure x is left unspecified (but the report says so).
+  LinearSolveReport solve(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion,
+                          const Eigen::VectorXd& b, Eigen::VectorXd& x, const std::vector<char>* fixedDof = nullptr,
+                          int maxRegularizations = -1);
+  /// The same for an assembler's current matrix.
+  LinearSolveReport solve(const HessianAssembler& assembler, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                          int maxRegularizations = -1) {
+    return solve(assembler.matrix(), assembler.patternVersion(), b, x, &assembler.fixedDof(), maxRegularizations);
+  }
+
+  /// Symbolic analyses done so far (one per distinct pattern when all goes well).
+  int symbolicAnalyses() const { return analyses_; }
+
+ protected:
+  explicit LinearSolver(const LinearSolverOptions& options) : options_(options) {}
+  const LinearSolverOptions& options() const { return options_; }
+
+  /// Failed: a shift may help (e.g. CG did not converge). Fatal: it will not (e.g. out of memory).
+  enum class Attempt { Ok, NotPositiveDefinite, Failed, Fatal };
+  /// One attempt at (H + shift·I) x = b. Implementations redo their symbolic analysis when `analyze` is true,
+  /// add their phase times to the report, and put a reason into report.message when they fail.
+  virtual Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift,
+                          const Eigen::VectorXd& b, Eigen::VectorXd& x, LinearSolveReport& report) = 0;
+
+ private:
+  LinearSolverOptions options_;
+  std::uint64_t analyzedVersion_ = 0;
+  bool analyzed_ = false;
+  int analyses_ = 0;
+};
+
+/// The solver for `numDofs` unknowns that `options` asks for (Auto resolved here).
+std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions& options, int numDofs);
+
+std::unique_ptr<LinearSolver> makeCholmodSolver(const LinearSolverOptions& options);
+std::unique_ptr<LinearSolver> makeEigenLdltSolver(const LinearSolverOptions& options);
+std::unique_ptr<LinearSolver> makePcgSolver(const LinearSolverOptions& options);
+
+}  // namespace jetshell

@@ -1,0 +1,235 @@
+#include "solvers/newton.h"
+
+#include "solvers/timer.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& b) {
+  return a.type == b.type && a.preconditioner == b.preconditioner && a.autoDirectMaxDofs == b.autoDirectMaxDofs &&
+         a.cgRelativeTolerance == b.cgRelativeTolerance && a.cgMaxIterations == b.cgMaxIterations &&
+         a.maxRegularizations == b.maxRegularizations;
+}
+
+double infNorm(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
+
+/// Mean |H_ii| of the assembled upper triangle (the steepest-descent fallback's scale).
+double meanDiagonal(const Eigen::SparseMatrix<double>& H) {
+  const Eigen::VectorXd d = H.diagonal();
+  const double m = d.cwiseAbs().mean();
+  return m > 0.0 && std::isfinite(m) ? m : 1.0;
+}
+
+}  // namespace
+
+NewtonSolver::NewtonSolver(Objective& objective, const NewtonOptions& options)
+    : objective_(objective), options_(options), linear_(makeLinearSolver(options.linear, objective.numDofs())) {}
+
+void NewtonSolver::setOptions(const NewtonOptions& options) {
+  const bool keepLinear = sameLinearOptions(options.linear, options_.linear);
+  options_ = options;
+  if (!keepLinear) linear_ = makeLinearSolver(options_.linear, objective_.numDofs());
+}
+
+SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
+  const Timer total;
+  const NewtonOptions& o = options_;
+  SolverSummary s;
+  s.minimizer = "newton";
+  s.linearSolver = linear_->name();
+  const int analysesBefore = linear_->symbolicAnalyses();
+  const EvalOptions projected{o.derivatives, o.projection, o.bendingHessian};
+  const EvalOptions exact{o.derivatives, PsdProjection::None, o.bendingHessian};
+  const bool adaptive = o.exactHessianNearSolution && o.projection != PsdProjection::None;
+  Objective& obj = objective_;
+
+  Eigen::VectorXd g, d, b, xTrial, gTrial;
+  double E = 0.0;
+  double r = 0.0;
+  enum class Have { Nothing, Gradient, Hessian } have = Have::Nothing;
+  bool tryExact = false;     // the last step's full-step model agreed: try the unprojected Hessian
+  bool haveExact = false;    // the assembled Hessian is the unprojected one
+  double residualThreshold = 0.0, decrementThreshold = 0.0;
+
+  auto finish = [&](TerminationReason reason, const std::string& message) {
+    s.reason = reason;
+    s.message = message;
+    s.finalEnergy = E;
+    s.finalResidual = r;
+    s.symbolicAnalyses = linear_->symbolicAnalyses() - analysesBefore;
+    s.totalSeconds = total.seconds();
+    return s;
+  };
+  auto assemble = [&](bool withExact, IterationRecord& rec) {
+    const Timer t;
+    E = obj.evaluate(x, &g, true, withExact ? exact : projected);
+    rec.assemblySeconds += t.seconds();
+    ++s.energyEvaluations;
+    ++s.gradientEvaluations;
+    ++s.hessianEvaluations;
+    have = Have::Hessian;
+    haveExact = withExact;
+  };
+
+  // Trial points of the line search; the last one's gradient is reused when it is accepted. The gradient does
+  // not depend on the projection.
+  double trialAlpha = std::numeric_limits<double>::quiet_NaN();
+  bool trialHasGradient = false;
+  const LineSearchEvaluator evaluateTrial = [&](double alpha, bool wantGradient) {
+    xTrial = x + alpha * d;
+    LineSearchPoint p;
+    p.energy = obj.evaluate(xTrial, wantGradient ? &gTrial : nullptr, false, projected);
+    ++s.energyEvaluations;
+    if (wantGradient) {
+      ++s.gradientEvaluations;
+      p.hasGradient = true;
+      p.slope = gTrial.dot(d);
+      p.residual = gTrial.norm();
+    }
+    trialAlpha = alpha;
+    trialHasGradient = wantGradient;
+    return p;
+  };
+
+  for (int k = 0;; ++k) {
+    IterationRecord rec;
+    rec.iteration = k;
+    const bool useExact = adaptive && tryExact;
+    if (have == Have::Nothing) assemble(useExact, rec);
+    r = infNorm(g);
+    if (!std::isfinite(E) || !g.allFinite()) {
+      s.assemblySeconds += rec.assemblySeconds;
+      return finish(TerminationReason::NonFinite, "non-finite energy or gradient at iteration " + std::to_string(k));
+    }
+    if (k == 0) {
+      s.initialEnergy = E;
+      s.initialResidual = r;
+      const double F = obj.scales().force > 0.0 ? obj.scales().force : r;
+      residualThreshold = o.residualTolerance * F;
+      decrementThreshold = o.decrementTolerance * F * obj.scales().length;
+      s.residualThreshold = residualThreshold;
+      s.decrementThreshold = decrementThreshold;
+    }
+    rec.energy = E;
+    rec.residual = r;
+    if (r <= residualThreshold) {
+      s.assemblySeconds += rec.assemblySeconds;
+      std::ostringstream m;
+      m << "residual " << r << " N <= " << residualThreshold << " N";
+      return finish(TerminationReason::Converged, m.str());
+    }
+    if (k >= o.maxIterations) {
+      s.assemblySeconds += rec.assemblySeconds;
+      return finish(TerminationReason::IterationCap, "reached " + std::to_string(o.maxIterations) + " iterations");
+    }
+    if (have != Have::Hessian || haveExact != useExact) assemble(useExact, rec);
+
+    // Newton direction. An unprojected Hessian gets no regularization: if it is indefinite, the projected one
+    // is the better fix.
+    b = -g;
+    LinearSolveReport lin = linear_->solve(obj.assembler(), b, d, haveExact ? 0 : -1);
+    if (!lin.success && haveExact) {
+      ++s.projectionFallbacks;
+      tryExact = false;
+      rec.factorizationSeconds += lin.factorizationSeconds;
+      rec.solveSeconds += lin.solveSeconds;
+      assemble(false, rec);
+      const LinearSolveReport first = lin;
+      lin = linear_->solve(obj.assembler(), b, d);
+      lin.symbolicAnalysis = lin.symbolicAnalysis || first.symbolicAnalysis;
+    }
+    s.assemblySeconds += rec.assemblySeconds;
+    rec.exactHessian = haveExact;
+    rec.factorizationSeconds += lin.factorizationSeconds;
+    rec.solveSeconds += lin.solveSeconds;
+    rec.regularizations = lin.regularizations;
+    rec.shift = lin.shift;
+    rec.cgIterations = lin.cgIterations;
+    s.factorizationSeconds += rec.factorizationSeconds;
+    s.solveSeconds += rec.solveSeconds;
+    s.regularizations += lin.regularizations;
+    if (!lin.success) {
+      s.trace.push_back(rec);
+      return finish(TerminationReason::LinearSolverFailure, lin.message);
+    }
+    if (haveExact) ++s.exactHessianSteps;
+    obj.zeroFixed(d);
+    double slope = g.dot(d);
+    if (!(slope < 0.0)) {
+      // Round-off can cost a nearly singular system its descent property; fall back to scaled steepest descent.
+      d = g / -meanDiagonal(obj.assembler().matrix());
+      obj.zeroFixed(d);
+      slope = g.dot(d);
+    }
+    const double decrement = -0.5 * slope;
+    rec.decrement = decrement;
+    s.finalDecrement = decrement;
+    const double noise = 1e-13 * obj.energyMagnitude();
+
+    const Timer ls;
+    if (decrement <= decrementThreshold) {
+      const LineSearchPoint p = evaluateTrial(1.0, true);
+      rec.lineSearchEvaluations = 1;
+      if (std::isfinite(p.energy) && gTrial.allFinite() && p.energy <= E + noise) {
+        x = xTrial;
+        E = p.energy;
+        g = gTrial;
+        r = infNorm(g);
+        rec.stepLength = 1.0;
+        ++s.iterations;
+      }
+      rec.lineSearchSeconds = ls.seconds();
+      s.lineSearchSeconds += rec.lineSearchSeconds;
+      s.trace.push_back(rec);
+      std::ostringstream m;
+      m << "Newton decrement " << decrement << " J <= " << decrementThreshold << " J";
+      return finish(TerminationReason::Converged, m.str());
+    }
+
+    LineSearchOptions lso;
+    lso.type = o.lineSearch;
+    lso.c1 = o.armijoC1;
+    lso.c2 = o.wolfeC2;
+    lso.maxEvaluations = o.maxLineSearchEvaluations;
+    lso.energyNoise = noise;
+    LineSearchPoint start;
+    start.energy = E;
+    start.slope = slope;
+    start.residual = g.norm();
+    start.hasGradient = true;
+    const LineSearchResult res = lineSearch(lso, start, evaluateTrial);
+    rec.lineSearchEvaluations = res.evaluations;
+    rec.lineSearchSeconds = ls.seconds();
+    s.lineSearchSeconds += rec.lineSearchSeconds;
+    if (!res.success) {
+      s.trace.push_back(rec);
+      return finish(res.allNonFinite ? TerminationReason::NonFinite : TerminationReason::LineSearchFailure,
+                    res.message);
+    }
+    const double alpha = res.point.alpha;
+    rec.stepLength = alpha;
+    s.trace.push_back(rec);
+    ++s.iterations;
+    // The quadratic model predicts a decrease of −½ gᵀd for the full step (with the H that was solved).
+    const double ratio = (E - res.point.energy) / decrement;
+    tryExact = alpha == 1.0 && ratio >= 0.5 && ratio <= 2.0;
+    if (alpha == trialAlpha) {
+      x = xTrial;
+    } else {
+      x += alpha * d;
+    }
+    E = res.point.energy;
+    if (alpha == trialAlpha && trialHasGradient) {
+      g = gTrial;
+      have = Have::Gradient;
+    } else {
+      have = Have::Nothing;
+    }
+  }
+}
+
+}  // namespace jetshell

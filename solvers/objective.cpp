@@ -1,0 +1,82 @@
+#include "solvers/objective.h"
+
+#include "core/mesh.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace jetshell {
+
+Objective::Objective(int numVertices) : numVertices_(numVertices), numFree_(3 * numVertices) {
+  if (numVertices <= 0) throw InputError("objective: numVertices must be > 0");
+  fixedDof_.assign(3 * static_cast<std::size_t>(numVertices), 0);
+}
+
+void Objective::addTerm(EnergyTermPtr term, TermRole role) {
+  if (!term) throw InputError("objective: null term");
+  if (finalized()) throw InputError("objective: addTerm(" + term->name() + ") after finalize()");
+  for (const Entry& e : terms_)
+    if (e.term->name() == term->name()) throw InputError("objective: duplicate term name '" + term->name() + "'");
+  const StencilTable table = term->stencils();
+  const int slot = table.width > 0 ? assembler_.addStencils(table) : -1;
+  terms_.push_back({std::move(term), role, slot});
+  termEnergies_.push_back(0.0);
+}
+
+void Objective::setPrescribed(PrescribedPositions prescribed) {
+  if (finalized()) throw InputError("objective: setPrescribed after finalize()");
+  fixedDof_ = prescribed.dofMask(numVertices_);
+  prescribed_ = std::move(prescribed);
+  numFree_ = 0;
+  for (char f : fixedDof_) numFree_ += f ? 0 : 1;
+}
+
+void Objective::finalize() {
+  if (!finalized()) assembler_.finalize(numVertices_, fixedDof_);
+}
+
+double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, bool hessian,
+                           const EvalOptions& options, TermSelection selection) {
+  if (x.size() != numDofs()) throw InputError("objective: x has the wrong size");
+  finalize();
+  if (gradient != nullptr) gradient->setZero(numDofs());
+  if (hessian) assembler_.setZero();
+  double total = 0.0;
+  for (std::size_t i = 0; i < terms_.size(); ++i) {
+    Entry& e = terms_[i];
+    if (selection == TermSelection::PotentialOnly && e.role != TermRole::Potential) {
+      termEnergies_[i] = 0.0;
+      continue;
+    }
+    EvalRequest request{gradient, hessian && e.slot >= 0 ? &assembler_ : nullptr, e.slot};
+    termEnergies_[i] = e.term->evaluate(x, request, options);
+    total += termEnergies_[i];
+  }
+  if (gradient != nullptr) zeroFixed(*gradient);
+  return total;
+}
+
+void Objective::zeroFixed(Eigen::VectorXd& v) const {
+  for (std::size_t d = 0; d < fixedDof_.size(); ++d)
+    if (fixedDof_[d]) v[static_cast<Eigen::Index>(d)] = 0.0;
+}
+
+std::vector<std::string> Objective::activeTermNames() const {
+  std::vector<std::string> names;
+  for (const Entry& e : terms_) names.push_back(e.term->name());
+  return names;
+}
+
+EnergyTermPtr Objective::term(const std::string& name) const {
+  for (const Entry& e : terms_)
+    if (e.term->name() == name) return e.term;
+  return nullptr;
+}
+
+double Objective::energyMagnitude() const {
+  double m = 0.0;
+  for (double e : termEnergies_) m += std::abs(e);
+  return m;
+}
+
+}  // namespace jetshell

@@ -1,0 +1,94 @@
+// The objective a minimizer works on: the sum of the active energy terms over one cached Hessian pattern, with
+// the prescribed dofs eliminated.
+//
+// Terms are added once (addTerm), then finalize() builds the pattern: one assembler slot per term that has a
+// Hessian stencil, the fixed-dof mask from the prescribed positions. Only active terms are ever added (see
+// solvers/shell_system.h, which decides what a scene needs), so nothing inactive is built or evaluated.
+// Every term has a role: Potential terms (elastic energies, gravity, loads) define the static problem; Transient
+// terms (inertia, mass and stiffness damping) exist only inside a time step. The static residual of a dynamic
+// system is the gradient of its Potential terms.
+#pragma once
+
+#include "core/assembly.h"
+#include "core/term.h"
+#include "solvers/prescribed_positions.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+enum class TermRole { Potential, Transient };
+/// Which terms an evaluation sums.
+enum class TermSelection { All, PotentialOnly };
+
+/// Scales that turn the solvers' dimensionless tolerances into physical units (see solvers/newton.h).
+struct PhysicalScales {
+  double force = 0.0;   // N: the largest external nodal force (weight m_v|g| plus applied force at λ = 1)
+  double length = 1.0;  // m: the mean reference edge length
+};
+
+class Objective {
+ public:
+  /// An empty objective over numVertices vertices (3N dofs).
+  explicit Objective(int numVertices);
+
+  /// Adds an active term. Throws InputError when its name is already taken or after finalize().
+  void addTerm(EnergyTermPtr term, TermRole role = TermRole::Potential);
+  /// Sets the prescribed positions (before finalize()). Throws InputError for out-of-range vertices.
+  void setPrescribed(PrescribedPositions prescribed);
+  /// Builds the Hessian pattern and the fixed-dof mask. Called once; evaluate() calls it if needed.
+  void finalize();
+  bool finalized() const { return assembler_.finalized(); }
+
+  /// Energy at x (size 3N) of the selected terms. When gradient is non-null it is overwritten (size 3N) with
+  /// the gradient, fixed entries zeroed. When hessian is true the assembler's matrix is refilled (upper
+  /// triangle; fixed dofs identity). Per-term energies are kept for reports (termEnergies()).
+  double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, bool hessian, const EvalOptions& options,
+                  TermSelection selection = TermSelection::All);
+
+  /// Zeroes the entries of fixed dofs.
+  void zeroFixed(Eigen::VectorXd& v) const;
+  /// Writes the prescribed values at time t into x.
+  void applyPrescribed(double t, Eigen::VectorXd& x) const { prescribed_.apply(t, x); }
+
+  int numVertices() const { return numVertices_; }
+  int numDofs() const { return 3 * numVertices_; }
+  int numFreeDofs() const { return numFree_; }
+  const std::vector<char>& fixedDof() const { return fixedDof_; }
+  const PrescribedPositions& prescribed() const { return prescribed_; }
+
+  /// The assembled Hessian and its pattern version (valid after an evaluate() with hessian = true).
+  const HessianAssembler& assembler() const { return assembler_; }
+
+  /// Names of the active terms, in evaluation order (the run summary lists them).
+  std::vector<std::string> activeTermNames() const;
+  /// The term with this name, or null.
+  EnergyTermPtr term(const std::string& name) const;
+  /// Per-term energies of the last evaluate() (0 for terms it did not select), in activeTermNames() order.
+  const std::vector<double>& termEnergies() const { return termEnergies_; }
+  /// Σ |term energy| of the last evaluate(): the magnitude that bounds its round-off.
+  double energyMagnitude() const;
+
+  void setScales(const PhysicalScales& scales) { scales_ = scales; }
+  const PhysicalScales& scales() const { return scales_; }
+
+ private:
+  struct Entry {
+    EnergyTermPtr term;
+    TermRole role;
+    int slot;  // assembler slot, -1 without a Hessian stencil
+  };
+  int numVertices_;
+  int numFree_;
+  std::vector<Entry> terms_;
+  PrescribedPositions prescribed_;
+  std::vector<char> fixedDof_;
+  HessianAssembler assembler_;
+  std::vector<double> termEnergies_;
+  PhysicalScales scales_;
+};
+
+}  // namespace jetshell

@@ -1,0 +1,170 @@
+// Preconditioned conjugate gradients on the symmetric matrix stored as its upper triangle, for systems too
+// large to factor. Preconditioners: Jacobi (1/H_ii), block-Jacobi (the inverse 3×3 vertex blocks) and
+// incomplete Cholesky (Eigen::IncompleteCholesky, AMD-ordered; its pattern analysis is redone only when the
+// pattern version changes). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base
+// class answers with a diagonal shift.
+#include "solvers/linear_solver.h"
+#include "solvers/timer.h"
+
+#include <Eigen/Dense>
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/OrderingMethods>
+
+#include <cmath>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+class PcgSolver : public LinearSolver {
+ public:
+  explicit PcgSolver(const LinearSolverOptions& options) : LinearSolver(options) {}
+  std::string name() const override {
+    return std::string("pcg+") + toString(options().preconditioner);
+  }
+
+ protected:
+  Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift, const Eigen::VectorXd& b,
+                  Eigen::VectorXd& x, LinearSolveReport& report) override {
+    Timer timer;
+    const bool ready = setUpPreconditioner(upper, analyze, shift, report);
+    report.factorizationSeconds += timer.seconds();
+    if (!ready) return Attempt::NotPositiveDefinite;
+
+    timer.reset();
+    const Attempt a = iterate(upper, shift, b, x, report);
+    report.solveSeconds += timer.seconds();
+    return a;
+  }
+
+ private:
+  bool setUpPreconditioner(const Eigen::SparseMatrix<double>& H, bool analyze, double shift,
+                           LinearSolveReport& report) {
+    const Eigen::Index n = H.rows();
+    switch (options().preconditioner) {
+      case Preconditioner::Jacobi: {
+        inverseDiagonal_.resize(n);
+        const Eigen::VectorXd d = H.diagonal();
+        for (Eigen::Index i = 0; i < n; ++i) {
+          const double di = d[i] + shift;
+          if (!(di > 0.0)) {
+            report.message = "non-positive diagonal entry " + std::to_string(i);
+            return false;
+          }
+          inverseDiagonal_[i] = 1.0 / di;
+        }
+        return true;
+      }
+      case Preconditioner::BlockJacobi: {
+        if (n % 3 != 0) throw std::invalid_argument("block-Jacobi needs 3 dofs per vertex");
+        inverseBlocks_.resize(static_cast<std::size_t>(n / 3));
+        for (Eigen::Index v = 0; v < n / 3; ++v) {
+          Eigen::Matrix3d B = Eigen::Matrix3d::Zero();
+          for (int c = 0; c < 3; ++c) {
+            for (Eigen::SparseMatrix<double>::InnerIterator it(H, 3 * v + c); it; ++it) {
+              if (it.row() >= 3 * v && it.row() <= 3 * v + c) {
+                B(it.row() - 3 * v, c) = it.value();
+                B(c, it.row() - 3 * v) = it.value();
+              }
+            }
+          }
+          B.diagonal().array() += shift;
+          Eigen::LLT<Eigen::Matrix3d> llt(B);
+          if (llt.info() != Eigen::Success) {
+            report.message = "vertex block " + std::to_string(v) + " is not positive definite";
+            return false;
+          }
+          inverseBlocks_[static_cast<std::size_t>(v)] = llt.solve(Eigen::Matrix3d::Identity());
+        }
+        return true;
+      }
+      case Preconditioner::IncompleteCholesky: {
+        const Eigen::SparseMatrix<double>* M = &H;
+        if (shift != 0.0) {
+          Eigen::SparseMatrix<double> I(H.rows(), H.cols());
+          I.setIdentity();
+          shifted_ = H + shift * I;
+          M = &shifted_;
+        }
+        if (analyze || shift != 0.0 || !icAnalyzed_) {
+          ic_.analyzePattern(*M);
+          icAnalyzed_ = shift == 0.0;
+        }
+        ic_.factorize(*M);
+        if (ic_.info() != Eigen::Success) {
+          report.message = "incomplete Cholesky failed";
+          return false;
+        }
+        return true;
+      }
+    }
+    return false;
+  }
+
+  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
+    switch (options().preconditioner) {
+      case Preconditioner::Jacobi:
+        z = inverseDiagonal_.cwiseProduct(r);
+        return;
+      case Preconditioner::BlockJacobi:
+        z.resize(r.size());
+        for (std::size_t v = 0; v < inverseBlocks_.size(); ++v) {
+          const Eigen::Index i = 3 * static_cast<Eigen::Index>(v);
+          z.segment<3>(i) = inverseBlocks_[v] * r.segment<3>(i);
+        }
+        return;
+      case Preconditioner::IncompleteCholesky:
+        z = ic_.solve(r);
+        return;
+    }
+  }
+
+  Attempt iterate(const Eigen::SparseMatrix<double>& H, double shift, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+                  LinearSolveReport& report) {
+    const double bNorm = b.norm();
+    x.setZero(b.size());
+    if (bNorm == 0.0) return Attempt::Ok;
+    Eigen::VectorXd r = b, z, p, Ap(b.size());
+    precondition(r, z);
+    p = z;
+    double rz = r.dot(z);
+    const double target = options().cgRelativeTolerance * bNorm;
+    for (int k = 1; k <= options().cgMaxIterations; ++k) {
+      Ap.noalias() = H.selfadjointView<Eigen::Upper>() * p;
+      Ap += shift * p;
+      const double pAp = p.dot(Ap);
+      report.cgIterations = k;
+      if (!(pAp > 0.0)) {
+        report.message = std::isfinite(pAp) ? "negative curvature in CG" : "non-finite value in CG";
+        return Attempt::NotPositiveDefinite;
+      }
+      const double alpha = rz / pAp;
+      x += alpha * p;
+      r -= alpha * Ap;
+      if (r.norm() <= target) return Attempt::Ok;
+      precondition(r, z);
+      const double rzNew = r.dot(z);
+      p = z + (rzNew / rz) * p;
+      rz = rzNew;
+    }
+    std::ostringstream s;
+    s << "CG did not reach relative residual " << options().cgRelativeTolerance << " in "
+      << options().cgMaxIterations << " iterations";
+    report.message = s.str();
+    return Attempt::Failed;
+  }
+
+  Eigen::VectorXd inverseDiagonal_;
+  std::vector<Eigen::Matrix3d> inverseBlocks_;
+  Eigen::IncompleteCholesky<double, Eigen::Upper, Eigen::AMDOrdering<int>> ic_;
+  bool icAnalyzed_ = false;
+  Eigen::SparseMatrix<double> shifted_;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> makePcgSolver(const LinearSolverOptions& options) {
+  return std::make_unique<PcgSolver>(options);
+}
+
+}  // namespace jetshell

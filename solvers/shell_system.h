@@ -1,0 +1,85 @@
+// From a shell problem (mesh, material, boundary conditions, loads) to the objective a solver minimizes,
+// holding only the terms the analysis needs:
+//   membrane            when λ or μ ≠ 0
+//   bending             when α or β ≠ 0 (clamped boundary edges as asked)
+//   gravity             when hasGravity, g ≠ 0 and ρ_A0 > 0
+//   nodal_forces        when some applied nodal force ≠ 0 (scaled by the load factor λ)
+//   inertia             dynamics and dynamic relaxation, when ρ_A0 > 0
+//   mass_damping        dynamics when α_R > 0; dynamic relaxation always (its α comes from the relaxation)
+//   membrane_damping,   dynamics when β_R > 0 (and the matching elastic term is active)
+//   bending_damping
+// Statics has no inertia and no dissipation. objective->activeTermNames() is the run summary's list.
+#pragma once
+
+#include "core/mesh.h"
+#include "core/reference_state.h"
+#include "core/topology.h"
+#include "energies/bending_term.h"
+#include "energies/kinetic_terms.h"
+#include "energies/material.h"
+#include "energies/membrane_term.h"
+#include "energies/shell_terms.h"
+#include "solvers/objective.h"
+#include "solvers/prescribed_positions.h"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <vector>
+
+namespace jetshell {
+
+struct ShellProblem {
+  TriMesh mesh;                      // the reference configuration
+  ShellMaterialParams material;
+  bool hasGravity = true;
+  Eigen::Vector3d gravity{0.0, -9.81, 0.0};  // m/s²; y is up, as in the engine the spec comes from
+  PrescribedPositions prescribed;    // eliminated dofs
+  Eigen::VectorXd nodalForces;       // 3N [N] at load factor 1, or empty
+  std::vector<char> clampedVertices;  // N or empty: boundary edges with both ends marked are clamped
+};
+
+enum class AnalysisKind { Statics, Dynamics, DynamicRelaxation };
+const char* toString(AnalysisKind k);
+
+/// The built system. Not copyable or movable: solvers keep references to its objective.
+class ShellSystem {
+ public:
+  /// Validates the problem (mesh topology, material, sizes; InputError naming the field) and builds the
+  /// active terms for `kind`.
+  ShellSystem(const ShellProblem& problem, AnalysisKind kind);
+  ShellSystem(const ShellSystem&) = delete;
+  ShellSystem& operator=(const ShellSystem&) = delete;
+
+  AnalysisKind kind() const { return kind_; }
+  const TriMesh& mesh() const { return mesh_; }
+  const Topology& topology() const { return topology_; }
+  const ShellReference& reference() const { return reference_; }
+  const ShellMaterialParams& material() const { return material_; }
+  /// The reference positions as a flat 3N vector.
+  Eigen::VectorXd restPositions() const { return flatten(mesh_.V); }
+  /// Lumped vertex masses m_v (size N).
+  const Eigen::VectorXd& vertexMass() const { return vertexMass_; }
+
+  Objective& objective() { return objective_; }
+  const Objective& objective() const { return objective_; }
+
+  // The terms a driver adjusts (null when inactive).
+  std::shared_ptr<MembraneTerm> membrane;
+  std::shared_ptr<BendingTerm> bending;
+  std::shared_ptr<NodalForceTerm> nodalForces;
+  std::shared_ptr<DiagonalQuadraticTerm> inertia;
+  std::shared_ptr<DiagonalQuadraticTerm> massDamping;
+  StiffnessDampingTerms stiffnessDamping;
+
+ private:
+  AnalysisKind kind_;
+  TriMesh mesh_;
+  Topology topology_;
+  ShellReference reference_;
+  ShellMaterialParams material_;
+  Eigen::VectorXd vertexMass_;
+  Objective objective_;
+};
+
+}  // namespace jetshell

@@ -1,0 +1,73 @@
+// What a minimization did, in the spirit of Ceres' Solver::Summary: why it stopped, the energies and residuals,
+// the time per phase, and one record per iteration.
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+enum class TerminationReason {
+  Converged,            // a convergence test passed
+  IterationCap,         // maxIterations reached without convergence
+  LineSearchFailure,    // no acceptable step along the search direction
+  LinearSolverFailure,  // the Newton system could not be solved, even regularized
+  NonFinite,            // a non-finite energy or gradient at the current point, or along every trial step
+};
+const char* toString(TerminationReason r);
+
+/// One Newton (or L-BFGS) iteration: values at the start of the iteration, then what the step did.
+struct IterationRecord {
+  int iteration = 0;
+  double energy = 0.0;
+  double residual = 0.0;   // ‖g_free‖∞ [N]
+  double decrement = 0.0;  // ½ gᵀH⁻¹g [J] (Newton) or 0
+  double stepLength = 0.0;  // the accepted α
+  int lineSearchEvaluations = 0;
+  int regularizations = 0;  // linear-solver retries with a diagonal shift
+  double shift = 0.0;
+  int cgIterations = 0;
+  bool exactHessian = false;  // the step used the unprojected Hessian
+  double assemblySeconds = 0.0;
+  double factorizationSeconds = 0.0;
+  double solveSeconds = 0.0;
+  double lineSearchSeconds = 0.0;
+};
+
+struct SolverSummary {
+  std::string minimizer;     // "newton" or "lbfgs"
+  std::string linearSolver;  // Newton only
+  TerminationReason reason = TerminationReason::IterationCap;
+  std::string message;        // how it converged, or why not
+  int iterations = 0;         // steps taken
+  double initialEnergy = 0.0, finalEnergy = 0.0;
+  double initialResidual = 0.0, finalResidual = 0.0;  // ‖g_free‖∞ [N]
+  double finalDecrement = 0.0;                          // [J]
+  double residualThreshold = 0.0;   // the residual test in N (tolerance × force scale)
+  double decrementThreshold = 0.0;  // the decrement test in J (tolerance × force scale × length scale)
+
+  double assemblySeconds = 0.0;       // energy + gradient + Hessian at the iterates
+  double factorizationSeconds = 0.0;  // symbolic + numeric factorization or preconditioner
+  double solveSeconds = 0.0;          // triangular solves or CG
+  double lineSearchSeconds = 0.0;     // trial evaluations
+  double totalSeconds = 0.0;
+  int symbolicAnalyses = 0;  // done during this minimization
+  int regularizations = 0;   // diagonal-shift retries during this minimization
+  int exactHessianSteps = 0;     // Newton steps taken with the unprojected Hessian
+  int projectionFallbacks = 0;   // unprojected Hessians found indefinite and reassembled projected
+  int energyEvaluations = 0, gradientEvaluations = 0, hessianEvaluations = 0;
+  std::vector<IterationRecord> trace;
+
+  bool converged() const { return reason == TerminationReason::Converged; }
+  /// One line: reason, iterations, residual, energy, time.
+  std::string briefReport() const;
+  /// A table of the iterations and the phase times.
+  std::string fullReport() const;
+};
+
+/// The summary as JSON (trace included when withTrace).
+nlohmann::json toJson(const SolverSummary& summary, bool withTrace = false);
+
+}  // namespace jetshell

@@ -1,0 +1,41 @@
+// Small shell problems shared by the solver tests.
+#pragma once
+
+#include "core/mesh_generators.h"
+#include "solvers/shell_system.h"
+
+namespace jetshell::testing {
+
+/// A plate [0, 1] × [0, 0.4] (nx × ny squares) clamped along x = 0 (all components of the edge's vertices),
+/// with a total transverse force `force` [N] in +z spread over the x = 1 edge. No gravity.
+inline ShellProblem cantileverPlate(int nx, int ny, double force) {
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(1.0, 0.4, nx, ny);
+  p.material = ShellMaterialParamsFrom3dIsotropic(1e6, 0.3, 1000.0, 0.01);
+  p.hasGravity = false;
+  const int n = p.mesh.numVertices();
+  p.nodalForces = Eigen::VectorXd::Zero(3 * n);
+  p.clampedVertices.assign(static_cast<std::size_t>(n), 0);
+  for (int j = 0; j <= ny; ++j) {
+    const int left = j * (nx + 1), right = left + nx;
+    p.prescribed.fixVertex(left, p.mesh.V.row(left).transpose());
+    p.clampedVertices[static_cast<std::size_t>(left)] = 1;
+    const double share = (j == 0 || j == ny) ? 0.5 : 1.0;
+    p.nodalForces[3 * right + 2] = force * share / ny;
+  }
+  return p;
+}
+
+/// A cloth [0, w] × [0, h] in the z = 0 plane hanging in its own plane: gravity −y, the two top corners
+/// (y = h) fixed. Material: the spec's defaults (a light cloth).
+inline ShellProblem hangingCloth(double w, double h, int nx, int ny) {
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(w, h, nx, ny);
+  p.gravity = Eigen::Vector3d(0.0, -9.81, 0.0);
+  const int topLeft = ny * (nx + 1), topRight = topLeft + nx;
+  p.prescribed.fixVertex(topLeft, p.mesh.V.row(topLeft).transpose());
+  p.prescribed.fixVertex(topRight, p.mesh.V.row(topRight).transpose());
+  return p;
+}
+
+}  // namespace jetshell::testing
