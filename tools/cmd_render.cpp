@@ -1,0 +1,104 @@
+// `jetshell render`: a shaded PNG of an output frame (.vtu), of the last frame of a series (.pvd), or of a run's
+// output directory.
+#include "core/mesh.h"
+#include "tools/render/render_frames.h"
+#include "tools/subcommand.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace jetshell::cli {
+namespace {
+
+/// The files of the last time step of a .pvd collection, as paths.
+std::vector<std::string> lastStepOf(const std::string& pvd) {
+  std::ifstream in(pvd);
+  if (!in) throw InputError(pvd + ": cannot open");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string xml = text.str();
+  std::vector<std::pair<std::string, std::string>> entries;  // (timestep, file)
+  for (std::size_t at = xml.find("<DataSet"); at != std::string::npos; at = xml.find("<DataSet", at + 1)) {
+    const std::string tag = xml.substr(at, xml.find('>', at) - at);
+    auto attribute = [&](const std::string& name) {
+      const std::size_t k = tag.find(" " + name + "=\"");
+      if (k == std::string::npos) return std::string();
+      const std::size_t start = k + name.size() + 3;
+      return tag.substr(start, tag.find('"', start) - start);
+    };
+    entries.emplace_back(attribute("timestep"), attribute("file"));
+  }
+  if (entries.empty()) throw InputError(pvd + ": no <DataSet> entries");
+  std::vector<std::string> files;
+  const std::filesystem::path base = std::filesystem::path(pvd).parent_path();
+  for (const auto& [time, file] : entries)
+    if (time == entries.back().first) files.push_back((base / file).string());
+  return files;
+}
+
+std::vector<std::string> resolveInputs(const std::vector<std::string>& inputs) {
+  std::vector<std::string> files;
+  for (const std::string& input : inputs) {
+    std::string path = input;
+    if (std::filesystem::is_directory(path)) path = (std::filesystem::path(path) / "frames.pvd").string();
+    if (std::filesystem::path(path).extension() == ".pvd") {
+      for (const std::string& f : lastStepOf(path)) files.push_back(f);
+    } else {
+      files.push_back(path);
+    }
+  }
+  return files;
+}
+
+Eigen::Vector3d axisFromName(const std::string& name) {
+  const bool negative = !name.empty() && name[0] == '-';
+  const char axis = name.empty() ? 'z' : name.back();
+  Eigen::Vector3d up = axis == 'x' ? Eigen::Vector3d::UnitX() : axis == 'y' ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
+  return negative ? Eigen::Vector3d(-up) : up;
+}
+
+const RegisterSubcommand reg("render", [](CLI::App& app, int& exitCode) {
+  struct Args {
+    std::vector<std::string> inputs;
+    std::string png;
+    std::string color = "displacement";
+    std::string up = "z";
+    std::string edges = "auto";
+    std::vector<double> range;
+    RenderOptions options;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand("render", "Draw an output frame as a shaded PNG (software rasterizer)");
+  cmd->add_option("frames", args->inputs,
+                  "A frame (.vtu), a series (.pvd: its last step) or a run's output directory; more .vtu files "
+                  "(e.g. volumes.vtu) are drawn in grey")
+      ->required();
+  cmd->add_option("--png", args->png, "Output PNG file")->required();
+  cmd->add_option("--width", args->options.width, "Image width in pixels")->capture_default_str();
+  cmd->add_option("--height", args->options.height, "Image height in pixels")->capture_default_str();
+  cmd->add_option("--azimuth", args->options.azimuthDegrees, "Camera angle around the up axis, degrees")->capture_default_str();
+  cmd->add_option("--elevation", args->options.elevationDegrees, "Camera angle above the horizon, degrees")->capture_default_str();
+  cmd->add_option("--up", args->up, "Up axis")->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z"}))->capture_default_str();
+  cmd->add_option("--color", args->color, "Point array whose magnitude colours the first frame, or 'none'")->capture_default_str();
+  cmd->add_option("--range", args->range, "Colour range: MIN MAX (default: the data's range)")->expected(2);
+  cmd->add_option("--edges", args->edges, "Draw mesh edges")->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
+  cmd->add_option("--supersample", args->options.supersample, "Samples per pixel along each axis")
+      ->check(CLI::Range(1, 8))->capture_default_str();
+  cmd->callback([args, &exitCode] {
+    RenderOptions o = args->options;
+    o.up = axisFromName(args->up);
+    o.edges = args->edges == "on" ? RenderOptions::Edges::On : args->edges == "off" ? RenderOptions::Edges::Off : RenderOptions::Edges::Auto;
+    if (args->range.size() == 2) o.scalarMin = args->range[0], o.scalarMax = args->range[1];
+    const std::vector<std::string> files = resolveInputs(args->inputs);
+    const std::string note = renderVtuFiles(files, args->color, o, args->png);
+    std::cout << "wrote " << args->png << " (" << o.width << "x" << o.height << ", " << files.size() << " file"
+              << (files.size() > 1 ? "s" : "") << ")\n";
+    if (!note.empty()) std::cout << note << "\n";
+    exitCode = kOk;
+  });
+});
+
+}  // namespace
+}  // namespace jetshell::cli

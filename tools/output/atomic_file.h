@@ -1,0 +1,18 @@
+// Atomic file writes: the content goes to a temporary file in the same directory, which is then renamed over the
+// target, so a reader (or a run stopped half-way) only ever sees the old file or the complete new one.
+#pragma once
+
+#include <functional>
+#include <iosfwd>
+#include <string>
+
+namespace jetshell {
+
+/// Writes `path` atomically with `write`. Throws InputError naming the path when it cannot be written (missing
+/// directory, no permission, disk full).
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+/// The same for a ready string.
+void writeFileAtomically(const std::string& path, const std::string& content);
+
+}  // namespace jetshell

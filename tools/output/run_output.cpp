@@ -1,0 +1,158 @@
+#include "tools/output/run_output.h"
+
+#include "core/mesh_io.h"
+#include "tools/output/atomic_file.h"
+#include "tools/output/volume_meshes.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+std::string frameName(int index, const char* extension) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "frame_%05d.%s", index, extension);
+  return buffer;
+}
+
+void createDirectory(const std::filesystem::path& p) {
+  std::error_code ec;
+  std::filesystem::create_directories(p, ec);
+  if (ec || !std::filesystem::is_directory(p)) throw InputError(p.string() + ": cannot create the output directory (" + ec.message() + ")");
+}
+
+}  // namespace
+
+RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel& model, std::string scenePath)
+    : directory_(std::move(directory)), scenePath_(std::move(scenePath)), scene_(scene), model_(model) {
+  namespace fs = std::filesystem;
+  createDirectory(directory_);
+  if (scene.outputs.vtu) createDirectory(fs::path(directory_) / "frames");
+  if (scene.outputs.obj) createDirectory(fs::path(directory_) / "obj");
+  if (!scene.volumes.empty()) {
+    const Eigen::Vector3d lo = model.world.V.colwise().minCoeff(), hi = model.world.V.colwise().maxCoeff();
+    const double size = std::max(1e-3, 1.5 * (hi - lo).maxCoeff());
+    VtuFrame frame;
+    std::vector<Eigen::Index> firstVertex;
+    std::vector<TriMesh> parts;
+    for (const VolumeActorParams& v : scene.volumes) parts.push_back(volumeSurface(v, size, 0.5 * (lo + hi)));
+    Eigen::Index nv = 0, nf = 0;
+    for (const TriMesh& p : parts) nv += p.V.rows(), nf += p.F.rows();
+    frame.points.resize(nv, 3);
+    frame.triangles.resize(nf, 3);
+    VtuFrame::Array& id = frame.cellData["volume"];
+    nv = nf = 0;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      frame.points.middleRows(nv, parts[k].V.rows()) = parts[k].V;
+      frame.triangles.middleRows(nf, parts[k].F.rows()) = parts[k].F.array() + static_cast<int>(nv);
+      id.values.insert(id.values.end(), static_cast<std::size_t>(parts[k].F.rows()), static_cast<double>(k));
+      nv += parts[k].V.rows();
+      nf += parts[k].F.rows();
+    }
+    volumesFile_ = (fs::path(directory_) / "volumes.vtu").string();
+    writeFileAtomically(volumesFile_, [&](std::ostream& out) { writeVtu(out, frame); });
+  }
+}
+
+void RunOutput::record(const StepState& s, bool forceFrame) {
+  const Eigen::VectorXd& x = *s.x;
+  ProbeRow row{s.step, s.time, s.loadFactor, {}};
+  for (const ResolvedProbe& p : model_.probes)
+    for (int c = 0; c < 3; ++c) row.u.push_back(x[3 * p.vertex + c] - model_.world.V(p.vertex, c));
+  if (s.step == lastRecordedStep_ && !rows_.empty()) rows_.back() = row;
+  else rows_.push_back(std::move(row));
+  lastRecordedStep_ = s.step;
+  const int stride = scene_.outputs.frameStride;
+  if ((forceFrame || s.step % stride == 0) && s.step != lastFrameStep_) {
+    writeFrame(s);
+    lastFrameStep_ = s.step;
+    if (scene_.outputs.probesCsv && !model_.probes.empty()) writeProbes();
+  }
+}
+
+void RunOutput::writeFrame(const StepState& s) {
+  namespace fs = std::filesystem;
+  const Eigen::VectorXd& x = *s.x;
+  const Positions X = unflatten(x);
+  if (scene_.outputs.vtu) {
+    VtuFrame frame;
+    frame.points = X;
+    frame.triangles = model_.world.F;
+    VtuFrame::Array& u = frame.pointData["displacement"];
+    u.components = 3;
+    u.values.resize(static_cast<std::size_t>(x.size()));
+    for (Eigen::Index k = 0; k < x.size(); ++k) u.values[static_cast<std::size_t>(k)] = x[k] - model_.world.V.data()[k];
+    if (s.velocity) {
+      VtuFrame::Array& v = frame.pointData["velocity"];
+      v.components = 3;
+      v.values.assign(s.velocity->data(), s.velocity->data() + s.velocity->size());
+    }
+    VtuFrame::Array& actor = frame.cellData["actor"];
+    for (std::size_t a = 0; a < model_.actors.size(); ++a)
+      actor.values.insert(actor.values.end(), static_cast<std::size_t>(model_.actors[a].numFaces), static_cast<double>(a));
+    const std::string name = frameName(frames_, "vtu");
+    lastFrame_ = (fs::path(directory_) / "frames" / name).string();
+    writeFileAtomically(lastFrame_, [&](std::ostream& out) { writeVtu(out, frame); });
+    series_.add(s.time, "frames/" + name, 0);
+    if (!volumesFile_.empty()) series_.add(s.time, "volumes.vtu", 1);
+    series_.write((fs::path(directory_) / "frames.pvd").string());
+  }
+  if (scene_.outputs.obj) {
+    const std::string path = (fs::path(directory_) / "obj" / frameName(frames_, "obj")).string();
+    writeFileAtomically(path, [&](std::ostream& out) { writeObj(out, X, model_.world.F); });
+  }
+  ++frames_;
+}
+
+void RunOutput::writeProbes() const {
+  writeFileAtomically((std::filesystem::path(directory_) / "probes.csv").string(), [&](std::ostream& out) {
+    out << "step,time,load_factor";
+    for (const ResolvedProbe& p : model_.probes) out << ',' << p.name << "_ux," << p.name << "_uy," << p.name << "_uz";
+    out << '\n';
+    for (const ProbeRow& r : rows_) {
+      out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
+      for (double u : r.u) out << ',' << formatDouble(u);
+      out << '\n';
+    }
+  });
+}
+
+std::map<std::string, Eigen::Vector3d> RunOutput::probeDisplacements() const {
+  std::map<std::string, Eigen::Vector3d> out;
+  if (rows_.empty()) return out;
+  for (std::size_t k = 0; k < model_.probes.size(); ++k)
+    out[model_.probes[k].name] = Eigen::Vector3d(rows_.back().u[3 * k], rows_.back().u[3 * k + 1], rows_.back().u[3 * k + 2]);
+  return out;
+}
+
+void RunOutput::finish(const RunSummary& summary) {
+  namespace fs = std::filesystem;
+  if (scene_.outputs.probesCsv && !model_.probes.empty()) writeProbes();
+  nlohmann::json j;
+  j["scene"] = scenePath_;
+  j["description"] = scene_.description;
+  j["analysis"] = toString(scene_.analysis.type);
+  j["converged"] = summary.converged;
+  j["termination"] = summary.termination;
+  j["steps"] = summary.steps;
+  j["newton_iterations"] = summary.newtonIterations;
+  j["wall_seconds"] = summary.wallSeconds;
+  j["active_terms"] = summary.activeTerms;
+  j["vertices"] = model_.numVertices();
+  j["faces"] = model_.world.numFaces();
+  nlohmann::json probes = nlohmann::json::object();
+  for (const auto& [name, u] : probeDisplacements()) probes[name] = {u.x(), u.y(), u.z()};
+  j["probes"] = probes;
+  if (!rows_.empty()) {
+    j["final_time"] = rows_.back().time;
+    j["final_load_factor"] = rows_.back().loadFactor;
+  }
+  j["frames"] = frames_;
+  j["unsupported"] = unsupportedFeatures(scene_);
+  for (const auto& item : summary.extra.items()) j[item.key()] = item.value();
+  writeFileAtomically((fs::path(directory_) / "summary.json").string(), j.dump(2) + "\n");
+}
+
+}  // namespace jetshell

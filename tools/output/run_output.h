@@ -1,0 +1,82 @@
+// Everything a run writes into its output directory, each file atomically:
+//   frames/frame_NNNNN.vtu + frames.pvd   VTK XML frames and their time series (ParaView)
+//   volumes.vtu                           the rigid volume actors (part 1 of the series), when the scene has any
+//   obj/frame_NNNNN.obj                   optional OBJ per frame
+//   probes.csv                            probe displacements per step
+//   summary.json                          the run's outcome (see RunSummary)
+#pragma once
+
+#include "tools/output/vtu.h"
+#include "tools/scene/scene.h"
+#include "tools/scene/scene_model.h"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+/// The state after one step (load step, time step or relaxation step).
+struct StepState {
+  int step = 0;             // 1-based; 0 is the initial state
+  double time = 0.0;        // s (dynamics); the load factor in statics
+  double loadFactor = 1.0;  // λ
+  const Eigen::VectorXd* x = nullptr;         // 3N positions
+  const Eigen::VectorXd* velocity = nullptr;  // 3N, or null in statics
+};
+
+/// How the run ended, for summary.json.
+struct RunSummary {
+  bool converged = false;
+  std::string termination;  // "converged", "interrupted", "max_steps", "solver_failure: ...", "completed"
+  int steps = 0;
+  int newtonIterations = 0;
+  double wallSeconds = 0.0;
+  std::vector<std::string> activeTerms;
+  nlohmann::json extra = nlohmann::json::object();  // merged into summary.json
+};
+
+class RunOutput {
+ public:
+  /// Creates `directory` (and frames/, obj/ as needed). Throws InputError when it cannot.
+  RunOutput(std::string directory, const Scene& scene, const SceneModel& model, std::string scenePath = "");
+
+  /// Records the probes of this state and, every `frameStride` steps or when `forceFrame`, writes a frame
+  /// (and rewrites frames.pvd and probes.csv, so both are complete after every frame).
+  void record(const StepState& state, bool forceFrame = false);
+  /// Writes summary.json (with the probes' last displacements) and the final probes.csv.
+  void finish(const RunSummary& summary);
+
+  const std::string& directory() const { return directory_; }
+  /// The most recent frame file, or "" when none was written.
+  const std::string& lastFrame() const { return lastFrame_; }
+  /// The volume actors' file, or "" when the scene has none.
+  const std::string& volumesFile() const { return volumesFile_; }
+  int framesWritten() const { return frames_; }
+  /// The last recorded displacement of each probe.
+  std::map<std::string, Eigen::Vector3d> probeDisplacements() const;
+
+ private:
+  void writeFrame(const StepState& state);
+  void writeProbes() const;
+
+  std::string directory_;
+  std::string scenePath_;
+  const Scene& scene_;
+  const SceneModel& model_;
+  PvdSeries series_;
+  std::string lastFrame_, volumesFile_;
+  int frames_ = 0;
+  int lastRecordedStep_ = -1;
+  int lastFrameStep_ = -1;
+  struct ProbeRow {
+    int step;
+    double time, loadFactor;
+    std::vector<double> u;  // 3 per probe
+  };
+  std::vector<ProbeRow> rows_;
+};
+
+}  // namespace jetshell

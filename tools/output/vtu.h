@@ -1,0 +1,59 @@
+// VTK XML unstructured grids (.vtu, triangles only, ASCII) and ParaView collections (.pvd) of time series.
+//
+// ASCII with shortest round-trip numbers keeps frames lossless, diffable and readable by our own renderer;
+// ParaView opens both the frames and the .pvd series.
+#pragma once
+
+#include "core/mesh.h"
+
+#include <Eigen/Core>
+
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+/// A triangle mesh with named per-point and per-cell arrays. Point arrays have N·components values,
+/// cell arrays F·components, both point- (cell-) major.
+struct VtuFrame {
+  Positions points;
+  Faces triangles;
+  struct Array {
+    int components = 1;
+    std::vector<double> values;
+  };
+  std::map<std::string, Array> pointData;
+  std::map<std::string, Array> cellData;
+};
+
+/// Writes a VTK XML UnstructuredGrid file (version 1.0, ASCII). Arrays whose name is "displacement" or
+/// "velocity" are marked as the active vectors.
+void writeVtu(std::ostream& out, const VtuFrame& frame);
+
+/// Reads an ASCII .vtu of triangles (as written by writeVtu or by ParaView with ASCII output). Throws
+/// InputError naming the file on anything else (binary or appended data, non-triangle cells, missing arrays).
+VtuFrame readVtu(const std::string& path);
+
+/// A .pvd collection: one entry per (time, part, file). File names are relative to the .pvd's directory.
+class PvdSeries {
+ public:
+  void add(double time, const std::string& file, int part = 0) { entries_.push_back({time, part, file}); }
+  /// Rewrites the whole collection atomically (so it is valid after every frame).
+  void write(const std::string& path) const;
+  std::size_t size() const { return entries_.size(); }
+
+ private:
+  struct Entry {
+    double time;
+    int part;
+    std::string file;
+  };
+  std::vector<Entry> entries_;
+};
+
+/// The shortest text that reads back as exactly v.
+std::string formatDouble(double v);
+
+}  // namespace jetshell
