@@ -80,8 +80,8 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
       objective_.addTerm(stiffnessDamping.bending, TermRole::Transient);
     }
   }
+  // Not finalized here: callers may still add terms (contact, user energies) before the first evaluation.
   objective_.setPrescribed(p.prescribed);
-  objective_.finalize();
 
   PhysicalScales scales;
   scales.length = meanEdgeLength(mesh_, topology_);

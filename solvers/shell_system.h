@@ -8,7 +8,9 @@
 //   mass_damping        dynamics when α_R > 0; dynamic relaxation always (its α comes from the relaxation)
 //   membrane_damping,   dynamics when β_R > 0 (and the matching elastic term is active)
 //   bending_damping
-// Statics has no inertia and no dissipation. objective->activeTermNames() is the run summary's list.
+// Statics has no inertia and no dissipation. objective().activeTermNames() is the run summary's list.
+// The objective is finalized at its first evaluation, so more terms (contact, user energies written as
+// ElementEnergyTerm functors) can be added with objective().addTerm() until then.
 #pragma once
 
 #include "core/mesh.h"

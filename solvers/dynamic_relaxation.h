@@ -1,0 +1,50 @@
+// Dynamic relaxation: pseudo-time stepping with mass damping toward a static equilibrium, the way the engine
+// the spec comes from solves its slit annular plate (backward Euler, Δt = 1/30 s, α_R = 0.3 1/s). Each step
+// is a damped implicit dynamic step; the run ends when the static residual (the gradient of the potential
+// terms alone: elastic energy, gravity, loads) is below residualTolerance × the force scale. Unlike load
+// stepping it passes limit points (snap-through) and needs no load increments, at the price of many steps.
+#pragma once
+
+#include "solvers/dynamics.h"
+#include "solvers/shell_system.h"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+struct RelaxationOptions {
+  double timeStep = 1.0 / 30.0;  // pseudo-time step [s]
+  double massDamping = 0.0;      // α [1/s]; 0 takes the material's α_R (one of the two must be > 0)
+  int maxSteps = 10000;
+  double residualTolerance = 1e-6;  // static residual ‖g‖∞ ≤ tolerance × force scale [N]
+  double loadFactor = 1.0;          // λ for the nodal forces
+  NewtonOptions newton;
+};
+
+struct RelaxationResult {
+  bool converged = false;
+  bool stopped = false;
+  int steps = 0;
+  double pseudoTime = 0.0;
+  double staticResidual = 0.0;     // ‖g_potential‖∞ at the end [N]
+  double residualThreshold = 0.0;  // [N]
+  std::vector<double> residualHistory;  // after each step
+  int newtonIterations = 0;
+  int cuts = 0;
+  std::vector<std::string> activeTerms;
+  std::string message;
+};
+
+/// Called after each step with the static residual; return false to stop cleanly.
+using RelaxationCallback = std::function<bool(const StepReport&, double staticResidual)>;
+
+/// Relaxes from x (3N, in/out, starting at rest) on a system built for AnalysisKind::DynamicRelaxation.
+/// Throws InputError for invalid options or a system of another kind.
+RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const RelaxationOptions& options,
+                               const RelaxationCallback& callback = {});
+
+}  // namespace jetshell

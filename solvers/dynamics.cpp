@@ -1,0 +1,199 @@
+#include "solvers/dynamics.h"
+
+#include "core/mesh.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace jetshell {
+
+TimeIntegrator timeIntegratorFromString(const std::string& name) {
+  if (name == "backward_euler") return TimeIntegrator::BackwardEuler;
+  if (name == "bdf2") return TimeIntegrator::BDF2;
+  throw InputError("time integrator '" + name + "': expected backward_euler or bdf2");
+}
+
+const char* toString(TimeIntegrator t) {
+  switch (t) {
+    case TimeIntegrator::BackwardEuler: return "backward_euler";
+    case TimeIntegrator::BDF2: return "bdf2";
+  }
+  return "?";
+}
+
+namespace {
+
+double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
+  if (!(std::isfinite(o.timeStep) && o.timeStep > 0.0)) {
+    std::ostringstream s;
+    s << "dynamics: timeStep = " << o.timeStep << ": must be finite and > 0";
+    throw InputError(s.str());
+  }
+  if (o.maxCuts < 0) throw InputError("dynamics: maxCuts must be >= 0");
+  if (system.kind() == AnalysisKind::Statics)
+    throw InputError("dynamics: the system was built for statics (no inertia)");
+  const double alpha = o.massDampingOverride >= 0.0 ? o.massDampingOverride
+                                                     : system.material().massDampingCoefficient;
+  if (!std::isfinite(alpha)) throw InputError("dynamics: massDampingOverride must be finite");
+  if (alpha > 0.0 && !system.massDamping && system.material().density > 0.0)
+    throw InputError("dynamics: mass damping requested but the system has no mass_damping term");
+  return alpha;
+}
+
+void addTimes(StepReport& r, const SolverSummary& s) {
+  r.newtonIterations += s.iterations;
+  r.assemblySeconds += s.assemblySeconds;
+  r.factorizationSeconds += s.factorizationSeconds;
+  r.solveSeconds += s.solveSeconds;
+  r.lineSearchSeconds += s.lineSearchSeconds;
+}
+
+}  // namespace
+
+DynamicsSolver::DynamicsSolver(ShellSystem& system, const DynamicsOptions& options)
+    : system_(system),
+      options_(options),
+      newton_(system.objective(), options.newton),
+      massDamping_(checkedMassDamping(system, options)) {
+  Eigen::VectorXd x = system.restPositions();
+  system.objective().applyPrescribed(0.0, x);
+  setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
+}
+
+void DynamicsSolver::setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t) {
+  const Eigen::Index n = system_.objective().numDofs();
+  if (x.size() != n || v.size() != n) throw InputError("dynamics: state vectors have the wrong size");
+  if (!x.allFinite() || !v.allFinite() || !std::isfinite(t)) throw InputError("dynamics: state must be finite");
+  x_ = x;
+  v_ = v;
+  t_ = t;
+  historyValid_ = false;
+}
+
+double DynamicsSolver::kineticEnergy() const {
+  const Eigen::VectorXd& m = system_.vertexMass();
+  double e = 0.0;
+  for (Eigen::Index i = 0; i < m.size(); ++i) e += m[i] * v_.segment<3>(3 * i).squaredNorm();
+  return 0.5 * e;
+}
+
+double DynamicsSolver::potentialEnergy() {
+  return system_.objective().evaluate(x_, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
+}
+
+bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
+  ShellSystem& sys = system_;
+  const double beta = sys.material().stiffnessDampingCoefficient;
+  Eigen::VectorXd centre;  // x̂ (BDF2) or x_n (backward Euler): the damping origin
+  Eigen::VectorXd predictor;
+  double inertiaCoefficient, dampingScale;
+  if (bdf2) {
+    centre = (4.0 * x_ - xPrev_) / 3.0;
+    predictor = centre + (8.0 * h / 9.0) * (v_ - 0.25 * vPrev_);
+    inertiaCoefficient = 9.0 / (4.0 * h * h);
+    dampingScale = 1.5 / h;
+  } else {
+    centre = x_;
+    predictor = x_ + h * v_;
+    inertiaCoefficient = 1.0 / (h * h);
+    dampingScale = 1.0 / h;
+  }
+  if (sys.inertia) sys.inertia->setCentre(predictor, inertiaCoefficient);
+  if (sys.massDamping) sys.massDamping->setCentre(centre, massDamping_ * dampingScale);
+  if (sys.stiffnessDamping.membrane) sys.stiffnessDamping.membrane->setStrainOrigin(centre, beta * dampingScale);
+  if (sys.stiffnessDamping.bending) sys.stiffnessDamping.bending->setCurvatureOrigin(centre, beta * dampingScale);
+
+  Eigen::VectorXd x = x_ + h * v_;
+  sys.objective().applyPrescribed(t_ + h, x);
+  SolverSummary summary = newton_.minimize(x);
+  addTimes(report, summary);
+  const bool ok = summary.converged() ||
+                  (options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap);
+  if (!ok) {
+    std::ostringstream s;
+    s << "step " << h << " s at t = " << t_ << ": " << toString(summary.reason) << " (" << summary.message << ")";
+    report.message = s.str();
+  }
+  report.solves.push_back(std::move(summary));
+  if (!ok || !x.allFinite()) return false;
+  const Eigen::VectorXd v = bdf2 ? Eigen::VectorXd((3.0 * x - 4.0 * x_ + xPrev_) / (2.0 * h))
+                                 : Eigen::VectorXd((x - x_) / h);
+  if (!v.allFinite()) return false;
+  x_ = x;
+  v_ = v;
+  t_ += h;
+  ++report.substeps;
+  return true;
+}
+
+bool DynamicsSolver::advance(double h, int depth, bool allowBdf2, StepReport& report) {
+  const bool bdf2 = allowBdf2 && options_.integrator == TimeIntegrator::BDF2 && historyValid_ &&
+                    std::abs(historyStep_ - h) <= 1e-12 * h;
+  if (attempt(h, bdf2, report)) return true;
+  if (depth >= options_.maxCuts) return false;
+  ++report.cuts;
+  const Eigen::VectorXd x0 = x_, v0 = v_;
+  const double t0 = t_;
+  const int substeps0 = report.substeps;
+  if (advance(0.5 * h, depth + 1, false, report) && advance(0.5 * h, depth + 1, false, report)) return true;
+  x_ = x0;
+  v_ = v0;
+  t_ = t0;
+  report.substeps = substeps0;
+  return false;
+}
+
+StepReport DynamicsSolver::step() {
+  StepReport report;
+  const double h = options_.timeStep;
+  report.timeStep = h;
+  const Eigen::VectorXd x0 = x_, v0 = v_;
+  report.success = advance(h, 0, true, report);
+  if (report.success) {
+    // The state one full step back is the BDF2 history, whether or not the step was cut.
+    xPrev_ = x0;
+    vPrev_ = v0;
+    historyStep_ = h;
+    historyValid_ = true;
+    ++steps_;
+    report.message.clear();
+  } else {
+    std::ostringstream s;
+    s << "time step at t = " << t_ << " failed after " << report.cuts << " cuts; last attempt: " << report.message;
+    report.message = s.str();
+  }
+  report.step = steps_;
+  report.time = t_;
+  return report;
+}
+
+DynamicsResult simulate(DynamicsSolver& solver, double duration, const StepCallback& callback) {
+  if (!(std::isfinite(duration) && duration >= 0.0)) throw InputError("dynamics: duration must be finite and >= 0");
+  DynamicsResult result;
+  result.activeTerms = solver.system().objective().activeTermNames();
+  const int steps = static_cast<int>(std::ceil(duration / solver.options().timeStep - 1e-9));
+  for (int i = 0; i < steps; ++i) {
+    const StepReport r = solver.step();
+    result.newtonIterations += r.newtonIterations;
+    result.cuts += r.cuts;
+    result.time = solver.time();
+    if (!r.success) {
+      result.message = r.message;
+      return result;
+    }
+    ++result.steps;
+    if (callback && !callback(r, solver)) {
+      result.stopped = true;
+      result.message = "stopped by the callback at t = " + std::to_string(solver.time());
+      return result;
+    }
+  }
+  result.completed = true;
+  std::ostringstream s;
+  s << result.steps << " steps to t = " << result.time << " s (" << result.newtonIterations << " Newton iterations, "
+    << result.cuts << " cuts)";
+  result.message = s.str();
+  return result;
+}
+
+}  // namespace jetshell

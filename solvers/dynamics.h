@@ -1,0 +1,120 @@
+// Implicit time stepping as incremental potentials: each step minimizes, over the end-of-step positions x,
+//   backward Euler:  ½/Δt² ‖x − x̃‖²_M + E(x) + (α_R/2Δt) ‖x − x_n‖²_M + (β_R/Δt) Σ area·[W_m(ε − ε_n) + W_b(κ − κ_n)]
+//                    with x̃ = x_n + Δt v_n, then v = (x − x_n)/Δt;
+//   BDF2:            (9/8Δt²) ‖x − x̃‖²_M + E(x) + (3α_R/4Δt) ‖x − x̂‖²_M + (3β_R/2Δt) Σ area·[W(ε − ε(x̂)) + ...]
+//                    with x̂ = (4x_n − x_{n−1})/3, x̃ = x̂ + (8Δt/9)(v_n − v_{n−1}/4), then
+//                    v = (3x − 4x_n + x_{n−1})/(2Δt).
+// M is the lumped mass, E the potential terms (elastic, gravity, loads). Both are exact for constant
+// acceleration once started; BDF2 starts (and restarts after a change of step) with one backward Euler step.
+// The stiffness-damping origin x̂ makes BDF2's ε̇ = 3(ε(x) − ε(x̂))/(2Δt) second order for the linear part of
+// ε (ε(x̂) differs from (4ε_n − ε_{n−1})/3 by a term quadratic in x_n − x_{n−1}).
+// Velocities are rebuilt from positions only. Prescribed positions are applied at the end-of-step time
+// (their velocities follow from the same formulas).
+// A step whose Newton solve fails (see DynamicsOptions::acceptIterationCap) is cut: the state is restored and
+// the step is retried as two half steps (backward Euler), recursively up to maxCuts times. The state only ever
+// takes converged, finite values; when every cut fails the step reports failure and the state is unchanged.
+#pragma once
+
+#include "solvers/newton.h"
+#include "solvers/shell_system.h"
+#include "solvers/solver_summary.h"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+enum class TimeIntegrator { BackwardEuler, BDF2 };
+TimeIntegrator timeIntegratorFromString(const std::string& name);  // backward_euler | bdf2
+const char* toString(TimeIntegrator t);
+
+struct DynamicsOptions {
+  TimeIntegrator integrator = TimeIntegrator::BackwardEuler;
+  double timeStep = 1.0 / 60.0;  // s
+  NewtonOptions newton;
+  int maxCuts = 6;  // halvings of a failed step (down to Δt/2^maxCuts)
+  /// Take the unconverged iterate when Newton hits its iteration cap (the engine the spec comes from moves on
+  /// this way, with 4 iterations) instead of cutting the step.
+  bool acceptIterationCap = false;
+  /// α_R [1/s] to use instead of the material's (dynamic relaxation sets it); < 0: the material's.
+  double massDampingOverride = -1.0;
+};
+
+/// What one call to DynamicsSolver::step() did.
+struct StepReport {
+  int step = 0;           // number of completed steps after this one
+  double time = 0.0;      // t at the end of the step (unchanged on failure)
+  double timeStep = 0.0;  // the step's Δt
+  bool success = false;
+  int substeps = 0;          // Newton solves that were accepted (1 without cuts)
+  int cuts = 0;              // halvings
+  int newtonIterations = 0;  // over every attempt
+  double assemblySeconds = 0.0, factorizationSeconds = 0.0, solveSeconds = 0.0, lineSearchSeconds = 0.0;
+  std::vector<SolverSummary> solves;  // every attempt, failed ones included
+  std::string message;                // why the step failed
+};
+
+class DynamicsSolver {
+ public:
+  /// system must be built for Dynamics or DynamicRelaxation and outlive the solver. Starts at rest in the
+  /// reference configuration at t = 0 (prescribed positions applied). Throws InputError for invalid options.
+  DynamicsSolver(ShellSystem& system, const DynamicsOptions& options);
+
+  /// Sets the state (x, v: 3N; t in s). Resets the BDF2 history.
+  void setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t);
+  const Eigen::VectorXd& positions() const { return x_; }
+  const Eigen::VectorXd& velocities() const { return v_; }
+  double time() const { return t_; }
+  int stepCount() const { return steps_; }
+
+  /// Advances one Δt (cutting it when needed). On failure the state is unchanged.
+  StepReport step();
+
+  /// ½ Σ m_v |v_v|².
+  double kineticEnergy() const;
+  /// The potential terms' energy (elastic, gravity, loads) at the current positions.
+  double potentialEnergy();
+
+  const DynamicsOptions& options() const { return options_; }
+  NewtonSolver& newton() { return newton_; }
+  ShellSystem& system() { return system_; }
+
+ private:
+  bool advance(double h, int depth, bool allowBdf2, StepReport& report);
+  bool attempt(double h, bool bdf2, StepReport& report);
+
+  ShellSystem& system_;
+  DynamicsOptions options_;
+  NewtonSolver newton_;
+  double massDamping_;
+  Eigen::VectorXd x_, v_;
+  double t_ = 0.0;
+  int steps_ = 0;
+  // BDF2 history: the state one full step back.
+  Eigen::VectorXd xPrev_, vPrev_;
+  double historyStep_ = 0.0;
+  bool historyValid_ = false;
+};
+
+struct DynamicsResult {
+  bool completed = false;  // the whole duration was simulated
+  bool stopped = false;    // the callback asked to stop
+  int steps = 0;
+  double time = 0.0;
+  int newtonIterations = 0;
+  int cuts = 0;
+  std::vector<std::string> activeTerms;
+  std::string message;
+};
+
+/// Called after every successful step; return false to stop cleanly.
+using StepCallback = std::function<bool(const StepReport&, DynamicsSolver&)>;
+
+/// Runs `duration` seconds (rounded to whole steps) from the solver's current state. Stops at the first step
+/// that fails even after its cuts (the state stays at the last good step).
+DynamicsResult simulate(DynamicsSolver& solver, double duration, const StepCallback& callback = {});
+
+}  // namespace jetshell

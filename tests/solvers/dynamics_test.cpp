@@ -1,0 +1,295 @@
+#include "solvers/dynamic_relaxation.h"
+#include "solvers/dynamics.h"
+#include "solvers/statics.h"
+#include "test_problems.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace jetshell;
+
+namespace {
+
+constexpr double kG = 9.81;
+
+/// A free square cloth falling under gravity −y from rest.
+ShellProblem freeCloth() {
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(0.2, 0.2, 3, 3);
+  p.gravity = Eigen::Vector3d(0.0, -kG, 0.0);
+  return p;
+}
+
+/// Mean y displacement after falling for T seconds with step h.
+double fallDistance(TimeIntegrator integrator, double T, double h) {
+  ShellSystem system(freeCloth(), AnalysisKind::Dynamics);
+  DynamicsOptions o;
+  o.integrator = integrator;
+  o.timeStep = h;
+  DynamicsSolver solver(system, o);
+  const DynamicsResult r = simulate(solver, T);
+  REQUIRE(r.completed);
+  const Eigen::VectorXd u = solver.positions() - system.restPositions();
+  double sum = 0.0;
+  for (int v = 0; v < system.mesh().numVertices(); ++v) sum += u[3 * v + 1];
+  return sum / system.mesh().numVertices();
+}
+
+/// A 0.1 m square patch (4 × 4 squares) with its boundary fixed, stiff enough to ring at ~3 Hz in bending.
+ShellProblem ringingPatch(double massDamping) {
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(0.1, 0.1, 4, 4);
+  p.material = ShellMaterialParamsFrom3dIsotropic(1e6, 0.3, 1000.0, 1e-3);
+  p.material.massDampingCoefficient = massDamping;
+  p.hasGravity = false;
+  for (int v = 0; v < p.mesh.numVertices(); ++v) {
+    const double x = p.mesh.V(v, 0), y = p.mesh.V(v, 1);
+    if (x < 1e-9 || y < 1e-9 || x > 0.1 - 1e-9 || y > 0.1 - 1e-9) p.prescribed.fixVertex(v, p.mesh.V.row(v).transpose());
+  }
+  return p;
+}
+
+/// Initial velocity: the first bending mode's shape, out of plane.
+Eigen::VectorXd bumpVelocity(const TriMesh& mesh, double amplitude) {
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(3 * mesh.numVertices());
+  for (int i = 0; i < mesh.numVertices(); ++i)
+    v[3 * i + 2] = amplitude * std::sin(M_PI * mesh.V(i, 0) / 0.1) * std::sin(M_PI * mesh.V(i, 1) / 0.1);
+  return v;
+}
+
+/// Positions after T seconds of the ringing patch.
+Eigen::VectorXd ring(TimeIntegrator integrator, double T, double h) {
+  ShellSystem system(ringingPatch(0.0), AnalysisKind::Dynamics);
+  DynamicsOptions o;
+  o.integrator = integrator;
+  o.timeStep = h;
+  o.newton.residualTolerance = 1e-12;
+  DynamicsSolver solver(system, o);
+  solver.setState(system.restPositions(), bumpVelocity(system.mesh(), 0.05), 0.0);
+  REQUIRE(simulate(solver, T).completed);
+  return solver.positions();
+}
+
+}  // namespace
+
+TEST_CASE("dynamics: free fall matches g t²/2 with backward Euler's O(Δt) error; BDF2's error is O(Δt²)") {
+  testing::SingleThread single;
+  const double T = 0.5;
+  for (double h : {0.05, 0.025}) {
+    // Backward Euler from rest: y_n = −g h² n(n+1)/2 = −g (t²/2 + t h/2): the error is exactly g t h / 2.
+    const double be = fallDistance(TimeIntegrator::BackwardEuler, T, h);
+    CHECK(be == Approx(-kG * (0.5 * T * T + 0.5 * T * h)).epsilon(1e-9));
+  }
+  // BDF2 (started by one backward Euler step) is exact for constant acceleration apart from the start's
+  // error, which settles to 3 g h²/4: halving h quarters it.
+  const double e1 = std::abs(fallDistance(TimeIntegrator::BDF2, T, 0.05) + 0.5 * kG * T * T);
+  const double e2 = std::abs(fallDistance(TimeIntegrator::BDF2, T, 0.025) + 0.5 * kG * T * T);
+  CHECK(e1 / e2 == Approx(4.0).epsilon(0.02));
+  CHECK(e1 < 0.75 * kG * 0.05 * 0.05 * 1.01);
+}
+
+TEST_CASE("dynamics: BDF2 converges at second order and backward Euler at first order on a smooth problem") {
+  testing::SingleThread single;
+  const double T = 0.1;
+  const Eigen::VectorXd reference = ring(TimeIntegrator::BDF2, T, T / 640);
+  auto error = [&](TimeIntegrator integrator, double h) {
+    return (ring(integrator, T, h) - reference).lpNorm<Eigen::Infinity>();
+  };
+  const double b1 = error(TimeIntegrator::BDF2, T / 20), b2 = error(TimeIntegrator::BDF2, T / 40),
+               b3 = error(TimeIntegrator::BDF2, T / 80);
+  const double e1 = error(TimeIntegrator::BackwardEuler, T / 20), e2 = error(TimeIntegrator::BackwardEuler, T / 40),
+               e3 = error(TimeIntegrator::BackwardEuler, T / 80);
+  INFO("BDF2 errors " << b1 << " " << b2 << " " << b3 << "; BE errors " << e1 << " " << e2 << " " << e3);
+  CHECK(std::log2(b2 / b3) > 1.8);
+  CHECK(std::log2(b1 / b2) > 1.6);
+  CHECK(std::log2(e2 / e3) > 0.8);
+  CHECK(std::log2(e2 / e3) < 1.3);
+  CHECK(b3 < e3);
+}
+
+TEST_CASE("dynamics: mass damping decays an oscillation at the rate alpha_R predicts") {
+  testing::SingleThread single;
+  // With mass-proportional damping every mode's amplitude decays as exp(−α_R t/2). The centre's out-of-plane
+  // peaks are fitted in log scale for a damped and an undamped run: the difference of the slopes removes the
+  // integrator's own (small) numerical damping.
+  const double alpha = 1.5, h = 2e-3, T = 1.5;
+  auto peakSlope = [&](double massDamping) {
+    ShellSystem system(ringingPatch(massDamping), AnalysisKind::Dynamics);
+    DynamicsOptions o;
+    o.integrator = TimeIntegrator::BDF2;
+    o.timeStep = h;
+    o.newton.residualTolerance = 1e-10;
+    DynamicsSolver solver(system, o);
+    solver.setState(system.restPositions(), bumpVelocity(system.mesh(), 0.002), 0.0);
+    const int centre = 12;  // vertex (2, 2) of the 5 × 5 grid
+    std::vector<double> z, t;
+    simulate(solver, T, [&](const StepReport&, DynamicsSolver& s) {
+      z.push_back(s.positions()[3 * centre + 2]);
+      t.push_back(s.time());
+      return true;
+    });
+    // Least-squares line through (t_k, log|z|) at the local maxima of |z|.
+    double n = 0, st = 0, sl = 0, stt = 0, stl = 0;
+    for (std::size_t k = 1; k + 1 < z.size(); ++k) {
+      const double a = std::abs(z[k]);
+      if (a > std::abs(z[k - 1]) && a >= std::abs(z[k + 1])) {
+        n += 1;
+        st += t[k];
+        sl += std::log(a);
+        stt += t[k] * t[k];
+        stl += t[k] * std::log(a);
+      }
+    }
+    REQUIRE(n >= 6);
+    return (n * stl - st * sl) / (n * stt - st * st);
+  };
+  const double damped = peakSlope(alpha), undamped = peakSlope(0.0);
+  INFO("slopes " << damped << " (damped), " << undamped << " (undamped)");
+  CHECK(damped - undamped == Approx(-0.5 * alpha).epsilon(0.05));
+}
+
+TEST_CASE("dynamics: a hanging cloth with damping settles at the equilibrium the static solver finds") {
+  testing::SingleThread single;
+  ShellProblem problem = testing::hangingCloth(0.3, 0.3, 6, 6);
+  problem.material.massDampingCoefficient = 4.0;
+  problem.material.stiffnessDampingCoefficient = 0.005;
+  ShellSystem statics(problem, AnalysisKind::Statics);
+  Eigen::VectorXd xs = statics.restPositions();
+  const StaticsResult sr = solveStatics(statics, xs, LoadSteppingOptions{});
+  REQUIRE(sr.completed);
+
+  ShellSystem dynamics(problem, AnalysisKind::Dynamics);
+  const std::vector<std::string> terms = dynamics.objective().activeTermNames();
+  CHECK(terms == std::vector<std::string>{"membrane", "bending", "gravity", "inertia", "mass_damping",
+                                          "membrane_damping", "bending_damping"});
+  CHECK(statics.objective().activeTermNames() == std::vector<std::string>{"membrane", "bending", "gravity"});
+  DynamicsOptions o;
+  o.timeStep = 1.0 / 60.0;
+  DynamicsSolver solver(dynamics, o);
+  const DynamicsResult dr = simulate(solver, 8.0);
+  REQUIRE(dr.completed);
+  const double sag = (xs - statics.restPositions()).lpNorm<Eigen::Infinity>();
+  INFO("static sag " << sag << " m, difference " << (solver.positions() - xs).lpNorm<Eigen::Infinity>());
+  CHECK(sag > 1e-3);
+  CHECK((solver.positions() - xs).lpNorm<Eigen::Infinity>() < 1e-5 * sag);
+  CHECK(solver.kineticEnergy() < 1e-12);
+}
+
+namespace {
+
+/// A test term that is NaN whenever a vertex is more than `reach` away from the positions `origin` points to
+/// (the solver's state at the start of the step): a stand-in for energies that break down on large steps.
+class FragileTerm : public EnergyTerm {
+ public:
+  explicit FragileTerm(double reach) : reach_(reach) {}
+  const Eigen::VectorXd* origin = nullptr;
+  std::string name() const override { return "fragile"; }
+  StencilTable stencils() const override { return {}; }
+  bool zeroAtRest() const override { return false; }
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions&) override {
+    const bool broken = origin != nullptr && (x - *origin).lpNorm<Eigen::Infinity>() > reach_;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    if (broken && request.gradient != nullptr) request.gradient->array() += nan;
+    return broken ? nan : 0.0;
+  }
+
+ private:
+  double reach_;
+};
+
+}  // namespace
+
+TEST_CASE("dynamics: a failing step is cut and retried, and never writes NaN") {
+  testing::SingleThread single;
+  const double h = 0.1;
+  // Falling from rest, the first step moves g h² ≈ 0.098 m; allow 0.05 m per (sub)step.
+  ShellSystem system(freeCloth(), AnalysisKind::Dynamics);
+  auto fragile = std::make_shared<FragileTerm>(0.05);
+  system.objective().addTerm(fragile);
+  DynamicsOptions o;
+  o.timeStep = h;
+  DynamicsSolver solver(system, o);
+  fragile->origin = &solver.positions();
+  const StepReport r = solver.step();
+  INFO(r.message);
+  REQUIRE(r.success);
+  CHECK(r.cuts >= 1);
+  CHECK(r.substeps >= 2);
+  CHECK(r.solves.front().reason == TerminationReason::NonFinite);
+  CHECK(solver.time() == Approx(h));
+  CHECK(solver.positions().allFinite());
+  CHECK(solver.velocities().allFinite());
+  // Two half steps of backward Euler: y = −g (h/2)² (1 + 2) = −0.75 g h².
+  CHECK((solver.positions() - system.restPositions())[1] == Approx(-0.75 * kG * h * h).epsilon(1e-9));
+
+  // With no cut allowed the step fails and the state stays as it was.
+  DynamicsOptions strict = o;
+  strict.maxCuts = 0;
+  DynamicsSolver stuck(system, strict);
+  fragile->origin = &stuck.positions();
+  const Eigen::VectorXd before = stuck.positions();
+  const StepReport f = stuck.step();
+  CHECK_FALSE(f.success);
+  CHECK_FALSE(f.message.empty());
+  CHECK(stuck.positions() == before);
+  CHECK(stuck.velocities().allFinite());
+  CHECK(stuck.time() == 0.0);
+  const DynamicsResult run = simulate(stuck, 1.0);
+  CHECK_FALSE(run.completed);
+  CHECK(run.steps == 0);
+  CHECK(stuck.positions().allFinite());
+}
+
+TEST_CASE("statics: a load step that fails is cut and retried; results are kept per step") {
+  testing::SingleThread single;
+  ShellSystem system(testing::cantileverPlate(6, 2, 0.02), AnalysisKind::Statics);
+  LoadSteppingOptions o;
+  o.newton.maxIterations = 8;  // too few for the whole load at once
+  Eigen::VectorXd x = system.restPositions();
+  int calls = 0;
+  const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult&) { return ++calls > 0; });
+  INFO(r.message);
+  REQUIRE(r.completed);
+  CHECK(r.totalCuts >= 1);
+  CHECK(r.steps.size() >= 2);
+  CHECK(calls == static_cast<int>(r.steps.size()));
+  for (std::size_t i = 1; i < r.steps.size(); ++i) CHECK(r.steps[i].loadFactor > r.steps[i - 1].loadFactor);
+  CHECK(r.steps.back().loadFactor == 1.0);
+  CHECK(r.steps.back().x == x);
+  for (const LoadStepResult& s : r.steps) CHECK(s.summary.converged());
+
+  // The same equilibrium in one step with enough iterations.
+  Eigen::VectorXd y = system.restPositions();
+  LoadSteppingOptions one;
+  one.newton.maxIterations = 100;
+  REQUIRE(solveStatics(system, y, one).completed);
+  CHECK((x - y).lpNorm<Eigen::Infinity>() < 1e-6);
+
+  // Stopping from the callback keeps what was done.
+  Eigen::VectorXd z = system.restPositions();
+  const StaticsResult stopped = solveStatics(system, z, o, [](const LoadStepResult&) { return false; });
+  CHECK(stopped.stopped);
+  CHECK(stopped.steps.size() == 1);
+}
+
+TEST_CASE("statics: dynamic relaxation reaches the load-stepping equilibrium") {
+  testing::SingleThread single;
+  ShellProblem problem = testing::cantileverPlate(6, 2, 0.01);
+  ShellSystem statics(problem, AnalysisKind::Statics);
+  Eigen::VectorXd xs = statics.restPositions();
+  REQUIRE(solveStatics(statics, xs, LoadSteppingOptions{}).completed);
+
+  problem.material.density = 1e-3;  // fictitious mass: only the end state matters
+  ShellSystem relax(problem, AnalysisKind::DynamicRelaxation);
+  RelaxationOptions o;
+  o.timeStep = 0.05;
+  o.massDamping = 20.0;
+  Eigen::VectorXd x = relax.restPositions();
+  const RelaxationResult r = relaxToStatic(relax, x, o);
+  INFO(r.message);
+  REQUIRE(r.converged);
+  CHECK(r.activeTerms == std::vector<std::string>{"membrane", "bending", "nodal_forces", "inertia", "mass_damping"});
+  const double tip = (xs - statics.restPositions()).lpNorm<Eigen::Infinity>();
+  CHECK((x - xs).lpNorm<Eigen::Infinity>() < 1e-4 * tip);
+}
