@@ -1,0 +1,125 @@
+// Finite-difference validation of an energy term's derivatives (in the spirit of Ceres' GradientChecker).
+//
+// At one configuration x, checkDerivatives() evaluates the term on every derivative path it has (AutoDiff, and
+// Analytic when hasAnalytic()), and compares
+//   - AD with analytic: energy, gradient, Hessian;
+//   - each path's gradient with central differences of the energy;
+//   - each path's Hessian with central differences of that path's gradient (the full, unsymmetrized Jacobian J);
+//   - the symmetry of J itself: a gradient whose Jacobian is not symmetric is not the gradient of any energy.
+// The assembled Hessian is symmetric by construction (the assembler reads only the upper triangle of element
+// blocks), so symmetry is checked where it can fail: on J, and by comparing both triangles of H with J.
+//
+// Finite differences: for each coordinate, central differences D(h) = (f(x + h e_i) − f(x − h e_i)) / 2h on the
+// steps h0, h0/2, h0/4, ... (h0 = initialStep · lengthScale) are extrapolated with Richardson's tableau
+// (Ridders' method), which cancels the h², h⁴, ... error terms; the tableau entry with the smallest estimated
+// error is kept. Step selection: that estimate can be fooled by a function that looks smooth on scales larger
+// than its own feature size (a fold within 1e-4 rad of 180° probed with steps of 1e-3), so further tableaus
+// starting at ever smaller h0 are run until two consecutive ones agree within their estimates. The reported
+// FD uncertainty is the larger of the estimate and that disagreement: when it is not small, the finite
+// differences prove nothing at that configuration, and the check reports it as inconclusive (a failure).
+//
+// Relative errors: relErr(A, B) = ‖A − B‖ / max(‖B‖, floor) (Euclidean norm for vectors, Frobenius for
+// matrices), with B the reference (analytic for AD vs analytic; finite differences for the FD checks). The floor
+// keeps quantities that vanish (the gradient at rest, the Hessian of a linear term) from turning round-off into
+// huge relative errors. It is tied to the term's scale at x: with ℓ the length scale,
+//   S = max(|E|, ‖g‖ ℓ, ‖H‖ ℓ²)   (an energy),
+//   floor_E = τ S,  floor_g = τ S / ℓ,  floor_H = τ S / ℓ²,   τ = floorFraction (default 1e-3),
+// i.e. errors in a small gradient count relative to the force a deformation of τ·ℓ would produce. g and H are
+// those of the reference path (analytic when present).
+#pragma once
+
+#include "core/term.h"
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+/// Energy, gradient (3N) and dense symmetric Hessian (3N×3N, both triangles) of one term at x.
+struct DenseDerivatives {
+  double energy = 0.0;
+  Eigen::VectorXd gradient;
+  Eigen::MatrixXd hessian;  // empty when not requested
+};
+
+/// Evaluates the term through the ordinary assembly path (HessianAssembler, upper triangle) and mirrors the
+/// Hessian into a dense symmetric matrix. For tests and checks on small meshes only.
+DenseDerivatives evaluateDense(EnergyTerm& term, const Eigen::VectorXd& x, const EvalOptions& options,
+                               bool wantHessian = true);
+
+/// ‖a − b‖ / max(‖b‖, floor) with the Euclidean / Frobenius norm (see the file comment).
+double relativeError(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double floor);
+double relativeError(double a, double b, double floor);
+
+/// Characteristic length of a configuration: the RMS distance of the vertices from their centroid (1 when
+/// all vertices coincide). Rigid motions do not change it.
+double configurationLengthScale(const Eigen::VectorXd& x);
+
+struct DerivativeCheckOptions {
+  /// Options for every evaluation; `path` is set by the checker. Use projection None: a projected Hessian is not
+  /// a derivative.
+  EvalOptions evalOptions;
+  /// False for model Hessians that are not the derivative of the gradient (Gauss–Newton bending): their
+  /// comparison with finite differences is reported but not judged, and they are required to be PSD instead.
+  bool hessianIsExact = true;
+  bool checkHessian = true;
+  double lengthScale = 0.0;   // ℓ; 0 = configurationLengthScale(x)
+  double initialStep = 1e-2;  // h0 / ℓ
+  int extrapolationSteps = 10;  // steps h0, h0/2, ..., h0/2^(n−1) in one Richardson tableau
+  int maxSequences = 4;         // tableaus tried, each starting 2^(2n/3) smaller, until two agree
+  double sequenceAgreement = 1e-9;  // ... within their estimates or this fraction of max(|D|, floor)
+  double floorFraction = 1e-3;  // τ
+};
+
+/// One derivative path compared with finite differences.
+struct PathCheck {
+  DerivativePath path = DerivativePath::AutoDiff;
+  double energy = 0.0;
+  double gradientVsFd = 0.0;      // relErr(g, FD of E)
+  double hessianVsFd = 0.0;       // relErr(H, J), J = FD of this path's gradient (0 when not checked)
+  double hessianAsymmetry = 0.0;  // ‖J − Jᵀ‖ / max(‖J‖, floor_H)
+  double hessianFdUncertainty = 0.0;  // Richardson's error estimate of J, relative like hessianVsFd
+  double hessianMinEigenvalue = 0.0;  // smallest eigenvalue of H / max(‖H‖, floor_H) (PSD check of models)
+};
+
+struct DerivativeCheckResult {
+  double lengthScale = 0.0;  // ℓ
+  double energyScale = 0.0;  // S
+  bool hessianIsExact = true;
+  bool hessianChecked = true;
+  bool finite = true;  // every evaluated energy, gradient and Hessian entry is finite
+  /// AD vs analytic (reference: analytic); absent when the term has no analytic path.
+  std::optional<double> energyAdVsAnalytic, gradientAdVsAnalytic, hessianAdVsAnalytic;
+  double gradientFdUncertainty = 0.0;  // Richardson's error estimate of the FD gradient, relative
+  std::vector<PathCheck> paths;       // AutoDiff first, then Analytic when present
+
+  /// The largest AD-vs-analytic error (energy, gradient, Hessian), or nothing without an analytic path.
+  std::optional<double> maxAdVsAnalytic() const;
+  /// The largest judged error against finite differences over paths: gradient, and Hessian when exact.
+  double maxVsFd() const;
+  double maxHessianAsymmetry() const;
+  /// The smallest relative eigenvalue over paths (only meaningful when the Hessian was checked).
+  double minHessianEigenvalue() const;
+  double maxFdUncertainty() const;
+};
+
+/// Checks the term's derivatives at x (size 3N). Costs about 2·n·3N energy evaluations and 2·n·3N gradient
+/// evaluations per path (n = extrapolationSteps): meant for meshes of a few dozen vertices.
+DerivativeCheckResult checkDerivatives(EnergyTerm& term, const Eigen::VectorXd& x,
+                                       const DerivativeCheckOptions& options = {});
+
+/// Pass/fail limits for a DerivativeCheckResult (defaults measured; see tools/cmd_check_derivatives.cpp).
+struct DerivativeTolerances {
+  double adVsAnalytic = 1e-10;
+  double vsFd = 1e-6;
+  double asymmetry = 1e-6;
+  double psd = 1e-10;  // model Hessians: smallest eigenvalue >= −psd · ‖H‖
+};
+
+/// The violated tolerances, one human-readable line each; empty when the check passes. Non-finite values fail.
+std::vector<std::string> checkFailures(const DerivativeCheckResult& result, const DerivativeTolerances& tolerances);
+
+}  // namespace jetshell

@@ -1,0 +1,45 @@
+// Example: a new energy term written without hand derivatives.
+//
+// A seam spring pulls vertex pairs (i, j) towards their rest distance L: E = Σ k/2 (‖x_i − x_j‖ − L)².
+// Only the energy is written, once, for any scalar type T; ElementEnergyTerm evaluates it with doubles for
+// the value and with Ceres Jets for the gradient and Hessian, and the assembler, PSD projection and
+// derivative checks come for free. It is enrolled in `jetshell check-derivatives` and the conformance suite
+// by one line in energies/registry.cpp. (Constants go through constant<T>() and vector algebra through
+// core/scalar.h, because Ceres' nested Jets reject plain doubles and Eigen reductions.)
+#pragma once
+
+#include "energies/element_energy_term.h"
+
+#include <array>
+#include <vector>
+
+namespace jetshell {
+
+struct SeamSpringEnergy {
+  static constexpr int kVertices = 2;  // one element = one vertex pair
+  double stiffness = 1.0;              // k
+  std::vector<double> restLength;      // L per pair
+
+  template <typename T>
+  T operator()(const T* x, int pair) const {  // x: the pair's 6 coordinates
+    const T stretch = norm(load3(x + 3) - load3(x)) - constant<T>(restLength[pair]);
+    return constant<T>(0.5 * stiffness) * stretch * stretch;
+  }
+};
+
+/// Springs between vertex pairs, with rest lengths taken from the mesh's rest positions.
+inline EnergyTermPtr makeSeamSpringTerm(const TriMesh& mesh, const std::vector<std::array<int, 2>>& pairs,
+                                        double stiffness) {
+  StencilTable table{2, {}};
+  SeamSpringEnergy energy{stiffness, {}};
+  for (const auto& [i, j] : pairs) {
+    if (i < 0 || j < 0 || i >= mesh.numVertices() || j >= mesh.numVertices() || i == j)
+      throw InputError("seam spring (" + std::to_string(i) + ", " + std::to_string(j) + "): bad vertex pair");
+    table.ids.insert(table.ids.end(), {i, j});
+    energy.restLength.push_back((mesh.V.row(i) - mesh.V.row(j)).norm());
+  }
+  return std::make_shared<ElementEnergyTerm<SeamSpringEnergy>>("seam_spring", std::move(table),
+                                                               mesh.numVertices(), std::move(energy));
+}
+
+}  // namespace jetshell
