@@ -1,0 +1,34 @@
+// Tabulated reference solutions (validation/reference/*.tsv) and the closed form of the end-moment cantilever.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace jetshell::validation {
+
+/// A load-controlled reference path: per row the load factor λ and one value per quantity.
+struct ReferenceTable {
+  std::string source;                      // file it came from, or "closed form"
+  std::vector<std::string> quantities;     // e.g. {"W_A", "W_B"}
+  std::vector<double> lambda;              // per row
+  std::vector<std::vector<double>> value;  // per row, one per quantity
+  int rows() const { return static_cast<int>(lambda.size()); }
+};
+
+/// Directory of the copied reference tables: $JETSHELL_SOURCE_DIR/validation/reference.
+std::string referenceDirectory();
+
+/// Reads a table of whitespace-separated numbers, one row per line, λ first, then quantities.size() values;
+/// lines starting with '#' and blank lines are skipped. Throws InputError naming file and line for a missing
+/// file, a wrong number of columns, a non-number or λ not strictly increasing.
+ReferenceTable loadReferenceTable(const std::string& path, std::vector<std::string> quantities);
+
+/// Sze et al. (2004) §3.2, the closed form (inextensible elastica under a pure end moment: an arc of radius
+/// EI/M): θ = 2πλ, −u_tip = L(1 − sin θ/θ), w_tip = L(1 − cos θ)/θ, tabulated at λ = 1/levels, ..., 1.
+/// Quantities {"-u_tip", "w_tip"}.
+ReferenceTable endMomentClosedForm(double length, int levels);
+
+/// The same table with every value multiplied by factor (geometrically similar problems).
+ReferenceTable scaled(ReferenceTable table, double factor);
+
+}  // namespace jetshell::validation
