@@ -7,17 +7,24 @@
 
 namespace jetshell {
 
-std::vector<std::vector<int>> colorElements(const StencilTable& table, int numVertices) {
-  // usedColors[v] is a bit set (64 colours per word) of colours already taken by elements touching v.
+namespace {
+
+/// Greedy colouring of sets of vertices (elements, or blocks of elements): sets of one colour are disjoint.
+/// vertices(i, out) lists set i's vertex ids (may include -1, ignored).
+template <typename VertexLister>
+std::vector<std::vector<int>> colorVertexSets(int numSets, int numVertices, VertexLister&& vertices) {
+  // usedColors[v] is a bit set (64 colours per word) of colours already taken by sets touching v.
   std::vector<std::vector<std::uint64_t>> usedColors(static_cast<std::size_t>(numVertices));
   std::vector<std::vector<int>> colors;
   std::vector<std::uint64_t> taken;
-  for (int e = 0; e < table.size(); ++e) {
-    const int* ids = table.element(e);
+  std::vector<int> ids;
+  for (int e = 0; e < numSets; ++e) {
+    ids.clear();
+    vertices(e, ids);
     taken.clear();
-    for (int k = 0; k < table.width; ++k) {
-      if (ids[k] < 0) continue;
-      const auto& u = usedColors[ids[k]];
+    for (int v : ids) {
+      if (v < 0) continue;
+      const auto& u = usedColors[v];
       if (taken.size() < u.size()) taken.resize(u.size(), 0);
       for (std::size_t w = 0; w < u.size(); ++w) taken[w] |= u[w];
     }
@@ -31,15 +38,41 @@ std::vector<std::vector<int>> colorElements(const StencilTable& table, int numVe
     }
     if (color >= static_cast<int>(colors.size())) colors.resize(color + 1);
     colors[color].push_back(e);
-    for (int k = 0; k < table.width; ++k) {
-      if (ids[k] < 0) continue;
-      auto& u = usedColors[ids[k]];
+    for (int v : ids) {
+      if (v < 0) continue;
+      auto& u = usedColors[v];
       const std::size_t w = static_cast<std::size_t>(color) / 64;
       if (u.size() <= w) u.resize(w + 1, 0);
       u[w] |= std::uint64_t{1} << (color % 64);
     }
   }
   return colors;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> colorElements(const StencilTable& table, int numVertices) {
+  return colorVertexSets(table.size(), numVertices, [&](int e, std::vector<int>& out) {
+    out.assign(table.element(e), table.element(e) + table.width);
+  });
+}
+
+ElementSchedule scheduleElements(const StencilTable& table, int numVertices, int blockSize) {
+  const int ne = table.size();
+  if (blockSize <= 0) blockSize = std::clamp(ne / 64, 32, 2048);
+  const int numBlocks = (ne + blockSize - 1) / blockSize;
+  const auto blockColors = colorVertexSets(numBlocks, numVertices, [&](int b, std::vector<int>& out) {
+    const int begin = b * blockSize, end = std::min(ne, begin + blockSize);
+    out.assign(table.element(begin), table.element(begin) + static_cast<std::size_t>(end - begin) * table.width);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  });
+  ElementSchedule s;
+  for (const auto& blocks : blockColors) {
+    s.colors.emplace_back();
+    for (int b : blocks) s.colors.back().push_back({b * blockSize, std::min(ne, (b + 1) * blockSize)});
+  }
+  return s;
 }
 
 int HessianAssembler::addStencils(const StencilTable& table) {

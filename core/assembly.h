@@ -60,4 +60,20 @@ class HessianAssembler {
 /// Greedy colouring of elements so that no two elements of one colour share a vertex.
 std::vector<std::vector<int>> colorElements(const StencilTable& table, int numVertices);
 
+/// A contiguous range of element indices.
+struct ElementRange {
+  int begin, end;
+};
+
+/// The parallel schedule of a term's elements: contiguous blocks of elements (cache-friendly: neighbouring
+/// elements touch neighbouring matrix entries), coloured so that blocks of one colour share no vertex. Blocks
+/// of one colour run in parallel, elements inside a block in order, colours one after another. The blocks
+/// depend only on the mesh, not on the thread count, so every sum is taken in the same order (same bits).
+struct ElementSchedule {
+  std::vector<std::vector<ElementRange>> colors;
+};
+
+/// Builds the schedule; blockSize 0 picks one from the element count.
+ElementSchedule scheduleElements(const StencilTable& table, int numVertices, int blockSize = 0);
+
 }  // namespace jetshell

@@ -1,8 +1,9 @@
 // The parallel, deterministic element loop every term uses.
 //
-// For each colour (elements sharing no vertex), elements run in parallel with OpenMP; colours run in order.
-// Gradient and Hessian entries are therefore summed in a fixed order whatever the thread count, and the
-// energy is summed serially from per-element values: the same input gives the same bits.
+// For each colour of the schedule (blocks of elements sharing no vertex), blocks run in parallel with OpenMP
+// and the elements of a block in order; colours run one after another. Gradient and Hessian entries are
+// therefore summed in a fixed order whatever the thread count, and the energy is summed serially from
+// per-element values: the same input gives the same bits.
 #pragma once
 
 #include "core/assembly.h"
@@ -19,7 +20,7 @@ namespace jetshell {
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
 /// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
 template <int K, typename Kernel>
-double runElementLoop(const StencilTable& table, const std::vector<std::vector<int>>& colors,
+double runElementLoop(const StencilTable& table, const ElementSchedule& schedule,
                       const Eigen::VectorXd& /*x*/, const EvalRequest& request, PsdProjection projection,
                       std::vector<double>& elementEnergy, Kernel&& kernel) {
   constexpr int M = 3 * K;
@@ -45,10 +46,11 @@ double runElementLoop(const StencilTable& table, const std::vector<std::vector<i
     }
   };
   if (wantG || wantH) {
-    for (const std::vector<int>& color : colors) {
+    for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
-#pragma omp parallel for schedule(static)
-      for (int i = 0; i < n; ++i) body(color[i]);
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int i = 0; i < n; ++i)
+        for (int e = color[i].begin; e < color[i].end; ++e) body(e);
     }
   } else {
 #pragma omp parallel for schedule(static)

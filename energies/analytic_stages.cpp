@@ -19,11 +19,22 @@ void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], d
   hessian = c1 * t * t.transpose() + 2.0 * c2 * G;
 }
 
-void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian,
-                std::array<Eigen::Matrix3d, 3>& hessians) {
+void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian) {
   const double r = c.norm();
   n = c / r;
   jacobian = (Eigen::Matrix3d::Identity() - n * n.transpose()) / r;
+}
+
+void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian) {
+  const double q = m.squaredNorm();
+  nbar = m / q;
+  jacobian = Eigen::Matrix3d::Identity() / q - (2.0 / (q * q)) * m * m.transpose();
+}
+
+void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian,
+                std::array<Eigen::Matrix3d, 3>& hessians) {
+  unitNormal(c, n, jacobian);
+  const double r = c.norm();
   // ∂²n_k/∂c_j∂c_l = −(δ_kj n_l + δ_kl n_j + δ_jl n_k − 3 n_k n_j n_l)/r².
   const double r2 = r * r;
   for (int k = 0; k < 3; ++k) {
@@ -37,9 +48,8 @@ void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& j
 
 void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian,
                      std::array<Eigen::Matrix3d, 3>& hessians) {
+  kelvinInversion(m, nbar, jacobian);
   const double q = m.squaredNorm();
-  nbar = m / q;
-  jacobian = Eigen::Matrix3d::Identity() / q - (2.0 / (q * q)) * m * m.transpose();
   // ∂²n̄_k/∂m_j∂m_l = −2(δ_kj m_l + δ_kl m_j + δ_jl m_k)/q² + 8 m_k m_j m_l/q³.
   const double q2 = q * q, q3 = q2 * q;
   for (int k = 0; k < 3; ++k) {

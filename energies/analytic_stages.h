@@ -18,6 +18,12 @@ void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], d
 void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian,
                 std::array<Eigen::Matrix3d, 3>& hessians);
 
+/// n = c/‖c‖: value and Jacobian only.
+void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian);
+
+/// n̄ = m/‖m‖²: value and Jacobian only.
+void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian);
+
 /// n̄ = m/‖m‖²: value, Jacobian, and Hessian of each component.
 void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian,
                      std::array<Eigen::Matrix3d, 3>& hessians);

@@ -29,6 +29,7 @@ namespace {
 using Mat3 = Eigen::Matrix3d;
 using Vec3 = Eigen::Vector3d;
 using Mat39 = Eigen::Matrix<double, 3, 9>;
+using Mat3x12 = Eigen::Matrix<double, 3, 12>;
 using Mat3x18 = Eigen::Matrix<double, 3, 18>;
 using Mat18 = Eigen::Matrix<double, 18, 18>;
 
@@ -57,6 +58,13 @@ void addFaceColumns(Dst& dst, const Mat39& src, const std::int8_t* local, double
 
 constexpr std::int8_t kSelf[3] = {0, 1, 2};
 
+/// Adds a row over edge i's compact vertices (0, 1, 2, 3+i) into a full 18-column stencil row.
+template <typename Row, typename Compact>
+void addCompact(Row&& row, const Compact& v, int i) {
+  row.template head<9>() += v.template head<9>();
+  row.template segment<3>(9 + 3 * i) += v.template tail<3>();
+}
+
 }  // namespace
 
 BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellReference& ref, double alpha,
@@ -65,7 +73,7 @@ BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellR
   const int nf = mesh.numFaces();
   table_.width = 6;
   table_.ids.assign(topo.bendingStencil.data(), topo.bendingStencil.data() + topo.bendingStencil.size());
-  colors_ = colorElements(table_, mesh.numVertices());
+  schedule_ = scheduleElements(table_, mesh.numVertices());
   neighborLocal_.resize(static_cast<std::size_t>(nf));
   for (int f = 0; f < nf; ++f) {
     for (int i = 0; i < 3; ++i) {
@@ -108,8 +116,8 @@ int BendingTerm::setClampedBoundary(const std::vector<char>& vertexMask) {
 }
 
 void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale) {
-  computeFaceStages(xOrigin, false, false);
-  computeEdgeStages(false, false);
+  computeFaceStages(xOrigin, 0, false);
+  computeEdgeStages(0, false);
   for (int f = 0; f < static_cast<int>(F_.rows()); ++f) {
     const Vec3 p0 = xOrigin.segment<3>(3 * F_(f, 0));
     const Vec3 e0 = xOrigin.segment<3>(3 * F_(f, 1)) - p0, e1 = xOrigin.segment<3>(3 * F_(f, 2)) - p0;
@@ -123,16 +131,17 @@ void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scal
 
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
     const bool ad = options.path == DerivativePath::AutoDiff;
-    const bool derivatives = request.gradient != nullptr || request.hessian != nullptr;
     const bool exact = options.bendingHessian == BendingHessian::Exact;
-    computeFaceStages(x, derivatives, ad);
-    computeEdgeStages(derivatives, ad);
-    return runElementLoop<6>(table_, colors_, x, request, options.projection, elementEnergy_,
+    // Stage order: 0 values, 1 Jacobians, 2 Hessians (only the exact bending Hessian needs them).
+    const int order = request.hessian != nullptr && exact ? 2 : request.gradient != nullptr || request.hessian ? 1 : 0;
+    computeFaceStages(x, order, ad);
+    computeEdgeStages(order, ad);
+    return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 18, 1>& g,
                                  Mat18& H) { return stencil(x, f, ids, wantG, wantH, ad, exact, g, H); });
   }
 
-void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, bool derivatives, bool ad) {
+void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad) {
     const int nf = static_cast<int>(F_.rows());
 #pragma omp parallel for schedule(static)
     for (int f = 0; f < nf; ++f) {
@@ -140,20 +149,25 @@ void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, bool derivatives, 
       const Vec3 e0 = position(x, F_(f, 1)) - x0, e1 = position(x, F_(f, 2)) - x0;
       const Vec3 c = e0.cross(e1);
       FaceStage& s = faces_[f];
-      if (!derivatives) {
+      if (order == 0) {
         s.n = c.normalized();
         continue;
       }
-      if (ad) {
-        vectorStageDerivatives([](const auto& z) { return unitNormal(z); }, c, s.n, s.dndc, s.hessian);
-      } else {
+      const auto stage = [](const auto& z) { return unitNormal(z); };
+      if (ad && order == 2) {
+        vectorStageDerivatives(stage, c, s.n, s.dndc, s.hessian);
+      } else if (ad) {
+        vectorStageJacobian(stage, c, s.n, s.dndc);
+      } else if (order == 2) {
         analytic::unitNormal(c, s.n, s.dndc, s.hessian);
+      } else {
+        analytic::unitNormal(c, s.n, s.dndc);
       }
       s.dndx = s.dndc * crossJacobian(e0, e1);
     }
   }
 
-void BendingTerm::computeEdgeStages(bool derivatives, bool ad) {
+void BendingTerm::computeEdgeStages(int order, bool ad) {
     const int ne = topo_.numEdges();
 #pragma omp parallel for schedule(static)
     for (int e = 0; e < ne; ++e) {
@@ -161,12 +175,17 @@ void BendingTerm::computeEdgeStages(bool derivatives, bool ad) {
       const Vec3& nB = fb >= 0 ? faces_[fb].n : isClamped(e) ? referenceNormal_[fa] : faces_[fa].n;
       const Vec3 m = 0.5 * (faces_[fa].n + nB);
       EdgeStage& s = edges_[e];
-      if (!derivatives) {
+      const auto stage = [](const auto& z) { return kelvinInversion(z); };
+      if (order == 0) {
         s.nbar = m / m.squaredNorm();
+      } else if (ad && order == 2) {
+        vectorStageDerivatives(stage, m, s.nbar, s.dndm, s.hessian);
       } else if (ad) {
-        vectorStageDerivatives([](const auto& z) { return kelvinInversion(z); }, m, s.nbar, s.dndm, s.hessian);
-      } else {
+        vectorStageJacobian(stage, m, s.nbar, s.dndm);
+      } else if (order == 2) {
         analytic::kelvinInversion(m, s.nbar, s.dndm, s.hessian);
+      } else {
+        analytic::kelvinInversion(m, s.nbar, s.dndm);
       }
     }
   }
@@ -198,28 +217,34 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
       analytic::stvkQuadratic(P, alpha_, 0.5 * beta_, d, W, w, Wbb);
     }
 
-    // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x in stencil-local dofs (3×18).
+    // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x, compact over edge i's four stencil vertices (0, 1, 2, 3+i): 3×12.
     const std::int8_t* nloc = neighborLocal_[f].data();
     const int fn[3] = {topo_.faceNeighbors(f, 0), topo_.faceNeighbors(f, 1), topo_.faceNeighbors(f, 2)};
-    Mat3x18 M[3], N[3];
+    Mat3x12 M[3], N[3];
     for (int i = 0; i < 3; ++i) {
-      M[i].setZero();
-      addFaceColumns(M[i], faces_[f].dndx, kSelf, 0.5);
+      M[i].leftCols<9>() = 0.5 * faces_[f].dndx;
+      M[i].rightCols<3>().setZero();
       if (fn[i] >= 0) {
-        addFaceColumns(M[i], faces_[fn[i]].dndx, nloc + 3 * i, 0.5);
+        const Mat39& dn = faces_[fn[i]].dndx;
+        for (int k = 0; k < 3; ++k) {
+          const int c = nloc[3 * i + k] < 3 ? nloc[3 * i + k] : 3;
+          M[i].middleCols<3>(3 * c) += 0.5 * dn.middleCols<3>(3 * k);
+        }
       } else if (!isClamped(topo_.faceEdges(f, i))) {
-        addFaceColumns(M[i], faces_[f].dndx, kSelf, 0.5);  // the missing normal is this face's own
+        M[i].leftCols<9>() *= 2.0;  // the missing normal is this face's own
       }
-      N[i] = edge[i]->dndm * M[i];
+      N[i] = edge[i]->dndm.lazyProduct(M[i]);
     }
     const Vec3& n0 = edge[0]->nbar;
     const Vec3& n1 = edge[1]->nbar;
     const Vec3& n2 = edge[2]->nbar;
     // J_b (3×18): b00 = 2(n̄1 − n̄0)·e0, b01 = −2 n̄0·e1, b11 = 2(n̄2 − n̄0)·e1; e0 = x1 − x0, e1 = x2 − x0.
-    Mat3x18 Jb;
-    Jb.row(0) = 2.0 * e0.transpose() * (N[1] - N[0]);
-    Jb.row(1) = -2.0 * e1.transpose() * N[0];
-    Jb.row(2) = 2.0 * e1.transpose() * (N[2] - N[0]);
+    Mat3x18 Jb = Mat3x18::Zero();
+    addCompact(Jb.row(0), 2.0 * e0.transpose().lazyProduct(N[1]), 1);
+    addCompact(Jb.row(0), -2.0 * e0.transpose().lazyProduct(N[0]), 0);
+    addCompact(Jb.row(1), -2.0 * e1.transpose().lazyProduct(N[0]), 0);
+    addCompact(Jb.row(2), 2.0 * e1.transpose().lazyProduct(N[2]), 2);
+    addCompact(Jb.row(2), -2.0 * e1.transpose().lazyProduct(N[0]), 0);
     const Vec3 d0 = 2.0 * (n1 - n0), d1 = -2.0 * n0, d2 = 2.0 * (n2 - n0);
     Jb.block<1, 3>(0, 3) += d0.transpose();
     Jb.block<1, 3>(0, 0) -= d0.transpose();
@@ -228,35 +253,46 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     Jb.block<1, 3>(2, 6) += d2.transpose();
     Jb.block<1, 3>(2, 0) -= d2.transpose();
 
-    if (wantG) g = area * (Jb.transpose() * w);
+    w *= area;
+    if (wantG) g.noalias() = Jb.transpose().lazyProduct(w);
     if (!wantH) return area * W;
 
-    const Mat3x18 WJ = Wbb * Jb;
-    H.noalias() = Jb.transpose() * WJ;
+    const Mat3x18 WJ = (area * Wbb).lazyProduct(Jb);
+    H.noalias() = Jb.transpose().lazyProduct(WJ);
     if (exact) addCurvatureOfB(x, f, ids, e0, e1, w, M, N, nloc, fn, H);
-    H *= area;
     return area * W;
   }
 
 void BendingTerm::addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Vec3& e0, const Vec3& e1,
-                       const Vec3& w, const Mat3x18* M, const Mat3x18* N, const std::int8_t* nloc, const int* fn,
-                       Mat18& H) const {
+                                  const Vec3& w, const Mat3x12* M, const Mat3x12* N, const std::int8_t* nloc,
+                                  const int* fn, Mat18& H) const {
     // s = w·b = Σ c_ai e_a·n̄_i with c_00 = −2w0, c_01 = 2w0, c_10 = −2(w1 + w2), c_12 = 2w2.
-    const Mat3x18 R0 = 2.0 * w[0] * (N[1] - N[0]);
-    const Mat3x18 R1 = -2.0 * (w[1] + w[2]) * N[0] + 2.0 * w[2] * N[2];
-    // E_aᵀ R_a + R_aᵀ E_a with e0 = x1 − x0, e1 = x2 − x0.
-    Mat18 cross = Mat18::Zero();
-    cross.middleRows<3>(3) += R0;
-    cross.middleRows<3>(6) += R1;
-    cross.middleRows<3>(0) -= R0 + R1;
-    H += cross + cross.transpose();
+    // The e–n̄ coupling: E_aᵀ R_a + R_aᵀ E_a with R_a = Σ_i c_ai N_i, e0 = x1 − x0, e1 = x2 − x0.
+    Mat3x18 R0 = Mat3x18::Zero(), R1 = Mat3x18::Zero();
+    for (int r = 0; r < 3; ++r) {
+      addCompact(R0.row(r), 2.0 * w[0] * N[1].row(r), 1);
+      addCompact(R0.row(r), -2.0 * w[0] * N[0].row(r), 0);
+      addCompact(R1.row(r), -2.0 * (w[1] + w[2]) * N[0].row(r), 0);
+      addCompact(R1.row(r), 2.0 * w[2] * N[2].row(r), 2);
+    }
+    const Mat3x18 R01 = R0 + R1;
+    H.middleRows<3>(3) += R0;
+    H.middleRows<3>(6) += R1;
+    H.middleRows<3>(0) -= R01;
+    H.middleCols<3>(3) += R0.transpose();
+    H.middleCols<3>(6) += R1.transpose();
+    H.middleCols<3>(0) -= R01.transpose();
 
     const Vec3 gnb[3] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};
     Vec3 hFace[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // this face, neighbours 0..2
     for (int i = 0; i < 3; ++i) {
       const EdgeStage& s = edges_[topo_.faceEdges(f, i)];
       const Mat3 Hm = gnb[i][0] * s.hessian[0] + gnb[i][1] * s.hessian[1] + gnb[i][2] * s.hessian[2];
-      H.noalias() += M[i].transpose() * (Hm * M[i]);
+      const Mat3x12 HmM = Hm.lazyProduct(M[i]);
+      const Eigen::Matrix<double, 12, 12> He = M[i].transpose().lazyProduct(HmM);
+      const int vertex[4] = {0, 1, 2, 3 + i};
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) H.block<3, 3>(3 * vertex[r], 3 * vertex[c]) += He.block<3, 3>(3 * r, 3 * c);
       const Vec3 h = 0.5 * (s.dndm.transpose() * gnb[i]);
       hFace[0] += h;
       if (fn[i] >= 0) {
@@ -275,7 +311,8 @@ void BendingTerm::addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* id
       const Vec3 fe0 = position(x, ids[local[1]]) - q0, fe1 = position(x, ids[local[2]]) - q0;
       const Mat39 C = crossJacobian(fe0, fe1);
       const Mat3 Hc = h[0] * s.hessian[0] + h[1] * s.hessian[1] + h[2] * s.hessian[2];
-      Eigen::Matrix<double, 9, 9> Hf = C.transpose() * Hc * C;
+      const Mat39 HcC = Hc.lazyProduct(C);
+      Eigen::Matrix<double, 9, 9> Hf = C.transpose().lazyProduct(HcC);
       // k·c = k·(e0 × e1) = e0ᵀ Q e1 with Q = −[k]×, k = (∂n/∂c)ᵀ h.
       const Mat3 Q = -skew(s.dndc.transpose() * h);
       Hf.block<3, 3>(3, 6) += Q;

@@ -50,13 +50,13 @@ class BendingTerm : public EnergyTerm {
     std::array<Eigen::Matrix3d, 3> hessian;  // ∇²_m n̄_k
   };
 
-  void computeFaceStages(const Eigen::VectorXd& x, bool derivatives, bool ad);
-  void computeEdgeStages(bool derivatives, bool ad);
+  void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad);
+  void computeEdgeStages(int order, bool ad);
   double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
                  Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
   void addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Eigen::Vector3d& e0,
-                       const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 18>* M,
-                       const Eigen::Matrix<double, 3, 18>* N, const std::int8_t* nloc, const int* fn,
+                       const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 12>* M,
+                       const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
                        Eigen::Matrix<double, 18, 18>& H) const;
   bool isClamped(int edge) const { return !clamped_.empty() && clamped_[edge]; }
 
@@ -67,7 +67,7 @@ class BendingTerm : public EnergyTerm {
   double alpha_, beta_;
   double scale_ = 1.0;
   StencilTable table_;
-  std::vector<std::vector<int>> colors_;
+  ElementSchedule schedule_;
   std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k
   std::vector<char> clamped_;                              // per edge; empty = none
   std::vector<Eigen::Vector3d> referenceNormal_;           // per face, for clamped edges

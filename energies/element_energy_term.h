@@ -33,7 +33,7 @@ class ElementEnergyTerm : public EnergyTerm {
                     bool zeroAtRest = true, bool rigidInvariant = true)
       : name_(std::move(name)),
         table_(std::move(stencils)),
-        colors_(colorElements(table_, numVertices)),
+        schedule_(scheduleElements(table_, numVertices)),
         functor_(std::move(functor)),
         zeroAtRest_(zeroAtRest),
         rigidInvariant_(rigidInvariant) {}
@@ -45,7 +45,7 @@ class ElementEnergyTerm : public EnergyTerm {
   const Functor& functor() const { return functor_; }
 
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
-    return runElementLoop<K>(table_, colors_, x, request, options.projection, elementEnergy_,
+    return runElementLoop<K>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int e, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, M, 1>& g,
                                  Eigen::Matrix<double, M, M>& H) { return element(x, e, ids, wantG, wantH, g, H); });
   }
@@ -85,7 +85,7 @@ class ElementEnergyTerm : public EnergyTerm {
 
   std::string name_;
   StencilTable table_;
-  std::vector<std::vector<int>> colors_;
+  ElementSchedule schedule_;
   Functor functor_;
   bool zeroAtRest_, rigidInvariant_;
   std::vector<double> elementEnergy_;

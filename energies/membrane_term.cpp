@@ -14,12 +14,12 @@ MembraneTerm::MembraneTerm(const TriMesh& mesh, const ShellReference& ref, doubl
     : ref_(ref), lambda_(lambda), mu_(mu) {
   table_.width = 3;
   table_.ids.assign(mesh.F.data(), mesh.F.data() + mesh.F.size());
-  colors_ = colorElements(table_, mesh.numVertices());
+  schedule_ = scheduleElements(table_, mesh.numVertices());
 }
 
 double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
   const bool ad = options.path == DerivativePath::AutoDiff;
-  return runElementLoop<3>(table_, colors_, x, request, options.projection, elementEnergy_,
+  return runElementLoop<3>(table_, schedule_, x, request, options.projection, elementEnergy_,
                            [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
                                Eigen::Matrix<double, 9, 9>& H) { return element(x, f, ids, wantG, wantH, ad, g, H); });
 }

@@ -31,7 +31,7 @@ class MembraneTerm : public EnergyTerm {
 
   std::string name_ = "membrane";
   StencilTable table_;
-  std::vector<std::vector<int>> colors_;
+  ElementSchedule schedule_;
   ShellReference ref_;  // a copy: the term must not outlive borrowed data; metric = strain origin
   double lambda_, mu_;
   double scale_ = 1.0;

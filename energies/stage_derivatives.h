@@ -54,4 +54,17 @@ void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3
   }
 }
 
+/// f: V3<T> -> V3<T>: value and Jacobian only, with first-order Jet<double,3>.
+template <typename F>
+void vectorStageJacobian(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian) {
+  using J1 = ceres::Jet<double, 3>;
+  V3<J1> zj;
+  for (int i = 0; i < 3; ++i) zj[i] = J1(z[i], i);
+  const V3<J1> y = f(zj);
+  for (int k = 0; k < 3; ++k) {
+    value[k] = y[k].a;
+    jacobian.row(k) = y[k].v.transpose();
+  }
+}
+
 }  // namespace jetshell

@@ -1,0 +1,192 @@
+// `jetshell bench elements`: per-face cost of the shell energies (value, gradient, Hessian with assembly into
+// the cached pattern) on a 200×200-square grid bent into a wavy shape, for the AD and analytic paths, exact
+// and Gauss–Newton bending Hessians, 1 thread and all threads. Medians of repeats; peak RSS reported.
+#include "core/assembly.h"
+#include "core/mesh_generators.h"
+#include "core/reference_state.h"
+#include "core/topology.h"
+#include "energies/shell_terms.h"
+#include "tools/subcommand.h"
+
+#include <nlohmann/json.hpp>
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <ctime>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <vector>
+
+namespace jetshell::cli {
+namespace {
+
+struct BenchOptions {
+  int n = 200;
+  int repeats = 5;
+  std::string json;
+  std::string term;  // empty = all
+  std::string path;  // empty = both
+  int threads = 0;   // 0 = 1 and all
+};
+
+double peakRssMb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;
+}
+
+struct Row {
+  std::string term, path, hessian, what;
+  int threads;
+  double nsPerFace;
+};
+
+int runBench(const BenchOptions& o) {
+  const double pi = 3.14159265358979323846;
+  const TriMesh mesh = makeRectangleGrid(1.0, 1.0, o.n, o.n);
+  const Topology topo = buildTopology(mesh);
+  const ShellReference ref = computeReference(mesh, topo);
+  const ShellMaterialParams mat = ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
+  Eigen::VectorXd x = flatten(mesh.V);
+  for (int v = 0; v < mesh.numVertices(); ++v) {
+    const double px = x[3 * v], py = x[3 * v + 1];
+    x[3 * v + 2] = 0.05 * std::sin(6.0 * pi * px) * std::cos(4.0 * pi * py);
+    x[3 * v] += 0.01 * std::sin(2.0 * pi * py);
+  }
+  auto membrane = makeMembraneTerm(mesh, ref, mat.membraneLambda, mat.membraneMu);
+  auto bending = makeBendingTerm(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
+  HessianAssembler assembler;
+  const int slotM = assembler.addStencils(membrane->stencils());
+  const int slotB = assembler.addStencils(bending->stencils());
+  assembler.finalize(mesh.numVertices());
+  const double faces = mesh.numFaces();
+  std::printf("jetshell bench elements: %d faces, %d vertices, Hessian nnz (upper) %ld, pattern+scatter %.1f MB\n",
+              mesh.numFaces(), mesh.numVertices(), static_cast<long>(assembler.matrix().nonZeros()),
+              static_cast<double>(assembler.memoryBytes()) / 1e6);
+
+  Eigen::VectorXd g(x.size());
+  std::vector<Row> rows;
+  const int maxThreads = omp_get_max_threads();
+  std::vector<int> threadCounts = {1};
+  if (maxThreads > 1) threadCounts.push_back(maxThreads);
+  if (o.threads > 0) threadCounts = {o.threads};
+
+  auto measure = [&](const std::vector<std::pair<EnergyTerm*, int>>& terms, const EvalOptions& opt, bool wantG,
+                     bool wantH) {
+    // One thread: CPU time of this thread (robust on a shared machine). More threads: wall time.
+    const bool cpuClock = omp_get_max_threads() == 1;
+    auto now = [cpuClock] {
+      timespec t{};
+      clock_gettime(cpuClock ? CLOCK_THREAD_CPUTIME_ID : CLOCK_MONOTONIC, &t);
+      return static_cast<double>(t.tv_sec) * 1e9 + static_cast<double>(t.tv_nsec);
+    };
+    std::vector<double> times;
+    for (int r = 0; r < o.repeats + 1; ++r) {  // first run warms up
+      const double t0 = now();
+      if (wantH) assembler.setZero();
+      if (wantG) g.setZero();
+      for (auto& [term, slot] : terms) {
+        EvalRequest req{wantG ? &g : nullptr, wantH ? &assembler : nullptr, slot};
+        term->evaluate(x, req, opt);
+      }
+      const double t1 = now();
+      if (r > 0) times.push_back((t1 - t0) / faces);
+    }
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+  };
+
+  struct Case {
+    const char* term;
+    std::vector<std::pair<EnergyTerm*, int>> terms;
+  };
+  const std::vector<Case> cases = {{"membrane", {{membrane.get(), slotM}}},
+                                   {"bending", {{bending.get(), slotB}}},
+                                   {"shell", {{membrane.get(), slotM}, {bending.get(), slotB}}}};
+  std::printf("\n%-9s %-9s %-13s %7s %12s %12s %12s\n", "term", "path", "bending H", "threads", "value ns",
+              "+grad ns", "+Hessian ns");
+  for (int threads : threadCounts) {
+    omp_set_num_threads(threads);
+    for (const Case& c : cases) {
+      if (!o.term.empty() && o.term != c.term) continue;
+      for (DerivativePath path : {DerivativePath::Analytic, DerivativePath::AutoDiff}) {
+        if (!o.path.empty() && o.path != (path == DerivativePath::AutoDiff ? "ad" : "analytic")) continue;
+        for (BendingHessian bh : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
+          if (bh == BendingHessian::GaussNewton && std::string(c.term) == "membrane") continue;
+          EvalOptions opt;
+          opt.path = path;
+          opt.bendingHessian = bh;
+          const char* pathName = path == DerivativePath::AutoDiff ? "ad" : "analytic";
+          const char* hName = bh == BendingHessian::Exact ? "exact" : "gauss_newton";
+          const double v = measure(c.terms, opt, false, false);
+          const double vg = measure(c.terms, opt, true, false);
+          const double vgh = measure(c.terms, opt, true, true);
+          std::printf("%-9s %-9s %-13s %7d %12.1f %12.1f %12.1f\n", c.term, pathName, hName, threads, v, vg, vgh);
+          rows.push_back({c.term, pathName, hName, "value", threads, v});
+          rows.push_back({c.term, pathName, hName, "gradient", threads, vg});
+          rows.push_back({c.term, pathName, hName, "hessian", threads, vgh});
+        }
+      }
+    }
+  }
+  omp_set_num_threads(maxThreads);
+
+  auto find = [&](const std::string& term, const std::string& path, const std::string& h, int threads) {
+    for (const Row& r : rows)
+      if (r.term == term && r.path == path && r.hessian == h && r.threads == threads && r.what == "hessian")
+        return r.nsPerFace;
+    return std::nan("");
+  };
+  const double an1 = find("shell", "analytic", "exact", 1), ad1 = find("shell", "ad", "exact", 1);
+  std::printf("\nSummary (value + gradient + Hessian, membrane + bending, exact Hessian):\n");
+  std::printf("  analytic, 1 thread: %.0f ns/face (target <= 1500)\n", an1);
+  std::printf("  AD / analytic, 1 thread: %.2f (target <= 2)\n", ad1 / an1);
+  if (threadCounts.size() > 1) {
+    const double anN = find("shell", "analytic", "exact", maxThreads);
+    std::printf("  speed-up %d threads vs 1 (analytic): %.2fx (target >= 1.8)\n", maxThreads, an1 / anN);
+  }
+  std::printf("  Gauss-Newton bending / exact bending, analytic, 1 thread: %.2f\n",
+              find("bending", "analytic", "gauss_newton", 1) / find("bending", "analytic", "exact", 1));
+  std::printf("  peak resident memory: %.0f MB (target <= 300)\n", peakRssMb());
+
+  if (!o.json.empty()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const Row& r : rows) {
+      if (r.what != "hessian") continue;
+      if (r.term != "membrane" && r.hessian != "exact") continue;
+      out.push_back({{"term", r.term}, {"path", r.path}, {"threads", r.threads}, {"ns_per_face", r.nsPerFace},
+                     {"measures", "value+gradient+hessian"}, {"bending_hessian", r.hessian}});
+    }
+    for (const Row& r : rows) {
+      if (r.what == "hessian" && r.term != "membrane" && r.hessian == "exact") continue;
+      out.push_back({{"term", r.term}, {"path", r.path}, {"threads", r.threads}, {"ns_per_face", r.nsPerFace},
+                     {"measures", r.what == "value" ? "value" : r.what == "gradient" ? "value+gradient"
+                                                                                   : "value+gradient+hessian"},
+                     {"bending_hessian", r.hessian}, {"variant", true}});
+    }
+    out.push_back({{"peak_rss_mb", peakRssMb()}, {"faces", mesh.numFaces()}});
+    std::ofstream(o.json) << out.dump(2) << "\n";
+    std::printf("wrote %s\n", o.json.c_str());
+  }
+  return kOk;
+}
+
+const RegisterSubcommand reg("bench elements", [](CLI::App& app, int& exitCode) {
+  CLI::App* bench = benchCommand(app);
+  auto opts = std::make_shared<BenchOptions>();
+  CLI::App* el = bench->add_subcommand("elements", "Per-face cost of the membrane and bending energies");
+  el->add_option("--n", opts->n, "Grid squares per side (faces = 2 n^2)")->check(CLI::Range(2, 2000));
+  el->add_option("--repeats", opts->repeats, "Timed repeats per figure (the median is reported)")
+      ->check(CLI::Range(1, 100));
+  el->add_option("--json", opts->json, "Write the figures as a JSON list");
+  el->add_option("--term", opts->term, "Only this term")->check(CLI::IsMember({"membrane", "bending", "shell"}));
+  el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));
+  el->add_option("--threads", opts->threads, "Only this thread count (default: 1 and all)")->check(CLI::Range(1, 256));
+  el->callback([opts, &exitCode] { exitCode = runBench(*opts); });
+});
+
+}  // namespace
+}  // namespace jetshell::cli
