@@ -74,6 +74,8 @@ std::string gnuplotScript(const PlotSpec& spec, const std::vector<std::string>& 
     const std::string& style = spec.series[k].style;
     s << (k ? ", \\\n     " : "") << quoted(dataFiles[k]) << " using 1:2 with "
       << (style == "points" ? "points pt 7 ps 0.8" : style == "linespoints" ? "linespoints pt 7 ps 0.6 lw 2" : "lines lw 2")
+      << " dt " << spec.series[k].dashType
+      << (spec.series[k].color.empty() ? "" : " lc rgb " + quoted(spec.series[k].color))
       << " title " << quoted(spec.series[k].label);
   }
   s << "\n";

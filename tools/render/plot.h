@@ -3,14 +3,22 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace jetshell {
 
 struct PlotSeries {
+  // A constructor (not aggregate initialisation) so callers may give any leading subset of the fields.
+  PlotSeries(std::string label_ = "", std::vector<double> x_ = {}, std::vector<double> y_ = {},
+             std::string style_ = "lines", std::string color_ = "", int dashType_ = 1)
+      : label(std::move(label_)), x(std::move(x_)), y(std::move(y_)), style(std::move(style_)),
+        color(std::move(color_)), dashType(dashType_) {}
   std::string label;
   std::vector<double> x, y;
   std::string style = "lines";  // lines | points | linespoints
+  std::string color;            // "#rrggbb", or "" for gnuplot's sequence
+  int dashType = 1;             // gnuplot dash type: 1 solid, 2 dashed, 3 dotted, ...
 };
 
 struct PlotSpec {
