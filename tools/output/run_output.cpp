@@ -33,7 +33,7 @@ RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel
   if (scene.outputs.obj) createDirectory(fs::path(directory_) / "obj");
   if (!scene.volumes.empty()) {
     const Eigen::Vector3d lo = model.world.V.colwise().minCoeff(), hi = model.world.V.colwise().maxCoeff();
-    const double size = std::max(1e-3, 1.5 * (hi - lo).maxCoeff());
+    const double size = std::max(1e-3, 0.8 * (hi - lo).maxCoeff());  // a plane is drawn as a square this half-size
     VtuFrame frame;
     std::vector<Eigen::Index> firstVertex;
     std::vector<TriMesh> parts;

@@ -114,6 +114,8 @@ void validate(const Scene& scene) {
   if (a.type == AnalysisType::DynamicRelaxation) {
     check::atLeast(a.maxSteps, 1, "/analysis/maxSteps");
     check::positive(a.tolerance, "/analysis/tolerance");
+    check::nonNegative(a.massDamping, "/analysis/massDamping");
+    if (a.loadRampTime != 0.0) check::fail("/analysis/loadRampTime", a.loadRampTime, "must be 0 for dynamic relaxation");
   }
   const SolverSettings& s = scene.solver;
   if (s.maxIterations) check::atLeast(*s.maxIterations, 1, "/solver/maxIterations");

@@ -15,8 +15,9 @@
 
 namespace jetshell {
 
-/// The load factor λ drives loads and prescribed motion: in statics λ runs over the load steps to 1; in
-/// dynamics λ(t) = min(1, t / loadRampTime) (1 throughout when loadRampTime is 0).
+/// The load factor λ drives applied loads and prescribed motion (not gravity): in statics λ runs over the load
+/// steps to 1; in dynamics λ(t) = min(1, t / loadRampTime) (1 throughout when loadRampTime is 0); dynamic
+/// relaxation works at λ = 1.
 struct FixedCondition {
   int actor = 0;
   VertexSelection select;
@@ -67,9 +68,10 @@ struct AnalysisSettings {
   double timeStep = 1.0 / 60.0;      // s, dynamic and dynamic relaxation
   double duration = 1.0;             // s, dynamic
   Integrator integrator = Integrator::BackwardEuler;
-  double loadRampTime = 0.0;         // s, dynamic and dynamic relaxation
+  double loadRampTime = 0.0;         // s, dynamic: loads and prescribed motion reach λ = 1 at this time
   int maxSteps = 1000;               // dynamic relaxation: give up after this many steps
-  double tolerance = 1e-6;           // dynamic relaxation: stop when max |Δx| per step < tolerance · mean edge length
+  double tolerance = 1e-6;           // dynamic relaxation: stop when the static residual ≤ tolerance × force scale
+  double massDamping = 0.0;          // dynamic relaxation: α [1/s]; 0 takes the material's massDampingCoefficient
 };
 
 /// Nonlinear and linear solver options. Unset values take the analysis' defaults (see SCENES.md).
@@ -84,6 +86,9 @@ struct SolverSettings {
   std::string derivatives = "analytic";      // analytic | autodiff
   std::string bendingHessian = "exact";      // exact | gaussNewton
   int threads = 0;                           // 0: all cores
+  /// Dynamics: take the last iterate when Newton reaches maxIterations (the spec engine's behaviour, with 4)
+  /// instead of cutting the time step.
+  bool acceptIterationCap = false;
 };
 
 struct OutputSettings {

@@ -382,13 +382,13 @@ AnalysisSettings readAnalysis(const Value& v) {
   }
   const bool dynamic = type == "dynamic";
   const Object o = dynamic ? v.object({"type", "timeStep", "duration", "integrator", "loadRampTime"}, "a dynamic analysis")
-                           : v.object({"type", "timeStep", "maxSteps", "tolerance", "loadRampTime"},
+                           : v.object({"type", "timeStep", "maxSteps", "tolerance", "massDamping"},
                                       "a dynamicRelaxation analysis");
   a.type = dynamic ? AnalysisType::Dynamic : AnalysisType::DynamicRelaxation;
   a.timeStep = positive(o, "timeStep");
-  a.loadRampTime = o.number("loadRampTime", 0.0);
-  check::nonNegative(a.loadRampTime, o.member("loadRampTime"));
   if (dynamic) {
+    a.loadRampTime = o.number("loadRampTime", 0.0);
+    check::nonNegative(a.loadRampTime, o.member("loadRampTime"));
     a.duration = positive(o, "duration");
     if (a.duration < a.timeStep) check::fail(o.member("duration"), a.duration, "must be >= timeStep");
     a.integrator = o.choice("integrator", {"backwardEuler", "bdf2"}, "backwardEuler") == "bdf2" ? Integrator::BDF2
@@ -398,13 +398,16 @@ AnalysisSettings readAnalysis(const Value& v) {
     check::atLeast(a.maxSteps, 1, o.member("maxSteps"));
     a.tolerance = o.number("tolerance", a.tolerance);
     check::positive(a.tolerance, o.member("tolerance"));
+    a.massDamping = o.number("massDamping", a.massDamping);
+    check::nonNegative(a.massDamping, o.member("massDamping"));
   }
   return a;
 }
 
 SolverSettings readSolver(const Value& v) {
   const Object o = v.object({"maxIterations", "residualTolerance", "decrementTolerance", "lineSearch", "linearSolver",
-                             "preconditioner", "psdProjection", "derivatives", "bendingHessian", "threads"},
+                             "preconditioner", "psdProjection", "derivatives", "bendingHessian", "threads",
+                             "acceptIterationCap"},
                             "solver settings");
   SolverSettings s;
   if (const auto m = o.find("maxIterations")) {
@@ -425,6 +428,7 @@ SolverSettings readSolver(const Value& v) {
   s.psdProjection = o.choice("psdProjection", {"none", "clamp", "abs"}, s.psdProjection);
   s.derivatives = o.choice("derivatives", {"analytic", "autodiff"}, s.derivatives);
   s.bendingHessian = o.choice("bendingHessian", {"exact", "gaussNewton"}, s.bendingHessian);
+  s.acceptIterationCap = o.boolean("acceptIterationCap", s.acceptIterationCap);
   s.threads = o.integer("threads", s.threads);
   check::atLeast(s.threads, 0, o.member("threads"));
   return s;

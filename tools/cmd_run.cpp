@@ -1,0 +1,83 @@
+// `jetshell run SCENE.json --out DIR`: solve a scene and write its frames, probes, summary and pictures.
+#include "core/mesh.h"
+#include "tools/output/interrupt.h"
+#include "tools/output/progress.h"
+#include "tools/scene/run_scene.h"
+#include "tools/scene/scene_json.h"
+#include "tools/subcommand.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <iostream>
+
+namespace jetshell::cli {
+namespace {
+
+const RegisterSubcommand reg("run", [](CLI::App& app, int& exitCode) {
+  struct Args {
+    std::string scene;
+    std::string out;
+    int steps = 0;
+    bool quiet = false;
+    bool noPictures = false;
+    bool checkOnly = false;
+  };
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand("run", "Solve a scene (SCENES.md) and write frames, probes.csv, summary.json and pictures");
+  cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
+  cmd->add_option("--out,-o", args->out, "Output directory (default: out/<scene name>)");
+  cmd->add_option("--steps", args->steps, "Stop after this many steps (a quick look)")->check(CLI::PositiveNumber);
+  cmd->add_flag("--check", args->checkOnly, "Only read and check the scene (and its meshes), then exit");
+  cmd->add_flag("--quiet,-q", args->quiet, "No log lines, only the final report");
+  cmd->add_flag("--no-pictures", args->noPictures, "Skip final.png and probes.png");
+  cmd->callback([args, &exitCode] {
+    const Scene scene = loadSceneFile(args->scene);
+    if (args->checkOnly) {
+      const SceneModel model = buildSceneModel(scene);
+      std::cout << args->scene << ": ok (" << scene.shells.size() << " shell actor(s), " << scene.volumes.size()
+                << " volume actor(s), " << model.numVertices() << " vertices, " << model.prescribed.size()
+                << " prescribed coordinates, " << model.probes.size() << " probe(s), " << toString(scene.analysis.type)
+                << " analysis)\n";
+      for (const std::string& note : unsupportedFeatures(scene)) std::cout << "note: " << note << "\n";
+      exitCode = kOk;
+      return;
+    }
+    RunOptions o;
+    o.scenePath = args->scene;
+    o.outputDirectory = args->out.empty()
+                            ? (std::filesystem::path("out") / std::filesystem::path(args->scene).stem()).string()
+                            : args->out;
+    o.stepLimit = args->steps;
+    o.pictures = !args->noPictures;
+    o.log = args->quiet ? nullptr : &std::cerr;
+    o.progressBar = !args->quiet && Progress::isTerminal(STDERR_FILENO);
+    installInterruptHandler();
+    RunResult r;
+    try {
+      r = runScene(scene, o);
+    } catch (...) {
+      removeInterruptHandler();
+      throw;
+    }
+    removeInterruptHandler();
+    const RunSummary& s = r.summary;
+    const char* outcome = r.interrupted ? "interrupted" : s.converged ? "done" : r.stepLimitReached ? "stopped" : "not converged";
+    std::cout << outcome << ": " << s.termination
+              << " after " << s.steps << " steps, " << s.newtonIterations << " Newton iterations, "
+              << Progress::formatDuration(s.wallSeconds) << "\n";
+    for (const std::string& note : r.notes) std::cout << "note: " << note << "\n";
+    const std::filesystem::path dir = o.outputDirectory;
+    std::cout << "outputs in " << dir.string() << "/: summary.json";
+    if (scene.outputs.vtu) std::cout << ", frames.pvd (ParaView)";
+    if (scene.outputs.probesCsv) std::cout << ", probes.csv";
+    if (scene.outputs.obj) std::cout << ", obj/";
+    std::cout << "\n";
+    if (!r.finalPng.empty()) std::cout << "picture: " << r.finalPng << "\n";
+    if (!r.probesPng.empty()) std::cout << "plot: " << r.probesPng << "\n";
+    exitCode = r.interrupted ? kInterrupted : (s.converged || r.stepLimitReached) ? kOk : kFailed;
+  });
+});
+
+}  // namespace
+}  // namespace jetshell::cli

@@ -1,0 +1,302 @@
+#include "tools/scene/run_scene.h"
+
+#include "solvers/dynamic_relaxation.h"
+#include "solvers/dynamics.h"
+#include "solvers/shell_system.h"
+#include "solvers/statics.h"
+#include "tools/output/interrupt.h"
+#include "tools/output/progress.h"
+#include "tools/render/plot.h"
+#include "tools/render/render_frames.h"
+#include "tools/scene/scene_model.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
+  return a.membraneLambda == b.membraneLambda && a.membraneMu == b.membraneMu && a.bendingAlpha == b.bendingAlpha &&
+         a.bendingBeta == b.bendingBeta && a.density == b.density &&
+         a.massDampingCoefficient == b.massDampingCoefficient &&
+         a.stiffnessDampingCoefficient == b.stiffnessDampingCoefficient;
+}
+
+ShellProblem makeProblem(const Scene& scene, const SceneModel& model) {
+  // The solver's ShellSystem takes one material and one gravity flag; stacked actors must agree on both.
+  for (std::size_t a = 1; a < scene.shells.size(); ++a) {
+    if (!sameMaterial(scene.shells[a].material, scene.shells[0].material))
+      throw InputError("shell actor '" + scene.shells[a].name + "': a material different from '" + scene.shells[0].name +
+                       "''s is not supported yet (the solver takes one material per scene)");
+    if (scene.shells[a].hasGravity != scene.shells[0].hasGravity)
+      throw InputError("shell actor '" + scene.shells[a].name + "': hasGravity differs from '" + scene.shells[0].name +
+                       "''s, which is not supported yet");
+  }
+  ShellProblem p;
+  p.mesh = model.world;
+  p.material = scene.shells[0].material;
+  p.hasGravity = scene.shells[0].hasGravity;
+  p.gravity = scene.gravity;
+  for (const PrescribedCoordinate& c : model.prescribed) {
+    if (c.value) p.prescribed.fix(c.vertex, c.component, TimeFunction(c.value));
+    else p.prescribed.fix(c.vertex, c.component, c.constant);
+  }
+  if (model.appliedForces.cwiseAbs().maxCoeff() > 0.0) p.nodalForces = model.appliedForces;
+  for (const ActorBlock& b : model.actors) {
+    if (b.clampedVertices.empty()) continue;
+    if (p.clampedVertices.empty()) p.clampedVertices.assign(static_cast<std::size_t>(model.numVertices()), 0);
+    for (std::size_t v = 0; v < b.clampedVertices.size(); ++v) p.clampedVertices[v] |= b.clampedVertices[v];
+  }
+  return p;
+}
+
+NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
+  NewtonOptions n;
+  n.maxIterations = s.maxIterations.value_or(defaultIterations);
+  if (s.residualTolerance) n.residualTolerance = *s.residualTolerance;
+  if (s.decrementTolerance) n.decrementTolerance = *s.decrementTolerance;
+  if (s.lineSearch != "default") n.lineSearch = lineSearchTypeFromString(s.lineSearch);
+  n.linear.type = linearSolverTypeFromString(s.linearSolver);
+  n.linear.preconditioner = preconditionerFromString(s.preconditioner);
+  n.projection = psdProjectionFromString(s.psdProjection);
+  n.derivatives = s.derivatives == "autodiff" ? DerivativePath::AutoDiff : DerivativePath::Analytic;
+  n.bendingHessian = s.bendingHessian == "gaussNewton" ? BendingHessian::GaussNewton : BendingHessian::Exact;
+  return n;
+}
+
+std::string format(const char* fmt, double a) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, fmt, a);
+  return buffer;
+}
+
+/// The up axis for pictures: against gravity, else +z.
+Eigen::Vector3d upAxis(const Scene& scene) {
+  return scene.gravity.norm() > 0 ? Eigen::Vector3d(-scene.gravity.normalized()) : Eigen::Vector3d::UnitZ();
+}
+
+struct ProbeHistory {
+  std::vector<double> abscissa;
+  std::vector<std::vector<double>> u;  // per probe × component: 3 series each
+};
+
+}  // namespace
+
+RunResult runScene(const Scene& scene, const RunOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const SceneModel model = buildSceneModel(scene);
+  if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
+  RunResult result;
+  result.notes = unsupportedFeatures(scene);
+
+  std::ostringstream discard;
+  std::ostream& logStream = options.log ? *options.log : discard;
+  Progress progress(logStream, options.progressBar && options.log);
+  for (const std::string& note : result.notes) progress.log("note: " + note);
+
+  const AnalysisType type = scene.analysis.type;
+  const AnalysisKind kind = type == AnalysisType::Static    ? AnalysisKind::Statics
+                            : type == AnalysisType::Dynamic ? AnalysisKind::Dynamics
+                                                            : AnalysisKind::DynamicRelaxation;
+  const ShellProblem problem = makeProblem(scene, model);
+  ShellSystem system(problem, kind);
+  Objective& objective = system.objective();
+  RunOutput output(options.outputDirectory, scene, model, options.scenePath);
+  RunSummary& summary = result.summary;
+  summary.activeTerms = objective.activeTermNames();
+  {
+    std::string terms;
+    for (const std::string& t : summary.activeTerms) terms += (terms.empty() ? "" : ", ") + t;
+    std::ostringstream s;
+    s << toString(type) << " analysis of " << model.numVertices() << " vertices, " << model.world.numFaces()
+      << " faces, " << model.prescribed.size() << " prescribed coordinates; active terms: " << terms;
+    progress.log(s.str());
+  }
+
+  Eigen::VectorXd x = system.restPositions();
+  objective.applyPrescribed(0.0, x);
+  ProbeHistory history;
+  history.u.resize(3 * model.probes.size());
+  auto remember = [&](double abscissa, const Eigen::VectorXd& positions) {
+    history.abscissa.push_back(abscissa);
+    for (std::size_t p = 0; p < model.probes.size(); ++p)
+      for (int c = 0; c < 3; ++c)
+        history.u[3 * p + static_cast<std::size_t>(c)].push_back(positions[3 * model.probes[p].vertex + c] -
+                                                                 model.world.V(model.probes[p].vertex, c));
+  };
+  output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
+  remember(0.0, x);
+  auto potentialEnergy = [&](const Eigen::VectorXd& positions) {
+    return objective.evaluate(positions, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
+  };
+  // Stops the solver's loop: Ctrl-C, or the step limit of a quick check.
+  auto shouldStop = [&](int steps) {
+    if (interruptRequested()) return result.interrupted = true;
+    if (options.stepLimit > 0 && steps >= options.stepLimit) return result.stepLimitReached = true;
+    return false;
+  };
+
+  std::string termination;
+  bool converged = false;
+  Eigen::VectorXd lastVelocity;  // dynamics: the final frame carries it like the others
+  if (type == AnalysisType::Static) {
+    LoadSteppingOptions o;
+    o.initialIncrement = o.maxIncrement = 1.0 / scene.analysis.loadSteps;
+    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
+      const int step = s.step + 1;
+      output.record({step, s.loadFactor, s.loadFactor, &s.x, nullptr});
+      remember(s.loadFactor, s.x);
+      std::ostringstream line;
+      line << "load step " << step << "  λ = " << format("%.4f", s.loadFactor) << "  Newton " << s.summary.iterations
+           << "  residual " << format("%.3e", s.summary.finalResidual) << " N  energy "
+           << format("%.6e", s.summary.finalEnergy) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+      progress.log(line.str());
+      progress.update(s.loadFactor, "λ = " + format("%.3f", s.loadFactor));
+      return !shouldStop(step);
+    });
+    summary.steps = static_cast<int>(r.steps.size());
+    summary.newtonIterations = r.newtonIterations;
+    converged = r.completed;
+    termination = r.completed ? "completed" : r.message;
+    if (!r.steps.empty()) x = r.steps.back().x;
+    summary.extra["final_load_factor_reached"] = r.loadFactor;
+    summary.extra["load_step_cuts"] = r.totalCuts;
+  } else if (type == AnalysisType::Dynamic) {
+    DynamicsOptions o;
+    o.integrator = scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
+    o.timeStep = scene.analysis.timeStep;
+    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    o.acceptIterationCap = scene.solver.acceptIterationCap;
+    DynamicsSolver solver(system, o);
+    solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
+    const double duration = scene.analysis.duration;
+    if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(o.timeStep));
+    const DynamicsResult r = simulate(solver, duration, [&](const StepReport& s, DynamicsSolver& d) {
+      const double lambda = model.loadFactorAtTime(d.time());
+      output.record({s.step, d.time(), lambda, &d.positions(), &d.velocities()});
+      lastVelocity = d.velocities();
+      remember(d.time(), d.positions());
+      // The next step's loads: λ at its end time.
+      if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(d.time() + o.timeStep));
+      const double residual = s.solves.empty() ? 0.0 : s.solves.back().finalResidual;
+      std::ostringstream line;
+      line << "step " << s.step << "  t = " << format("%.4f", d.time()) << " s  Newton " << s.newtonIterations
+           << "  residual " << format("%.3e", residual) << " N  E_pot " << format("%.6e", potentialEnergy(d.positions()))
+           << " J  E_kin " << format("%.6e", d.kineticEnergy()) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+      progress.log(line.str());
+      progress.update(d.time() / duration, "t = " + format("%.3f", d.time()) + " s");
+      return !shouldStop(s.step);
+    });
+    summary.steps = r.steps;
+    summary.newtonIterations = r.newtonIterations;
+    converged = r.completed;
+    termination = r.completed ? "completed" : r.message;
+    x = solver.positions();
+    summary.extra["final_time"] = r.time;
+    summary.extra["step_cuts"] = r.cuts;
+  } else {
+    RelaxationOptions o;
+    o.timeStep = scene.analysis.timeStep;
+    o.massDamping = scene.analysis.massDamping;
+    o.maxSteps = scene.analysis.maxSteps;
+    o.residualTolerance = scene.analysis.tolerance;
+    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    double firstResidual = -1.0;
+    const RelaxationResult r = relaxToStatic(system, x, o, [&](const StepReport& s, double staticResidual) {
+      output.record({s.step, s.time, 1.0, &x, nullptr});
+      remember(s.time, x);
+      if (firstResidual < 0) firstResidual = staticResidual;
+      std::ostringstream line;
+      line << "step " << s.step << "  t = " << format("%.4f", s.time) << " s  Newton " << s.newtonIterations
+           << "  static residual " << format("%.3e", staticResidual) << " N  E_pot "
+           << format("%.6e", potentialEnergy(x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+      progress.log(line.str());
+      // Progress in orders of magnitude of the residual still to go, or in steps when that says more.
+      const double threshold = o.residualTolerance * (objective.scales().force > 0 ? objective.scales().force : firstResidual);
+      const double byResidual = std::log(firstResidual / staticResidual) / std::log(firstResidual / threshold);
+      const double bySteps = static_cast<double>(s.step) / o.maxSteps;
+      progress.update(std::max(std::isfinite(byResidual) ? byResidual : 0.0, bySteps),
+                      "step " + std::to_string(s.step) + ", residual " + format("%.2e", staticResidual) + " N");
+      return !shouldStop(s.step);
+    });
+    summary.steps = r.steps;
+    summary.newtonIterations = r.newtonIterations;
+    converged = r.converged;
+    termination = r.converged ? "converged" : r.message;
+    summary.extra["static_residual"] = r.staticResidual;
+    summary.extra["residual_threshold"] = r.residualThreshold;
+    summary.extra["pseudo_time"] = r.pseudoTime;
+  }
+  if (result.interrupted) termination = "interrupted";
+  else if (result.stepLimitReached && !converged) termination = "step_limit";
+  summary.converged = converged;
+  summary.termination = termination;
+  // The last state always has a frame, whatever the stride.
+  const int lastStep = summary.steps;
+  output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
+                 lastVelocity.size() ? &lastVelocity : nullptr},
+                true);
+  progress.finish();
+  summary.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.lastFrame = output.lastFrame();
+
+  namespace fs = std::filesystem;
+  if (options.pictures && scene.outputs.png && scene.outputs.vtu && !result.lastFrame.empty()) {
+    try {
+      RenderOptions r;
+      r.up = upAxis(scene);
+      std::vector<std::string> files = {result.lastFrame};
+      if (!output.volumesFile().empty()) files.push_back(output.volumesFile());
+      result.finalPng = (fs::path(options.outputDirectory) / "final.png").string();
+      renderVtuFiles(files, "displacement", r, result.finalPng);
+    } catch (const InputError& e) {
+      result.notes.push_back(std::string("final.png not drawn: ") + e.what());
+      result.finalPng.clear();
+    }
+  }
+  if (options.pictures && scene.outputs.plots && !model.probes.empty() && history.abscissa.size() > 1) {
+    PlotSpec plot;
+    plot.title = scene.description.empty() ? "probe displacements" : scene.description;
+    plot.xLabel = type == AnalysisType::Static ? "load factor λ" : "time t [s]";
+    plot.yLabel = "displacement [m]";
+    double largest = 0;
+    for (const auto& series : history.u)
+      for (double u : series) largest = std::max(largest, std::abs(u));
+    for (std::size_t p = 0; p < model.probes.size(); ++p)
+      for (int c = 0; c < 3; ++c) {
+        const std::vector<double>& u = history.u[3 * p + static_cast<std::size_t>(c)];
+        double peak = 0;
+        for (double v : u) peak = std::max(peak, std::abs(v));
+        if (peak <= 1e-3 * largest) continue;  // components that stay at zero only clutter the plot
+        // Colour by component (x red, y green, z blue), dash pattern by probe.
+        static const char* colors[3] = {"#d62728", "#2ca02c", "#1f77b4"};
+        plot.series.push_back({model.probes[p].name + " u" + std::string(1, static_cast<char>('x' + c)),
+                               history.abscissa, u, "lines", colors[c], 1 + static_cast<int>(p % 5)});
+      }
+    if (!plot.series.empty() && gnuplotAvailable()) {
+      try {
+        result.probesPng = (fs::path(options.outputDirectory) / "probes.png").string();
+        plotPng(plot, result.probesPng);
+      } catch (const InputError& e) {
+        result.notes.push_back(std::string("probes.png not drawn: ") + e.what());
+        result.probesPng.clear();
+      }
+    } else if (!gnuplotAvailable()) {
+      result.notes.push_back("probes.png not drawn: gnuplot is not installed");
+    }
+  }
+  summary.extra["pictures"] = {{"final_png", result.finalPng.empty() ? "" : "final.png"},
+                               {"probes_png", result.probesPng.empty() ? "" : "probes.png"}};
+  output.finish(summary);
+  return result;
+}
+
+}  // namespace jetshell

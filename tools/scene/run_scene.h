@@ -1,0 +1,37 @@
+// Runs a scene: builds the solver's shell system from the scene model, solves the analysis (load stepping,
+// implicit dynamics or dynamic relaxation), logs one line per step and writes the outputs (tools/output).
+#pragma once
+
+#include "tools/output/run_output.h"
+#include "tools/scene/scene.h"
+
+#include <iosfwd>
+#include <string>
+
+namespace jetshell {
+
+struct RunOptions {
+  std::string outputDirectory;
+  std::string scenePath;     // recorded in summary.json
+  int stepLimit = 0;         // > 0: stop after this many steps (quick checks and tests)
+  bool progressBar = false;  // draw a progress bar (on a terminal)
+  bool pictures = true;      // final.png and probes.png (when the scene's outputs ask for them)
+  std::ostream* log = nullptr;  // log lines; null: silent
+};
+
+struct RunResult {
+  RunSummary summary;
+  bool interrupted = false;
+  bool stepLimitReached = false;
+  std::string lastFrame;   // path of the last .vtu written, or ""
+  std::string finalPng;    // or "" when not drawn
+  std::string probesPng;   // or ""
+  std::vector<std::string> notes;  // unsupported features, picture problems
+};
+
+/// Runs the scene. Throws InputError for scenes the solver cannot take yet (see SCENES.md: shell actors with
+/// different materials or gravity flags), and for unwritable outputs. Ctrl-C (after installInterruptHandler())
+/// stops after the current step, with its frame written.
+RunResult runScene(const Scene& scene, const RunOptions& options);
+
+}  // namespace jetshell
