@@ -1,3 +1,4 @@
+#include "../test_util.h"
 #include "core/mesh_generators.h"
 #include "core/reference_state.h"
 #include "core/topology.h"
@@ -10,23 +11,7 @@
 
 using namespace jetshell;
 
-namespace {
-
-Eigen::MatrixXd denseHessian(EnergyTerm& term, const Eigen::VectorXd& x, const EvalOptions& opt, Eigen::VectorXd& g,
-                             double& E) {
-  HessianAssembler A;
-  const int slot = A.addStencils(term.stencils());
-  A.finalize(static_cast<int>(x.size() / 3));
-  g = Eigen::VectorXd::Zero(x.size());
-  EvalRequest r{&g, &A, slot};
-  E = term.evaluate(x, r, opt);
-  Eigen::MatrixXd H = Eigen::MatrixXd(A.matrix());
-  Eigen::MatrixXd full = H + H.transpose();
-  full.diagonal() -= H.diagonal();
-  return full;
-}
-
-}  // namespace
+using jetshell::test::denseHessian;
 
 TEST_CASE("bending: staged AD, staged analytic and nested-Jet reference agree") {
   TriMesh mesh = makeRectangleGrid(1.0, 0.8, 3, 2);

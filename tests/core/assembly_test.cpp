@@ -1,0 +1,199 @@
+#include "../test_util.h"
+#include "core/assembly.h"
+#include "core/mesh_generators.h"
+#include "energies/shell_terms.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <random>
+#include <set>
+
+using namespace jetshell;
+using namespace jetshell::test;
+
+namespace {
+
+/// Dense reference: Σ_e Pₑᵀ Hₑ Pₑ with Pₑ selecting the element's vertices (absent ones dropped).
+Eigen::MatrixXd referenceAssembly(const StencilTable& t, const std::vector<Eigen::MatrixXd>& blocks, int n) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (int e = 0; e < t.size(); ++e) {
+    const int* ids = t.element(e);
+    for (int a = 0; a < t.width; ++a)
+      for (int b = 0; b < t.width; ++b)
+        if (ids[a] >= 0 && ids[b] >= 0) A.block<3, 3>(3 * ids[a], 3 * ids[b]) += blocks[e].block<3, 3>(3 * a, 3 * b);
+  }
+  return A;
+}
+
+Eigen::MatrixXd mirrored(const Eigen::SparseMatrix<double>& upper) {
+  const Eigen::MatrixXd U(upper);
+  Eigen::MatrixXd full = U + U.transpose();
+  full.diagonal() -= U.diagonal();
+  return full;
+}
+
+bool sameBits(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b) {
+  return a.nonZeros() == b.nonZeros() &&
+         std::memcmp(a.valuePtr(), b.valuePtr(), sizeof(double) * static_cast<std::size_t>(a.nonZeros())) == 0;
+}
+
+struct ShellFixture {
+  TriMesh mesh;
+  Topology topology;
+  ShellReference reference;
+  EnergyTermPtr membrane, bending;
+  Eigen::VectorXd x;
+  explicit ShellFixture(int nx, int ny) : mesh(makeRectangleGrid(1.0, 0.7, nx, ny)) {
+    topology = buildTopology(mesh);
+    reference = computeReference(mesh, topology);
+    membrane = makeMembraneTerm(mesh, reference, 3.0, 4.0);
+    bending = makeBendingTerm(mesh, topology, reference, 0.3, 0.5);
+    x = flatten(mesh.V);
+    for (int v = 0; v < mesh.numVertices(); ++v) x[3 * v + 2] = 0.1 * std::sin(5.0 * x[3 * v]) * std::cos(3.0 * x[3 * v + 1]);
+  }
+  /// Energy of both terms; gradient and Hessian into g and A (A's values zeroed first).
+  double evaluate(HessianAssembler& A, int slotM, int slotB, Eigen::VectorXd& g, const EvalOptions& o) {
+    A.setZero();
+    g.setZero(x.size());
+    return membrane->evaluate(x, {&g, &A, slotM}, o) + bending->evaluate(x, {&g, &A, slotB}, o);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("assembly: the pattern is built once and value-only refills give identical bits") {
+  ScopedThreads serial(1);
+  ShellFixture s(4, 3);
+  HessianAssembler A;
+  const int slotM = A.addStencils(s.membrane->stencils());
+  const int slotB = A.addStencils(s.bending->stencils());
+  A.finalize(s.mesh.numVertices());
+  const std::uint64_t version = A.patternVersion();
+  const int* inner = A.matrix().innerIndexPtr();
+  Eigen::VectorXd g;
+  const double e1 = s.evaluate(A, slotM, slotB, g, EvalOptions{});
+  const Eigen::SparseMatrix<double> first = A.matrix();
+  // A different configuration in between, then the first again.
+  const Eigen::VectorXd x0 = s.x;
+  s.x += 0.05 * Eigen::VectorXd::Ones(s.x.size());
+  s.evaluate(A, slotM, slotB, g, EvalOptions{});
+  s.x = x0;
+  const double e2 = s.evaluate(A, slotM, slotB, g, EvalOptions{});
+  CHECK(e1 == e2);
+  CHECK(sameBits(first, A.matrix()));
+  CHECK(A.patternVersion() == version);
+  CHECK(A.matrix().innerIndexPtr() == inner);  // no reallocation
+  CHECK(A.matrix().nonZeros() == first.nonZeros());
+  CHECK_THROWS_AS(A.addStencils(s.membrane->stencils()), std::logic_error);
+}
+
+TEST_CASE("assembly: the same bits with 1 and 2 OpenMP threads") {
+  ShellFixture s(16, 12);  // 384 faces: enough for every colour to be split between threads
+  HessianAssembler A;
+  const int slotM = A.addStencils(s.membrane->stencils());
+  const int slotB = A.addStencils(s.bending->stencils());
+  A.finalize(s.mesh.numVertices());
+  for (DerivativePath path : {DerivativePath::AutoDiff, DerivativePath::Analytic}) {
+    EvalOptions o;
+    o.path = path;
+    o.projection = PsdProjection::Clamp;
+    Eigen::VectorXd g1, g2;
+    double e1, e2;
+    Eigen::SparseMatrix<double> h1;
+    {
+      ScopedThreads one(1);
+      e1 = s.evaluate(A, slotM, slotB, g1, o);
+      h1 = A.matrix();
+    }
+    {
+      ScopedThreads two(2);
+      e2 = s.evaluate(A, slotM, slotB, g2, o);
+    }
+    CHECK(e1 == e2);
+    CHECK(std::memcmp(g1.data(), g2.data(), sizeof(double) * static_cast<std::size_t>(g1.size())) == 0);
+    CHECK(sameBits(h1, A.matrix()));
+  }
+}
+
+TEST_CASE("assembly: matches the dense sum of element blocks, with repeated and absent vertices") {
+  // Elements of width 3 with a repeated vertex (two local vertices on one global vertex) and an absent one.
+  StencilTable t;
+  t.width = 3;
+  t.ids = {0, 1, 2,   // ordinary
+           3, 3, 1,   // vertex 3 twice: off-diagonal local entries land on a global diagonal block
+           2, -1, 0,  // an absent vertex
+           4, 2, 4};
+  const int n = 5;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::MatrixXd> blocks;
+  for (int e = 0; e < t.size(); ++e) {
+    Eigen::MatrixXd B(9, 9);
+    for (int i = 0; i < 9; ++i)
+      for (int j = 0; j < 9; ++j) B(i, j) = u(rng);
+    blocks.push_back(B + B.transpose());
+  }
+  HessianAssembler A;
+  const int slot = A.addStencils(t);
+  A.finalize(n);
+  for (int e = 0; e < t.size(); ++e) A.addElementHessian(slot, e, blocks[e].data());
+  const Eigen::MatrixXd expected = referenceAssembly(t, blocks, n);
+  CHECK((mirrored(A.matrix()) - expected).norm() <= 1e-14 * expected.norm());
+  // Only the upper triangle is stored.
+  const Eigen::MatrixXd U(A.matrix());
+  CHECK(U.triangularView<Eigen::StrictlyLower>().toDenseMatrix().norm() == 0.0);
+}
+
+TEST_CASE("assembly: fixed dofs produce identity rows and columns") {
+  ScopedThreads serial(1);
+  ShellFixture s(3, 2);
+  std::vector<char> fixed;
+  for (int d = 0; d < 3 * s.mesh.numVertices(); ++d) fixed.push_back(d < 3 || d == 3 * 5 + 2);  // vertex 0, z of 5
+  HessianAssembler A;
+  const int slotM = A.addStencils(s.membrane->stencils());
+  const int slotB = A.addStencils(s.bending->stencils());
+  A.finalize(s.mesh.numVertices(), fixed);
+  Eigen::VectorXd g;
+  s.evaluate(A, slotM, slotB, g, EvalOptions{});
+  const Eigen::MatrixXd H = mirrored(A.matrix());
+  HessianAssembler free;
+  const int fM = free.addStencils(s.membrane->stencils());
+  const int fB = free.addStencils(s.bending->stencils());
+  free.finalize(s.mesh.numVertices());
+  s.evaluate(free, fM, fB, g, EvalOptions{});
+  const Eigen::MatrixXd Hfree = mirrored(free.matrix());
+  for (int d = 0; d < H.rows(); ++d) {
+    INFO("dof " << d);
+    if (fixed[d]) {
+      Eigen::VectorXd unit = Eigen::VectorXd::Unit(H.rows(), d);
+      CHECK(H.row(d).transpose() == unit);
+      CHECK(H.col(d) == unit);
+    } else {
+      for (int c = 0; c < H.cols(); ++c)
+        if (!fixed[c]) REQUIRE(H(d, c) == Hfree(d, c));
+    }
+  }
+  CHECK_THROWS_AS(free.finalize(2, std::vector<char>(5, 0)), std::invalid_argument);
+}
+
+TEST_CASE("assembly: colouring separates elements that share a vertex") {
+  const TriMesh mesh = makeRectangleGrid(1.0, 1.0, 5, 4);
+  const Topology topo = buildTopology(mesh);
+  StencilTable t;
+  t.width = 6;
+  t.ids.assign(topo.bendingStencil.data(), topo.bendingStencil.data() + topo.bendingStencil.size());
+  const std::vector<std::vector<int>> colors = colorElements(t, mesh.numVertices());
+  std::vector<int> seen(static_cast<std::size_t>(t.size()), 0);
+  for (const std::vector<int>& color : colors) {
+    std::set<int> used;
+    for (int e : color) {
+      ++seen[e];
+      for (int k = 0; k < t.width; ++k) {
+        const int v = t.element(e)[k];
+        if (v >= 0) CHECK(used.insert(v).second);
+      }
+    }
+  }
+  for (int count : seen) CHECK(count == 1);
+}
