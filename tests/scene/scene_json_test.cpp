@@ -172,6 +172,8 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
   CHECK(startsWith(errorOfText("{\n  \"actors\": [\n    {\"type\": \"shell\",,}\n  ]\n}"),
                    "s.json:3:22: invalid JSON: syntax error while parsing object key - unexpected ','"));
   CHECK(errorOfText(R"({"actors": [], "actors": []})") == "s.json: /actors: repeated key (each key may appear once per object)");
+  CHECK(errorOfText(R"({"actors": [{"type": "shell"}, {"shape": {}, "type": "shell", "type": "plane"}]})") ==
+        "s.json: /actors/1/type: repeated key (each key may appear once per object)");
   CHECK(errorAfter([](Json& s) { s.erase("actors"); }) == "/actors: missing (required)");
   CHECK(errorAfter([](Json& s) { s.erase("analysis"); }) == "/analysis: missing (required)");
   CHECK(errorAfter([](Json& s) { s["actors"][0].erase("shape"); }) == "/actors/0/shape: missing (required)");
