@@ -61,11 +61,13 @@ Extrapolated riddersSequence(const F& f, double x0, double h0, int steps) {
 /// Step selection: Ridders' estimate can be fooled by a function that looks smooth on scales larger than its
 /// own feature size (a fold a few 1e-4 rad from 180° seen with steps of 1e-3), converging confidently to a wrong
 /// value. So sequences starting at h0, h0/2^s, h0/2^2s, ... are run until two consecutive ones agree within
-/// their estimates; the disagreement is part of the reported uncertainty.
+/// their estimates and to within 100× the target accuracy; the disagreement is part of the reported
+/// uncertainty. Without agreement the most consistent pair is returned with its (large) uncertainty.
 template <typename F>
 Extrapolated extrapolatedDerivative(const F& f, double x0, double h0, int steps, int maxSequences,
                                     double agreement, double floor) {
   constexpr double kAgreement = 10.0;
+  constexpr double kAccept = 100.0;
   const int offset = std::max(1, (2 * steps) / 3);  // consecutive sequences overlap by a third of their steps
   std::vector<Extrapolated> seq{riddersSequence(f, x0, h0, steps)};
   Extrapolated fallback = seq[0];
@@ -81,8 +83,10 @@ Extrapolated extrapolatedDerivative(const F& f, double x0, double h0, int steps,
     // nearly linear function meaninglessly small).
     const double target = agreement * std::max({p.derivative.norm(), q.derivative.norm(), floor});
     // The less precise sequence must confirm the more precise one at the latter's precision: a wide estimate
-    // (large steps straddling a sharp feature) confirms nothing.
-    const bool agree = diff <= kAgreement * std::min(p.errorEstimate, q.errorEstimate) + target;
+    // (large steps straddling a sharp feature) confirms nothing. Two sequences that agree only roughly (both
+    // straddling it) do not end the search either.
+    const bool agree = diff <= kAgreement * std::min(p.errorEstimate, q.errorEstimate) + target &&
+                       better.errorEstimate <= kAccept * target;
     // Smaller steps carry more round-off, so an earlier pair that disagreed only by round-off may still be
     // the better answer.
     if (better.errorEstimate < fallback.errorEstimate) fallback = better;

@@ -70,7 +70,8 @@ struct DerivativeCheckOptions {
   double initialStep = 1e-2;  // h0 / ℓ
   int extrapolationSteps = 10;  // steps h0, h0/2, ..., h0/2^(n−1) in one Richardson tableau
   int maxSequences = 4;         // tableaus tried, each starting 2^(2n/3) smaller, until two agree
-  double sequenceAgreement = 1e-9;  // ... within their estimates or this fraction of max(|D|, floor)
+  double sequenceAgreement = 1e-9;  // target accuracy, relative to max(|D|, floor): two tableaus agree within
+                                    // their estimates or this, and the search goes on while worse than 100× it
   double floorFraction = 1e-3;  // τ
 };
 

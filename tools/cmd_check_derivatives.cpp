@@ -283,6 +283,10 @@ const RegisterSubcommand reg("check-derivatives", [](CLI::App& app, int& exitCod
                   "Folds: smallest 180 deg - (angle between normals), rad (> 0: the Kelvin inversion diverges at 0)")
       ->default_val(o->configuration.foldMinDelta)
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--degenerate-aspect", o->configuration.degenerateAspect,
+                  "Near-degenerate triangles: altitude / longest edge of the squashed face")
+      ->default_val(o->configuration.degenerateAspect)
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--fold-max-delta", o->configuration.foldMaxDelta, "Folds: largest 180 deg - angle, rad")
       ->default_val(o->configuration.foldMaxDelta)
       ->check(CLI::PositiveNumber);

@@ -1,11 +1,9 @@
-// Example: a new energy term written without hand derivatives.
-//
-// A seam spring pulls vertex pairs (i, j) towards their rest distance L: E = Σ k/2 (‖x_i − x_j‖ − L)².
-// Only the energy is written, once, for any scalar type T; ElementEnergyTerm evaluates it with doubles for
-// the value and with Ceres Jets for the gradient and Hessian, and the assembler, PSD projection and
-// derivative checks come for free. It is enrolled in `jetshell check-derivatives` and the conformance suite
-// by one line in energies/registry.cpp. (Constants go through constant<T>() and vector algebra through
-// core/scalar.h, because Ceres' nested Jets reject plain doubles and Eigen reductions.)
+// Example: a new energy term written without hand derivatives. A seam spring pulls vertex pairs (i, j) towards
+// their rest distance L: E = Σ k/2 (‖x_i − x_j‖ − L)². Only the energy is written, once, for any scalar type T;
+// ElementEnergyTerm evaluates it with doubles and with Ceres Jets for gradient and Hessian; assembly, PSD
+// projection and the derivative checks come for free. One line in energies/registry.cpp enrols it in
+// `jetshell check-derivatives` and the conformance suite. (Constants go through constant<T>() and vector
+// algebra through core/scalar.h: Ceres' nested Jets reject plain doubles and Eigen reductions.)
 #pragma once
 
 #include "energies/element_energy_term.h"
