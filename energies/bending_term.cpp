@@ -92,6 +92,8 @@ BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellR
   }
   faces_.resize(static_cast<std::size_t>(nf));
   edges_.resize(static_cast<std::size_t>(topo.numEdges()));
+  faceHessian_.resize(static_cast<std::size_t>(nf));
+  edgeHessian_.resize(static_cast<std::size_t>(topo.numEdges()));
   referenceNormal_.resize(static_cast<std::size_t>(nf));
   for (int f = 0; f < nf; ++f) {
     const Vec3 x0 = mesh.V.row(mesh.F(f, 0));
@@ -155,15 +157,14 @@ void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad
       }
       const auto stage = [](const auto& z) { return unitNormal(z); };
       if (ad && order == 2) {
-        vectorStageDerivatives(stage, c, s.n, s.dndc, s.hessian);
+        vectorStageDerivatives(stage, c, s.n, s.dndc, faceHessian_[f]);
       } else if (ad) {
         vectorStageJacobian(stage, c, s.n, s.dndc);
       } else if (order == 2) {
-        analytic::unitNormal(c, s.n, s.dndc, s.hessian);
+        analytic::unitNormal(c, s.n, s.dndc, faceHessian_[f]);
       } else {
         analytic::unitNormal(c, s.n, s.dndc);
       }
-      s.dndx = s.dndc * crossJacobian(e0, e1);
     }
   }
 
@@ -179,11 +180,11 @@ void BendingTerm::computeEdgeStages(int order, bool ad) {
       if (order == 0) {
         s.nbar = m / m.squaredNorm();
       } else if (ad && order == 2) {
-        vectorStageDerivatives(stage, m, s.nbar, s.dndm, s.hessian);
+        vectorStageDerivatives(stage, m, s.nbar, s.dndm, edgeHessian_[e]);
       } else if (ad) {
         vectorStageJacobian(stage, m, s.nbar, s.dndm);
       } else if (order == 2) {
-        analytic::kelvinInversion(m, s.nbar, s.dndm, s.hessian);
+        analytic::kelvinInversion(m, s.nbar, s.dndm, edgeHessian_[e]);
       } else {
         analytic::kelvinInversion(m, s.nbar, s.dndm);
       }
@@ -220,12 +221,23 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x, compact over edge i's four stencil vertices (0, 1, 2, 3+i): 3×12.
     const std::int8_t* nloc = neighborLocal_[f].data();
     const int fn[3] = {topo_.faceNeighbors(f, 0), topo_.faceNeighbors(f, 1), topo_.faceNeighbors(f, 2)};
+    // ∂c/∂x and ∂n/∂x of this face (0) and the neighbours (1..3), each in its own vertex order.
+    Mat39 C[4], dndx[4];
+    C[0] = crossJacobian(e0, e1);
+    dndx[0].noalias() = faces_[f].dndc.lazyProduct(C[0]);
+    for (int i = 0; i < 3; ++i) {
+      if (fn[i] < 0) continue;
+      const std::int8_t* local = nloc + 3 * i;
+      const Vec3 q0 = position(x, ids[local[0]]);
+      C[1 + i] = crossJacobian(position(x, ids[local[1]]) - q0, position(x, ids[local[2]]) - q0);
+      dndx[1 + i].noalias() = faces_[fn[i]].dndc.lazyProduct(C[1 + i]);
+    }
     Mat3x12 M[3], N[3];
     for (int i = 0; i < 3; ++i) {
-      M[i].leftCols<9>() = 0.5 * faces_[f].dndx;
+      M[i].leftCols<9>() = 0.5 * dndx[0];
       M[i].rightCols<3>().setZero();
       if (fn[i] >= 0) {
-        const Mat39& dn = faces_[fn[i]].dndx;
+        const Mat39& dn = dndx[1 + i];
         for (int k = 0; k < 3; ++k) {
           const int c = nloc[3 * i + k] < 3 ? nloc[3 * i + k] : 3;
           M[i].middleCols<3>(3 * c) += 0.5 * dn.middleCols<3>(3 * k);
@@ -259,13 +271,13 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
 
     const Mat3x18 WJ = (area * Wbb).lazyProduct(Jb);
     H.noalias() = Jb.transpose().lazyProduct(WJ);
-    if (exact) addCurvatureOfB(x, f, ids, e0, e1, w, M, N, nloc, fn, H);
+    if (exact) addCurvatureOfB(f, e0, e1, w, M, N, nloc, fn, C, H);
     return area * W;
   }
 
-void BendingTerm::addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Vec3& e0, const Vec3& e1,
+void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
                                   const Vec3& w, const Mat3x12* M, const Mat3x12* N, const std::int8_t* nloc,
-                                  const int* fn, Mat18& H) const {
+                                  const int* fn, const Mat39* crossJacobians, Mat18& H) const {
     // s = w·b = Σ c_ai e_a·n̄_i with c_00 = −2w0, c_01 = 2w0, c_10 = −2(w1 + w2), c_12 = 2w2.
     // The e–n̄ coupling: E_aᵀ R_a + R_aᵀ E_a with R_a = Σ_i c_ai N_i, e0 = x1 − x0, e1 = x2 − x0.
     Mat3x18 R0 = Mat3x18::Zero(), R1 = Mat3x18::Zero();
@@ -286,8 +298,10 @@ void BendingTerm::addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* id
     const Vec3 gnb[3] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};
     Vec3 hFace[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // this face, neighbours 0..2
     for (int i = 0; i < 3; ++i) {
-      const EdgeStage& s = edges_[topo_.faceEdges(f, i)];
-      const Mat3 Hm = gnb[i][0] * s.hessian[0] + gnb[i][1] * s.hessian[1] + gnb[i][2] * s.hessian[2];
+      const int e = topo_.faceEdges(f, i);
+      const EdgeStage& s = edges_[e];
+      const StageHessian& hs = edgeHessian_[e];
+      const Mat3 Hm = gnb[i][0] * hs[0] + gnb[i][1] * hs[1] + gnb[i][2] * hs[2];
       const Mat3x12 HmM = Hm.lazyProduct(M[i]);
       const Eigen::Matrix<double, 12, 12> He = M[i].transpose().lazyProduct(HmM);
       const int vertex[4] = {0, 1, 2, 3 + i};
@@ -306,11 +320,10 @@ void BendingTerm::addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* id
       const int face = j == 0 ? f : fn[j - 1];
       const std::int8_t* local = j == 0 ? kSelf : nloc + 3 * (j - 1);
       const FaceStage& s = faces_[face];
+      const StageHessian& hs = faceHessian_[face];
       const Vec3& h = hFace[j];
-      const Vec3 q0 = position(x, ids[local[0]]);
-      const Vec3 fe0 = position(x, ids[local[1]]) - q0, fe1 = position(x, ids[local[2]]) - q0;
-      const Mat39 C = crossJacobian(fe0, fe1);
-      const Mat3 Hc = h[0] * s.hessian[0] + h[1] * s.hessian[1] + h[2] * s.hessian[2];
+      const Mat39& C = crossJacobians[j];
+      const Mat3 Hc = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
       const Mat39 HcC = Hc.lazyProduct(C);
       Eigen::Matrix<double, 9, 9> Hf = C.transpose().lazyProduct(HcC);
       // k·c = k·(e0 × e1) = e0ᵀ Q e1 with Q = −[k]×, k = (∂n/∂c)ᵀ h.

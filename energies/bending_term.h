@@ -38,26 +38,26 @@ class BendingTerm : public EnergyTerm {
   void setName(std::string name) { name_ = std::move(name); }
 
  private:
+  // Stage results are split by order so that a pass touches only what it needs (the stencil pass is bound by
+  // memory traffic): values and Jacobians together, Hessians apart (exact Hessian only).
   struct FaceStage {
     Eigen::Vector3d n;
     Eigen::Matrix3d dndc;
-    std::array<Eigen::Matrix3d, 3> hessian;  // ∇²_c n_k
-    Eigen::Matrix<double, 3, 9> dndx;        // in the face's own vertex order
   };
   struct EdgeStage {
     Eigen::Vector3d nbar;
     Eigen::Matrix3d dndm;
-    std::array<Eigen::Matrix3d, 3> hessian;  // ∇²_m n̄_k
   };
+  using StageHessian = std::array<Eigen::Matrix3d, 3>;  // ∇² of each output component
 
   void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad);
   void computeEdgeStages(int order, bool ad);
   double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
                  Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
-  void addCurvatureOfB(const Eigen::VectorXd& x, int f, const int* ids, const Eigen::Vector3d& e0,
+  void addCurvatureOfB(int f, const Eigen::Vector3d& e0,
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 12>* M,
                        const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
-                       Eigen::Matrix<double, 18, 18>& H) const;
+                       const Eigen::Matrix<double, 3, 9>* crossJacobians, Eigen::Matrix<double, 18, 18>& H) const;
   bool isClamped(int edge) const { return !clamped_.empty() && clamped_[edge]; }
 
   std::string name_ = "bending";
@@ -73,6 +73,8 @@ class BendingTerm : public EnergyTerm {
   std::vector<Eigen::Vector3d> referenceNormal_;           // per face, for clamped edges
   std::vector<FaceStage> faces_;
   std::vector<EdgeStage> edges_;
+  std::vector<StageHessian> faceHessian_;  // ∇²_c n_k per face
+  std::vector<StageHessian> edgeHessian_;  // ∇²_m n̄_k per edge
   std::vector<double> elementEnergy_;
 };
 
