@@ -4,30 +4,26 @@
 #include "validation/line_load.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace jetshell::validation {
 namespace {
 
-/// Sets the element's unwrapping origin to the normal n (projected on the plane normal to the axis).
-/// Returns false when n is (nearly) parallel to the axis.
-bool setOrigin(EndMomentEnergy::Element& el, const double axis[3], Eigen::Vector3d n, double angle) {
-  const Eigen::Vector3d a(axis[0], axis[1], axis[2]);
-  n -= n.dot(a) * a;
-  if (!(n.norm() > 1e-8)) return false;
-  n.normalize();
-  const Eigen::Vector3d side = a.cross(n);
-  for (int c = 0; c < 3; ++c) {
-    el.side[c] = side[c];
-    el.origin[c] = n[c];
-  }
-  el.originAngle = angle;
-  return true;
+Eigen::Vector3d unitFaceNormal(const Eigen::VectorXd& x, const int* ids) {
+  const Eigen::Vector3d p0 = x.segment<3>(3 * ids[0]);
+  return (x.segment<3>(3 * ids[1]) - p0).cross(x.segment<3>(3 * ids[2]) - p0).normalized();
 }
 
-Eigen::Vector3d faceNormal(const Eigen::VectorXd& x, const int* ids) {
-  const Eigen::Vector3d p0 = x.segment<3>(3 * ids[0]);
-  return (x.segment<3>(3 * ids[1]) - p0).cross(x.segment<3>(3 * ids[2]) - p0);
+/// Stores the unwrapping origin of element el of the face `ids` at positions x.
+void setOrigin(EndMomentEnergy::Element& el, const Eigen::VectorXd& x, const int* ids, double angle) {
+  const Eigen::Vector3d n = unitFaceNormal(x, ids);
+  const Eigen::Vector3d a = (x.segment<3>(3 * ids[el.to]) - x.segment<3>(3 * ids[el.from])).normalized();
+  for (int c = 0; c < 3; ++c) {
+    el.origin[c] = n[c];
+    el.originAxis[c] = a[c];
+  }
+  el.originAngle = angle;
 }
 
 }  // namespace
@@ -44,9 +40,7 @@ void EndMomentTerm::advance(const Eigen::VectorXd& x) {
     double xe[9];
     for (int k = 0; k < 3; ++k)
       for (int c = 0; c < 3; ++c) xe[3 * k + c] = x[3 * ids[k] + c];
-    const double angle = functor().rotation(xe, static_cast<int>(e));
-    // A face normal along the axis has no rotation about it: keep the old origin (a tolerated, rare case).
-    setOrigin(s.elements[e], s.axis, faceNormal(x, ids), angle);
+    setOrigin(s.elements[e], x, ids, functor().rotation(xe, static_cast<int>(e)));
   }
 }
 
@@ -70,8 +64,6 @@ std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std:
   const double length = chainLength(mesh, chain);
   const Topology topo = buildTopology(mesh);
   auto state = std::make_shared<EndMomentEnergy::State>();
-  const Eigen::Vector3d a = axis.normalized();
-  for (int c = 0; c < 3; ++c) state->axis[c] = a[c];
   StencilTable table;
   table.width = 3;
   for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
@@ -87,10 +79,17 @@ std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std:
       throw InputError("end moment: chain segment " + std::to_string(k) + " (" + std::to_string(chain[k]) + ", " +
                        std::to_string(chain[k + 1]) + ") is not a boundary edge");
     for (int c = 0; c < 3; ++c) table.ids.push_back(mesh.F(face, c));
+    const Eigen::Vector3d segment = mesh.V.row(chain[k + 1]) - mesh.V.row(chain[k]);
+    const double along = axis.normalized().dot(segment.normalized());
+    if (std::abs(along) < 1e-8)
+      throw InputError("end moment: chain segment " + std::to_string(k) + " is perpendicular to the axis");
     EndMomentEnergy::Element el{};
-    el.moment = moment * (mesh.V.row(chain[k + 1]) - mesh.V.row(chain[k])).norm() / length;
-    if (!setOrigin(el, state->axis, faceNormal(flatten(mesh.V), table.ids.data() + 3 * k), 0.0))
-      throw InputError("end moment: the axis is parallel to the normal of face " + std::to_string(face));
+    el.moment = moment * segment.norm() / length;
+    for (int c = 0; c < 3; ++c) {
+      if (mesh.F(face, c) == (along > 0 ? chain[k] : chain[k + 1])) el.from = c;
+      if (mesh.F(face, c) == (along > 0 ? chain[k + 1] : chain[k])) el.to = c;
+    }
+    setOrigin(el, flatten(mesh.V), table.ids.data() + 3 * k, 0.0);
     state->elements.push_back(el);
   }
   return std::make_shared<EndMomentTerm>(mesh.numVertices(), std::move(table), std::move(state));

@@ -105,8 +105,24 @@ TEST_CASE("end moment: Jet gradient and Hessian match central differences") {
   CHECK((H - H.transpose()).norm() <= 1e-12 * H.norm());
 }
 
-TEST_CASE("end moment: a segment that is not a boundary edge is rejected") {
+TEST_CASE("end moment: a segment that is not a boundary edge, or perpendicular to the axis, is rejected") {
   const TriMesh mesh = makeRectangleGrid(2.0, 1.0, 2, 2);
   CHECK_THROWS_AS(makeEndMomentTerm(mesh, {1, 4}, Eigen::Vector3d(0, -1, 0), 1.0), InputError);
-  CHECK_THROWS_AS(makeEndMomentTerm(mesh, tipChain(2, 2), Eigen::Vector3d(0, 0, 1), 1.0), InputError);
+  CHECK_THROWS_AS(makeEndMomentTerm(mesh, tipChain(2, 2), Eigen::Vector3d(1, 0, 0), 1.0), InputError);
+}
+
+TEST_CASE("end moment: twisting the loaded edge about the strip's axis is not a rotation about the edge") {
+  // A fixed moment axis would read this twist as a rotation (and release energy through its pole); the
+  // segment's own direction does not.
+  const TriMesh mesh = makeRectangleGrid(3.0, 1.0, 6, 2);
+  auto term = makeEndMomentTerm(mesh, tipChain(6, 2), Eigen::Vector3d(0, -1, 0), 2.0);
+  for (double phi : {0.4, 1.2, 1.6, 3.0}) {
+    Eigen::VectorXd x = flatten(mesh.V);
+    for (int v = 0; v < mesh.numVertices(); ++v) {
+      const double y = mesh.V(v, 1), z = mesh.V(v, 2);
+      x[3 * v + 1] = std::cos(phi) * y - std::sin(phi) * z;
+      x[3 * v + 2] = std::sin(phi) * y + std::cos(phi) * z;
+    }
+    CHECK(term->meanRotation(x) == Approx(0.0).margin(1e-12));
+  }
 }

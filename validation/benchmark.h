@@ -1,0 +1,140 @@
+// The validation benchmarks: what a benchmark is (a reference path and a problem builder per mesh resolution),
+// how a run is configured, and what it reports.
+#pragma once
+
+#include "solvers/newton.h"
+#include "solvers/shell_system.h"
+#include "validation/end_moment_term.h"
+#include "validation/reference_table.h"
+#include "validation/structured_triangulation.h"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace jetshell::validation {
+
+/// How a clamped edge is modelled (a displacement-only shell has no rotation unknowns).
+enum class ClampKind {
+  Normal,    // fix the edge's nodes; BendingTerm::setClampedBoundary: missing neighbour normal := reference normal
+  Mirrored,  // the same nodes; missing neighbour normal := the face normal mirrored about the reference normal
+             // (validation/mirrored_clamp_term.h), so the mid-edge normal keeps the reference direction
+  TwoRow,    // fix the edge's nodes and the next row of nodes (the page's example; depends on the mesh)
+};
+const char* toString(ClampKind k);
+/// "normal", "mirrored" or "two-row"; throws InputError otherwise.
+ClampKind parseClampKind(const std::string& s);
+
+/// How the equilibrium at each load level is found.
+enum class SolverKind {
+  LoadStepping,        // Newton on the static problem, load factor raised level by level (cut on failure)
+  DynamicRelaxation,   // pseudo-time backward Euler with mass damping to rest (solvers/dynamic_relaxation.h)
+};
+const char* toString(SolverKind k);
+
+/// A mesh resolution: two counts whose meaning each benchmark states (nx × ny elements, or radial × angular).
+struct Resolution {
+  int n1 = 0, n2 = 0;
+};
+
+/// A displacement read from the solution: sign × (x − X) of component `component`, averaged over `vertices`.
+struct Probe {
+  std::vector<int> vertices;
+  int component = 2;
+  double sign = 1.0;
+  double read(const Eigen::VectorXd& x, const Eigen::VectorXd& X) const;
+};
+
+/// One benchmark built at one resolution: the problem for the shell system, the probes (one per reference
+/// quantity) and, for end-moment problems, the loaded edge.
+struct BenchmarkCase {
+  ShellProblem problem;
+  std::vector<Probe> probes;
+  std::vector<int> momentEdge;  // chain of vertices; empty when there is no end moment
+  Eigen::Vector3d momentAxis = Eigen::Vector3d::Zero();
+  double moment = 0.0;          // total at λ = 1
+};
+
+/// How a row's relative error is taken.
+enum class ErrorMeasure {
+  PerQuantity,        // |q − q_ref| / |q_ref|
+  DisplacementNorm,   // |q − q_ref| / ‖(q_ref)‖ over the row's quantities (references that pass through 0)
+};
+
+struct Benchmark {
+  std::string name;         // command-line name
+  std::string title;        // one line, with the Sze et al. section
+  std::string resolutionMeaning;  // what n1 and n2 count
+  ReferenceTable reference;
+  ErrorMeasure errorMeasure = ErrorMeasure::PerQuantity;
+  Resolution defaultResolution;          // the smallest mesh of the study that meets the 1% target
+  std::vector<Resolution> studyResolutions;  // the convergence study's meshes, coarse to fine
+  SolverKind defaultSolver = SolverKind::LoadStepping;  // dynamic relaxation compares λ = 1 only
+  std::function<BenchmarkCase(const Resolution&, ClampKind, Diagonals)> build;
+};
+
+/// Every benchmark, in a fixed order.
+const std::vector<Benchmark>& allBenchmarks();
+/// The benchmark with this name; throws InputError listing the names otherwise.
+const Benchmark& findBenchmark(const std::string& name);
+
+/// Newton's defaults with the per-element PSD projection off: on these large-rotation paths the projected
+/// Hessian turns Newton's convergence linear (the slit annular plate at 4 x 32 quads: 658 iterations and
+/// 8.1 s projected, 296 iterations and 1.3 s unprojected); indefinite systems are still handled by the linear
+/// solver's diagonal-shift retries.
+NewtonOptions benchmarkNewtonOptions();
+
+/// The knobs that trade time for accuracy or robustness.
+struct BenchmarkRunOptions {
+  Resolution resolution;  // n1 = 0: the benchmark's default
+  ClampKind clamp = ClampKind::Mirrored;
+  Diagonals diagonals = Diagonals::Uniform;
+  SolverKind solver = SolverKind::LoadStepping;
+  bool useDefaultSolver = true;  // take the benchmark's solver instead of `solver`
+  double maxIncrement = 1.0;     // largest load-factor increment of one Newton solve (tabulated levels are
+                                 // always hit; an increment that fails is halved)
+  double initialIncrement = 0.005;  // the first increment: from the flat state the linear response to the full
+                                   // first level overshoots by far (plate: 6 failed 50-iteration attempts)
+  double minIncrement = 1e-4;
+  int predictorOrder = 2;        // start each Newton solve from the polynomial through this many + 1 past
+                                 // equilibria (0: from the last equilibrium)
+  NewtonOptions newton = benchmarkNewtonOptions();  // tolerances
+  double relaxationTimeStep = 1.0 / 30.0;
+  double relaxationMassDamping = 0.0;  // α [1/s]; 0 takes the material's α_R
+  double relaxationTolerance = 1e-6;
+  int relaxationMaxSteps = 20000;
+  std::ostream* log = nullptr;  // one line per Newton solve (load stepping), or null
+};
+
+struct BenchmarkRow {
+  double lambda = 0.0;
+  std::vector<double> computed, reference, relError;
+};
+
+struct BenchmarkResult {
+  std::string name;
+  Resolution resolution;
+  ClampKind clamp = ClampKind::Mirrored;
+  Diagonals diagonals = Diagonals::Uniform;
+  SolverKind solver = SolverKind::LoadStepping;
+  int vertices = 0, faces = 0;
+  double wallSeconds = 0.0;
+  int newtonIterations = 0;
+  int loadSteps = 0;          // accepted Newton solves (or relaxation steps)
+  int cuts = 0;               // failed increments that were halved
+  bool completed = false;     // every level reached
+  std::string message;
+  std::vector<std::string> quantities;
+  std::vector<BenchmarkRow> rows;
+  double maxRelError = 0.0;    // over all rows and quantities
+  double finalRelError = 0.0;  // over the quantities at λ = 1
+};
+
+/// Runs one benchmark: builds its case, solves every tabulated level (or λ = 1 only) and compares.
+BenchmarkResult runBenchmark(const Benchmark& benchmark, const BenchmarkRunOptions& options);
+
+}  // namespace jetshell::validation
