@@ -270,24 +270,26 @@ DerivativeCheckResult checkDerivatives(EnergyTerm& term, const Eigen::VectorXd& 
 
 std::vector<std::string> checkFailures(const DerivativeCheckResult& r, const DerivativeTolerances& tol) {
   std::vector<std::string> out;
-  auto fail = [&](const std::string& what, double value, double limit) {
+  auto fail = [&](const std::string& what, double value, double limit, double fdUncertainty = 0.0) {
     if (value <= limit) return;  // also catches NaN
     std::ostringstream s;
     s << what << " = " << value << " > " << limit;
+    if (fdUncertainty > limit) s << " (inconclusive: FD uncertainty " << fdUncertainty << ")";
     out.push_back(s.str());
   };
   if (!r.finite) out.push_back("non-finite energy, gradient, Hessian or finite difference");
   if (const auto ad = r.maxAdVsAnalytic()) fail("AD vs analytic", *ad, tol.adVsAnalytic);
   for (const PathCheck& p : r.paths) {
     const std::string name = p.path == DerivativePath::AutoDiff ? "AD" : "analytic";
-    fail(name + " gradient vs FD", p.gradientVsFd, tol.vsFd);
+    fail(name + " gradient vs FD", p.gradientVsFd, tol.vsFd, r.gradientFdUncertainty);
     if (!r.hessianChecked) continue;
     if (r.hessianIsExact) {
-      fail(name + " Hessian vs FD", p.hessianVsFd, tol.vsFd);
+      fail(name + " Hessian vs FD", p.hessianVsFd, tol.vsFd, p.hessianFdUncertainty);
     } else {
       fail(name + " model Hessian: -(smallest eigenvalue)/|H|", -p.hessianMinEigenvalue, tol.psd);
     }
-    fail(name + " FD Jacobian of the gradient: asymmetry", p.hessianAsymmetry, tol.asymmetry);
+    fail(name + " FD Jacobian of the gradient: asymmetry", p.hessianAsymmetry, tol.asymmetry,
+         p.hessianFdUncertainty);
   }
   return out;
 }
