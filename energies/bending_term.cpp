@@ -129,6 +129,7 @@ void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scal
     ref_.secondFundamentalForm[f] = {2.0 * (n1 - n0).dot(e0), -2.0 * n0.dot(e1), 2.0 * (n2 - n0).dot(e1)};
   }
   scale_ = scale;
+  originMoved_ = true;
 }
 
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {

@@ -23,6 +23,8 @@ class BendingTerm : public EnergyTerm {
   std::string name() const override { return name_; }
   StencilTable stencils() const override { return table_; }
   bool hasAnalytic() const override { return true; }
+  /// Zero at the reference configuration until the origin is moved (stiffness damping: zero at x_prev).
+  bool zeroAtRest() const override { return !originMoved_; }
   bool rigidInvariant() const override { return clamped_.empty(); }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
 
@@ -66,6 +68,7 @@ class BendingTerm : public EnergyTerm {
   ShellReference ref_;  // secondFundamentalForm = curvature origin
   double alpha_, beta_;
   double scale_ = 1.0;
+  bool originMoved_ = false;
   StencilTable table_;
   ElementSchedule schedule_;
   std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k

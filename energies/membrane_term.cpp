@@ -32,6 +32,7 @@ void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale)
     ref_.metric[f] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
   }
   scale_ = scale;
+  originMoved_ = true;
 }
 
 double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,

@@ -18,6 +18,8 @@ class MembraneTerm : public EnergyTerm {
   std::string name() const override { return name_; }
   StencilTable stencils() const override { return table_; }
   bool hasAnalytic() const override { return true; }
+  /// Zero at the reference configuration until the origin is moved (stiffness damping: zero at x_prev).
+  bool zeroAtRest() const override { return !originMoved_; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
 
   /// Moves the strain origin to the metric of xOrigin and scales the energy: with scale = β_R/Δt and
@@ -35,6 +37,7 @@ class MembraneTerm : public EnergyTerm {
   ShellReference ref_;  // a copy: the term must not outlive borrowed data; metric = strain origin
   double lambda_, mu_;
   double scale_ = 1.0;
+  bool originMoved_ = false;
   std::vector<double> elementEnergy_;
 };
 
