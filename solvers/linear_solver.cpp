@@ -29,7 +29,8 @@ Preconditioner preconditionerFromString(const std::string& name) {
   if (name == "jacobi") return Preconditioner::Jacobi;
   if (name == "block_jacobi") return Preconditioner::BlockJacobi;
   if (name == "ic") return Preconditioner::IncompleteCholesky;
-  throw InputError("preconditioner '" + name + "': expected jacobi, block_jacobi or ic");
+  if (name == "lagged_cholesky") return Preconditioner::LaggedCholesky;
+  throw InputError("preconditioner '" + name + "': expected jacobi, block_jacobi, ic or lagged_cholesky");
 }
 
 const char* toString(Preconditioner p) {
@@ -37,6 +38,7 @@ const char* toString(Preconditioner p) {
     case Preconditioner::Jacobi: return "jacobi";
     case Preconditioner::BlockJacobi: return "block_jacobi";
     case Preconditioner::IncompleteCholesky: return "ic";
+    case Preconditioner::LaggedCholesky: return "lagged_cholesky";
   }
   return "?";
 }

@@ -27,11 +27,13 @@ enum class LinearSolverType {
   EigenLDLT,  // Eigen::SimplicialLDLT (the fallback without SuiteSparse features)
   PCG         // preconditioned conjugate gradients
 };
-enum class Preconditioner { Jacobi, BlockJacobi, IncompleteCholesky };
+/// LaggedCholesky: the CHOLMOD factor of an earlier Hessian, kept across iterations and steps and refactored
+/// (with the current Hessian) only when CG needs more than lagRefactorIterations with it.
+enum class Preconditioner { Jacobi, BlockJacobi, IncompleteCholesky, LaggedCholesky };
 
 LinearSolverType linearSolverTypeFromString(const std::string& name);  // auto | cholmod | ldlt | pcg
 const char* toString(LinearSolverType t);
-Preconditioner preconditionerFromString(const std::string& name);  // jacobi | block_jacobi | ic
+Preconditioner preconditionerFromString(const std::string& name);  // jacobi | block_jacobi | ic | lagged_cholesky
 const char* toString(Preconditioner p);
 
 struct LinearSolverOptions {
@@ -42,6 +44,7 @@ struct LinearSolverOptions {
   int autoDirectMaxDofs = 300000;
   double cgRelativeTolerance = 1e-10;  // ‖r‖ ≤ tol ‖b‖
   int cgMaxIterations = 20000;
+  int lagRefactorIterations = 12;  // LaggedCholesky: refactor when CG with the old factor needs more
   /// Diagonal-shift retries before giving up (δ from 1e-8 to 1e-8·10^(n−1) times the mean diagonal).
   int maxRegularizations = 10;
 };
@@ -53,6 +56,7 @@ struct LinearSolveReport {
   int regularizations = 0;        // retries with a diagonal shift
   double shift = 0.0;             // the δ of the successful attempt (0 = none)
   int cgIterations = 0;
+  int numericFactorizations = 0;      // Cholesky factorizations done (direct, or the lagged preconditioner)
   double factorizationSeconds = 0.0;  // analysis + numeric factorization, or preconditioner set-up
   double solveSeconds = 0.0;          // triangular solves, or CG iterations
   std::string message;                // why it failed, or what was retried

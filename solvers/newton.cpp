@@ -137,6 +137,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       tryExact = false;
       rec.factorizationSeconds += lin.factorizationSeconds;
       rec.solveSeconds += lin.solveSeconds;
+      s.numericFactorizations += lin.numericFactorizations;
       assemble(false, rec);
       const LinearSolveReport first = lin;
       lin = linear_->solve(obj.assembler(), b, d);
@@ -149,6 +150,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.regularizations = lin.regularizations;
     rec.shift = lin.shift;
     rec.cgIterations = lin.cgIterations;
+    rec.numericFactorizations = lin.numericFactorizations;
+    s.numericFactorizations += lin.numericFactorizations;
     s.factorizationSeconds += rec.factorizationSeconds;
     s.solveSeconds += rec.solveSeconds;
     s.regularizations += lin.regularizations;

@@ -1,8 +1,12 @@
 // Preconditioned conjugate gradients on the symmetric matrix stored as its upper triangle, for systems too
 // large to factor. Preconditioners: Jacobi (1/H_ii), block-Jacobi (the inverse 3×3 vertex blocks) and
 // incomplete Cholesky (Eigen::IncompleteCholesky, AMD-ordered; its pattern analysis is redone only when the
-// pattern version changes). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base
-// class answers with a diagonal shift.
+// pattern version changes) and the lagged Cholesky factor (CHOLMOD, of an earlier Hessian: successive Newton
+// Hessians of a time-stepped cloth differ little, so a few CG iterations with an old factor replace most
+// factorizations; when CG needs more than lagRefactorIterations, the current Hessian is factored and CG
+// restarts). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base class answers with
+// a diagonal shift.
+#include "solvers/cholmod_factor.h"
 #include "solvers/linear_solver.h"
 #include "solvers/timer.h"
 
@@ -26,18 +30,62 @@ class PcgSolver : public LinearSolver {
  protected:
   Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift, const Eigen::VectorXd& b,
                   Eigen::VectorXd& x, LinearSolveReport& report) override {
+    if (options().preconditioner == Preconditioner::LaggedCholesky) return laggedAttempt(upper, analyze, shift, b, x, report);
     Timer timer;
     const bool ready = setUpPreconditioner(upper, analyze, shift, report);
     report.factorizationSeconds += timer.seconds();
     if (!ready) return Attempt::NotPositiveDefinite;
 
     timer.reset();
-    const Attempt a = iterate(upper, shift, b, x, report);
+    const Attempt a = iterate(upper, shift, b, x, options().cgMaxIterations, report);
     report.solveSeconds += timer.seconds();
     return a;
   }
 
  private:
+  /// CG preconditioned by the lagged factor; refactors (current H + shift) when the factor is missing, the
+  /// pattern changed, or CG with the old factor does not converge within lagRefactorIterations.
+  Attempt laggedAttempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift,
+                        const Eigen::VectorXd& b, Eigen::VectorXd& x, LinearSolveReport& report) {
+    using Status = CholmodFactor::Status;
+    Timer timer;
+    if ((analyze || !factor_.analyzed()) && factor_.analyze(upper) != Status::Ok) {
+      report.factorizationSeconds += timer.seconds();
+      report.message = factor_.message();
+      return Attempt::Fatal;
+    }
+    const bool fresh = analyze || !factor_.factorized();
+    report.factorizationSeconds += timer.seconds();
+    if (fresh) {
+      const Attempt f = refactor(upper, shift, report);
+      if (f != Attempt::Ok) return f;
+    }
+    timer.reset();
+    Attempt a = iterate(upper, shift, b, x, fresh ? options().cgMaxIterations : options().lagRefactorIterations, report);
+    report.solveSeconds += timer.seconds();
+    if (a != Attempt::Failed || fresh) return a;
+    // The old factor no longer preconditions well: factor the current Hessian and solve again.
+    const Attempt f = refactor(upper, shift, report);
+    if (f != Attempt::Ok) return f;
+    timer.reset();
+    const int before = report.cgIterations;
+    a = iterate(upper, shift, b, x, options().cgMaxIterations, report);
+    report.cgIterations += before;
+    report.solveSeconds += timer.seconds();
+    return a;
+  }
+
+  Attempt refactor(const Eigen::SparseMatrix<double>& upper, double shift, LinearSolveReport& report) {
+    using Status = CholmodFactor::Status;
+    const Timer timer;
+    const Status f = factor_.factorize(upper, shift);
+    report.factorizationSeconds += timer.seconds();
+    ++report.numericFactorizations;
+    if (f == Status::Ok) return Attempt::Ok;
+    report.message = factor_.message();
+    return f == Status::NotPositiveDefinite ? Attempt::NotPositiveDefinite : Attempt::Fatal;
+  }
+
   bool setUpPreconditioner(const Eigen::SparseMatrix<double>& H, bool analyze, double shift,
                            LinearSolveReport& report) {
     const Eigen::Index n = H.rows();
@@ -97,11 +145,12 @@ class PcgSolver : public LinearSolver {
         }
         return true;
       }
+      case Preconditioner::LaggedCholesky: break;  // laggedAttempt
     }
     return false;
   }
 
-  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
+  void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
     switch (options().preconditioner) {
       case Preconditioner::Jacobi:
         z = inverseDiagonal_.cwiseProduct(r);
@@ -116,11 +165,14 @@ class PcgSolver : public LinearSolver {
       case Preconditioner::IncompleteCholesky:
         z = ic_.solve(r);
         return;
+      case Preconditioner::LaggedCholesky:
+        if (factor_.solve(r, z) != CholmodFactor::Status::Ok) z = r;
+        return;
     }
   }
 
   Attempt iterate(const Eigen::SparseMatrix<double>& H, double shift, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                  LinearSolveReport& report) {
+                  int maxIterations, LinearSolveReport& report) {
     const double bNorm = b.norm();
     x.setZero(b.size());
     if (bNorm == 0.0) return Attempt::Ok;
@@ -129,7 +181,7 @@ class PcgSolver : public LinearSolver {
     p = z;
     double rz = r.dot(z);
     const double target = options().cgRelativeTolerance * bNorm;
-    for (int k = 1; k <= options().cgMaxIterations; ++k) {
+    for (int k = 1; k <= maxIterations; ++k) {
       Ap.noalias() = H.selfadjointView<Eigen::Upper>() * p;
       Ap += shift * p;
       const double pAp = p.dot(Ap);
@@ -148,8 +200,8 @@ class PcgSolver : public LinearSolver {
       rz = rzNew;
     }
     std::ostringstream s;
-    s << "CG did not reach relative residual " << options().cgRelativeTolerance << " in "
-      << options().cgMaxIterations << " iterations";
+    s << "CG did not reach relative residual " << options().cgRelativeTolerance << " in " << maxIterations
+      << " iterations";
     report.message = s.str();
     return Attempt::Failed;
   }
@@ -159,6 +211,7 @@ class PcgSolver : public LinearSolver {
   Eigen::IncompleteCholesky<double, Eigen::Upper, Eigen::AMDOrdering<int>> ic_;
   bool icAnalyzed_ = false;
   Eigen::SparseMatrix<double> shifted_;
+  CholmodFactor factor_;
 };
 
 }  // namespace

@@ -29,6 +29,7 @@ struct IterationRecord {
   int regularizations = 0;  // linear-solver retries with a diagonal shift
   double shift = 0.0;
   int cgIterations = 0;
+  int numericFactorizations = 0;
   bool exactHessian = false;  // the step used the unprojected Hessian
   double assemblySeconds = 0.0;
   double factorizationSeconds = 0.0;
@@ -54,6 +55,7 @@ struct SolverSummary {
   double lineSearchSeconds = 0.0;     // trial evaluations
   double totalSeconds = 0.0;
   int symbolicAnalyses = 0;  // done during this minimization
+  int numericFactorizations = 0;  // Cholesky factorizations (fewer than iterations with a lagged factor)
   int regularizations = 0;   // diagonal-shift retries during this minimization
   int exactHessianSteps = 0;     // Newton steps taken with the unprojected Hessian
   int projectionFallbacks = 0;   // unprojected Hessians found indefinite and reassembled projected

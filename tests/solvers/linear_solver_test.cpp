@@ -14,9 +14,11 @@ namespace {
 struct System {
   ShellSystem shell{testing::cantileverPlate(8, 3, 0.02), AnalysisKind::Statics};
   Eigen::VectorXd g;
-  System() {
+  System() { bend(0.05); }
+  /// Re-evaluates gradient and Hessian with the plate bent to z = amount·x².
+  void bend(double amount) {
     Eigen::VectorXd x = shell.restPositions();
-    for (int v = 0; v < shell.mesh().numVertices(); ++v) x[3 * v + 2] += 0.05 * std::pow(shell.mesh().V(v, 0), 2);
+    for (int v = 0; v < shell.mesh().numVertices(); ++v) x[3 * v + 2] += amount * std::pow(shell.mesh().V(v, 0), 2);
     EvalOptions o;
     o.projection = PsdProjection::Clamp;
     shell.objective().evaluate(x, &g, true, o);
@@ -50,7 +52,8 @@ TEST_CASE("linear solver: CHOLMOD, Eigen LDLT and PCG agree") {
                         Case{LinearSolverType::EigenLDLT, Preconditioner::Jacobi, 1e-8},
                         Case{LinearSolverType::PCG, Preconditioner::Jacobi, 1e-5},
                         Case{LinearSolverType::PCG, Preconditioner::BlockJacobi, 1e-5},
-                        Case{LinearSolverType::PCG, Preconditioner::IncompleteCholesky, 1e-5}}) {
+                        Case{LinearSolverType::PCG, Preconditioner::IncompleteCholesky, 1e-5},
+                        Case{LinearSolverType::PCG, Preconditioner::LaggedCholesky, 1e-8}}) {
     o.type = c.type;
     o.preconditioner = c.preconditioner;
     auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
@@ -67,6 +70,36 @@ TEST_CASE("linear solver: CHOLMOD, Eigen LDLT and PCG agree") {
     CHECK_FALSE(again.symbolicAnalysis);
     CHECK(solver->symbolicAnalyses() == 1);
   }
+}
+
+TEST_CASE("linear solver: the lagged Cholesky preconditioner reuses an old factor until CG needs too many iterations") {
+  testing::SingleThread single;
+  System sys;
+  const Eigen::VectorXd b = -sys.g;
+  LinearSolverOptions o;
+  o.type = LinearSolverType::PCG;
+  o.preconditioner = Preconditioner::LaggedCholesky;
+  auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
+  Eigen::VectorXd x;
+  LinearSolveReport r = solver->solve(sys.assembler(), b, x);
+  REQUIRE(r.success);
+  CHECK(r.numericFactorizations == 1);
+  CHECK(r.cgIterations <= 2);
+  // The Hessian at a nearby configuration (same pattern): the old factor still preconditions, no
+  // refactorization.
+  sys.bend(0.051);
+  r = solver->solve(sys.assembler(), b, x);
+  REQUIRE(r.success);
+  CHECK(r.numericFactorizations == 0);
+  CHECK(r.cgIterations > 1);
+  CHECK((dense(sys.assembler().matrix()) * x - b).norm() <= 1e-8 * b.norm());
+  // A far one: CG with the old factor gives up after lagRefactorIterations and refactors.
+  sys.bend(0.3);
+  r = solver->solve(sys.assembler(), b, x);
+  REQUIRE(r.success);
+  CHECK(r.numericFactorizations == 1);
+  CHECK((dense(sys.assembler().matrix()) * x - b).norm() <= 1e-8 * b.norm());
+  CHECK(solver->symbolicAnalyses() == 1);
 }
 
 TEST_CASE("linear solver: an indefinite matrix is shifted, retried and reported") {

@@ -1,0 +1,124 @@
+#include "solvers/cholmod_factor.h"
+
+#include <cholmod.h>
+
+#include <sstream>
+
+namespace jetshell {
+
+struct CholmodFactor::Impl {
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  cholmod_dense* X = nullptr;
+  cholmod_dense* Y = nullptr;
+  cholmod_dense* E = nullptr;
+};
+
+namespace {
+
+/// A CHOLMOD view of the Eigen matrix's arrays (no copy). CHOLMOD reads but never writes A.
+cholmod_sparse view(const Eigen::SparseMatrix<double>& m) {
+  cholmod_sparse A;
+  A.nrow = static_cast<std::size_t>(m.rows());
+  A.ncol = static_cast<std::size_t>(m.cols());
+  A.nzmax = static_cast<std::size_t>(m.nonZeros());
+  A.p = const_cast<int*>(m.outerIndexPtr());
+  A.i = const_cast<int*>(m.innerIndexPtr());
+  A.nz = nullptr;
+  A.x = const_cast<double*>(m.valuePtr());
+  A.z = nullptr;
+  A.stype = 1;  // upper triangle stored
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_REAL;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
+
+std::string statusMessage(const char* what, const cholmod_common& c) {
+  std::ostringstream s;
+  s << what << " failed (CHOLMOD status " << c.status << ")";
+  return s.str();
+}
+
+}  // namespace
+
+CholmodFactor::CholmodFactor() : impl_(std::make_unique<Impl>()) {
+  cholmod_start(&impl_->common);
+  impl_->common.supernodal = CHOLMOD_SUPERNODAL;
+  // A matrix that is not positive definite is retried with a shift, so the partial factor is of no use.
+  impl_->common.quick_return_if_not_posdef = 1;
+  impl_->common.print = 0;
+}
+
+CholmodFactor::~CholmodFactor() {
+  cholmod_common* c = &impl_->common;
+  if (impl_->factor != nullptr) cholmod_free_factor(&impl_->factor, c);
+  if (impl_->X != nullptr) cholmod_free_dense(&impl_->X, c);
+  if (impl_->Y != nullptr) cholmod_free_dense(&impl_->Y, c);
+  if (impl_->E != nullptr) cholmod_free_dense(&impl_->E, c);
+  cholmod_finish(c);
+}
+
+bool CholmodFactor::analyzed() const { return impl_->factor != nullptr; }
+
+CholmodFactor::Status CholmodFactor::analyze(const Eigen::SparseMatrix<double>& upper) {
+  cholmod_common* c = &impl_->common;
+  if (impl_->factor != nullptr) cholmod_free_factor(&impl_->factor, c);
+  factorized_ = false;
+  cholmod_sparse A = view(upper);
+  impl_->factor = cholmod_analyze(&A, c);
+  if (impl_->factor == nullptr) {
+    message_ = statusMessage("cholmod_analyze", *c);
+    return Status::Failed;
+  }
+  return Status::Ok;
+}
+
+CholmodFactor::Status CholmodFactor::factorize(const Eigen::SparseMatrix<double>& upper, double shift) {
+  cholmod_common* c = &impl_->common;
+  factorized_ = false;
+  if (impl_->factor == nullptr) {
+    message_ = "factorize before analyze";
+    return Status::Failed;
+  }
+  cholmod_sparse A = view(upper);
+  double beta[2] = {shift, 0.0};  // CHOLMOD factors A + βI
+  const int ok = cholmod_factorize_p(&A, beta, nullptr, 0, impl_->factor, c);
+  if (c->status == CHOLMOD_NOT_POSDEF || impl_->factor->minor < impl_->factor->n) {
+    std::ostringstream s;
+    s << "not positive definite at column " << impl_->factor->minor;
+    message_ = s.str();
+    return Status::NotPositiveDefinite;
+  }
+  if (!ok || c->status < CHOLMOD_OK) {
+    message_ = statusMessage("cholmod_factorize", *c);
+    return Status::Failed;
+  }
+  factorized_ = true;
+  return Status::Ok;
+}
+
+CholmodFactor::Status CholmodFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (!factorized_) {
+    message_ = "solve without a factor";
+    return Status::Failed;
+  }
+  cholmod_dense B;
+  B.nrow = B.d = B.nzmax = static_cast<std::size_t>(b.size());
+  B.ncol = 1;
+  B.x = const_cast<double*>(b.data());
+  B.z = nullptr;
+  B.xtype = CHOLMOD_REAL;
+  B.dtype = CHOLMOD_DOUBLE;
+  if (!cholmod_solve2(CHOLMOD_A, impl_->factor, &B, nullptr, &impl_->X, nullptr, &impl_->Y, &impl_->E,
+                      &impl_->common)) {
+    message_ = statusMessage("cholmod_solve2", impl_->common);
+    return Status::Failed;
+  }
+  x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(impl_->X->x), b.size());
+  return Status::Ok;
+}
+
+}  // namespace jetshell
