@@ -123,6 +123,7 @@ struct BenchmarkResult {
   SolverKind solver = SolverKind::LoadStepping;
   int vertices = 0, faces = 0;
   double wallSeconds = 0.0;
+  double cpuSeconds = 0.0;    // process CPU time (all threads): the repeatable figure on a shared machine
   int newtonIterations = 0;
   int loadSteps = 0;          // accepted Newton solves (or relaxation steps)
   int cuts = 0;               // failed increments that were halved

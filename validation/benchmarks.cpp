@@ -118,6 +118,10 @@ std::vector<Benchmark> makeBenchmarks() {
     s.defaultResolution = {40, 4};
     s.studyResolutions = {{10, 1}, {20, 2}, {40, 4}, {80, 8}, {160, 16}};
     s.build = cantileverEndShear;
+    b.push_back(s);
+    s.name = "cantilever-end-shear-elastica";
+    s.title = "Cantilever under end shear force, against the inextensible elastica (Sze et al. 2004 §3.1 problem)";
+    s.reference = endShearElastica(10.0, 100.0, 4.0, s.reference.lambda);
     b.push_back(std::move(s));
   }
   {

@@ -62,6 +62,58 @@ ReferenceTable endMomentClosedForm(double length, int levels) {
   return t;
 }
 
+namespace {
+
+/// Integrates the elastica from s = 0 with θ'(0) = kappa0; returns θ'(L) and the tip position (x, z).
+double shootElastica(double length, double forceOverStiffness, double kappa0, double& x, double& z) {
+  constexpr int kSteps = 4000;
+  const double h = length / kSteps;
+  // State: θ, θ', x, z.
+  auto rate = [&](const double* y, double* dy) {
+    dy[0] = y[1];
+    dy[1] = -forceOverStiffness * std::cos(y[0]);
+    dy[2] = std::cos(y[0]);
+    dy[3] = std::sin(y[0]);
+  };
+  double y[4] = {0.0, kappa0, 0.0, 0.0};
+  for (int i = 0; i < kSteps; ++i) {
+    double k1[4], k2[4], k3[4], k4[4], t[4];
+    rate(y, k1);
+    for (int c = 0; c < 4; ++c) t[c] = y[c] + 0.5 * h * k1[c];
+    rate(t, k2);
+    for (int c = 0; c < 4; ++c) t[c] = y[c] + 0.5 * h * k2[c];
+    rate(t, k3);
+    for (int c = 0; c < 4; ++c) t[c] = y[c] + h * k3[c];
+    rate(t, k4);
+    for (int c = 0; c < 4; ++c) y[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c]);
+  }
+  x = y[2];
+  z = y[3];
+  return y[1];
+}
+
+}  // namespace
+
+ReferenceTable endShearElastica(double length, double bendingStiffness, double maxForce,
+                                const std::vector<double>& lambdas) {
+  ReferenceTable t;
+  t.source = "inextensible elastica (shooting)";
+  t.quantities = {"-u_tip", "w_tip"};
+  for (double lambda : lambdas) {
+    const double k = lambda * maxForce / bendingStiffness;
+    // θ'(0) = P·x_tip/EI lies in (0, P L / EI]; θ'(L) rises with θ'(0) on that bracket.
+    double lo = 0.0, hi = k * length, x = length, z = 0.0;
+    for (int it = 0; it < 200 && hi - lo > 1e-13 * (1.0 + hi); ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (shootElastica(length, k, mid, x, z) < 0.0 ? lo : hi) = mid;
+    }
+    shootElastica(length, k, 0.5 * (lo + hi), x, z);
+    t.lambda.push_back(lambda);
+    t.value.push_back({length - x, z});
+  }
+  return t;
+}
+
 ReferenceTable scaled(ReferenceTable table, double factor) {
   for (auto& row : table.value)
     for (double& v : row) v *= factor;

@@ -28,6 +28,15 @@ ReferenceTable loadReferenceTable(const std::string& path, std::vector<std::stri
 /// Quantities {"-u_tip", "w_tip"}.
 ReferenceTable endMomentClosedForm(double length, int levels);
 
+/// The inextensible elastica of a cantilever (length L, bending stiffness EI, clamped at s = 0) under a tip
+/// force of fixed vertical direction λ·Pmax, at the given load factors: EI θ'' = −P cos θ, θ(0) = 0,
+/// θ'(L) = 0, solved by shooting on θ'(0) (RK4, 4000 steps, bisection to 1e-13). Quantities
+/// {"-u_tip", "w_tip"}: the tip's inward and vertical displacements. A second reference for Sze's §3.1 table,
+/// whose three-decimal values are coarse at small loads (λ = 0.05: the table's −u_tip = 0.026, the elastica's
+/// 0.0266).
+ReferenceTable endShearElastica(double length, double bendingStiffness, double maxForce,
+                                const std::vector<double>& lambdas);
+
 /// The same table with every value multiplied by factor (geometrically similar problems).
 ReferenceTable scaled(ReferenceTable table, double factor);
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <limits>
 #include <ostream>
@@ -18,6 +19,12 @@ namespace {
 
 double seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 /// Raises the load factor from 0 through every level, one Newton solve per increment. An increment that
@@ -133,6 +140,7 @@ NewtonOptions benchmarkNewtonOptions() {
 
 BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpuStart = processCpuSeconds();
   BenchmarkResult r;
   r.name = b.name;
   r.resolution = o.resolution.n1 > 0 ? o.resolution : b.defaultResolution;
@@ -201,6 +209,7 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
   else
     r.finalRelError = r.maxRelError = std::numeric_limits<double>::infinity();
   r.wallSeconds = seconds(start);
+  r.cpuSeconds = processCpuSeconds() - cpuStart;
   return r;
 }
 

@@ -1,0 +1,161 @@
+// `jetshell validate NAME | --all`: runs the validation benchmarks (validation/benchmarks.cpp) and compares
+// every tabulated load level with its reference; prints the table, writes a PNG of the load paths and, with
+// --json, one object per benchmark. VALIDATION.md explains the benchmarks, the options and the figures.
+#include "core/mesh.h"
+#include "tools/subcommand.h"
+#include "tools/validation/validation_plots.h"
+#include "validation/benchmark.h"
+#include "validation/report.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace jetshell::cli {
+namespace {
+
+using namespace jetshell::validation;
+
+struct ValidateArgs {
+  std::vector<std::string> names;
+  bool all = false;
+  bool list = false;
+  std::string json;
+  std::string plots = "validation-output";
+  bool noPlot = false;
+  std::string mesh;
+  std::string clamp = "mirrored";
+  std::string diagonals = "uniform";
+  std::string solver;
+  std::string projection = "none";
+  double maxIncrement = 1.0;
+  double initialIncrement = 0.005;
+  int predictor = 2;
+  double residualTolerance = NewtonOptions{}.residualTolerance;
+  double maxError = 0.0;
+  bool log = false;
+};
+
+Resolution parseMesh(const std::string& s) {
+  Resolution r;
+  char x = 0;
+  char rest = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d%c", &r.n1, &x, &r.n2, &rest) != 3 || (x != 'x' && x != 'X') || r.n1 < 1 ||
+      r.n2 < 1)
+    throw InputError("--mesh: '" + s + "' is not N1xN2 with positive counts (e.g. 8x64)");
+  return r;
+}
+
+BenchmarkRunOptions runOptions(const ValidateArgs& a) {
+  BenchmarkRunOptions o;
+  if (!a.mesh.empty()) o.resolution = parseMesh(a.mesh);
+  o.clamp = parseClampKind(a.clamp);
+  o.diagonals = parseDiagonals(a.diagonals);
+  if (!a.solver.empty()) {
+    o.useDefaultSolver = false;
+    if (a.solver == "load-stepping")
+      o.solver = SolverKind::LoadStepping;
+    else if (a.solver == "dynamic-relaxation")
+      o.solver = SolverKind::DynamicRelaxation;
+    else
+      throw InputError("--solver: '" + a.solver + "' is not one of: load-stepping, dynamic-relaxation");
+  }
+  if (a.projection == "none")
+    o.newton.projection = PsdProjection::None;
+  else if (a.projection == "clamp")
+    o.newton.projection = PsdProjection::Clamp;
+  else
+    throw InputError("--projection: '" + a.projection + "' is not one of: none, clamp");
+  o.maxIncrement = a.maxIncrement;
+  o.initialIncrement = std::min(a.initialIncrement, a.maxIncrement);
+  o.predictorOrder = a.predictor;
+  o.newton.residualTolerance = a.residualTolerance;
+  if (a.log) o.log = &std::cerr;
+  return o;
+}
+
+int runValidate(const ValidateArgs& a) {
+  if (a.list) {
+    for (const Benchmark& b : allBenchmarks())
+      std::cout << b.name << ": " << b.title << " (default mesh " << b.defaultResolution.n1 << "x"
+                << b.defaultResolution.n2 << ", " << b.resolutionMeaning << ")\n";
+    return kOk;
+  }
+  std::vector<const Benchmark*> selected;
+  if (a.all)
+    for (const Benchmark& b : allBenchmarks()) selected.push_back(&b);
+  for (const std::string& n : a.names) selected.push_back(&findBenchmark(n));
+  if (selected.empty()) throw InputError("validate: name a benchmark, or --all, or --list");
+  const BenchmarkRunOptions options = runOptions(a);
+  if (!a.noPlot) std::filesystem::create_directories(a.plots);
+
+  nlohmann::json out = nlohmann::json::array();
+  bool ok = true;
+  for (const Benchmark* b : selected) {
+    const BenchmarkResult r = runBenchmark(*b, options);
+    std::cout << b->name << ": " << formatSummary(*b, r) << formatTable(r) << "\n";
+    if (!r.completed) ok = false;
+    if (a.maxError > 0.0 && !(r.maxRelError <= a.maxError)) {
+      std::cout << b->name << ": FAILED: max relative error " << 100.0 * r.maxRelError << "% > --max-error "
+                << 100.0 * a.maxError << "%\n\n";
+      ok = false;
+    }
+    nlohmann::json j = toJson(*b, r);
+    if (!a.noPlot && !r.rows.empty()) {
+      const std::string png = (std::filesystem::path(a.plots) / (b->name + ".png")).string();
+      try {
+        plotLoadPath(*b, r, png);
+        j["plot"] = png;
+        std::cout << "plot: " << png << "\n\n";
+      } catch (const InputError& e) {
+        std::cout << "note: no plot (" << e.what() << ")\n\n";
+      }
+    }
+    out.push_back(std::move(j));
+  }
+  if (!a.json.empty()) {
+    std::ofstream f(a.json);
+    if (!f) throw InputError("--json: cannot write '" + a.json + "'");
+    f << out.dump(2) << "\n";
+  }
+  return ok ? kOk : kFailed;
+}
+
+const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
+  auto a = std::make_shared<ValidateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "validate", "Run the nonlinear shell benchmarks (Sze et al. 2004, the page's slit ring) against their references");
+  cmd->add_option("names", a->names, "Benchmarks to run (see --list)");
+  cmd->add_flag("--all", a->all, "Run every benchmark");
+  cmd->add_flag("--list", a->list, "List the benchmarks and their default meshes");
+  cmd->add_option("--json", a->json, "Write the results (one object per benchmark) to this JSON file");
+  cmd->add_option("--plots", a->plots, "Directory for the load-path PNGs (default validation-output)");
+  cmd->add_flag("--no-plot", a->noPlot, "Skip the PNGs");
+  cmd->add_option("--mesh", a->mesh, "Resolution N1xN2 instead of the benchmark's default (see --list)");
+  cmd->add_option("--clamp", a->clamp, "Clamped edges: mirrored (default), normal, two-row");
+  cmd->add_option("--diagonals", a->diagonals, "Quad split: uniform (default) or alternating");
+  cmd->add_option("--solver", a->solver, "load-stepping or dynamic-relaxation (default: the benchmark's)");
+  cmd->add_option("--projection", a->projection, "Newton's per-element PSD projection: none (default) or clamp");
+  cmd->add_option("--max-increment", a->maxIncrement, "Largest load-factor increment of one Newton solve")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--initial-increment", a->initialIncrement, "The first load-factor increment")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--predictor", a->predictor, "Order of the extrapolated start of each solve (0: last equilibrium)")
+      ->check(CLI::Range(0, 3));
+  cmd->add_option("--residual-tolerance", a->residualTolerance,
+                  "Newton's residual tolerance (x the largest applied nodal force)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-error", a->maxError, "Fail (exit 1) when a benchmark's max relative error exceeds this")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--log", a->log, "One line per Newton solve on stderr");
+  cmd->callback([a, &exitCode] { exitCode = runValidate(*a); });
+});
+
+}  // namespace
+}  // namespace jetshell::cli
