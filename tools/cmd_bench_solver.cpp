@@ -257,8 +257,9 @@ const RegisterSubcommand reg("bench solver", [](CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({"backward_euler", "bdf2"}));
   cmd->add_option("--linear-solver", opts->linearSolver, "auto | cholmod | ldlt | pcg")
       ->check(CLI::IsMember({"auto", "cholmod", "ldlt", "pcg"}));
-  cmd->add_option("--preconditioner", opts->preconditioner, "PCG preconditioner: jacobi | block_jacobi | ic")
-      ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic"}));
+  cmd->add_option("--preconditioner", opts->preconditioner,
+                  "PCG preconditioner: jacobi | block_jacobi | ic | lagged_cholesky")
+      ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic", "lagged_cholesky"}));
   cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--line-search", opts->lineSearch, "none | armijo | residual | wolfe")
