@@ -33,12 +33,13 @@ void requireAtLeast(const char* generator, const char* name, int value, int mini
 
 /// Triangulates an nu × nv grid of quads whose corner (i, j) has vertex id(i, j) (i may wrap for closed
 /// surfaces: id handles that). The (u, v) parameter directions and the right-hand rule give the normal;
-/// diagonals alternate like makeRectangleGrid's.
-void appendQuadGrid(std::vector<std::array<int, 3>>& faces, int nu, int nv, const std::function<int(int, int)>& id) {
+/// alternating diagonals follow makeRectangleGrid's pattern.
+void appendQuadGrid(std::vector<std::array<int, 3>>& faces, int nu, int nv, const std::function<int(int, int)>& id,
+                    QuadDiagonals diagonals) {
   for (int j = 0; j < nv; ++j) {
     for (int i = 0; i < nu; ++i) {
       const int v00 = id(i, j), v10 = id(i + 1, j), v01 = id(i, j + 1), v11 = id(i + 1, j + 1);
-      if ((i + j) % 2 == 0) {
+      if (diagonals == QuadDiagonals::Uniform || (i + j) % 2 == 0) {
         faces.push_back({v00, v10, v11});
         faces.push_back({v00, v11, v01});
       } else {
@@ -86,7 +87,7 @@ TriMesh makeRectangleGrid(double width, double height, int nx, int ny) {
   return m;
 }
 
-TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int nodesPerRing) {
+TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int nodesPerRing, QuadDiagonals diagonals) {
   const char* g = "slit annulus";
   requirePositive(g, "innerRadius", innerRadius);
   requirePositive(g, "outerRadius", outerRadius);
@@ -105,12 +106,12 @@ TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int n
   }
   std::vector<std::array<int, 3>> faces;
   // u = radius, v = angle: e_r × e_θ = +z.
-  appendQuadGrid(faces, rings - 1, nodesPerRing - 1, [&](int r, int j) { return r * nodesPerRing + j; });
+  appendQuadGrid(faces, rings - 1, nodesPerRing - 1, [&](int r, int j) { return r * nodesPerRing + j; }, diagonals);
   m.F = toFaces(faces);
   return m;
 }
 
-TriMesh makeCylinder(double radius, double length, double arcRadians, int nAround, int nAlong) {
+TriMesh makeCylinder(double radius, double length, double arcRadians, int nAround, int nAlong, QuadDiagonals diagonals) {
   const char* g = "cylinder";
   requirePositive(g, "radius", radius);
   requirePositive(g, "length", length);
@@ -132,12 +133,14 @@ TriMesh makeCylinder(double radius, double length, double arcRadians, int nAroun
   }
   std::vector<std::array<int, 3>> faces;
   // u = θ, v = y: (R cos θ, 0, −R sin θ) × (0, 1, 0) points outward.
-  appendQuadGrid(faces, nAround, nAlong, [&](int i, int j) { return j * columns + (closed ? i % nAround : i); });
+  appendQuadGrid(faces, nAround, nAlong, [&](int i, int j) { return j * columns + (closed ? i % nAround : i); },
+                 diagonals);
   m.F = toFaces(faces);
   return m;
 }
 
-TriMesh makeHemisphere(double radius, int rings, int segments, double holeRadians, double azimuthRadians) {
+TriMesh makeHemisphere(double radius, int rings, int segments, double holeRadians, double azimuthRadians,
+                       QuadDiagonals diagonals) {
   const char* g = "hemisphere";
   requirePositive(g, "radius", radius);
   requireAtLeast(g, "rings", rings, 1);
@@ -175,7 +178,24 @@ TriMesh makeHemisphere(double radius, int rings, int segments, double holeRadian
     for (int i = 0; i < segments; ++i) faces.push_back({0, id(1, i), id(1, i + 1)});
   }
   // u = polar angle φ, v = azimuth θ: ∂φ × ∂θ points outward.
-  appendQuadGrid(faces, rings - firstRing, segments, [&](int k, int i) { return id(k + firstRing, i); });
+  appendQuadGrid(faces, rings - firstRing, segments, [&](int k, int i) { return id(k + firstRing, i); }, diagonals);
+  m.F = toFaces(faces);
+  return m;
+}
+
+QuadDiagonals quadDiagonalsFromString(const std::string& name) {
+  if (name == "alternating") return QuadDiagonals::Alternating;
+  if (name == "uniform") return QuadDiagonals::Uniform;
+  throw InputError("diagonals = \"" + name + "\": must be \"alternating\" or \"uniform\"");
+}
+
+const char* toString(QuadDiagonals d) { return d == QuadDiagonals::Uniform ? "uniform" : "alternating"; }
+
+TriMesh makeRectangleGrid(double width, double height, int nx, int ny, QuadDiagonals diagonals) {
+  TriMesh m = makeRectangleGrid(width, height, nx, ny);
+  if (diagonals == QuadDiagonals::Alternating) return m;
+  std::vector<std::array<int, 3>> faces;
+  appendQuadGrid(faces, nx, ny, [&](int i, int j) { return j * (nx + 1) + i; }, diagonals);
   m.F = toFaces(faces);
   return m;
 }

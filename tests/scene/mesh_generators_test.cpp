@@ -92,3 +92,23 @@ TEST_CASE("generators: invalid parameters name the parameter") {
   CHECK_THROWS_WITH(makeHemisphere(1.0, 4, 8, 0.0, kPi),
                     "hemisphere: a partial azimuth needs a hole angle > 0 (the pole would be degenerate)");
 }
+
+TEST_CASE("generators: uniform diagonals split every quad along (i, j)–(i+1, j+1)") {
+  const TriMesh alternating = makeRectangleGrid(2.0, 1.0, 4, 2);
+  const TriMesh uniform = makeRectangleGrid(2.0, 1.0, 4, 2, QuadDiagonals::Uniform);
+  CHECK(uniform.V == alternating.V);
+  CHECK(uniform.F != alternating.F);
+  for (int f = 0; f < uniform.numFaces(); f += 2) {
+    const int j = f / 2 / 4, i = f / 2 % 4, v00 = j * 5 + i, v11 = v00 + 6;
+    CHECK(uniform.F.row(f) == Eigen::RowVector3i(v00, v00 + 1, v11));
+    CHECK(uniform.F.row(f + 1) == Eigen::RowVector3i(v00, v11, v00 + 5));
+  }
+  CHECK(makeRectangleGrid(2.0, 1.0, 4, 2, QuadDiagonals::Alternating).F == alternating.F);
+  for (const TriMesh& m : {makeSlitAnnulus(0.6, 1.0, 3, 9, QuadDiagonals::Uniform),
+                           makeCylinder(1.0, 2.0, 2 * kPi, 6, 3, QuadDiagonals::Uniform),
+                           makeHemisphere(1.0, 4, 8, 0.0, 2 * kPi, QuadDiagonals::Uniform)}) {
+    buildTopology(m);  // valid and consistently oriented
+  }
+  CHECK(quadDiagonalsFromString("uniform") == QuadDiagonals::Uniform);
+  CHECK_THROWS_WITH(quadDiagonalsFromString("random"), "diagonals = \"random\": must be \"alternating\" or \"uniform\"");
+}

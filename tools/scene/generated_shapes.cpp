@@ -27,8 +27,8 @@ std::vector<int> sequence(int count, const std::function<int(int)>& id) {
 
 }  // namespace
 
-ShapeHandle makeRectangleShape(double width, double height, int nx, int ny) {
-  TriMesh m = makeRectangleGrid(width, height, nx, ny);
+ShapeHandle makeRectangleShape(double width, double height, int nx, int ny, QuadDiagonals diagonals) {
+  TriMesh m = makeRectangleGrid(width, height, nx, ny, diagonals);
   Groups g;
   g["left"] = sequence(ny + 1, [&](int j) { return j * (nx + 1); });
   g["right"] = sequence(ny + 1, [&](int j) { return j * (nx + 1) + nx; });
@@ -37,8 +37,9 @@ ShapeHandle makeRectangleShape(double width, double height, int nx, int ny) {
   return CreateTriMeshShape(std::move(m), "generator rectangle", std::move(g));
 }
 
-ShapeHandle makeSlitAnnulusShape(double innerRadius, double outerRadius, int rings, int nodesPerRing) {
-  TriMesh m = makeSlitAnnulus(innerRadius, outerRadius, rings, nodesPerRing);
+ShapeHandle makeSlitAnnulusShape(double innerRadius, double outerRadius, int rings, int nodesPerRing,
+                                 QuadDiagonals diagonals) {
+  TriMesh m = makeSlitAnnulus(innerRadius, outerRadius, rings, nodesPerRing, diagonals);
   Groups g;
   g["inner"] = sequence(nodesPerRing, [&](int j) { return j; });
   g["outer"] = sequence(nodesPerRing, [&](int j) { return (rings - 1) * nodesPerRing + j; });
@@ -47,8 +48,9 @@ ShapeHandle makeSlitAnnulusShape(double innerRadius, double outerRadius, int rin
   return CreateTriMeshShape(std::move(m), "generator slitAnnulus", std::move(g));
 }
 
-ShapeHandle makeCylinderShape(double radius, double length, double arcRadians, int nAround, int nAlong) {
-  TriMesh m = makeCylinder(radius, length, arcRadians, nAround, nAlong);
+ShapeHandle makeCylinderShape(double radius, double length, double arcRadians, int nAround, int nAlong,
+                              QuadDiagonals diagonals) {
+  TriMesh m = makeCylinder(radius, length, arcRadians, nAround, nAlong, diagonals);
   const bool closed = arcRadians >= kTwoPi * (1 - 1e-12);
   const int columns = closed ? nAround : nAround + 1;
   Groups g;
@@ -61,8 +63,9 @@ ShapeHandle makeCylinderShape(double radius, double length, double arcRadians, i
   return CreateTriMeshShape(std::move(m), "generator cylinder", std::move(g));
 }
 
-ShapeHandle makeHemisphereShape(double radius, int rings, int segments, double holeRadians, double azimuthRadians) {
-  TriMesh m = makeHemisphere(radius, rings, segments, holeRadians, azimuthRadians);
+ShapeHandle makeHemisphereShape(double radius, int rings, int segments, double holeRadians, double azimuthRadians,
+                                QuadDiagonals diagonals) {
+  TriMesh m = makeHemisphere(radius, rings, segments, holeRadians, azimuthRadians, diagonals);
   const bool closedAround = azimuthRadians >= kTwoPi * (1 - 1e-12);
   const bool pole = holeRadians == 0.0;
   const int columns = closedAround ? segments : segments + 1;

@@ -38,6 +38,10 @@ int atLeast(const Object& o, const std::string& key, int minimum) {
   return v;
 }
 
+QuadDiagonals diagonals(const Object& generator) {
+  return quadDiagonalsFromString(generator.choice("diagonals", {"alternating", "uniform"}, "alternating"));
+}
+
 ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (!v.isObject()) v.typeError("an object (a shape: {\"obj\": path}, {\"generator\": ...} or {\"vertices\", \"faces\"})");
   const nlohmann::json& j = v.raw();
@@ -65,29 +69,29 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   const std::string generator =
       Object(v).choice("generator", {"rectangle", "slitAnnulus", "cylinder", "hemisphere"}, "");
   if (generator == "rectangle") {
-    const Object o = v.object({"generator", "width", "height", "nx", "ny"}, "a rectangle generator");
+    const Object o = v.object({"generator", "width", "height", "nx", "ny", "diagonals"}, "a rectangle generator");
     const double w = positive(o, "width"), h = positive(o, "height");
     const int nx = atLeast(o, "nx", 1), ny = atLeast(o, "ny", 1);
-    return at(v.pointer(), [&] { return makeRectangleShape(w, h, nx, ny); });
+    return at(v.pointer(), [&] { return makeRectangleShape(w, h, nx, ny, diagonals(o)); });
   }
   if (generator == "slitAnnulus") {
-    const Object o = v.object({"generator", "innerRadius", "outerRadius", "rings", "nodesPerRing"},
+    const Object o = v.object({"generator", "innerRadius", "outerRadius", "rings", "nodesPerRing", "diagonals"},
                               "a slitAnnulus generator");
     const double ri = positive(o, "innerRadius"), ro = positive(o, "outerRadius");
     if (!(ro > ri)) check::fail(o.member("outerRadius"), ro, "must be > innerRadius");
     const int rings = atLeast(o, "rings", 2), nodes = atLeast(o, "nodesPerRing", 4);
-    return at(v.pointer(), [&] { return makeSlitAnnulusShape(ri, ro, rings, nodes); });
+    return at(v.pointer(), [&] { return makeSlitAnnulusShape(ri, ro, rings, nodes, diagonals(o)); });
   }
   if (generator == "cylinder") {
-    const Object o = v.object({"generator", "radius", "length", "arcDegrees", "nAround", "nAlong"},
+    const Object o = v.object({"generator", "radius", "length", "arcDegrees", "nAround", "nAlong", "diagonals"},
                               "a cylinder generator");
     const double r = positive(o, "radius"), length = positive(o, "length");
     const double arc = o.number("arcDegrees", 360.0);
     if (!(arc > 0 && arc <= 360)) check::fail(o.member("arcDegrees"), arc, "must lie in (0, 360]");
     const int nAround = atLeast(o, "nAround", arc == 360.0 ? 3 : 1), nAlong = atLeast(o, "nAlong", 1);
-    return at(v.pointer(), [&] { return makeCylinderShape(r, length, arc * kRadiansPerDegree, nAround, nAlong); });
+    return at(v.pointer(), [&] { return makeCylinderShape(r, length, arc * kRadiansPerDegree, nAround, nAlong, diagonals(o)); });
   }
-  const Object o = v.object({"generator", "radius", "rings", "segments", "holeDegrees", "azimuthDegrees"},
+  const Object o = v.object({"generator", "radius", "rings", "segments", "holeDegrees", "azimuthDegrees", "diagonals"},
                             "a hemisphere generator");
   const double r = positive(o, "radius");
   const int rings = atLeast(o, "rings", 1);
@@ -96,7 +100,8 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (!(azimuth > 0 && azimuth <= 360)) check::fail(o.member("azimuthDegrees"), azimuth, "must lie in (0, 360]");
   const int segments = atLeast(o, "segments", azimuth == 360.0 ? 3 : 1);
   return at(v.pointer(), [&] {
-    return makeHemisphereShape(r, rings, segments, hole * kRadiansPerDegree, azimuth * kRadiansPerDegree);
+    return makeHemisphereShape(r, rings, segments, hole * kRadiansPerDegree, azimuth * kRadiansPerDegree,
+                               diagonals(o));
   });
 }
 
