@@ -41,6 +41,9 @@ void plotErrorVersusTime(const std::vector<ErrorTimePoint>& points, const std::s
   spec.xLabel = timeLabel;
   spec.yLabel = "max relative error";
   spec.logX = spec.logY = true;
+  static const char* palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2",
+                                  "#17becf"};
+  std::map<std::string, std::string> colorOf;
   std::vector<std::string> order;
   std::map<std::string, PlotSeries> series;
   double tMin = 1e300, tMax = 0.0;
@@ -48,7 +51,8 @@ void plotErrorVersusTime(const std::vector<ErrorTimePoint>& points, const std::s
     if (!(p.seconds > 0.0) || !(p.error > 0.0)) continue;
     if (!series.count(p.series)) {
       order.push_back(p.series);
-      series[p.series] = PlotSeries{p.series, {}, {}, "linespoints", "", 1};
+      if (!colorOf.count(p.colorKey)) colorOf[p.colorKey] = palette[colorOf.size() % 8];
+      series[p.series] = PlotSeries{p.series, {}, {}, "linespoints", colorOf[p.colorKey], p.dashType};
     }
     series[p.series].x.push_back(p.seconds);
     series[p.series].y.push_back(p.error);

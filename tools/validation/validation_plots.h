@@ -18,6 +18,8 @@ struct ErrorTimePoint {
   std::string series;  // e.g. "slit-annular-plate, mirrored clamp"
   double seconds = 0.0;
   double error = 0.0;  // relative, > 0
+  std::string colorKey;  // series with the same key share a colour (e.g. the benchmark)
+  int dashType = 1;      // gnuplot dash type: 1 solid, 2 dashed, 3 dotted
 };
 
 /// Log–log chart of the max relative error over the path against the time to compute it, one line per series

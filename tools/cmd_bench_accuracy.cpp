@@ -1,0 +1,244 @@
+// `jetshell bench accuracy`: the convergence study of VALIDATION.md. Runs every benchmark at four or more
+// mesh resolutions, compares the clamped-edge models and the quad splits, and measures the solver knobs that
+// trade time for accuracy; prints markdown tables (error at λ = 1 and over the path, wall and CPU time, Newton
+// iterations, observed order), and writes the error-versus-time chart and, with --json, every run.
+#include "core/mesh.h"
+#include "tools/subcommand.h"
+#include "tools/validation/validation_plots.h"
+#include "validation/benchmark.h"
+#include "validation/report.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace jetshell::cli {
+namespace {
+
+using namespace jetshell::validation;
+
+/// One run of the study: a benchmark, a mesh and the options that differ from the defaults.
+struct StudyRun {
+  std::string group;   // the table it belongs to
+  std::string series;  // the line of the chart (and the order-of-convergence pairs)
+  std::string benchmark;
+  Resolution mesh;
+  std::string variant;  // what differs from the defaults, for the table
+  std::function<void(BenchmarkRunOptions&)> tweak;
+};
+
+std::vector<StudyRun> studyRuns(bool quick, bool large) {
+  std::vector<StudyRun> runs;
+  auto add = [&](std::string group, std::string series, std::string bench, std::vector<Resolution> meshes,
+                 std::string variant, std::function<void(BenchmarkRunOptions&)> tweak) {
+    for (const Resolution& m : meshes) runs.push_back({group, series, bench, m, variant, tweak});
+  };
+  const auto none = [](BenchmarkRunOptions&) {};
+  const auto clamp = [](ClampKind k) { return [k](BenchmarkRunOptions& o) { o.clamp = k; }; };
+  const auto alternating = [](BenchmarkRunOptions& o) { o.diagonals = Diagonals::Alternating; };
+
+  // 1. Convergence with the defaults (mirrored clamp, uniform diagonals, load stepping).
+  const std::vector<Resolution> plate = quick ? std::vector<Resolution>{{2, 16}, {4, 32}, {8, 64}}
+                                              : std::vector<Resolution>{{2, 16}, {4, 32}, {8, 64}, {16, 128}};
+  const std::vector<Resolution> shear = quick ? std::vector<Resolution>{{10, 1}, {20, 2}, {40, 4}}
+                                              : std::vector<Resolution>{{10, 1}, {20, 2}, {40, 4}, {80, 8}};
+  const std::vector<Resolution> moment = quick ? std::vector<Resolution>{{12, 1}, {24, 2}, {48, 4}}
+                                               : std::vector<Resolution>{{12, 1}, {24, 2}, {48, 4}, {96, 8}};
+  const std::vector<Resolution> ring = quick ? std::vector<Resolution>{{2, 32}, {4, 64}, {8, 128}}
+                                             : std::vector<Resolution>{{2, 32}, {4, 64}, {8, 128}, {16, 256}};
+  add("convergence", "slit annular plate", "slit-annular-plate", plate, "", none);
+  add("convergence", "cantilever end shear (Sze)", "cantilever-end-shear", shear, "", none);
+  add("convergence", "cantilever end shear (elastica)", "cantilever-end-shear-elastica", shear, "", none);
+  add("convergence", "cantilever end moment", "cantilever-end-moment", moment, "", none);
+  add("convergence", "page's slit ring (static)", "slit-ring-page", ring, "", none);
+  // Angular refinement first: the plate's error is governed by the elements along the slit edges.
+  add("anisotropic", "slit annular plate, angular refinement", "slit-annular-plate",
+      quick ? std::vector<Resolution>{{2, 64}, {4, 128}} : std::vector<Resolution>{{2, 64}, {4, 128}, {8, 256}},
+      "", none);
+
+  // 2. Clamped edges: the two other models on the same meshes.
+  for (ClampKind k : {ClampKind::Normal, ClampKind::TwoRow}) {
+    const std::string name = std::string(toString(k)) + " clamp";
+    add("clamps", "cantilever end shear (elastica), " + name, "cantilever-end-shear-elastica", shear, name,
+        clamp(k));
+    add("clamps", "cantilever end moment, " + name, "cantilever-end-moment", moment, name, clamp(k));
+    add("clamps", "slit annular plate, " + name, "slit-annular-plate",
+        std::vector<Resolution>(plate.begin(), plate.end() - 1), name, clamp(k));
+    add("clamps", "page's slit ring (static), " + name, "slit-ring-page", {{4, 64}}, name, clamp(k));
+  }
+
+  // 3. Quad split: alternating diagonals overestimate the twist 2x.
+  add("diagonals", "slit annular plate, alternating diagonals", "slit-annular-plate",
+      std::vector<Resolution>(plate.begin(), plate.end() - 1), "alternating diagonals", alternating);
+  add("diagonals", "cantilever end shear (elastica), alternating diagonals", "cantilever-end-shear-elastica",
+      {{40, 4}}, "alternating diagonals", alternating);
+  add("diagonals", "page's slit ring (static), alternating, two-row", "slit-ring-page", {{4, 64}},
+      "alternating diagonals, two-row clamp", [](BenchmarkRunOptions& o) {
+        o.diagonals = Diagonals::Alternating;
+        o.clamp = ClampKind::TwoRow;
+      });
+
+  // 4. Solver knobs on fixed meshes: they change the time, not the converged answer.
+  const Resolution knobPlate{8, 64};
+  add("knobs", "knobs", "slit-annular-plate", {knobPlate}, "defaults", none);
+  add("knobs", "knobs", "slit-annular-plate", {knobPlate}, "max increment 0.025",
+      [](BenchmarkRunOptions& o) { o.maxIncrement = 0.025; });
+  add("knobs", "knobs", "slit-annular-plate", {knobPlate}, "predictor 0 (start from the last equilibrium)",
+      [](BenchmarkRunOptions& o) { o.predictorOrder = 0; });
+  add("knobs", "knobs", "slit-annular-plate", {knobPlate}, "PSD projection clamp",
+      [](BenchmarkRunOptions& o) { o.newton.projection = PsdProjection::Clamp; });
+  for (double tol : {1e-3, 1e-4, 1e-8}) {
+    char label[48];
+    std::snprintf(label, sizeof label, "residual tolerance %g", tol);
+    add("knobs", "knobs", "slit-annular-plate", {knobPlate}, label,
+        [tol](BenchmarkRunOptions& o) { o.newton.residualTolerance = tol; });
+  }
+  add("knobs", "knobs", "cantilever-end-moment", {{48, 4}}, "defaults", none);
+  add("knobs", "knobs", "cantilever-end-moment", {{48, 4}}, "predictor 0 (start from the last equilibrium)",
+      [](BenchmarkRunOptions& o) { o.predictorOrder = 0; });
+
+  // 5. The page's example as the page runs it: dynamic relaxation, Δt = 1/30 s, α_R = 0.3 1/s.
+  if (!quick) {
+    add("relaxation", "page's slit ring (relaxation)", "slit-ring-page-relaxation", {{4, 64}}, "two-row clamp",
+        clamp(ClampKind::TwoRow));
+    add("relaxation", "page's slit ring (relaxation)", "slit-ring-page-relaxation", {{4, 64}}, "mirrored clamp",
+        none);
+  }
+  // 6. The smallest meshes found to reach 1% on the slit ring (minutes each).
+  if (large)
+    add("one-percent", "page's slit ring (static), fine meshes", "slit-ring-page", {{12, 384}, {16, 512}}, "", none);
+  return runs;
+}
+
+std::string percent(double e) {
+  if (!std::isfinite(e)) return "failed";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3f", 100.0 * e);
+  return b;
+}
+
+std::string fixed(double v, int digits) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.*f", digits, v);
+  return b;
+}
+
+struct Done {
+  StudyRun run;
+  BenchmarkResult result;
+};
+
+/// Observed order between this run and the previous one of the same series, from the error at λ = 1 and the
+/// mean edge length (∝ 1/√faces for these structured meshes).
+std::string order(const Done* previous, const Done& d, bool finalError) {
+  if (previous == nullptr) return "";
+  const double e0 = finalError ? previous->result.finalRelError : previous->result.maxRelError;
+  const double e1 = finalError ? d.result.finalRelError : d.result.maxRelError;
+  const double h0 = 1.0 / std::sqrt(static_cast<double>(previous->result.faces));
+  const double h1 = 1.0 / std::sqrt(static_cast<double>(d.result.faces));
+  if (!(e0 > 0.0 && e1 > 0.0 && std::isfinite(e0) && std::isfinite(e1))) return "";
+  return fixed(std::log(e0 / e1) / std::log(h0 / h1), 2);
+}
+
+int runStudy(bool quick, bool large, const std::string& jsonPath, const std::string& chartPath, const std::string& only) {
+  std::vector<Done> done;
+  nlohmann::json all = nlohmann::json::array();
+  for (const StudyRun& run : studyRuns(quick, large)) {
+    if (!only.empty() && run.group != only) continue;
+    const Benchmark& b = findBenchmark(run.benchmark);
+    BenchmarkRunOptions o;
+    o.resolution = run.mesh;
+    run.tweak(o);
+    BenchmarkResult r = runBenchmark(b, o);
+    std::cerr << run.group << " | " << run.series << " | " << r.resolution.n1 << "x" << r.resolution.n2 << " "
+              << run.variant << ": max " << percent(r.maxRelError) << "%, final " << percent(r.finalRelError)
+              << "%, " << fixed(r.wallSeconds, 2) << " s\n";
+    nlohmann::json j = toJson(b, r);
+    j["group"] = run.group;
+    j["series"] = run.series;
+    j["variant"] = run.variant;
+    all.push_back(std::move(j));
+    done.push_back({run, std::move(r)});
+  }
+
+  std::string group;
+  const Done* previous = nullptr;
+  for (const Done& d : done) {
+    if (d.run.group != group) {
+      group = d.run.group;
+      std::cout << "\n### " << group << "\n\n"
+                << "| series | variant | mesh | vertices | max error % | error at λ=1 % | order (max) | order (λ=1) "
+                   "| wall s | CPU s | Newton it. | steps | cuts |\n"
+                << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      previous = nullptr;
+    }
+    if (previous != nullptr && previous->run.series != d.run.series) previous = nullptr;
+    const bool ordered = d.run.group != "knobs" && d.run.group != "relaxation";
+    const BenchmarkResult& r = d.result;
+    std::cout << "| " << d.run.series << " | " << d.run.variant << " | " << r.resolution.n1 << "x"
+              << r.resolution.n2 << " | " << r.vertices << " | " << percent(r.maxRelError) << " | "
+              << percent(r.finalRelError) << " | " << (ordered ? order(previous, d, false) : "") << " | "
+              << (ordered ? order(previous, d, true) : "") << " | " << fixed(r.wallSeconds, 2) << " | "
+              << fixed(r.cpuSeconds, 2) << " | " << r.newtonIterations << " | " << r.loadSteps << " | " << r.cuts
+              << " |\n";
+    previous = &d;
+  }
+
+  if (!chartPath.empty()) {
+    std::vector<ErrorTimePoint> points;
+    for (const Done& d : done)
+      if (d.run.group == "convergence" || d.run.group == "anisotropic" || d.run.group == "one-percent" ||
+          (d.run.group == "clamps" && d.run.series.find("two-row") != std::string::npos))
+        points.push_back({d.run.series, d.result.cpuSeconds, d.result.maxRelError, d.run.benchmark,
+                          d.run.group == "clamps" ? 2 : d.run.group == "anisotropic" ? 3 : 1});
+    try {
+      plotErrorVersusTime(points, "CPU seconds (whole load path)", chartPath);
+      std::cout << "\nchart: " << chartPath << "\n";
+    } catch (const InputError& e) {
+      std::cout << "\nnote: no chart (" << e.what() << ")\n";
+    }
+  }
+  if (!jsonPath.empty()) {
+    std::ofstream f(jsonPath);
+    if (!f) throw InputError("--json: cannot write '" + jsonPath + "'");
+    f << all.dump(2) << "\n";
+  }
+  return kOk;
+}
+
+const RegisterSubcommand reg("bench_accuracy", [](CLI::App& app, int& exitCode) {
+  struct Args {
+    bool quick = false;
+    bool large = false;
+    std::string json;
+    std::string chart = "validation-output/error_vs_time.png";
+    std::string only;
+  };
+  auto a = std::make_shared<Args>();
+  CLI::App* cmd = benchCommand(app)->add_subcommand(
+      "accuracy", "The convergence study of VALIDATION.md: error against mesh, clamp, quad split and solver knobs");
+  cmd->add_flag("--quick", a->quick, "Three meshes per benchmark and no relaxation runs (about a minute)");
+  cmd->add_flag("--large", a->large, "Also the fine slit-ring meshes that reach 1% (several minutes each)");
+  cmd->add_option("--json", a->json, "Write every run to this JSON file");
+  cmd->add_option("--chart", a->chart, "Error-versus-time PNG (default validation-output/error_vs_time.png; '' for none)");
+  cmd->add_option("--only", a->only, "Run one group: convergence, anisotropic, clamps, diagonals, knobs, relaxation, one-percent");
+  cmd->callback([a, &exitCode] {
+    if (!a->chart.empty()) {
+      const std::string dir = a->chart.substr(0, a->chart.find_last_of('/'));
+      if (dir != a->chart) std::filesystem::create_directories(dir);
+    }
+    exitCode = runStudy(a->quick, a->large, a->json, a->chart, a->only);
+  });
+});
+
+}  // namespace
+}  // namespace jetshell::cli
