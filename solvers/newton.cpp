@@ -2,6 +2,7 @@
 
 #include "solvers/timer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -52,6 +53,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   double r = 0.0;
   enum class Have { Nothing, Gradient, Hessian } have = Have::Nothing;
   bool tryExact = false;     // the last step's full-step model agreed: try the unprojected Hessian
+  int exactCooldown = 0;     // iterations to wait before the next try, growing with each fallback
   bool haveExact = false;    // the assembled Hessian is the unprojected one
   double residualThreshold = 0.0, decrementThreshold = 0.0;
 
@@ -98,7 +100,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   for (int k = 0;; ++k) {
     IterationRecord rec;
     rec.iteration = k;
-    const bool useExact = adaptive && tryExact;
+    const bool useExact = adaptive && tryExact && exactCooldown == 0;
+    if (exactCooldown > 0) --exactCooldown;
     if (have == Have::Nothing) assemble(useExact, rec);
     r = infNorm(g);
     if (!std::isfinite(E) || !g.allFinite()) {
@@ -133,8 +136,11 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     b = -g;
     LinearSolveReport lin = linear_->solve(obj.assembler(), b, d, haveExact ? 0 : -1);
     if (!lin.success && haveExact) {
+      // Each fallback costs an assembly and a factorization: back off (2, 4, 8, ... iterations) where the
+      // unprojected Hessian keeps being indefinite.
       ++s.projectionFallbacks;
       tryExact = false;
+      exactCooldown = 1 << std::min(s.projectionFallbacks, 6);
       rec.factorizationSeconds += lin.factorizationSeconds;
       rec.solveSeconds += lin.solveSeconds;
       s.numericFactorizations += lin.numericFactorizations;

@@ -132,6 +132,7 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 int runSolverBench(const SolverBenchOptions& o) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // line-buffered: long runs show progress when redirected
   if (o.threads > 0) omp_set_num_threads(o.threads);
   nlohmann::json out;
   const ShellProblem problem = clothProblem(o);
