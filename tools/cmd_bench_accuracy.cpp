@@ -44,7 +44,7 @@ std::vector<StudyRun> studyRuns(bool quick, bool large) {
   };
   const auto none = [](BenchmarkRunOptions&) {};
   const auto clamp = [](ClampKind k) { return [k](BenchmarkRunOptions& o) { o.clamp = k; }; };
-  const auto alternating = [](BenchmarkRunOptions& o) { o.diagonals = Diagonals::Alternating; };
+  const auto alternating = [](BenchmarkRunOptions& o) { o.diagonals = QuadDiagonals::Alternating; };
 
   // 1. Convergence with the defaults (mirrored clamp, uniform diagonals, load stepping).
   const std::vector<Resolution> plate = quick ? std::vector<Resolution>{{2, 16}, {4, 32}, {8, 64}}
@@ -83,7 +83,7 @@ std::vector<StudyRun> studyRuns(bool quick, bool large) {
       {{40, 4}}, "alternating diagonals", alternating);
   add("diagonals", "page's slit ring (static), alternating, two-row", "slit-ring-page", {{4, 64}},
       "alternating diagonals, two-row clamp", [](BenchmarkRunOptions& o) {
-        o.diagonals = Diagonals::Alternating;
+        o.diagonals = QuadDiagonals::Alternating;
         o.clamp = ClampKind::TwoRow;
       });
 

@@ -56,7 +56,7 @@ BenchmarkRunOptions runOptions(const ValidateArgs& a) {
   BenchmarkRunOptions o;
   if (!a.mesh.empty()) o.resolution = parseMesh(a.mesh);
   o.clamp = parseClampKind(a.clamp);
-  o.diagonals = parseDiagonals(a.diagonals);
+  o.diagonals = quadDiagonalsFromString(a.diagonals);
   if (!a.solver.empty()) {
     o.useDefaultSolver = false;
     if (a.solver == "load-stepping")

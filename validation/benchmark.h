@@ -2,11 +2,11 @@
 // how a run is configured, and what it reports.
 #pragma once
 
+#include "core/mesh_generators.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
 #include "validation/end_moment_term.h"
 #include "validation/reference_table.h"
-#include "validation/structured_triangulation.h"
 
 #include <Eigen/Core>
 
@@ -71,10 +71,10 @@ struct Benchmark {
   std::string resolutionMeaning;  // what n1 and n2 count
   ReferenceTable reference;
   ErrorMeasure errorMeasure = ErrorMeasure::PerQuantity;
-  Resolution defaultResolution;          // the smallest mesh of the study that meets the 1% target
-  std::vector<Resolution> studyResolutions;  // the convergence study's meshes, coarse to fine
+  Resolution defaultResolution;  // what `validate` runs without --mesh: the best error for about a second or two
+                                 // of CPU (VALIDATION.md); the meshes that reach 1% are listed there
   SolverKind defaultSolver = SolverKind::LoadStepping;  // dynamic relaxation compares λ = 1 only
-  std::function<BenchmarkCase(const Resolution&, ClampKind, Diagonals)> build;
+  std::function<BenchmarkCase(const Resolution&, ClampKind, QuadDiagonals)> build;
 };
 
 /// Every benchmark, in a fixed order.
@@ -92,7 +92,7 @@ NewtonOptions benchmarkNewtonOptions();
 struct BenchmarkRunOptions {
   Resolution resolution;  // n1 = 0: the benchmark's default
   ClampKind clamp = ClampKind::Mirrored;
-  Diagonals diagonals = Diagonals::Uniform;
+  QuadDiagonals diagonals = QuadDiagonals::Uniform;  // alternating diagonals overestimate the twist 2x
   SolverKind solver = SolverKind::LoadStepping;
   bool useDefaultSolver = true;  // take the benchmark's solver instead of `solver`
   double maxIncrement = 1.0;     // largest load-factor increment of one Newton solve (tabulated levels are
@@ -119,7 +119,7 @@ struct BenchmarkResult {
   std::string name;
   Resolution resolution;
   ClampKind clamp = ClampKind::Mirrored;
-  Diagonals diagonals = Diagonals::Uniform;
+  QuadDiagonals diagonals = QuadDiagonals::Uniform;  // alternating diagonals overestimate the twist 2x
   SolverKind solver = SolverKind::LoadStepping;
   int vertices = 0, faces = 0;
   double wallSeconds = 0.0;

@@ -42,26 +42,24 @@ std::vector<int> gridColumn(int nx, int ny, int i) {
   return c;
 }
 
-BenchmarkCase cantilever(double length, const Resolution& r, ClampKind kind, Diagonals diagonals) {
-  TriMesh mesh = makeRectangleGrid(length, 1.0, r.n1, r.n2);
-  if (diagonals == Diagonals::Uniform)
-    mesh.F = uniformDiagonalFaces(r.n1, r.n2, [&](int i, int j) { return j * (r.n1 + 1) + i; });
+BenchmarkCase cantilever(double length, const Resolution& r, ClampKind kind, QuadDiagonals diagonals) {
   BenchmarkCase c;
-  c.problem = staticProblem(std::move(mesh), ShellMaterialParamsFrom3dIsotropic(1.2e6, 0.0, 1.0, 0.1));
+  c.problem = staticProblem(makeRectangleGrid(length, 1.0, r.n1, r.n2, diagonals),
+                            ShellMaterialParamsFrom3dIsotropic(1.2e6, 0.0, 1.0, 0.1));
   clamp(c.problem, gridColumn(r.n1, r.n2, 0), gridColumn(r.n1, r.n2, 1), kind);
   const std::vector<int> tip = gridColumn(r.n1, r.n2, r.n1);
   c.probes = {Probe{tip, 0, -1.0}, Probe{tip, 2, 1.0}};
   return c;
 }
 
-BenchmarkCase cantileverEndShear(const Resolution& r, ClampKind kind, Diagonals diagonals) {
+BenchmarkCase cantileverEndShear(const Resolution& r, ClampKind kind, QuadDiagonals diagonals) {
   BenchmarkCase c = cantilever(10.0, r, kind, diagonals);
   // Pmax = 4 over the width 1.
   c.problem.nodalForces = consistentLineLoad(c.problem.mesh, gridColumn(r.n1, r.n2, r.n1), {0.0, 0.0, 4.0});
   return c;
 }
 
-BenchmarkCase cantileverEndMoment(const Resolution& r, ClampKind kind, Diagonals diagonals) {
+BenchmarkCase cantileverEndMoment(const Resolution& r, ClampKind kind, QuadDiagonals diagonals) {
   BenchmarkCase c = cantilever(12.0, r, kind, diagonals);
   c.momentEdge = gridColumn(r.n1, r.n2, r.n1);
   c.momentAxis = {0.0, -1.0, 0.0};  // turns +x towards +z: the strip rolls up
@@ -72,15 +70,12 @@ BenchmarkCase cantileverEndMoment(const Resolution& r, ClampKind kind, Diagonals
 // ---- Slit annular plate (§3.3): Ri = 6, Ro = 10, h = 0.03, E = 21e6, ν = 0, q = 0.8 lifting the free side. ----
 
 BenchmarkCase slitAnnulus(double scale, double youngsModulus, double density, double massDamping,
-                          const Resolution& r, ClampKind kind, Diagonals diagonals) {
+                          const Resolution& r, ClampKind kind, QuadDiagonals diagonals) {
   const int rings = r.n1 + 1, nodes = r.n2 + 1;
   ShellMaterialParams m = ShellMaterialParamsFrom3dIsotropic(youngsModulus, 0.0, density, 0.03 * scale);
   m.massDampingCoefficient = massDamping;
   BenchmarkCase c;
-  TriMesh mesh = makeSlitAnnulus(6.0 * scale, 10.0 * scale, rings, nodes);
-  if (diagonals == Diagonals::Uniform)
-    mesh.F = uniformDiagonalFaces(r.n1, r.n2, [&](int k, int j) { return k * nodes + j; });
-  c.problem = staticProblem(std::move(mesh), m);
+  c.problem = staticProblem(makeSlitAnnulus(6.0 * scale, 10.0 * scale, rings, nodes, diagonals), m);
   // Node j of ring k has index k·nodes + j: column 0 (θ = 0) is the clamped side, column nodes − 1 (θ = 2π)
   // the loaded one.
   std::vector<int> clamped, next, loaded;
@@ -104,9 +99,8 @@ std::vector<Benchmark> makeBenchmarks() {
     s.title = "Slit annular plate under lifting line force (Sze et al. 2004 §3.3)";
     s.resolutionMeaning = "radial x angular quads (each split in two triangles)";
     s.reference = loadReferenceTable(dir + "/sze2004_3.3_slit_annular_plate.tsv", {"W_A", "W_B"});
-    s.defaultResolution = {8, 64};
-    s.studyResolutions = {{2, 16}, {4, 32}, {6, 48}, {8, 64}, {12, 96}, {16, 128}};
-    s.build = [](const Resolution& r, ClampKind k, Diagonals d) { return slitAnnulus(1.0, 21e6, 1.0, 0.0, r, k, d); };
+    s.defaultResolution = {4, 128};
+    s.build = [](const Resolution& r, ClampKind k, QuadDiagonals d) { return slitAnnulus(1.0, 21e6, 1.0, 0.0, r, k, d); };
     b.push_back(std::move(s));
   }
   {
@@ -115,8 +109,7 @@ std::vector<Benchmark> makeBenchmarks() {
     s.title = "Cantilever under end shear force (Sze et al. 2004 §3.1)";
     s.resolutionMeaning = "nx x ny squares along x 10 and y 1 (each split in two triangles)";
     s.reference = loadReferenceTable(dir + "/sze2004_3.1_cantilever_end_shear.tsv", {"-u_tip", "w_tip"});
-    s.defaultResolution = {40, 4};
-    s.studyResolutions = {{10, 1}, {20, 2}, {40, 4}, {80, 8}, {160, 16}};
+    s.defaultResolution = {20, 2};
     s.build = cantileverEndShear;
     b.push_back(s);
     s.name = "cantilever-end-shear-elastica";
@@ -132,7 +125,6 @@ std::vector<Benchmark> makeBenchmarks() {
     s.reference = endMomentClosedForm(12.0, 20);
     s.errorMeasure = ErrorMeasure::DisplacementNorm;
     s.defaultResolution = {48, 4};
-    s.studyResolutions = {{12, 1}, {24, 2}, {48, 4}, {96, 8}, {192, 16}};
     s.build = cantileverEndMoment;
     b.push_back(std::move(s));
   }
@@ -143,8 +135,7 @@ std::vector<Benchmark> makeBenchmarks() {
     s.resolutionMeaning = "radial x angular quads; the page's mesh is 4 x 64 (5 rings x 65 nodes)";
     s.reference = scaled(loadReferenceTable(dir + "/sze2004_3.3_slit_annular_plate.tsv", {"W_A", "W_B"}), 0.1);
     s.defaultResolution = {4, 64};
-    s.studyResolutions = {{2, 32}, {4, 64}, {8, 128}, {16, 256}};
-    s.build = [](const Resolution& r, ClampKind k, Diagonals d) {
+    s.build = [](const Resolution& r, ClampKind k, QuadDiagonals d) {
       return slitAnnulus(0.1, 210e6, 1000.0, 0.3, r, k, d);
     };
     b.push_back(s);
