@@ -48,12 +48,13 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
   if (wantG || wantH) {
     for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
-#pragma omp parallel for schedule(dynamic, 1)
+      // Small meshes run serially: thread start-up costs more than their elements.
+#pragma omp parallel for schedule(dynamic, 1) if (ne >= 512)
       for (int i = 0; i < n; ++i)
         for (int e = color[i].begin; e < color[i].end; ++e) body(e);
     }
   } else {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (ne >= 512)
     for (int e = 0; e < ne; ++e) {
       Eigen::Matrix<double, M, 1> g;
       Eigen::Matrix<double, M, M> H;
