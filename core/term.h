@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace jetshell {
 
@@ -35,6 +36,13 @@ struct EvalRequest {
   int hessianSlot = -1;
 };
 
+/// Derivatives of a term's energy with respect to its differentiable parameters p (size P), at a configuration x
+/// (size 3N). Both come from dual numbers seeded on the parameters, never from finite differences.
+struct ParameterDerivatives {
+  Eigen::VectorXd energy;  // ∂E/∂p, size P
+  Eigen::MatrixXd mixed;   // ∂²E/∂x∂p = ∂g/∂p, 3N × P (rows ordered as x; prescribed dofs are not zeroed)
+};
+
 class EnergyTerm {
  public:
   virtual ~EnergyTerm() = default;
@@ -51,6 +59,18 @@ class EnergyTerm {
   virtual bool zeroAtRest() const { return true; }
   /// True when the energy is invariant under rigid motions of the whole configuration.
   virtual bool rigidInvariant() const { return true; }
+
+  // Parameters as differentiable inputs (fitting, sensitivities). A term exposes the constants its energy is
+  // a smooth function of (λ, μ, α, β, density, damping coefficients, load magnitudes, contact stiffness, ...)
+  // under stable names; the default is a term with none.
+  /// Names of the differentiable parameters, in a fixed order (empty: none).
+  virtual std::vector<std::string> parameterNames() const { return {}; }
+  /// Their current values, in parameterNames() order.
+  virtual std::vector<double> parameterValues() const { return {}; }
+  /// Replaces the values (same order and count; InputError otherwise). Later evaluations use them.
+  virtual void setParameterValues(const std::vector<double>& values);
+  /// ∂E/∂p and ∂²E/∂x∂p at x. The default throws InputError for a term with parameters that did not override it.
+  virtual void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out);
 };
 
 using EnergyTermPtr = std::shared_ptr<EnergyTerm>;

@@ -1,5 +1,5 @@
 // Lumped mass, gravity and external nodal forces: terms linear in x (zero Hessian).
-#include "energies/shell_terms.h"
+#include "energies/shell/shell_terms.h"
 
 namespace jetshell {
 namespace {

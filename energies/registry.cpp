@@ -1,7 +1,7 @@
 #include "energies/registry.h"
 
 #include "energies/examples/seam_spring.h"
-#include "energies/shell_terms.h"
+#include "energies/shell/shell_terms.h"
 
 #include <cmath>
 

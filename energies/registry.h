@@ -4,15 +4,15 @@
 // To register a new term, add one line to the table in energies/registry.cpp:
 //   {"my_term", "what it is", [](const TermSetup& s) { return makeMyTerm(s.mesh, ...); }},
 // The factory builds the term on the small mesh it is given (a 4-face bending stencil patch and a 12-face grid,
-// see core/check_configurations.h); the term's own zeroAtRest() / rigidInvariant() say which conformance checks
+// see tools/checks/check_configurations.h); the term's own zeroAtRest() / rigidInvariant() say which conformance checks
 // apply. A term with a model Hessian that is not the derivative of its gradient sets hessianIsExact = false.
 #pragma once
 
 #include "core/mesh.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/term.h"
 #include "core/topology.h"
-#include "energies/material.h"
+#include "energies/shell/material.h"
 
 #include <functional>
 #include <string>

@@ -14,13 +14,13 @@
 #pragma once
 
 #include "core/mesh.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/topology.h"
-#include "energies/bending_term.h"
+#include "energies/shell/bending_term.h"
 #include "energies/kinetic_terms.h"
-#include "energies/material.h"
-#include "energies/membrane_term.h"
-#include "energies/shell_terms.h"
+#include "energies/shell/material.h"
+#include "energies/shell/membrane_term.h"
+#include "energies/shell/shell_terms.h"
 #include "solvers/objective.h"
 #include "solvers/prescribed_positions.h"
 

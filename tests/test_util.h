@@ -2,8 +2,8 @@
 // rigid motions, and a scoped OpenMP thread count.
 #pragma once
 
-#include "core/check_configurations.h"
-#include "core/derivative_check.h"
+#include "tools/checks/check_configurations.h"
+#include "tools/checks/derivative_check.h"
 #include "energies/registry.h"
 
 #include <Eigen/Geometry>

@@ -3,9 +3,9 @@
 // and Gauss–Newton bending Hessians, 1 thread and all threads. Medians of repeats; peak RSS reported.
 #include "core/assembly.h"
 #include "core/mesh_generators.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/topology.h"
-#include "energies/shell_terms.h"
+#include "energies/shell/shell_terms.h"
 #include "tools/subcommand.h"
 
 #include <nlohmann/json.hpp>

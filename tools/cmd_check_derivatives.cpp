@@ -1,10 +1,10 @@
 // `jetshell check-derivatives`: every registered energy term (energies/registry.h), or those named with --term,
-// checked on random and adversarial configurations (core/check_configurations.h) of two small meshes: AD vs
+// checked on random and adversarial configurations (tools/checks/check_configurations.h) of two small meshes: AD vs
 // analytic, each path vs Richardson-extrapolated central differences, symmetry of the gradient's Jacobian, and
-// PSD-ness of model (Gauss–Newton) Hessians (core/derivative_check.h). Prints a table of the largest errors per
+// PSD-ness of model (Gauss–Newton) Hessians (tools/checks/derivative_check.h). Prints a table of the largest errors per
 // term; exits 1 when a tolerance is exceeded.
-#include "core/check_configurations.h"
-#include "core/derivative_check.h"
+#include "tools/checks/check_configurations.h"
+#include "tools/checks/derivative_check.h"
 #include "energies/registry.h"
 #include "tools/subcommand.h"
 
@@ -182,7 +182,7 @@ int run(const CheckOptions& o) {
     std::printf("  %-10s  %3d  min aspect %.1e  max fold angle %8.3f deg  max stretch %.2f\n", toString(kind),
                 k.count, k.minAspect, k.maxFoldDeg, k.maxStretch);
   }
-  std::printf("\nrelative errors (max over configurations; see core/derivative_check.h for the definition)\n");
+  std::printf("\nrelative errors (max over configurations; see tools/checks/derivative_check.h for the definition)\n");
   std::printf("%-24s %7s  %9s  %9s  %11s  %9s  %9s  %9s  %s\n", "term", "checked", "AD-vs-an", "grad-FD",
               "Hess-FD", "asym(J)", "FD-noise", "min-eig", "result");
 
@@ -246,7 +246,7 @@ const RegisterSubcommand reg("check-derivatives", [](CLI::App& app, int& exitCod
       "rotations, x3 stretch, folds near 180 deg, near-degenerate triangles) of a 4-face bending-stencil patch\n"
       "and a 12-face grid. Prints the largest relative errors per term; exit 1 when a tolerance is exceeded.\n"
       "Relative error = |A - B| / max(|B|, floor), B the reference (analytic, or finite differences), the floor\n"
-      "1e-3 of the term's scale (see core/derivative_check.h).");
+      "1e-3 of the term's scale (see tools/checks/derivative_check.h).");
   const std::vector<std::string> names = registeredTermNames();
   std::string allNames;
   for (const std::string& n : names) allNames += (allNames.empty() ? "" : ", ") + n;

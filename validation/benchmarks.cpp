@@ -2,7 +2,7 @@
 #include "validation/benchmark.h"
 
 #include "core/mesh_generators.h"
-#include "energies/material.h"
+#include "energies/shell/material.h"
 #include "validation/line_load.h"
 
 #include <cmath>

@@ -15,11 +15,11 @@
 #pragma once
 
 #include "core/mesh.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/scalar.h"
 #include "core/topology.h"
 #include "energies/element_energy_term.h"
-#include "energies/shell_geometry.h"
+#include "energies/shell/shell_geometry.h"
 
 #include <memory>
 #include <vector>

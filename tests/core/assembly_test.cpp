@@ -1,7 +1,7 @@
-#include "../test_util.h"
+#include "tests/test_util.h"
 #include "core/assembly.h"
 #include "core/mesh_generators.h"
-#include "energies/shell_terms.h"
+#include "energies/shell/shell_terms.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-#include "core/check_configurations.h"
+#include "tools/checks/check_configurations.h"
 #include "core/mesh_generators.h"
 #include "core/topology.h"
 

@@ -1,7 +1,7 @@
 // The conformance suite: every term in the registry (energies/registry.h) goes through the same checks, so a
 // newly registered term is enrolled automatically. Limits are set from measured values (quoted beside each)
 // with a margin of 100× or more.
-#include "../test_util.h"
+#include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
 
@@ -104,7 +104,7 @@ TEST_CASE("conformance: invariance under rigid motions") {
 
 TEST_CASE("conformance: symmetric Hessian, AD equal to analytic, agreement with finite differences") {
   ScopedThreads serial(1);
-  // The checker's default limits (AD vs analytic 1e-10, vs FD and asymmetry 1e-8): core/derivative_check.h
+  // The checker's default limits (AD vs analytic 1e-10, vs FD and asymmetry 1e-8): tools/checks/derivative_check.h
   // quotes what they were measured against.
   const DerivativeTolerances tol;
   for (const RegisteredTerm& entry : termRegistry()) {

@@ -1,4 +1,4 @@
-#include "../test_util.h"
+#include "tests/test_util.h"
 #include "energies/examples/seam_spring.h"
 
 #include <catch2/catch.hpp>

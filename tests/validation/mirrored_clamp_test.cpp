@@ -1,7 +1,7 @@
 #include "core/mesh_generators.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/topology.h"
-#include "energies/shell_terms.h"
+#include "energies/shell/shell_terms.h"
 #include "validation/benchmark.h"
 #include "validation/mirrored_clamp_term.h"
 

@@ -5,7 +5,7 @@
 // that asks for contact runs without it and says so (see tools/scene/scene.h, Scene::warnings()).
 #pragma once
 
-#include "energies/material.h"
+#include "energies/shell/material.h"
 #include "tools/scene/shapes.h"
 
 #include <Eigen/Geometry>

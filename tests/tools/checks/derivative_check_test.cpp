@@ -1,7 +1,7 @@
 // The derivative checker must catch wrong derivatives: each test plants one kind of error in an otherwise
 // correct term and requires the matching check to fail, beside the unmodified term passing.
-#include "../test_util.h"
-#include "energies/shell_terms.h"
+#include "tests/test_util.h"
+#include "energies/shell/shell_terms.h"
 
 #include <catch2/catch.hpp>
 

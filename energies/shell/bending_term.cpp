@@ -7,16 +7,16 @@
 //     templated density). Gradient = area · J_bᵀ w. Hessian = area · (J_bᵀ W'' J_b [Gauss–Newton part]
 //     + Σ_k w_k ∇²b_k [exact only]), the second part by the chain rule through passes 2 and 1.
 // The nonlinear stages (unitNormal, kelvinInversion, bendingDensity: 3 inputs each) get their derivatives from
-// Jet<Jet<double,3>,3> on the AD path and from energies/analytic_stages.h on the analytic path; everything
+// Jet<Jet<double,3>,3> on the AD path and from energies/shell/analytic_stages.h on the analytic path; everything
 // else is shared. Each face normal serves four stencils and each mid-edge normal two, computed once.
-#include "energies/bending_term.h"
+#include "energies/shell/bending_term.h"
 
 #include "core/element_loop.h"
-#include "energies/analytic_stages.h"
+#include "energies/shell/analytic_stages.h"
 #include "energies/element_energy_term.h"
-#include "energies/shell_geometry.h"
-#include "energies/shell_terms.h"
-#include "energies/stage_derivatives.h"
+#include "energies/shell/shell_geometry.h"
+#include "energies/shell/shell_terms.h"
+#include "core/stage_derivatives.h"
 
 #include <Eigen/Geometry>
 

@@ -1,9 +1,9 @@
-#include "../test_util.h"
+#include "tests/test_util.h"
 #include "core/mesh_generators.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/topology.h"
-#include "energies/bending_term.h"
-#include "energies/shell_terms.h"
+#include "energies/shell/bending_term.h"
+#include "energies/shell/shell_terms.h"
 
 #include <catch2/catch.hpp>
 

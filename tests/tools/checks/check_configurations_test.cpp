@@ -1,5 +1,5 @@
-#include "core/check_configurations.h"
-#include "core/derivative_check.h"
+#include "tools/checks/check_configurations.h"
+#include "tools/checks/derivative_check.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,5 +1,5 @@
-// Hand-derived twins of the nonlinear stages in energies/shell_geometry.h. The conformance suite checks each
-// against its Jet-derived counterpart (energies/stage_derivatives.h) to ~1e-12 relative.
+// Hand-derived twins of the nonlinear stages in energies/shell/shell_geometry.h. The conformance suite checks each
+// against its Jet-derived counterpart (core/stage_derivatives.h) to ~1e-12 relative.
 #pragma once
 
 #include <Eigen/Core>

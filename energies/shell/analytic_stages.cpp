@@ -1,4 +1,4 @@
-#include "energies/analytic_stages.h"
+#include "energies/shell/analytic_stages.h"
 
 #include <Eigen/Dense>
 

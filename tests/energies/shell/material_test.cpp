@@ -1,5 +1,5 @@
 #include "core/mesh.h"
-#include "energies/material.h"
+#include "energies/shell/material.h"
 
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-#include "energies/material.h"
+#include "energies/shell/material.h"
 
 #include "core/mesh.h"
 

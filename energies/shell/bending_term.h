@@ -3,7 +3,7 @@
 #pragma once
 
 #include "core/mesh.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/term.h"
 #include "core/topology.h"
 

@@ -2,12 +2,12 @@
 #pragma once
 
 #include "core/mesh.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/term.h"
 #include "core/topology.h"
-#include "energies/bending_term.h"
-#include "energies/material.h"
-#include "energies/membrane_term.h"
+#include "energies/shell/bending_term.h"
+#include "energies/shell/material.h"
+#include "energies/shell/membrane_term.h"
 
 #include <Eigen/Core>
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "core/mesh.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/term.h"
 
 #include <string>

@@ -1,5 +1,5 @@
 // Small meshes and adversarial configurations on which energy terms' derivatives are checked
-// (core/derivative_check.h, `jetshell check-derivatives`, tests/energies/conformance_test.cpp).
+// (tools/checks/derivative_check.h, `jetshell check-derivatives`, tests/energies/conformance_test.cpp).
 //
 // Kinds of configuration (every kind except `random` also applies a random rigid motion):
 //   random      rest positions + uniform noise of ±0.15 mean edge lengths per coordinate;
@@ -12,7 +12,7 @@
 #pragma once
 
 #include "core/mesh.h"
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 #include "core/topology.h"
 
 #include <Eigen/Core>

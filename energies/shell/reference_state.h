@@ -21,7 +21,7 @@ struct ShellReference {
 };
 
 /// Computes the reference state from the mesh's rest positions. The bending stencil and B use the same
-/// templated geometry as the energy (energies/shell_geometry.h).
+/// templated geometry as the energy (energies/shell/shell_geometry.h).
 ShellReference computeReference(const TriMesh& mesh, const Topology& topology);
 
 }  // namespace jetshell

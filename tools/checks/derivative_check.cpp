@@ -1,4 +1,4 @@
-#include "core/derivative_check.h"
+#include "tools/checks/derivative_check.h"
 
 #include "core/assembly.h"
 

@@ -85,7 +85,7 @@ T bendingDensity(const T b[3], const double B[3], const double Ainv[3], double a
 /// Everything the bending energy of one face sees, from the 6 stencil positions x (18 values: the face's
 /// vertices 0,1,2, then the opposite vertices across edges 0,1,2). boundary[i] marks edge i as a boundary
 /// edge (its opposite vertex is ignored and the missing normal is this face's normal). The staged evaluator
-/// in energies/bending_term.cpp differentiates the same pieces separately; this composite serves the value,
+/// in energies/shell/bending_term.cpp differentiates the same pieces separately; this composite serves the value,
 /// the reference state, and the whole-stencil nested-Jet reference in the checks.
 template <typename T>
 void stencilSecondFundamentalForm(const T* x, const bool boundary[3], T b[3]) {

@@ -1,6 +1,6 @@
-#include "core/reference_state.h"
+#include "energies/shell/reference_state.h"
 
-#include "energies/shell_geometry.h"
+#include "energies/shell/shell_geometry.h"
 
 namespace jetshell {
 

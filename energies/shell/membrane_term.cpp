@@ -1,12 +1,12 @@
 // Membrane term: per face, x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the
 // templated density, differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
-#include "energies/membrane_term.h"
+#include "energies/shell/membrane_term.h"
 
 #include "core/element_loop.h"
-#include "energies/analytic_stages.h"
-#include "energies/shell_geometry.h"
-#include "energies/shell_terms.h"
-#include "energies/stage_derivatives.h"
+#include "energies/shell/analytic_stages.h"
+#include "energies/shell/shell_geometry.h"
+#include "energies/shell/shell_terms.h"
+#include "core/stage_derivatives.h"
 
 namespace jetshell {
 
