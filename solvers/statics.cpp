@@ -18,38 +18,91 @@ void check(bool ok, const char* field, double value, const char* rule) {
 
 }  // namespace
 
-StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd& x,
+void LoadFactorHooks::set(double lambda) const {
+  if (nodalForces != nullptr) nodalForces->setLoadFactor(lambda);
+  for (const Hook& h : others)
+    if (h.set) h.set(lambda);
+}
+
+void LoadFactorHooks::accept(const Eigen::VectorXd& x) const {
+  for (const Hook& h : others)
+    if (h.accept) h.accept(x);
+}
+
+Eigen::VectorXd extrapolateEquilibria(const std::vector<std::pair<double, Eigen::VectorXd>>& history, double lambda) {
+  const int n = static_cast<int>(history.size());
+  if (n < 2) return history.front().second;
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(history.front().second.size());
+  for (int i = 0; i < n; ++i) {
+    double w = 1.0;
+    for (int j = 0; j < n; ++j)
+      if (j != i) w *= (lambda - history[j].first) / (history[i].first - history[j].first);
+    p += w * history[i].second;
+  }
+  return p;
+}
+
+NewtonOptions staticNewtonOptions() {
+  NewtonOptions o;
+  o.projection = PsdProjection::None;
+  return o;
+}
+
+StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
                            const LoadSteppingOptions& o, const LoadStepCallback& callback) {
   check(std::isfinite(o.targetLoadFactor), "targetLoadFactor", o.targetLoadFactor, "must be finite");
+  check(std::isfinite(o.startLoadFactor), "startLoadFactor", o.startLoadFactor, "must be finite");
   check(o.minIncrement > 0.0, "minIncrement", o.minIncrement, "must be > 0");
   check(o.maxIncrement >= o.minIncrement, "maxIncrement", o.maxIncrement, "must be >= minIncrement");
   check(o.initialIncrement >= o.minIncrement, "initialIncrement", o.initialIncrement, "must be >= minIncrement");
   check(o.growth >= 1.0, "growth", o.growth, "must be >= 1");
+  check(o.predictorOrder >= 0 && o.predictorOrder <= 5, "predictorOrder", o.predictorOrder, "must be in 0..5");
+  check(o.levels.size() <= 1000000, "levels (count)", static_cast<double>(o.levels.size()), "must be <= 1e6");
   if (x.size() != objective.numDofs()) throw InputError("load stepping: x has the wrong size");
+
+  const double start = o.startLoadFactor, target = o.targetLoadFactor;
+  const double direction = target >= start ? 1.0 : -1.0;
+  const double eps = 1e-12 * std::max({1.0, std::abs(target), std::abs(start)});
+  // The stops, in path order, ending with the target.
+  std::vector<double> stops;
+  for (double l : o.levels) {
+    check(std::isfinite(l) && direction * (l - start) > eps && direction * (target - l) >= -eps, "level", l,
+          "must lie after startLoadFactor and not beyond targetLoadFactor");
+    stops.push_back(l);
+  }
+  stops.push_back(target);
+  std::sort(stops.begin(), stops.end(), [&](double a, double b) { return direction * a < direction * b; });
+  stops.erase(std::unique(stops.begin(), stops.end(), [&](double a, double b) { return std::abs(a - b) <= eps; }),
+              stops.end());
 
   StaticsResult result;
   result.activeTerms = objective.activeTermNames();
   NewtonSolver newton(objective, o.newton);
-  const double target = o.targetLoadFactor;
-  const double direction = target >= 0.0 ? 1.0 : -1.0;
-  double lambda = 0.0;
+  double lambda = start;
   double increment = std::min(o.initialIncrement, o.maxIncrement);
   int cuts = 0;
-  Eigen::VectorXd trial;
-  // At least one solve, even for a target of 0 (gravity or prescribed positions alone).
-  while (result.steps.empty() || direction * (target - lambda) > 1e-12 * std::max(1.0, std::abs(target))) {
-    const double next = direction * std::min(direction * (target - lambda), increment) + lambda;
-    trial = x;
+  std::vector<std::pair<double, Eigen::VectorXd>> history = {{start, x}};  // accepted (λ, x), newest first
+  std::size_t nextStop = 0;
+  bool first = true;
+  // At least one solve, even for target = start (gravity or prescribed positions alone).
+  while (first || nextStop < stops.size()) {
+    const double stop = nextStop < stops.size() ? stops[nextStop] : target;
+    const double remaining = direction * (stop - lambda);
+    const bool landing = remaining <= increment * (1.0 + 1e-9);
+    // Two even steps rather than a full one and a sliver.
+    const double size = remaining < 2.0 * increment ? 0.5 * remaining : increment;
+    const double next = landing ? stop : lambda + direction * size;
+    Eigen::VectorXd trial = o.predictorOrder > 0 ? extrapolateEquilibria(history, next) : x;
     objective.applyPrescribed(next, trial);
-    if (loads != nullptr) loads->setLoadFactor(next);
+    loads.set(next);
     SolverSummary summary = newton.minimize(trial);
     result.newtonIterations += summary.iterations;
     if (!summary.converged()) {
       ++cuts;
       ++result.totalCuts;
-      increment *= 0.5;
+      increment = 0.5 * std::abs(next - lambda);
       if (increment < o.minIncrement) {
-        if (loads != nullptr) loads->setLoadFactor(lambda);
+        loads.set(lambda);
         std::ostringstream s;
         s << "load step to lambda = " << next << " failed (" << toString(summary.reason) << ": " << summary.message
           << ") with the increment cut below " << o.minIncrement << "; stopped at lambda = " << lambda;
@@ -59,18 +112,26 @@ StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::V
       }
       continue;
     }
+    first = false;
     lambda = next;
     x = trial;
+    loads.accept(x);
+    history.insert(history.begin(), {lambda, x});
+    if (static_cast<int>(history.size()) > o.predictorOrder + 1) history.pop_back();
     LoadStepResult step;
     step.step = static_cast<int>(result.steps.size());
     step.loadFactor = lambda;
+    step.atLevel = landing;
+    if (landing) ++nextStop;
     step.x = x;
     step.cuts = cuts;
-    const bool easy = summary.iterations <= o.easyIterations;
+    // The next increment aims at easyIterations Newton iterations: Δλ ×= √(easy / taken), within [½, growth].
+    const double factor =
+        std::clamp(std::sqrt(static_cast<double>(o.easyIterations) / std::max(1, summary.iterations)), 0.5, o.growth);
     step.summary = std::move(summary);
     result.steps.push_back(std::move(step));
     cuts = 0;
-    if (easy) increment = std::min(o.maxIncrement, increment * o.growth);
+    increment = std::clamp(increment * factor, o.minIncrement, o.maxIncrement);
     result.loadFactor = lambda;
     if (callback && !callback(result.steps.back())) {
       result.stopped = true;
@@ -87,11 +148,21 @@ StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::V
   return result;
 }
 
+StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd& x,
+                           const LoadSteppingOptions& options, const LoadStepCallback& callback) {
+  LoadFactorHooks hooks;
+  hooks.nodalForces = loads;
+  return solveStatics(objective, hooks, x, options, callback);
+}
+
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
-                           const LoadStepCallback& callback) {
+                           const LoadStepCallback& callback, const std::vector<LoadFactorHooks::Hook>& extra) {
   if (system.kind() != AnalysisKind::Statics)
     throw InputError(std::string("solveStatics: the system was built for ") + toString(system.kind()));
-  return solveStatics(system.objective(), system.nodalForces.get(), x, options, callback);
+  LoadFactorHooks hooks;
+  hooks.nodalForces = system.nodalForces.get();
+  hooks.others = extra;
+  return solveStatics(system.objective(), hooks, x, options, callback);
 }
 
 }  // namespace jetshell

@@ -1,16 +1,21 @@
-// Static equilibrium: load stepping in the load factor λ, and dynamic relaxation.
+// Static equilibrium along a load path: the one statics path of jetshell (`jetshell run` and `jetshell validate`).
 //
-// Load stepping solves min E(x; λ) for λ rising to the target in increments, each from the previous
-// equilibrium: the nodal forces are scaled by λ (NodalForceTerm::setLoadFactor) and prescribed positions are
-// evaluated at "time" λ, so a prescribed displacement ramps with the loads. Gravity is not scaled (it has no
-// load factor). A step that fails (Newton not converged: iteration cap, line-search or linear-solver failure,
-// non-finite values) is cut: x returns to the last equilibrium, the increment halves, and it is retried; after
-// a step that converged in few iterations the increment grows. Every accepted step is kept.
-// Where the load path has a limit point (snap-through), load control cannot pass it: the increments are cut
-// down to minIncrement and the run stops there with the last equilibrium kept; dynamic relaxation (below)
-// is the way across.
+// Inputs: an Objective, the load factor's targets (LoadFactorHooks: the nodal forces, and any other term whose
+// load scales with λ, such as an end moment; prescribed positions are evaluated at "time" λ, so a prescribed
+// motion ramps with the loads), the start x (3N), and the options. Output: every accepted equilibrium (λ, x,
+// the Newton summary), flagged when it sits on a requested level.
+//
+// Load control: λ rises from startLoadFactor to targetLoadFactor and lands exactly on every requested level.
+// Each Newton solve starts from the polynomial through the last predictorOrder + 1 equilibria, extrapolated to
+// the new λ (rotation-free shells need it: Newton's linearization of a large rotation stretches the membrane,
+// so without a good start each increment costs tens of iterations whatever its size; VALIDATION.md). A step
+// that fails (iteration cap, line-search or linear-solver failure, non-finite values) is cut: x returns to the
+// last equilibrium, the increment halves and it is retried; after each step the increment is scaled towards easyIterations
+// Newton iterations per step. Load control cannot pass a limit point: the increments are cut down to minIncrement and
+// the run stops there, keeping the last equilibrium; solvers/arc_length.h is the way across.
 #pragma once
 
+#include "energies/shell/shell_terms.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
 #include "solvers/solver_summary.h"
@@ -23,19 +28,40 @@
 
 namespace jetshell {
 
+/// The terms λ reaches besides the prescribed positions.
+struct LoadFactorHooks {
+  NodalForceTerm* nodalForces = nullptr;  // scaled by λ (may be null)
+  /// Other load-carrying terms: set(λ) before a solve, accept(x) after an equilibrium is accepted (terms
+  /// with path state, such as the end moment's unwrapped angle). Either may be empty.
+  struct Hook {
+    std::function<void(double)> set;
+    std::function<void(const Eigen::VectorXd&)> accept;
+  };
+  std::vector<Hook> others;
+
+  void set(double lambda) const;
+  void accept(const Eigen::VectorXd& x) const;
+};
+
 struct LoadSteppingOptions {
+  double startLoadFactor = 0.0;   // the λ of the start x (an equilibrium there, or the rest state at 0)
   double targetLoadFactor = 1.0;
-  double initialIncrement = 1.0;  // first Δλ (clipped to the target)
+  std::vector<double> levels;     // λ values the path must land on (each reported with atLevel); the target is
+                                  // always one. Need not be sorted; values outside (start, target] are rejected.
+  double initialIncrement = 1.0;  // first Δλ (clipped to the next level)
   double minIncrement = 1e-4;     // give up below this Δλ
   double maxIncrement = 1.0;
-  double growth = 1.5;            // Δλ ×= growth after a step that took <= easyIterations Newton iterations
-  int easyIterations = 6;
+  double growth = 1.5;            // largest factor between successive increments
+  int easyIterations = 6;         // the Newton iterations an increment aims at: after a step that took k,
+                                  // Δλ ×= √(easyIterations / k), clamped to [½, growth]
+  int predictorOrder = 2;         // 0: start from the last equilibrium; k: the polynomial through k + 1 of them
   NewtonOptions newton;
 };
 
 struct LoadStepResult {
   int step = 0;             // accepted-step index, from 0
   double loadFactor = 0.0;  // λ reached
+  bool atLevel = false;     // λ is one of the requested levels (or the target)
   Eigen::VectorXd x;        // the equilibrium (3N)
   SolverSummary summary;    // the Newton solve that reached it
   int cuts = 0;             // failed attempts before this step was accepted
@@ -56,11 +82,23 @@ struct StaticsResult {
 using LoadStepCallback = std::function<bool(const LoadStepResult&)>;
 
 /// Load stepping from x (3N, in/out: on return the last equilibrium; prescribed values are applied at each λ).
-/// loads may be null (then λ only drives the prescribed positions). Throws InputError for invalid options.
+/// Throws InputError for invalid options.
+StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                           const LoadSteppingOptions& options, const LoadStepCallback& callback = {});
+/// The same with the nodal forces as the only load term (may be null).
 StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd& x,
                            const LoadSteppingOptions& options, const LoadStepCallback& callback = {});
-/// The same on a ShellSystem built for AnalysisKind::Statics.
+/// The same on a ShellSystem built for AnalysisKind::Statics (its nodal forces plus `extra` hooks).
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
-                           const LoadStepCallback& callback = {});
+                           const LoadStepCallback& callback = {}, const std::vector<LoadFactorHooks::Hook>& extra = {});
+
+/// The start of a Newton solve at λ: the Lagrange polynomial through the given (λ, x) pairs (newest first),
+/// extrapolated to λ; the newest x when there is only one.
+Eigen::VectorXd extrapolateEquilibria(const std::vector<std::pair<double, Eigen::VectorXd>>& history, double lambda);
+
+/// Newton's options for static paths: the per-element PSD projection off. On large-rotation paths the
+/// projected Hessian makes Newton's convergence linear (the slit annular plate at 4 x 32 quads: 658 iterations
+/// projected, 296 unprojected); indefinite systems are still handled by the linear solver's shift retries.
+NewtonOptions staticNewtonOptions();
 
 }  // namespace jetshell

@@ -32,6 +32,7 @@ struct ValidateArgs {
   std::string mesh;
   std::string clamp = "mirrored";
   std::string diagonals = "uniform";
+  std::string freeEdge = "second_order_free";
   std::string solver;
   std::string projection = "none";
   double maxIncrement = 1.0;
@@ -57,6 +58,9 @@ BenchmarkRunOptions runOptions(const ValidateArgs& a) {
   if (!a.mesh.empty()) o.resolution = parseMesh(a.mesh);
   o.clamp = parseClampKind(a.clamp);
   o.diagonals = quadDiagonalsFromString(a.diagonals);
+  o.freeRule = parseEdgeRule(a.freeEdge);
+  if (o.freeRule != EdgeRule::PageFree && o.freeRule != EdgeRule::SecondOrderFree)
+    throw InputError("--free-edge: '" + a.freeEdge + "' is not one of: page_free, second_order_free");
   if (!a.solver.empty()) {
     o.useDefaultSolver = false;
     if (a.solver == "load-stepping")
@@ -140,6 +144,7 @@ const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--mesh", a->mesh, "Resolution N1xN2 instead of the benchmark's default (see --list)");
   cmd->add_option("--clamp", a->clamp, "Clamped edges: mirrored (default), normal, two-row");
   cmd->add_option("--diagonals", a->diagonals, "Quad split: uniform (default) or alternating");
+  cmd->add_option("--free-edge", a->freeEdge, "Free edges' rule: second_order_free (default: no moment across the edge) or page_free");
   cmd->add_option("--solver", a->solver, "load-stepping or dynamic-relaxation (default: the benchmark's)");
   cmd->add_option("--projection", a->projection, "Newton's per-element PSD projection: none (default) or clamp");
   cmd->add_option("--max-increment", a->maxIncrement, "Largest load-factor increment of one Newton solve")

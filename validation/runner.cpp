@@ -1,8 +1,9 @@
-// Runs a benchmark: the level driver (load stepping that lands on every tabulated λ) or dynamic relaxation,
-// then the comparison with the reference.
+// Runs a benchmark: the statics path (solvers/statics.h, landing on every tabulated λ) or dynamic
+// relaxation, then the comparison with the reference.
 #include "solvers/dynamic_relaxation.h"
+#include "solvers/statics.h"
 #include "validation/benchmark.h"
-#include "validation/mirrored_clamp_term.h"
+#include "validation/boundary_rule_term.h"
 
 #include <algorithm>
 #include <chrono>
@@ -27,86 +28,6 @@ double processCpuSeconds() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
-/// Raises the load factor from 0 through every level, one Newton solve per increment. An increment that
-/// does not converge is halved (from the last equilibrium); one that converges in few iterations grows
-/// back towards maxIncrement. solveStatics (solvers/statics.h) always starts from λ = 0 and cannot be told to
-/// land on given levels or to drive the end-moment term, hence this driver.
-class LevelDriver {
- public:
-  LevelDriver(ShellSystem& system, EndMomentTerm* moment, const BenchmarkRunOptions& o)
-      : system_(system), moment_(moment), options_(o), newton_(system.objective(), o.newton),
-        increment_(std::min(o.initialIncrement, o.maxIncrement)) {
-    history_.push_back({0.0, system.restPositions()});
-  }
-
-  /// Advances the equilibrium x from the current λ to `level`. False when the increment fell below
-  /// minIncrement (x keeps the last equilibrium).
-  bool advanceTo(double level, Eigen::VectorXd& x, BenchmarkResult& r) {
-    while (lambda_ < level - 1e-12) {
-      const double next = std::min(level, lambda_ + increment_);
-      Eigen::VectorXd trial = predict(next, x);
-      system_.objective().applyPrescribed(next, trial);
-      setLoadFactor(next);
-      const SolverSummary s = newton_.minimize(trial);
-      r.newtonIterations += s.iterations;
-      if (options_.log != nullptr)
-        *options_.log << "  lambda " << lambda_ << " -> " << next << ": " << s.briefReport() << "\n";
-      if (!s.converged()) {
-        ++r.cuts;
-        increment_ = 0.5 * (next - lambda_);
-        if (increment_ < options_.minIncrement) {
-          setLoadFactor(lambda_);
-          std::ostringstream m;
-          m << "increment to lambda = " << next << " failed (" << toString(s.reason) << ": " << s.message
-            << ") and was cut below " << options_.minIncrement << "; stopped at lambda = " << lambda_;
-          r.message = m.str();
-          return false;
-        }
-        continue;
-      }
-      x = trial;
-      lambda_ = next;
-      history_.insert(history_.begin(), {lambda_, x});
-      if (static_cast<int>(history_.size()) > options_.predictorOrder + 1) history_.pop_back();
-      ++r.loadSteps;
-      if (moment_ != nullptr) moment_->advance(x);
-      if (s.iterations <= 6) increment_ = std::min(options_.maxIncrement, increment_ * 1.5);
-    }
-    return true;
-  }
-
- private:
-  /// The start of the Newton solve at λ = next: the polynomial through the last accepted equilibria (as many
-  /// as predictorOrder + 1, Lagrange form) extrapolated to next; the last equilibrium when there are none.
-  /// Rotation-free shells need this: Newton's linearization of a large rotation stretches the membrane, so
-  /// without a good start each increment costs tens of iterations whatever its size.
-  Eigen::VectorXd predict(double next, const Eigen::VectorXd& x) const {
-    const int n = static_cast<int>(history_.size());
-    if (n < 2) return x;
-    Eigen::VectorXd p = Eigen::VectorXd::Zero(x.size());
-    for (int i = 0; i < n; ++i) {
-      double w = 1.0;
-      for (int j = 0; j < n; ++j)
-        if (j != i) w *= (next - history_[j].first) / (history_[i].first - history_[j].first);
-      p += w * history_[i].second;
-    }
-    return p;
-  }
-
-  void setLoadFactor(double lambda) {
-    if (system_.nodalForces) system_.nodalForces->setLoadFactor(lambda);
-    if (moment_ != nullptr) moment_->setLoadFactor(lambda);
-  }
-
-  ShellSystem& system_;
-  EndMomentTerm* moment_;
-  const BenchmarkRunOptions& options_;
-  NewtonSolver newton_;
-  double lambda_ = 0.0;
-  double increment_;
-  std::vector<std::pair<double, Eigen::VectorXd>> history_;  // accepted (λ, x), newest first
-};
-
 void compare(const Benchmark& b, int row, const std::vector<double>& computed, BenchmarkResult& r) {
   BenchmarkRow out;
   out.lambda = b.reference.lambda[row];
@@ -122,21 +43,23 @@ void compare(const Benchmark& b, int row, const std::vector<double>& computed, B
   r.rows.push_back(std::move(out));
 }
 
-void addMirroredClamp(ShellSystem& system, const BenchmarkCase& c, ClampKind clamp) {
-  if (clamp != ClampKind::Mirrored) return;
+void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const BenchmarkRunOptions& o) {
+  BoundaryRules rules;
+  rules.clampRule = o.clamp == ClampKind::Mirrored ? EdgeRule::MirroredClamp : EdgeRule::ReferenceClamp;
+  rules.freeRule = o.freeRule;
+  if (!c.momentEdge.empty()) {
+    rules.momentLoadedVertices.assign(static_cast<std::size_t>(c.problem.mesh.numVertices()), 0);
+    for (int v : c.momentEdge) rules.momentLoadedVertices[v] = 1;
+  }
   const ShellMaterialParams& m = system.material();
-  if (auto term = makeMirroredClampTerm(system.mesh(), system.topology(), system.reference(), m.bendingAlpha,
-                                        m.bendingBeta, c.problem.clampedVertices))
+  if (auto term = makeBoundaryRuleTerm(system.mesh(), system.topology(), system.reference(), m.bendingAlpha,
+                                       m.bendingBeta, c.problem.clampedVertices, rules))
     system.objective().addTerm(term);
 }
 
 }  // namespace
 
-NewtonOptions benchmarkNewtonOptions() {
-  NewtonOptions o;
-  o.projection = PsdProjection::None;
-  return o;
-}
+NewtonOptions benchmarkNewtonOptions() { return staticNewtonOptions(); }
 
 BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
   const auto start = std::chrono::steady_clock::now();
@@ -162,7 +85,7 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
     if (!c.momentEdge.empty())
       throw InputError("validate: " + b.name + " has an end moment, which dynamic relaxation cannot unwrap");
     ShellSystem system(c.problem, AnalysisKind::DynamicRelaxation);
-    addMirroredClamp(system, c, r.clamp);
+    addBoundaryRules(system, c, o);
     RelaxationOptions ro;
     ro.timeStep = o.relaxationTimeStep;
     ro.massDamping = o.relaxationMassDamping;
@@ -179,7 +102,7 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
     compare(b, b.reference.rows() - 1, read(x), r);
   } else {
     ShellSystem system(c.problem, AnalysisKind::Statics);
-    addMirroredClamp(system, c, r.clamp);
+    addBoundaryRules(system, c, o);
     std::shared_ptr<EndMomentTerm> moment;
     if (!c.momentEdge.empty()) {
       moment = makeEndMomentTerm(c.problem.mesh, c.momentEdge, c.momentAxis, c.moment);
@@ -190,16 +113,29 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
       scales.force = std::abs(c.moment) / (static_cast<double>(c.momentEdge.size() - 1) * scales.length);
       system.objective().setScales(scales);
     }
-    LevelDriver driver(system, moment.get(), o);
+    LoadSteppingOptions so;
+    so.levels = b.reference.lambda;
+    so.targetLoadFactor = b.reference.lambda.back();
+    so.initialIncrement = o.initialIncrement;
+    so.maxIncrement = o.maxIncrement;
+    so.minIncrement = o.minIncrement;
+    so.predictorOrder = o.predictorOrder;
+    so.newton = o.newton;
+    std::vector<LoadFactorHooks::Hook> hooks;
+    if (moment)
+      hooks.push_back({[&](double l) { moment->setLoadFactor(l); }, [&](const Eigen::VectorXd& x) { moment->advance(x); }});
     Eigen::VectorXd x = X;
-    r.completed = true;
-    for (int row = 0; row < b.reference.rows(); ++row) {
-      if (!driver.advanceTo(b.reference.lambda[row], x, r)) {
-        r.completed = false;
-        break;
-      }
-      compare(b, row, read(x), r);
-    }
+    int row = 0;
+    const StaticsResult sr = solveStatics(system, x, so, [&](const LoadStepResult& s) {
+      if (o.log != nullptr) *o.log << "  lambda -> " << s.loadFactor << ": " << s.summary.briefReport() << "\n";
+      if (s.atLevel && row < b.reference.rows()) compare(b, row++, read(s.x), r);
+      return true;
+    }, hooks);
+    r.newtonIterations = sr.newtonIterations;
+    r.loadSteps = static_cast<int>(sr.steps.size());
+    r.cuts = sr.totalCuts;
+    r.completed = sr.completed && row == b.reference.rows();
+    r.message = sr.message;
     if (r.completed) r.message = "every level reached";
   }
   for (const BenchmarkRow& row : r.rows)

@@ -1,6 +1,7 @@
-// Accuracy in CI: small meshes of the validation benchmarks, each bounded by the error the convergence study
-// measured on that mesh (VALIDATION.md, `jetshell bench accuracy`), rounded up by a few percent of itself.
-// A regression in the energies, the clamp, the loads or the solvers moves these numbers and fails here.
+// Accuracy in CI: small meshes of the validation benchmarks, each bounded from above by the error the
+// convergence study measured on that mesh (VALIDATION.md, `jetshell bench accuracy`), rounded up by a few
+// percent of itself. A regression in the energies, the boundary rules, the loads or the solvers raises these
+// numbers and fails here; an improvement never does (no lower bounds).
 #include "validation/benchmark.h"
 
 #include <catch2/catch.hpp>
@@ -37,39 +38,39 @@ TEST_CASE("accuracy: cantilever end moment, 24x2 quads, rolls into a full circle
   const BenchmarkResult r = run("cantilever-end-moment", {24, 2});
   REQUIRE(r.completed);
   REQUIRE(r.rows.size() == 20);
-  CHECK(r.maxRelError < 0.023);  // measured 2.187%, at λ = 1
+  CHECK(r.maxRelError < 0.024);  // measured 2.320%, at λ = 1 (2.175% with the page's free edge)
   // At λ = 1 the tip is back at the clamped edge: −u = L = 12, w = 0 (of the 12 travelled).
   CHECK(std::abs(r.rows.back().computed[0] - 12.0) < 0.3);
-  CHECK(std::abs(r.rows.back().computed[1]) < 0.05);
+  CHECK(std::abs(r.rows.back().computed[1]) < 0.06);  // measured 0.0505
   // Half-way it stands as a half circle of diameter 2L/π on the clamped end.
   CHECK(r.rows[9].computed[1] == Approx(24.0 / 3.14159265358979323846).epsilon(0.01));
 }
 
 TEST_CASE("accuracy: the end-moment cantilever converges at second order with the mirrored clamp") {
-  const BenchmarkResult coarse = run("cantilever-end-moment", {12, 1});
-  const BenchmarkResult fine = run("cantilever-end-moment", {24, 2});
+  const BenchmarkResult coarse = run("cantilever-end-moment", {24, 2});
+  const BenchmarkResult fine = run("cantilever-end-moment", {48, 4});
   REQUIRE(coarse.completed);
   REQUIRE(fine.completed);
-  CHECK(coarse.finalRelError / fine.finalRelError > 3.0);  // measured 7.386% / 2.187% = 3.4 (order 1.75)
+  CHECK(fine.finalRelError < 0.0062);  // measured 0.591%
+  CHECK(fine.finalRelError < coarse.finalRelError / 3.0);  // measured 2.202% / 0.591% = 3.7 (order 1.9)
 }
 
-TEST_CASE("accuracy: slit annular plate, 4x32 quads, every level within 15.6% (first-order, from the stiff side)") {
+TEST_CASE("accuracy: slit annular plate, 4x32 quads, every level within 6%") {
   const BenchmarkResult r = run("slit-annular-plate", {4, 32});
   REQUIRE(r.completed);
   REQUIRE(r.rows.size() == 23);
-  CHECK(r.maxRelError < 0.156);     // measured 15.31%, at λ = 0.025
-  CHECK(r.finalRelError < 0.092);   // measured 8.94%
-  for (const BenchmarkRow& row : r.rows)
-    for (std::size_t q = 0; q < row.computed.size(); ++q) CHECK(row.computed[q] < row.reference[q]);
+  CHECK(r.maxRelError < 0.060);    // measured 5.782% (15.31% with the page's free edge)
+  CHECK(r.finalRelError < 0.051);  // measured 4.940% (8.94%)
 }
 
-TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh with its two-row clamp is about 4% off") {
-  // The page reports ≈ 4% against the 1.75 m reference at the loaded edge's outer point.
-  const BenchmarkResult r = run("slit-ring-page", {4, 64}, ClampKind::TwoRow);
+TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh is within 2.3% at B") {
+  // The page reports ≈ 4% against the 1.75 m reference at the loaded edge's outer point; its two-row clamp
+  // and free-edge rule give 4.08% here too.
+  const BenchmarkResult r = run("slit-ring-page", {4, 64});
   REQUIRE(r.completed);
   REQUIRE(r.vertices == 325);
   const BenchmarkRow& last = r.rows.back();
   CHECK(last.reference[1] == Approx(1.7528));
-  CHECK(last.relError[1] > 0.035);  // measured 4.08% (W_B = 1.6813 m)
-  CHECK(last.relError[1] < 0.045);
+  CHECK(last.relError[1] < 0.0175);  // measured 1.70% (W_B = 1.7230 m); 2.23% at W_A
+  CHECK(r.finalRelError < 0.023);
 }

@@ -57,7 +57,10 @@ ShellProblem makeProblem(const Scene& scene, const SceneModel& model) {
   return p;
 }
 
-NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
+/// Newton's options from the scene. psdProjection "auto": none on static paths (the projected Hessian makes
+/// Newton linear near large-rotation equilibria: 2x the iterations, and stalls; VALIDATION.md), clamp in time
+/// steps (where inertia keeps the unprojected system definite only for small steps).
+NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations, bool statics = false) {
   NewtonOptions n;
   n.maxIterations = s.maxIterations.value_or(defaultIterations);
   if (s.residualTolerance) n.residualTolerance = *s.residualTolerance;
@@ -65,7 +68,8 @@ NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
   if (s.lineSearch != "default") n.lineSearch = lineSearchTypeFromString(s.lineSearch);
   n.linear.type = linearSolverTypeFromString(s.linearSolver);
   n.linear.preconditioner = preconditionerFromString(s.preconditioner);
-  n.projection = psdProjectionFromString(s.psdProjection);
+  n.projection = s.psdProjection == "auto" ? (statics ? PsdProjection::None : PsdProjection::Clamp)
+                                            : psdProjectionFromString(s.psdProjection);
   n.derivatives = s.derivatives == "autodiff" ? DerivativePath::AutoDiff : DerivativePath::Analytic;
   n.bendingHessian = s.bendingHessian == "gaussNewton" ? BendingHessian::GaussNewton : BendingHessian::Exact;
   return n;
@@ -133,8 +137,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   };
   output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
   remember(0.0, x);
+  // The logged potential energy: elastic energy minus the loads' work on the displacements (F·u), i.e. the
+  // potential at x minus the potential at the reference positions under the same loads (the load terms are
+  // −F·x; their value at rest, −F·X, would swamp the digits that matter).
+  const Eigen::VectorXd rest = system.restPositions();
   auto potentialEnergy = [&](const Eigen::VectorXd& positions) {
-    return objective.evaluate(positions, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
+    return objective.evaluate(positions, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly) -
+           objective.evaluate(rest, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
   };
   // Stops the solver's loop: Ctrl-C, or the step limit of a quick check.
   auto shouldStop = [&](int steps) {
@@ -148,22 +157,32 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   Eigen::VectorXd lastVelocity;  // dynamics: the final frame carries it like the others
   if (type == AnalysisType::Static) {
     LoadSteppingOptions o;
-    o.initialIncrement = o.maxIncrement = 1.0 / scene.analysis.loadSteps;
-    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    // Levels k / loadSteps; the first solve from rest takes a quarter of a level (from the flat state the linear
+    // response to a whole level overshoots by far), the increments then grow back to one level.
+    o.maxIncrement = 1.0 / scene.analysis.loadSteps;
+    o.initialIncrement = 0.25 * o.maxIncrement;
+    for (int k = 1; k < scene.analysis.loadSteps; ++k) o.levels.push_back(static_cast<double>(k) / scene.analysis.loadSteps);
+    o.newton = newtonOptions(scene.solver, o.newton.maxIterations, true);
+    int level = 0;  // output frames: the requested levels; steps between them (after cuts) are logged only
     const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
       const int step = s.step + 1;
-      output.record({step, s.loadFactor, s.loadFactor, &s.x, nullptr});
-      remember(s.loadFactor, s.x);
+      if (s.atLevel) {
+        output.record({++level, s.loadFactor, s.loadFactor, &s.x, nullptr});
+        remember(s.loadFactor, s.x);
+      }
       std::ostringstream line;
       line << "load step " << step << "  λ = " << format("%.4f", s.loadFactor) << "  Newton " << s.summary.iterations
-           << "  residual " << format("%.3e", s.summary.finalResidual) << " N  energy "
-           << format("%.6e", s.summary.finalEnergy) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+           << "  residual " << format("%.3e", s.summary.finalResidual) << " N  E_pot "
+           << format("%.6e", potentialEnergy(s.x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       progress.log(line.str());
       progress.update(s.loadFactor, "λ = " + format("%.3f", s.loadFactor));
-      return !shouldStop(step);
+      return !shouldStop(level);
     });
-    summary.steps = static_cast<int>(r.steps.size());
+    summary.steps = level;
     summary.newtonIterations = r.newtonIterations;
+    summary.extra["load_steps_solved"] = static_cast<int>(r.steps.size());
+    summary.extra["newton_iterations_per_load_step"] =
+        r.steps.empty() ? 0.0 : static_cast<double>(r.newtonIterations) / static_cast<double>(r.steps.size());
     converged = r.completed;
     termination = r.completed ? "completed" : r.message;
     if (!r.steps.empty()) x = r.steps.back().x;

@@ -124,7 +124,7 @@ void validate(const Scene& scene) {
   requireOneOf(s.lineSearch, {"default", "none", "armijo", "residual", "wolfe"}, "/solver/lineSearch");
   requireOneOf(s.linearSolver, {"auto", "cholmod", "ldlt", "pcg"}, "/solver/linearSolver");
   requireOneOf(s.preconditioner, {"jacobi", "block_jacobi", "ic"}, "/solver/preconditioner");
-  requireOneOf(s.psdProjection, {"none", "clamp", "abs"}, "/solver/psdProjection");
+  requireOneOf(s.psdProjection, {"auto", "none", "clamp", "abs"}, "/solver/psdProjection");
   requireOneOf(s.derivatives, {"analytic", "autodiff"}, "/solver/derivatives");
   requireOneOf(s.bendingHessian, {"exact", "gaussNewton"}, "/solver/bendingHessian");
   check::atLeast(s.threads, 0, "/solver/threads");

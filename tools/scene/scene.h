@@ -82,7 +82,7 @@ struct SolverSettings {
   std::string lineSearch = "default";        // default | none | armijo | residual | wolfe
   std::string linearSolver = "auto";         // auto | cholmod | ldlt | pcg
   std::string preconditioner = "ic";         // pcg only: jacobi | block_jacobi | ic
-  std::string psdProjection = "clamp";       // none | clamp | abs
+  std::string psdProjection = "auto";        // auto (static: none, else clamp) | none | clamp | abs
   std::string derivatives = "analytic";      // analytic | autodiff
   std::string bendingHessian = "exact";      // exact | gaussNewton
   int threads = 0;                           // 0: all cores

@@ -430,7 +430,7 @@ SolverSettings readSolver(const Value& v) {
   s.lineSearch = o.choice("lineSearch", {"default", "none", "armijo", "residual", "wolfe"}, s.lineSearch);
   s.linearSolver = o.choice("linearSolver", {"auto", "cholmod", "ldlt", "pcg"}, s.linearSolver);
   s.preconditioner = o.choice("preconditioner", {"jacobi", "block_jacobi", "ic"}, s.preconditioner);
-  s.psdProjection = o.choice("psdProjection", {"none", "clamp", "abs"}, s.psdProjection);
+  s.psdProjection = o.choice("psdProjection", {"auto", "none", "clamp", "abs"}, s.psdProjection);
   s.derivatives = o.choice("derivatives", {"analytic", "autodiff"}, s.derivatives);
   s.bendingHessian = o.choice("bendingHessian", {"exact", "gaussNewton"}, s.bendingHessian);
   s.acceptIterationCap = o.boolean("acceptIterationCap", s.acceptIterationCap);
