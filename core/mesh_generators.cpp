@@ -59,7 +59,8 @@ Faces toFaces(const std::vector<std::array<int, 3>>& faces) {
 
 }  // namespace
 
-TriMesh makeRectangleGrid(double width, double height, int nx, int ny) {
+/// The grid with alternating diagonals.
+static TriMesh alternatingRectangleGrid(double width, double height, int nx, int ny) {
   if (nx < 1 || ny < 1) {
     std::ostringstream s;
     s << "rectangle grid: nx = " << nx << ", ny = " << ny << ": both must be >= 1";
@@ -191,8 +192,12 @@ QuadDiagonals quadDiagonalsFromString(const std::string& name) {
 
 const char* toString(QuadDiagonals d) { return d == QuadDiagonals::Uniform ? "uniform" : "alternating"; }
 
+TriMesh makeRectangleGrid(double width, double height, int nx, int ny) {
+  return makeRectangleGrid(width, height, nx, ny, QuadDiagonals::Uniform);
+}
+
 TriMesh makeRectangleGrid(double width, double height, int nx, int ny, QuadDiagonals diagonals) {
-  TriMesh m = makeRectangleGrid(width, height, nx, ny);
+  TriMesh m = alternatingRectangleGrid(width, height, nx, ny);
   if (diagonals == QuadDiagonals::Alternating) return m;
   std::vector<std::array<int, 3>> faces;
   appendQuadGrid(faces, nx, ny, [&](int i, int j) { return j * (nx + 1) + i; }, diagonals);

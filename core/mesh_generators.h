@@ -14,7 +14,8 @@ namespace jetshell {
 /// Alternating: the diagonal flips from quad to quad (a symmetric pattern). Uniform: every quad along its
 /// (i, j)–(i+1, j+1) diagonal. On alternating meshes the discrete second fundamental form overestimates a twist
 /// (z = k·x·y along the grid lines) by 2× at every resolution, so torsion-dominated problems (the slit annular
-/// plate) come out too stiff; uniform diagonals do not have that bias (see validation/structured_triangulation.h).
+/// plate) come out too stiff; uniform diagonals do not have that bias (VALIDATION.md, "Quad diagonals"), so they
+/// are every generator's default.
 enum class QuadDiagonals { Alternating, Uniform };
 
 /// "alternating" or "uniform"; throws InputError otherwise.
@@ -22,7 +23,7 @@ QuadDiagonals quadDiagonalsFromString(const std::string& name);
 const char* toString(QuadDiagonals d);
 
 /// A rectangle [0, width] × [0, height] in the z = 0 plane, nx × ny squares, each split into two triangles
-/// (alternating diagonals), normals +z. Vertex (i, j) has index j·(nx+1) + i.
+/// (uniform diagonals), normals +z. Vertex (i, j) has index j·(nx+1) + i.
 TriMesh makeRectangleGrid(double width, double height, int nx, int ny);
 /// The same grid and numbering with the chosen diagonals.
 TriMesh makeRectangleGrid(double width, double height, int nx, int ny, QuadDiagonals diagonals);
@@ -33,14 +34,14 @@ TriMesh makeRectangleGrid(double width, double height, int nx, int ny, QuadDiago
 /// r·nodesPerRing + j. Columns j = 0 and j = nodesPerRing − 1 coincide in position but are distinct vertices, so
 /// the mesh is cut along the slit (θ = 0 side and θ = 2π side). Normals +z. Needs rings ≥ 2, nodesPerRing ≥ 4.
 TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int nodesPerRing,
-                        QuadDiagonals diagonals = QuadDiagonals::Alternating);
+                        QuadDiagonals diagonals = QuadDiagonals::Uniform);
 
 /// A cylinder (or cylindrical panel) of the given radius with its axis along y, 0 ≤ y ≤ length. The angle θ
 /// is measured from +z towards +x: a point is (R sin θ, y, R cos θ), θ ∈ [−arc/2, arc/2], so a panel's apex is
-/// on +z. nAround × nAlong quads, alternating diagonals, normals outward. Node (i around, j along) has index
+/// on +z. nAround × nAlong quads (uniform diagonals by default), normals outward. Node (i around, j along) has index
 /// j·columns + i with columns = nAround + 1 for a panel and nAround when arcRadians is 2π (closed: no seam).
 TriMesh makeCylinder(double radius, double length, double arcRadians, int nAround, int nAlong,
-                     QuadDiagonals diagonals = QuadDiagonals::Alternating);
+                     QuadDiagonals diagonals = QuadDiagonals::Uniform);
 
 /// A spherical cap of the given radius centred at the origin, from the polar angle holeRadians (0: closed at
 /// the pole +z) down to the equator z = 0, over the azimuth [0, azimuthRadians] (2π: closed around, no seam).
@@ -50,6 +51,6 @@ TriMesh makeCylinder(double radius, double length, double arcRadians, int nAroun
 /// the hole) node i has index k·columns + i; columns = segments, or segments + 1 when the azimuth is open.
 TriMesh makeHemisphere(double radius, int rings, int segments, double holeRadians = 0.0,
                        double azimuthRadians = 2.0 * 3.14159265358979323846,
-                       QuadDiagonals diagonals = QuadDiagonals::Alternating);
+                       QuadDiagonals diagonals = QuadDiagonals::Uniform);
 
 }  // namespace jetshell

@@ -40,6 +40,7 @@ const RegisterSubcommand reg("run", [](CLI::App& app, int& exitCode) {
                 << " prescribed coordinates, " << model.probes.size() << " probe(s), " << toString(scene.analysis.type)
                 << " analysis)\n";
       for (const std::string& note : unsupportedFeatures(scene)) std::cout << "note: " << note << "\n";
+      for (const std::string& w : model.warnings) std::cout << "warning: " << w << "\n";
       exitCode = kOk;
       return;
     }

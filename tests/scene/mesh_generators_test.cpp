@@ -93,9 +93,10 @@ TEST_CASE("generators: invalid parameters name the parameter") {
                     "hemisphere: a partial azimuth needs a hole angle > 0 (the pole would be degenerate)");
 }
 
-TEST_CASE("generators: uniform diagonals split every quad along (i, j)–(i+1, j+1)") {
-  const TriMesh alternating = makeRectangleGrid(2.0, 1.0, 4, 2);
+TEST_CASE("generators: uniform diagonals (the default) split every quad along (i, j)–(i+1, j+1)") {
+  const TriMesh alternating = makeRectangleGrid(2.0, 1.0, 4, 2, QuadDiagonals::Alternating);
   const TriMesh uniform = makeRectangleGrid(2.0, 1.0, 4, 2, QuadDiagonals::Uniform);
+  CHECK(makeRectangleGrid(2.0, 1.0, 4, 2).F == uniform.F);
   CHECK(uniform.V == alternating.V);
   CHECK(uniform.F != alternating.F);
   for (int f = 0; f < uniform.numFaces(); f += 2) {

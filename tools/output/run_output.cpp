@@ -154,6 +154,10 @@ void RunOutput::finish(const RunSummary& summary) {
   nlohmann::json probes = nlohmann::json::object();
   for (const auto& [name, u] : probeDisplacements()) probes[name] = {u.x(), u.y(), u.z()};
   j["probes"] = probes;
+  nlohmann::json picked = nlohmann::json::object();  // which vertex each probe reads, and where it sits at rest
+  for (const ResolvedProbe& p : model_.probes)
+    picked[p.name] = {{"vertex", p.vertex}, {"reference_position", {p.reference.x(), p.reference.y(), p.reference.z()}}};
+  j["probe_vertices"] = picked;
   if (!rows_.empty()) {
     j["final_time"] = rows_.back().time;
     j["final_load_factor"] = rows_.back().loadFactor;

@@ -9,6 +9,7 @@
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
 #include "tools/scene/scene_model.h"
+#include "validation/boundary_rule_term.h"
 
 #include <omp.h>
 
@@ -97,6 +98,21 @@ std::string format(const char* fmt, double a) {
   return buffer;
 }
 
+/// The scene's boundary-edge rules, as a correction of the bending term's built-in ones (free: the face's own
+/// normal; clamped: the reference normal) until the bending term takes rules itself.
+void addEdgeRules(const Scene& scene, const ShellProblem& problem, ShellSystem& system) {
+  validation::BoundaryRules rules;
+  rules.clampRule = validation::parseEdgeRule(scene.edgeRules.clamp);
+  rules.freeRule = validation::parseEdgeRule(scene.edgeRules.free);
+  for (const EdgeRuleSettings::SymmetryPlane& p : scene.edgeRules.symmetryPlanes)
+    rules.symmetryPlanes.push_back({p.point, p.normal});
+  rules.planeTolerance = 1e-6;
+  const ShellMaterialParams& m = system.material();
+  if (auto term = validation::makeBoundaryRuleTerm(system.mesh(), system.topology(), system.reference(), m.bendingAlpha,
+                                                   m.bendingBeta, problem.clampedVertices, rules))
+    system.objective().addTerm(term);
+}
+
 /// The up axis for pictures: against gravity, else +z.
 Eigen::Vector3d upAxis(const Scene& scene) {
   return scene.gravity.norm() > 0 ? Eigen::Vector3d(-scene.gravity.normalized()) : Eigen::Vector3d::UnitZ();
@@ -127,6 +143,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                                                             : AnalysisKind::DynamicRelaxation;
   const ShellProblem problem = makeProblem(scene, model);
   ShellSystem system(problem, kind);
+  addEdgeRules(scene, problem, system);
   Objective& objective = system.objective();
   RunOutput output(options.outputDirectory, scene, model, options.scenePath);
   RunSummary& summary = result.summary;

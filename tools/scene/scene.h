@@ -100,6 +100,17 @@ struct OutputSettings {
   bool plots = true;      // probes.png: probe displacement over the run (gnuplot)
 };
 
+/// How the bending term treats boundary edges (VALIDATION.md, "Boundary rules"; SCENES.md).
+struct EdgeRuleSettings {
+  std::string clamp = "mirrored_clamp";    // clampRotation edges: mirrored_clamp | reference_clamp
+  std::string free = "second_order_free";  // free edges: second_order_free (no moment across) | page_free
+  struct SymmetryPlane {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Eigen::Vector3d normal = Eigen::Vector3d::UnitX();
+  };
+  std::vector<SymmetryPlane> symmetryPlanes;  // boundary edges on a plane keep their mid-edge normal in it
+};
+
 struct Scene {
   std::string description;
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};  // m/s²
@@ -111,6 +122,7 @@ struct Scene {
   AnalysisSettings analysis;
   SolverSettings solver;
   OutputSettings outputs;
+  EdgeRuleSettings edgeRules;
 
   /// Adds a shell actor after validating it; an empty name becomes "shell<index>". Returns its index.
   /// Throws InputError for an invalid actor or a name already used.

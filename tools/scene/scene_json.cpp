@@ -39,7 +39,7 @@ int atLeast(const Object& o, const std::string& key, int minimum) {
 }
 
 QuadDiagonals diagonals(const Object& generator) {
-  return quadDiagonalsFromString(generator.choice("diagonals", {"alternating", "uniform"}, "alternating"));
+  return quadDiagonalsFromString(generator.choice("diagonals", {"alternating", "uniform"}, "uniform"));
 }
 
 ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
@@ -452,11 +452,31 @@ OutputSettings readOutputs(const Value& v) {
   return out;
 }
 
+EdgeRuleSettings readEdgeRules(const Value& v) {
+  const Object o = v.object({"clamp", "free", "symmetryPlanes"}, "the edge rules");
+  EdgeRuleSettings r;
+  r.clamp = o.choice("clamp", {"mirrored_clamp", "reference_clamp"}, r.clamp);
+  r.free = o.choice("free", {"second_order_free", "page_free"}, r.free);
+  if (const auto planes = o.find("symmetryPlanes")) {
+    const std::vector<Value> list = planes->array();
+    if (list.size() > 16) throw InputError(planes->pointer() + ": at most 16 symmetry planes");
+    for (const Value& e : list) {
+      const Object p = e.object({"point", "normal"}, "a symmetry plane");
+      EdgeRuleSettings::SymmetryPlane plane;
+      plane.point = p.vec3("point", plane.point);
+      plane.normal = p.vec3("normal", plane.normal);
+      if (!(plane.normal.norm() > 0.0)) throw InputError(e.pointer() + "/normal: must not be zero");
+      r.symmetryPlanes.push_back(plane);
+    }
+  }
+  return r;
+}
+
 }  // namespace
 
 Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirectory) {
   const Value root(document, "");
-  const Object o = root.object({"description", "gravity", "actors", "analysis", "solver", "outputs"}, "a scene");
+  const Object o = root.object({"description", "gravity", "actors", "analysis", "solver", "outputs", "edgeRules"}, "a scene");
   Scene scene;
   scene.description = o.string("description", "");
   scene.gravity = o.vec3("gravity", scene.gravity);
@@ -472,6 +492,7 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
   scene.analysis = readAnalysis(o.at("analysis"));
   if (const auto s = o.find("solver")) scene.solver = readSolver(*s);
   if (const auto out = o.find("outputs")) scene.outputs = readOutputs(*out);
+  if (const auto r = o.find("edgeRules")) scene.edgeRules = readEdgeRules(*r);
   validate(scene);
   return scene;
 }

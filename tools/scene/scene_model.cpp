@@ -1,11 +1,14 @@
 #include "tools/scene/scene_model.h"
 
+#include "core/topology.h"
 #include "tools/scene/shapes.h"
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <limits>
 #include <map>
+#include <sstream>
 
 namespace jetshell {
 
@@ -107,10 +110,29 @@ SceneModel buildSceneModel(const Scene& scene) {
     b.mesh.F = model.world.F.middleRows(b.firstFace, b.numFaces);
     b.topology = buildTopology(b.mesh);
   }
+  double meanEdge = 0.0;
+  {
+    const Topology topo = buildTopology(model.world);
+    for (int e = 0; e < topo.numEdges(); ++e)
+      meanEdge += (model.world.V.row(topo.edges(e, 0)) - model.world.V.row(topo.edges(e, 1))).norm();
+    meanEdge /= std::max(1, topo.numEdges());
+  }
   auto select = [&](int actor, const VertexSelection& s, const std::string& where) {
     const ShellActorParams& a = scene.shells[static_cast<std::size_t>(actor)];
     const ActorGeometry& g = geometry[static_cast<std::size_t>(actor)];
-    return selectVertices(s, SelectionContext{&g.world, a.shape.get(), &g.boundary}, where);
+    std::vector<int> ids = selectVertices(s, SelectionContext{&g.world, a.shape.get(), &g.boundary}, where);
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      if (!s[k].nearest) continue;
+      double closest = std::numeric_limits<double>::infinity();
+      for (int v : ids) closest = std::min(closest, (g.world.row(v).transpose() - *s[k].nearest).norm());
+      if (closest > meanEdge) {
+        std::ostringstream m;
+        m << where << (s.size() > 1 ? "/" + std::to_string(k) : std::string()) << "/nearest: the vertex picked is "
+          << closest << " m from the point (the mean edge is " << meanEdge << " m)";
+        model.warnings.push_back(m.str());
+      }
+    }
+    return ids;
   };
 
   model.appliedForces = Eigen::VectorXd::Zero(3 * numVertices);
@@ -180,7 +202,8 @@ SceneModel buildSceneModel(const Scene& scene) {
     if (ids.size() != 1)
       throw InputError(p.where + "/select: picks " + std::to_string(ids.size()) +
                        " vertices; a probe needs exactly one (add \"nearest\": [x, y, z])");
-    model.probes.push_back({p.name, p.actor, model.actors[static_cast<std::size_t>(p.actor)].firstVertex + ids[0]});
+    const int vertex = model.actors[static_cast<std::size_t>(p.actor)].firstVertex + ids[0];
+    model.probes.push_back({p.name, p.actor, vertex, model.world.V.row(vertex).transpose()});
   }
   return model;
 }

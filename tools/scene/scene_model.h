@@ -41,6 +41,7 @@ struct ResolvedProbe {
   std::string name;
   int actor = 0;
   int vertex = 0;  // stacked id
+  Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // the vertex's reference position (world)
 };
 
 struct SceneModel {
@@ -49,6 +50,9 @@ struct SceneModel {
   Eigen::VectorXd appliedForces;    // 3N, nodal forces at λ = 1
   std::vector<PrescribedCoordinate> prescribed;  // sorted by (vertex, component); later conditions win
   std::vector<ResolvedProbe> probes;
+  /// Selections that resolved but may not be what was meant (`run --check` prints them): a `nearest` point
+  /// farther than one mean edge length from the vertex it picked.
+  std::vector<std::string> warnings;
 
   int numVertices() const { return world.numVertices(); }
   /// The load factor at time t in dynamics: min(1, t / loadRampTime), or 1 without a ramp.

@@ -1,0 +1,82 @@
+#include "solvers/statics.h"
+#include "tests/solvers/test_problems.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace jetshell;
+
+TEST_CASE("statics: the path lands on every requested level and the target, in order", "[statics]") {
+  testing::SingleThread single;
+  ShellSystem system(testing::cantileverPlate(8, 2, 0.5), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.levels = {0.7, 0.1, 0.35};
+  o.initialIncrement = 0.05;
+  o.maxIncrement = 0.2;
+  std::vector<double> reached;
+  const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
+    if (s.atLevel) reached.push_back(s.loadFactor);
+    return true;
+  });
+  REQUIRE(r.completed);
+  REQUIRE(reached.size() == 4);
+  CHECK(reached[0] == 0.1);
+  CHECK(reached[1] == 0.35);
+  CHECK(reached[2] == 0.7);
+  CHECK(reached[3] == 1.0);
+  for (std::size_t k = 1; k < r.steps.size(); ++k) {
+    CHECK(r.steps[k].loadFactor > r.steps[k - 1].loadFactor);
+    CHECK(r.steps[k].loadFactor - r.steps[k - 1].loadFactor <= 0.2 + 1e-12);
+  }
+  CHECK(system.nodalForces->loadFactor() == 1.0);
+}
+
+TEST_CASE("statics: the polynomial predictor saves Newton iterations on a large-deflection path", "[statics]") {
+  testing::SingleThread single;
+  auto iterations = [](int order) {
+    ShellSystem system(testing::cantileverPlate(12, 2, 0.2), AnalysisKind::Statics);
+    Eigen::VectorXd x = system.restPositions();
+    LoadSteppingOptions o = {};
+    o.newton = staticNewtonOptions();
+    o.initialIncrement = o.maxIncrement = 0.1;
+    o.predictorOrder = order;
+    const StaticsResult r = solveStatics(system, x, o);
+    REQUIRE(r.completed);
+    return r.newtonIterations;
+  };
+  const int without = iterations(0), with = iterations(2);
+  INFO("Newton iterations: predictor order 0: " << without << ", order 2: " << with);
+  CHECK(with < without);
+}
+
+TEST_CASE("statics: load-factor hooks reach other load terms and see every accepted equilibrium", "[statics]") {
+  testing::SingleThread single;
+  ShellSystem system(testing::cantileverPlate(4, 1, 0.1), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.initialIncrement = o.maxIncrement = 0.25;
+  double lastSet = -1.0;
+  int accepted = 0;
+  const StaticsResult r = solveStatics(system, x, o, {},
+                                       {{[&](double l) { lastSet = l; }, [&](const Eigen::VectorXd&) { ++accepted; }}});
+  REQUIRE(r.completed);
+  CHECK(lastSet == 1.0);
+  CHECK(accepted == static_cast<int>(r.steps.size()));
+}
+
+TEST_CASE("statics: invalid levels and options are rejected", "[statics]") {
+  ShellSystem system(testing::cantileverPlate(2, 1, 0.1), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o;
+  o.levels = {1.5};
+  CHECK_THROWS_AS(solveStatics(system, x, o), InputError);
+  o.levels = {std::nan("")};
+  CHECK_THROWS_AS(solveStatics(system, x, o), InputError);
+  o.levels = {};
+  o.predictorOrder = 9;
+  CHECK_THROWS_AS(solveStatics(system, x, o), InputError);
+}
