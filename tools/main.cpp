@@ -3,6 +3,7 @@
 #include "tools/subcommand.h"
 
 #include <algorithm>
+#include <new>
 #include <iostream>
 
 namespace jetshell::cli {
@@ -29,6 +30,11 @@ int main(int argc, char** argv) {
     return code == 0 ? kOk : kUsage;
   } catch (const jetshell::InputError& e) {
     std::cerr << "jetshell: error: " << e.what() << "\n";
+    return kInputError;
+  } catch (const std::bad_alloc&) {
+    // Every input size is bounded (core/input_limits.h), but the bounds allow more than a small machine holds.
+    std::cerr << "jetshell: error: out of memory: the input needs more memory than is available (use a coarser "
+                 "mesh, fewer steps or a larger machine)\n";
     return kInputError;
   } catch (const std::exception& e) {
     std::cerr << "jetshell: internal error: " << e.what() << "\n";
