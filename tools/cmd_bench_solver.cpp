@@ -3,6 +3,7 @@
 // of its y = 1 edge, and falls under gravity −z: `steps` backward-Euler steps of Δt, then one static solve from
 // the last dynamic state, once with the exact and once with the Gauss–Newton bending Hessian (same tolerance).
 // Prints Newton iterations per step, milliseconds per phase per iteration, symbolic analyses and peak RSS.
+#include "tools/output/atomic_file.h"
 #include "core/mesh_generators.h"
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
@@ -240,7 +241,7 @@ int runSolverBench(const SolverBenchOptions& o) {
   std::printf("peak RSS %.0f MB\n", rss);
   out["peak_rss_mb"] = rss;
   if (!o.json.empty()) {
-    std::ofstream(o.json) << out.dump(2) << "\n";
+    writeFileAtomically(o.json, out.dump(2) + "\n");
     std::printf("wrote %s\n", o.json.c_str());
   }
   return run.completed ? kOk : kFailed;

@@ -9,6 +9,7 @@
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
 #include "tools/scene/scene_model.h"
+#include "tools/scene/support_check.h"
 
 #include <omp.h>
 
@@ -108,6 +109,7 @@ struct ProbeHistory {
 RunResult runScene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const SceneModel model = buildSceneModel(scene);
+  checkRigidModes(scene, model);
   if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
   RunResult result;
   result.notes = unsupportedFeatures(scene);
@@ -274,6 +276,20 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
+  {
+    std::vector<int> inverted;
+    for (const ActorBlock& b : model.actors)
+      for (int f : invertedFaces(b.mesh, b.topology, x)) inverted.push_back(b.firstFace + f);
+    summary.extra["inverted_faces"] = inverted.size();
+    if (!inverted.empty()) {
+      std::ostringstream w;
+      w << inverted.size() << " inverted face(s) at the end of the run (turned by more than 120° against a neighbour), e.g. face "
+        << inverted.front() << ": an element was pushed through itself; the result there is not physical";
+      result.warnings.push_back(w.str());
+      progress.log("warning: " + w.str());
+    }
+  }
+  summary.extra["warnings"] = result.warnings;
   progress.finish();
   summary.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.lastFrame = output.lastFrame();
