@@ -13,7 +13,8 @@ namespace {
 bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& b) {
   return a.type == b.type && a.preconditioner == b.preconditioner && a.autoDirectMaxDofs == b.autoDirectMaxDofs &&
          a.cgRelativeTolerance == b.cgRelativeTolerance && a.cgMaxIterations == b.cgMaxIterations &&
-         a.maxRegularizations == b.maxRegularizations;
+         a.maxRegularizations == b.maxRegularizations && a.ordering == b.ordering &&
+         a.lagRefactorIterations == b.lagRefactorIterations && a.oneRing == b.oneRing;
 }
 
 double infNorm(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
@@ -102,6 +103,15 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.iteration = k;
     const bool useExact = adaptive && tryExact && exactCooldown == 0;
     if (exactCooldown > 0) --exactCooldown;
+    if (have == Have::Nothing && iterateTest_ && k > 0) {
+      // The iterate test may end the solve here: the gradient first, the Hessian only if it is needed.
+      const Timer t;
+      E = obj.evaluate(x, &g, false, projected);
+      rec.assemblySeconds += t.seconds();
+      ++s.energyEvaluations;
+      ++s.gradientEvaluations;
+      have = Have::Gradient;
+    }
     if (have == Have::Nothing) assemble(useExact, rec);
     r = infNorm(g);
     if (!std::isfinite(E) || !g.allFinite()) {
@@ -113,6 +123,9 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       s.initialResidual = r;
       const double F = obj.scales().force > 0.0 ? obj.scales().force : r;
       residualThreshold = o.residualTolerance * F;
+      if (o.absoluteResidualTolerance > 0.0) residualThreshold = std::max(residualThreshold, o.absoluteResidualTolerance);
+      if (o.relativeResidualTolerance > 0.0)
+        residualThreshold = std::max(residualThreshold, o.relativeResidualTolerance * r);
       decrementThreshold = o.decrementTolerance * F * obj.scales().length;
       s.residualThreshold = residualThreshold;
       s.decrementThreshold = decrementThreshold;
@@ -124,6 +137,15 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       std::ostringstream m;
       m << "residual " << r << " N <= " << residualThreshold << " N";
       return finish(TerminationReason::Converged, m.str());
+    }
+    if (iterateTest_) {
+      const IterateTestResult t = iterateTest_(x, g);
+      if (t.passed) {
+        s.assemblySeconds += rec.assemblySeconds;
+        std::ostringstream m;
+        m << "iterate test: estimate " << t.estimate << " m <= " << t.threshold << " m; residual " << r << " N";
+        return finish(TerminationReason::Converged, m.str());
+      }
     }
     if (k >= o.maxIterations) {
       s.assemblySeconds += rec.assemblySeconds;

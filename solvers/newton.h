@@ -18,6 +18,11 @@
 // Hessian; if it is not positive definite, the projected one is reassembled for that iteration, and the next
 // try waits 2, 4, 8, ... (up to 64) iterations (measured before the back-off: a Gauss–Newton static solve fell
 // back 101 times in 139 iterations, each costing an extra assembly and factorization).
+// Two more residual tests, off by default, for presets that state them so: absoluteResidualTolerance [N]
+// (‖g_free‖∞ ≤ it) and relativeResidualTolerance (‖g_free‖∞ ≤ it × the initial residual).
+// An iterate test (setIterateTest; time stepping sets one, see solvers/dynamics.h) is asked at every iterate,
+// with its gradient, before the iteration cap and the solve; when it passes the solve ends as converged, and the
+// summary's message states the test's estimate and threshold in metres.
 #pragma once
 
 #include "core/term.h"
@@ -28,6 +33,7 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <memory>
 
 namespace jetshell {
@@ -44,8 +50,19 @@ struct NewtonOptions {
   double wolfeC2 = 0.9;
   double residualTolerance = 1e-6;    // × force scale [N]
   double decrementTolerance = 1e-12;  // × force scale × length scale [J]
+  double absoluteResidualTolerance = 0.0;  // [N]; 0: off
+  double relativeResidualTolerance = 0.0;  // × initial residual; 0: off
   LinearSolverOptions linear;
 };
+
+/// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
+struct IterateTestResult {
+  bool passed = false;
+  double estimate = 0.0;
+  double threshold = 0.0;
+};
+/// x: the iterate; gradient: the objective's gradient there (fixed dofs zeroed).
+using IterateTest = std::function<IterateTestResult(const Eigen::VectorXd& x, const Eigen::VectorXd& gradient)>;
 
 class NewtonSolver {
  public:
@@ -61,12 +78,15 @@ class NewtonSolver {
   /// Changes the options; the linear solver (and its analysis) is kept unless its options changed.
   void setOptions(const NewtonOptions& options);
   LinearSolver& linearSolver() { return *linear_; }
+  /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
+  void setIterateTest(IterateTest test) { iterateTest_ = std::move(test); }
   Objective& objective() { return objective_; }
 
  private:
   Objective& objective_;
   NewtonOptions options_;
   std::unique_ptr<LinearSolver> linear_;
+  IterateTest iterateTest_;
 };
 
 }  // namespace jetshell
