@@ -54,9 +54,10 @@ struct DynamicsOptions {
   /// α_R [1/s] to use instead of the material's (dynamic relaxation sets it); < 0: the material's.
   double massDampingOverride = -1.0;
   /// Start Newton from the constant-acceleration extrapolation of the trajectory (see the file comment).
-  bool extrapolatedStart = false;
+  bool extrapolatedStart = true;
   /// η of the time-discretization stopping rule (see the file comment); 0: off (only Newton's own tests).
-  double updateTolerance = 0.0;
+  /// The default is jetshell's (solvers/time_step_policy.h, chosen by `jetshell bench dynamics`).
+  double updateTolerance = 0.1;
 };
 
 /// What one call to DynamicsSolver::step() did.

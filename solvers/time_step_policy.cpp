@@ -37,6 +37,13 @@ void applyTimeStepPolicy(TimeStepPolicy policy, DynamicsOptions& o) {
     case TimeStepPolicy::Jetshell:
       n.maxIterations = 20;
       n.lineSearch = LineSearchType::BacktrackingArmijo;
+      if (n.linear.type == LinearSolverType::Auto) {
+        // Inertia dominates a time step's Hessian: CG preconditioned by the one-ring factor (about a tenth
+        // of the full factor's flops) needs a handful of iterations (BENCHMARKS.md "Solver").
+        n.linear.type = LinearSolverType::PCG;
+        n.linear.preconditioner = Preconditioner::OneRingCholesky;
+        n.linear.cgRelativeTolerance = 1e-6;
+      }
       o.acceptIterationCap = false;
       o.extrapolatedStart = true;
       o.updateTolerance = jetshellUpdateTolerance;

@@ -38,7 +38,7 @@ struct DynamicsBenchOptions {
   std::string etas;  // η values for extra jetshell runs
   int referenceDivisor = 4;
   int threads = 0;
-  std::string linearSolver = "cholmod";
+  std::string linearSolver = "auto";  // each policy's choice
   std::string preconditioner = "one_ring_cholesky";
   double cgTolerance = 1e-6;
   std::string ordering = "auto";

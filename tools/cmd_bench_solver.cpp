@@ -9,6 +9,7 @@
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "solvers/statics.h"
+#include "solvers/time_step_policy.h"
 #include "tools/bench_cloth.h"
 #include "tools/output/atomic_file.h"
 #include "tools/subcommand.h"
@@ -37,6 +38,7 @@ struct SolverBenchOptions {
   std::string linearSolver = "auto";
   std::string preconditioner = "ic";
   std::string ordering = "auto";
+  std::string policy = "jetshell";
   bool orderings = false;
   double cgTolerance = LinearSolverOptions{}.cgRelativeTolerance;
   std::string lineSearch = "armijo";
@@ -184,8 +186,10 @@ int runSolverBench(const SolverBenchOptions& o) {
   d.integrator = timeIntegratorFromString(o.integrator);
   d.timeStep = o.dt;
   d.newton = newtonOptions(o, problem.mesh);
+  if (o.policy != "static") applyTimeStepPolicy(timeStepPolicyFromString(o.policy), d);
   DynamicsSolver solver(dynamics, d);
-  std::printf("dynamics (%s, dt = %.5g s, %d steps), active terms: %s\n", o.integrator.c_str(), o.dt, o.steps,
+  std::printf("dynamics (%s, dt = %.5g s, %d steps, policy %s), active terms: %s\n", o.integrator.c_str(), o.dt,
+              o.steps, o.policy.c_str(),
               joined(dynamics.objective().activeTermNames()).c_str());
   PhaseFigures dyn;
   nlohmann::json steps = nlohmann::json::array();
@@ -205,9 +209,10 @@ int runSolverBench(const SolverBenchOptions& o) {
     return true;
   });
   const double dynCpu = processCpuSeconds() - cpu0, dynWall = wallSeconds() - wall0;
-  std::printf("  %s\n  wall %.2f s, process CPU %.2f s: %.1f ms wall and %.1f ms CPU per Newton iteration (everything)\n",
-              run.message.c_str(), dynWall, dynCpu, 1e3 * dynWall / std::max(1, run.newtonIterations),
-              1e3 * dynCpu / std::max(1, run.newtonIterations));
+  std::printf("  %s\n  wall %.2f s (load %.1f), process CPU %.2f s: %.1f ms wall and %.1f ms CPU per Newton iteration "
+              "(everything); %.1f steps per second (wall)\n",
+              run.message.c_str(), dynWall, loadAverage(), dynCpu, 1e3 * dynWall / std::max(1, run.newtonIterations),
+              1e3 * dynCpu / std::max(1, run.newtonIterations), run.steps / std::max(dynWall, 1e-9));
   std::printf("  Newton iterations per step:");
   for (int it : iterationsPerStep) std::printf(" %d", it);
   std::printf("\n");
@@ -218,6 +223,8 @@ int runSolverBench(const SolverBenchOptions& o) {
               static_cast<long>(dynamics.objective().assembler().matrix().nonZeros()),
               static_cast<double>(dynamics.objective().assembler().memoryBytes()) / 1e6);
   out["dynamics"] = {{"integrator", o.integrator},
+                     {"policy", o.policy},
+                     {"load_average", loadAverage()},
                      {"time_step", o.dt},
                      {"steps", steps},
                      {"completed", run.completed},
@@ -296,6 +303,9 @@ const RegisterSubcommand reg("bench solver", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--preconditioner", opts->preconditioner,
                   "PCG preconditioner: jacobi | block_jacobi | ic | lagged_cholesky | one_ring_cholesky")
       ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic", "lagged_cholesky", "one_ring_cholesky"}));
+  cmd->add_option("--policy", opts->policy,
+                  "Time-step Newton policy: jetshell | page | static (Newton to the static tolerance)")
+      ->check(CLI::IsMember({"jetshell", "page", "static"}));
   cmd->add_option("--ordering", opts->ordering, "CHOLMOD fill-reducing ordering: auto | amd | metis | nesdis")
       ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
   cmd->add_flag("--orderings", opts->orderings,
