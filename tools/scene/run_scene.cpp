@@ -37,6 +37,7 @@ void recordResidualClaim(nlohmann::json& extra, double residual, double toleranc
 void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
   recordResidualClaim(extra, s.finalResidual, s.residualThreshold, s.forceScale, s.forceScaleSource);
   if (s.roundOffFloor > 0.0) extra["round_off_floor"] = s.roundOffFloor;
+  if (!s.convergenceTest.empty()) extra["convergence_test"] = s.convergenceTest;
 }
 
 bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
