@@ -13,7 +13,8 @@ namespace {
 bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& b) {
   return a.type == b.type && a.preconditioner == b.preconditioner && a.autoDirectMaxDofs == b.autoDirectMaxDofs &&
          a.cgRelativeTolerance == b.cgRelativeTolerance && a.cgMaxIterations == b.cgMaxIterations &&
-         a.maxRegularizations == b.maxRegularizations;
+         a.maxRegularizations == b.maxRegularizations && a.ordering == b.ordering &&
+         a.lagRefactorIterations == b.lagRefactorIterations && a.oneRing == b.oneRing;
 }
 
 double infNorm(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
@@ -92,6 +93,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
 
   auto finish = [&](TerminationReason reason, const std::string& message) {
     s.reason = reason;
+    if (reason == TerminationReason::Converged && s.convergenceTest.empty()) s.convergenceTest = "residual";
     s.message = message;
     s.finalEnergy = E;
     s.finalResidual = r;
@@ -135,6 +137,15 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.iteration = k;
     const bool useExact = adaptive && tryExact && exactCooldown == 0;
     if (exactCooldown > 0) --exactCooldown;
+    if (have == Have::Nothing && iterateTest_ && k > 0) {
+      // The iterate test may end the solve here: the gradient first, the Hessian only if it is needed.
+      const Timer t;
+      E = obj.evaluate(x, &g, false, projected);
+      rec.assemblySeconds += t.seconds();
+      ++s.energyEvaluations;
+      ++s.gradientEvaluations;
+      have = Have::Gradient;
+    }
     if (have == Have::Nothing) assemble(useExact, rec);
     r = infNorm(g);
     if (!std::isfinite(E) || !g.allFinite()) {
@@ -148,7 +159,12 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       forceScale = F.value;
       s.forceScale = F.value;
       s.forceScaleSource = F.source;
-      scaledTolerance = residualThreshold = o.residualTolerance * F.value;
+      scaledTolerance = o.residualTolerance * F.value;
+      // Presets that state their own tolerances (the page's: absolute 1e-3 N, relative 1e-6 of the step's first
+      // residual) loosen the test to the larger one; the summary records which tolerance held.
+      if (o.absoluteResidualTolerance > 0.0) scaledTolerance = std::max(scaledTolerance, o.absoluteResidualTolerance);
+      if (o.relativeResidualTolerance > 0.0) scaledTolerance = std::max(scaledTolerance, o.relativeResidualTolerance * r);
+      residualThreshold = scaledTolerance;
       decrementThreshold = o.decrementTolerance * F.value * obj.scales().length;
       s.residualThreshold = residualThreshold;
       s.decrementThreshold = decrementThreshold;
@@ -163,6 +179,16 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
         << (residualThreshold > scaledTolerance ? " (the round-off floor; " : " (")
         << o.residualTolerance << " x force scale " << forceScale << " N from " << s.forceScaleSource << ")";
       return finish(TerminationReason::Converged, m.str());
+    }
+    if (iterateTest_) {
+      const IterateTestResult t = iterateTest_(x, g);
+      if (t.passed) {
+        s.assemblySeconds += rec.assemblySeconds;
+        std::ostringstream m;
+        m << "iterate test: estimate " << t.estimate << " m <= " << t.threshold << " m; residual " << r << " N";
+        s.convergenceTest = "iterate";
+        return finish(TerminationReason::Converged, m.str());
+      }
     }
     if (k >= o.maxIterations) {
       s.assemblySeconds += rec.assemblySeconds;

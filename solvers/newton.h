@@ -1,6 +1,7 @@
 // Newton's method on an Objective, with per-element PSD projection, a line search and a sparse linear solver.
 //
-// Convergence is judged on the residual alone: the solve has converged when ‖g_free‖∞ ≤ tolerance, where
+// Convergence is judged on the residual (for time steps an iterate test may also end a solve, see below; the
+// summary's convergenceTest says which held): the solve has converged when ‖g_free‖∞ ≤ tolerance, where
 //   tolerance = max(residualTolerance × F, round-off floor).
 //  - F [N] is the objective's force scale (Objective::forceScale: the largest external nodal force, or the force of
 //    the prescribed motion, or the material's force at unit strain when nothing drives the problem). It never
@@ -23,6 +24,11 @@
 // Hessian; if it is not positive definite, the projected one is reassembled for that iteration, and the next
 // try waits 2, 4, 8, ... (up to 64) iterations (measured before the back-off: a Gauss–Newton static solve fell
 // back 101 times in 139 iterations, each costing an extra assembly and factorization).
+// Two more residual tests, off by default, for presets that state them so: absoluteResidualTolerance [N]
+// (‖g_free‖∞ ≤ it) and relativeResidualTolerance (‖g_free‖∞ ≤ it × the initial residual).
+// An iterate test (setIterateTest; time stepping sets one, see solvers/dynamics.h) is asked at every iterate,
+// with its gradient, before the iteration cap and the solve; when it passes the solve ends as converged, and the
+// summary's message states the test's estimate and threshold in metres.
 #pragma once
 
 #include "core/term.h"
@@ -33,6 +39,7 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <memory>
 
 namespace jetshell {
@@ -49,8 +56,19 @@ struct NewtonOptions {
   double wolfeC2 = 0.9;
   double residualTolerance = 1e-6;    // × force scale [N]
   double decrementTolerance = 1e-12;  // × force scale × length scale [J]: the stall test
+  double absoluteResidualTolerance = 0.0;  // [N]; 0: off (presets that state one; the larger tolerance holds)
+  double relativeResidualTolerance = 0.0;  // × the solve's initial residual; 0: off (the page's preset)
   LinearSolverOptions linear;
 };
+
+/// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
+struct IterateTestResult {
+  bool passed = false;
+  double estimate = 0.0;
+  double threshold = 0.0;
+};
+/// x: the iterate; gradient: the objective's gradient there (fixed dofs zeroed).
+using IterateTest = std::function<IterateTestResult(const Eigen::VectorXd& x, const Eigen::VectorXd& gradient)>;
 
 class NewtonSolver {
  public:
@@ -66,12 +84,15 @@ class NewtonSolver {
   /// Changes the options; the linear solver (and its analysis) is kept unless its options changed.
   void setOptions(const NewtonOptions& options);
   LinearSolver& linearSolver() { return *linear_; }
+  /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
+  void setIterateTest(IterateTest test) { iterateTest_ = std::move(test); }
   Objective& objective() { return objective_; }
 
  private:
   Objective& objective_;
   NewtonOptions options_;
   std::unique_ptr<LinearSolver> linear_;
+  IterateTest iterateTest_;
 };
 
 }  // namespace jetshell

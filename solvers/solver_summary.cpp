@@ -65,6 +65,7 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                       {"force_scale", m.forceScale},
                       {"force_scale_source", m.forceScaleSource},
                       {"round_off_floor", m.roundOffFloor},
+                      {"convergence_test", m.convergenceTest},
                       {"decrement_threshold", m.decrementThreshold},
                       {"assembly_seconds", m.assemblySeconds},
                       {"factorization_seconds", m.factorizationSeconds},

@@ -5,8 +5,8 @@
 #include "core/mesh_generators.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
+#include "energies/end_moment_term.h"
 #include "validation/boundary_rule_term.h"
-#include "validation/end_moment_term.h"
 #include "validation/reference_table.h"
 
 #include <Eigen/Core>
@@ -23,7 +23,8 @@ namespace jetshell::validation {
 enum class ClampKind {
   Normal,    // fix the edge's nodes; BendingTerm::setClampedBoundary: missing neighbour normal := reference normal
   Mirrored,  // the same nodes; missing neighbour normal := the face normal mirrored about the reference normal
-             // (validation/boundary_rule_term.h), so the mid-edge normal keeps the reference direction
+             // (the bending term's mirrored_clamp edge rule, energies/shell/edge_rules.h), so the mid-edge
+             // normal keeps the reference direction
   TwoRow,    // fix the edge's nodes and the next row of nodes (the page's example; depends on the mesh)
 };
 const char* toString(ClampKind k);
@@ -93,7 +94,7 @@ NewtonOptions benchmarkNewtonOptions();
 struct BenchmarkRunOptions {
   Resolution resolution;  // n1 = 0: the benchmark's default
   ClampKind clamp = ClampKind::Mirrored;
-  EdgeRule freeRule = EdgeRule::SecondOrderFree;  // free edges carry no moment (VALIDATION.md: 2-3x closer
+  BoundaryRule freeRule = BoundaryRule::SecondOrderFree;  // free edges carry no moment (VALIDATION.md: 2-3x closer
                                                  // than the spec's page_free on the slit plate)
   QuadDiagonals diagonals = QuadDiagonals::Uniform;  // alternating diagonals overestimate the twist 2x
   SolverKind solver = SolverKind::LoadStepping;

@@ -6,20 +6,28 @@
 
 namespace jetshell::validation {
 
-const char* toString(EdgeRule r) {
+const char* toString(BoundaryRule r) {
   switch (r) {
-    case EdgeRule::PageFree: return "page_free";
-    case EdgeRule::ReferenceClamp: return "reference_clamp";
-    case EdgeRule::MirroredClamp: return "mirrored_clamp";
-    case EdgeRule::SecondOrderFree: return "second_order_free";
-    case EdgeRule::SymmetryPlane: return "symmetry_plane";
+    case BoundaryRule::PageFree: return "page_free";
+    case BoundaryRule::ReferenceClamp: return "reference_clamp";
+    case BoundaryRule::MirroredClamp: return "mirrored_clamp";
+    case BoundaryRule::SecondOrderFree: return "second_order_free";
+    case BoundaryRule::SymmetryPlane: return "symmetry_plane";
   }
   return "?";
 }
 
-EdgeRule parseEdgeRule(const std::string& name) {
-  for (EdgeRule r : {EdgeRule::PageFree, EdgeRule::ReferenceClamp, EdgeRule::MirroredClamp,
-                     EdgeRule::SecondOrderFree, EdgeRule::SymmetryPlane})
+BoundaryRule toBoundaryRule(EdgeRule r) {
+  switch (r) {
+    case EdgeRule::ReferenceClamp: return BoundaryRule::ReferenceClamp;
+    case EdgeRule::MirroredClamp: return BoundaryRule::MirroredClamp;
+    default: return BoundaryRule::PageFree;
+  }
+}
+
+BoundaryRule parseBoundaryRule(const std::string& name) {
+  for (BoundaryRule r : {BoundaryRule::PageFree, BoundaryRule::ReferenceClamp, BoundaryRule::MirroredClamp,
+                     BoundaryRule::SecondOrderFree, BoundaryRule::SymmetryPlane})
     if (name == toString(r)) return r;
   throw InputError("unknown edge rule '" + name +
                    "' (page_free, reference_clamp, mirrored_clamp, second_order_free, symmetry_plane)");
@@ -43,18 +51,18 @@ std::shared_ptr<BoundaryRuleTerm> makeBoundaryRuleTerm(const TriMesh& mesh, cons
     bool any = false;
     for (int i = 0; i < 3; ++i) {
       el.boundary[i] = topo.faceNeighbors(f, i) < 0;
-      el.rule[i] = el.builtIn[i] = EdgeRule::PageFree;
+      el.rule[i] = el.builtIn[i] = BoundaryRule::PageFree;
       if (!el.boundary[i]) continue;
       const int a = mesh.F(f, (i + 1) % 3), b = mesh.F(f, (i + 2) % 3);
       const bool clamped = marked(a) && marked(b);
-      el.builtIn[i] = clamped ? EdgeRule::ReferenceClamp : EdgeRule::PageFree;
+      el.builtIn[i] = clamped ? rules.builtInClampRule : BoundaryRule::PageFree;
       const bool loaded = a < static_cast<int>(rules.momentLoadedVertices.size()) &&
                           b < static_cast<int>(rules.momentLoadedVertices.size()) && rules.momentLoadedVertices[a] &&
                           rules.momentLoadedVertices[b];
-      el.rule[i] = clamped ? rules.clampRule : loaded ? EdgeRule::PageFree : rules.freeRule;
+      el.rule[i] = clamped ? rules.clampRule : loaded ? BoundaryRule::PageFree : rules.freeRule;
       for (const BoundaryRules::Plane& p : rules.symmetryPlanes) {
         if (clamped || !onPlane(a, p) || !onPlane(b, p)) continue;
-        el.rule[i] = EdgeRule::SymmetryPlane;
+        el.rule[i] = BoundaryRule::SymmetryPlane;
         const Eigen::Vector3d u = p.normal.normalized();
         for (int k = 0; k < 3; ++k) el.plane[i][k] = u[k];
         break;

@@ -28,6 +28,7 @@
 #include "core/scalar.h"
 #include "core/topology.h"
 #include "energies/element_energy_term.h"
+#include "energies/shell/edge_rules.h"
 #include "energies/shell/reference_state.h"
 #include "energies/shell/shell_geometry.h"
 
@@ -39,10 +40,12 @@
 
 namespace jetshell::validation {
 
-enum class EdgeRule : unsigned char { PageFree, ReferenceClamp, MirroredClamp, SecondOrderFree, SymmetryPlane };
-const char* toString(EdgeRule r);
+enum class BoundaryRule : unsigned char { PageFree, ReferenceClamp, MirroredClamp, SecondOrderFree, SymmetryPlane };
+const char* toString(BoundaryRule r);
+/// The same rule as the bending term's (energies/shell/edge_rules.h) names it.
+BoundaryRule toBoundaryRule(EdgeRule r);
 /// "page_free", "reference_clamp", "mirrored_clamp", "second_order_free", "symmetry_plane"; InputError otherwise.
-EdgeRule parseEdgeRule(const std::string& name);
+BoundaryRule parseBoundaryRule(const std::string& name);
 
 struct BoundaryRuleEnergy {
   static constexpr int kVertices = 6;
@@ -52,7 +55,7 @@ struct BoundaryRuleEnergy {
     double Brule[3];       // b(X) with the chosen rules (minimized edges at a = 0): the ruled energy's origin
     double reference[3];  // the face's reference unit normal r
     double plane[3][3];   // per edge: the symmetry plane's unit normal (SymmetryPlane only)
-    EdgeRule rule[3], builtIn[3];
+    BoundaryRule rule[3], builtIn[3];
     bool boundary[3];
   };
   std::shared_ptr<const std::vector<Element>> elements;
@@ -66,17 +69,17 @@ struct BoundaryRuleEnergy {
   }
 
   template <typename T>
-  static V3<T> ghost(EdgeRule rule, const Element& el, int i, const V3<T>& n, const V3<T>& r) {
+  static V3<T> ghost(BoundaryRule rule, const Element& el, int i, const V3<T>& n, const V3<T>& r) {
     switch (rule) {
-      case EdgeRule::ReferenceClamp:
+      case BoundaryRule::ReferenceClamp:
         return r;
-      case EdgeRule::MirroredClamp:
+      case BoundaryRule::MirroredClamp:
         return constant<T>(2.0) * dot(n, r) * r - n;
-      case EdgeRule::SymmetryPlane: {
+      case BoundaryRule::SymmetryPlane: {
         const V3<T> p{{constant<T>(el.plane[i][0]), constant<T>(el.plane[i][1]), constant<T>(el.plane[i][2])}};
         return n - constant<T>(2.0) * dot(n, p) * p;
       }
-      case EdgeRule::PageFree:
+      case BoundaryRule::PageFree:
       default:
         return n;
     }
@@ -106,7 +109,7 @@ struct BoundaryRuleEnergy {
     int count = 0;
     const V3<T> zero{{constant<T>(0.0), constant<T>(0.0), constant<T>(0.0)}};
     for (int i = 0; i < 3; ++i) {
-      if (!el.boundary[i] || el.rule[i] != EdgeRule::SecondOrderFree) continue;
+      if (!el.boundary[i] || el.rule[i] != BoundaryRule::SecondOrderFree) continue;
       // n̄_i = n + a u, u the unit in-plane direction across edge i (b is linear in the mid-edge normals).
       const V3<T> t = p[(i + 2) % 3] - p[(i + 1) % 3];
       const V3<T> u = unitNormal(cross(t, n));
@@ -170,8 +173,9 @@ using BoundaryRuleTerm = ElementEnergyTerm<BoundaryRuleEnergy>;
 /// The rule of each boundary edge. Edges not listed take `freeRule` when BendingTerm leaves them free and
 /// `clampRule` when it clamps them (both endpoints in clampedVertices).
 struct BoundaryRules {
-  EdgeRule freeRule = EdgeRule::PageFree;
-  EdgeRule clampRule = EdgeRule::ReferenceClamp;
+  BoundaryRule freeRule = BoundaryRule::PageFree;
+  BoundaryRule clampRule = BoundaryRule::ReferenceClamp;
+  BoundaryRule builtInClampRule = BoundaryRule::ReferenceClamp;  // what the bending term does on clamped edges
   /// Symmetry planes: a boundary edge whose two endpoints lie on the plane (within tolerance × the mesh's
   /// size) takes SymmetryPlane with that plane, before the free/clamp choice.
   struct Plane {

@@ -4,6 +4,7 @@
 #include "solvers/statics.h"
 #include "validation/benchmark.h"
 #include "validation/boundary_rule_term.h"
+#include "energies/shell/bending_term.h"
 
 #include <algorithm>
 #include <chrono>
@@ -43,9 +44,14 @@ void compare(const Benchmark& b, int row, const std::vector<double>& computed, B
   r.rows.push_back(std::move(out));
 }
 
+/// The boundary rules: the bending term's mirrored_clamp edge rule on the clamped edges, and the moment-free
+/// free edge (validation/boundary_rule_term.h) on the free ones.
 void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const BenchmarkRunOptions& o) {
+  if (!system.bending) return;
+  const EdgeRule clamp = o.clamp == ClampKind::Mirrored ? EdgeRule::MirroredClamp : EdgeRule::ReferenceClamp;
+  if (o.clamp == ClampKind::Mirrored) system.bending->setEdgeRule(c.problem.clampedVertices, clamp);
   BoundaryRules rules;
-  rules.clampRule = o.clamp == ClampKind::Mirrored ? EdgeRule::MirroredClamp : EdgeRule::ReferenceClamp;
+  rules.clampRule = rules.builtInClampRule = toBoundaryRule(clamp);
   rules.freeRule = o.freeRule;
   if (!c.momentEdge.empty()) {
     rules.momentLoadedVertices.assign(static_cast<std::size_t>(c.problem.mesh.numVertices()), 0);

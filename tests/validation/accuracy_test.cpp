@@ -63,9 +63,7 @@ TEST_CASE("accuracy: slit annular plate, 4x32 quads, every level within 6%") {
   CHECK(r.finalRelError < 0.051);  // measured 4.940% (8.94%)
 }
 
-TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh is within 2.3% at B") {
-  // The page reports ≈ 4% against the 1.75 m reference at the loaded edge's outer point; its two-row clamp
-  // and free-edge rule give 4.08% here too.
+TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh is within 1.75% at B") {
   const BenchmarkResult r = run("slit-ring-page", {4, 64});
   REQUIRE(r.completed);
   REQUIRE(r.vertices == 325);
@@ -73,4 +71,14 @@ TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh is withi
   CHECK(last.reference[1] == Approx(1.7528));
   CHECK(last.relError[1] < 0.0175);  // measured 1.70% (W_B = 1.7230 m); 2.23% at W_A
   CHECK(r.finalRelError < 0.023);
+}
+
+TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh with its two-row clamp is within 4.5%") {
+  // The page reports ≈ 4% against the 1.75 m reference at the loaded edge's outer point.
+  const BenchmarkResult r = run("slit-ring-page", {4, 64}, ClampKind::TwoRow);
+  REQUIRE(r.completed);
+  REQUIRE(r.vertices == 325);
+  const BenchmarkRow& last = r.rows.back();
+  CHECK(last.reference[1] == Approx(1.7528));
+  CHECK(last.relError[1] < 0.045);  // measured 4.08% with the page's free edge, 2.9% with the moment-free one
 }

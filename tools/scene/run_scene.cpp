@@ -9,6 +9,7 @@
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
 #include "tools/scene/scene_model.h"
+#include "tools/scene/support_check.h"
 #include "validation/boundary_rule_term.h"
 
 #include <omp.h>
@@ -37,6 +38,7 @@ void recordResidualClaim(nlohmann::json& extra, double residual, double toleranc
 void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
   recordResidualClaim(extra, s.finalResidual, s.residualThreshold, s.forceScale, s.forceScaleSource);
   if (s.roundOffFloor > 0.0) extra["round_off_floor"] = s.roundOffFloor;
+  if (!s.convergenceTest.empty()) extra["convergence_test"] = s.convergenceTest;
 }
 
 bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
@@ -98,12 +100,16 @@ std::string format(const char* fmt, double a) {
   return buffer;
 }
 
-/// The scene's boundary-edge rules, as a correction of the bending term's built-in ones (free: the face's own
-/// normal; clamped: the reference normal) until the bending term takes rules itself.
+/// The scene's boundary-edge rules: the clamp rule is the bending term's own (energies/shell/edge_rules.h); the
+/// moment-free free edge and symmetry planes are a correction term on the faces they change
+/// (validation/boundary_rule_term.h).
 void addEdgeRules(const Scene& scene, const ShellProblem& problem, ShellSystem& system) {
+  if (!system.bending) return;
+  const EdgeRule clamp = edgeRuleFromString(scene.edgeRules.clamp);
+  if (!problem.clampedVertices.empty()) system.bending->setEdgeRule(problem.clampedVertices, clamp);
   validation::BoundaryRules rules;
-  rules.clampRule = validation::parseEdgeRule(scene.edgeRules.clamp);
-  rules.freeRule = validation::parseEdgeRule(scene.edgeRules.free);
+  rules.clampRule = rules.builtInClampRule = validation::toBoundaryRule(clamp);
+  rules.freeRule = validation::parseBoundaryRule(scene.edgeRules.free);
   for (const EdgeRuleSettings::SymmetryPlane& p : scene.edgeRules.symmetryPlanes)
     rules.symmetryPlanes.push_back({p.point, p.normal});
   rules.planeTolerance = 1e-6;
@@ -128,6 +134,7 @@ struct ProbeHistory {
 RunResult runScene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const SceneModel model = buildSceneModel(scene);
+  checkRigidModes(scene, model);
   if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
   RunResult result;
   result.notes = unsupportedFeatures(scene);
@@ -310,6 +317,20 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
+  {
+    std::vector<int> inverted;
+    for (const ActorBlock& b : model.actors)
+      for (int f : invertedFaces(b.mesh, b.topology, x)) inverted.push_back(b.firstFace + f);
+    summary.extra["inverted_faces"] = inverted.size();
+    if (!inverted.empty()) {
+      std::ostringstream w;
+      w << inverted.size() << " inverted face(s) at the end of the run (turned by more than 120° against a neighbour), e.g. face "
+        << inverted.front() << ": an element was pushed through itself; the result there is not physical";
+      result.warnings.push_back(w.str());
+      progress.log("warning: " + w.str());
+    }
+  }
+  summary.extra["warnings"] = result.warnings;
   progress.finish();
   summary.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.lastFrame = output.lastFrame();
