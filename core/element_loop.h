@@ -19,6 +19,9 @@
 
 namespace jetshell {
 
+/// Loops over fewer elements than this run serially: thread start-up costs more than their elements.
+inline constexpr int kParallelMinElements = 512;
+
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
 /// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
 template <int K, typename Kernel>
@@ -51,8 +54,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
   if (wantG || wantH) {
     for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
-      // Small meshes run serially: thread start-up costs more than their elements.
-#pragma omp parallel for schedule(dynamic, 1) if (ne >= 512)
+#pragma omp parallel for schedule(dynamic, 1) if (ne >= kParallelMinElements)
       for (int i = 0; i < n; ++i)
         errors.run([&] {
           for (int e = color[i].begin; e < color[i].end; ++e) body(e);
@@ -60,7 +62,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
       errors.rethrow();
     }
   } else {
-#pragma omp parallel for schedule(static) if (ne >= 512)
+#pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
     for (int e = 0; e < ne; ++e) {
       errors.run([&] {
         Eigen::Matrix<double, M, 1> g;
