@@ -17,6 +17,9 @@
 
 namespace jetshell {
 
+/// Loops over fewer elements than this run serially: thread start-up costs more than their elements.
+inline constexpr int kParallelMinElements = 512;
+
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
 /// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
 template <int K, typename Kernel>
@@ -49,7 +52,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
     // One parallel region for all colours: a colour ends at the worksharing loop's barrier, without a team
     // start-up and join per colour (half the synchronization points, each of which costs a scheduling delay
     // when the other core is busy). Small meshes run serially: thread start-up costs more than their elements.
-#pragma omp parallel if (ne >= 512)
+#pragma omp parallel if (ne >= kParallelMinElements)
     for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
 #pragma omp for schedule(dynamic, 1)
@@ -57,7 +60,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
         for (int e = color[i].begin; e < color[i].end; ++e) body(e);
     }
   } else {
-#pragma omp parallel for schedule(static) if (ne >= 512)
+#pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
     for (int e = 0; e < ne; ++e) {
       Eigen::Matrix<double, M, 1> g;
       Eigen::Matrix<double, M, M> H;

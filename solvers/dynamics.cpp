@@ -1,5 +1,7 @@
 #include "solvers/dynamics.h"
 
+#include "core/input_limits.h"
+
 #include "core/mesh.h"
 
 #include <algorithm>
@@ -205,7 +207,14 @@ DynamicsResult simulate(DynamicsSolver& solver, double duration, const StepCallb
   if (!(std::isfinite(duration) && duration >= 0.0)) throw InputError("dynamics: duration must be finite and >= 0");
   DynamicsResult result;
   result.activeTerms = solver.system().objective().activeTermNames();
-  const int steps = static_cast<int>(std::ceil(duration / solver.options().timeStep - 1e-9));
+  const double stepCount = std::ceil(duration / solver.options().timeStep - 1e-9);
+  if (!(stepCount <= static_cast<double>(inputLimits().maxSteps))) {
+    std::ostringstream s;
+    s << "dynamics: duration / timeStep gives " << stepCount << " steps, too many (at most " << inputLimits().maxSteps
+      << ")";
+    throw InputError(s.str());
+  }
+  const int steps = static_cast<int>(stepCount);
   for (int i = 0; i < steps; ++i) {
     const StepReport r = solver.step();
     result.newtonIterations += r.newtonIterations;

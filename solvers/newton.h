@@ -1,14 +1,20 @@
 // Newton's method on an Objective, with per-element PSD projection, a line search and a sparse linear solver.
 //
-// Convergence (either test ends the solve; both are stated in physical units in the summary):
-//  - residual:  ‖g_free‖∞ ≤ residualTolerance × F, where F [N] is the objective's force scale (the largest
-//    external nodal force: a vertex's weight plus its applied force at λ = 1) or, when the objective has no
-//    external force, the initial residual. Default 1e-6: no free dof is out of balance by more than a
-//    millionth of the largest applied nodal force.
-//  - Newton decrement: ½ gᵀH⁻¹g = −½ gᵀd ≤ decrementTolerance × F × L [J], L [m] the mean reference edge
-//    length. Default 1e-12: the energy the remaining step would release is below 1e-12 of the work of the
-//    largest nodal force over one edge length (the remaining step, in the H-norm, is ~1e-6 L·√(F/(kL))).
-//    When it passes, the (tiny) full step is still taken if it does not raise the energy beyond round-off.
+// Convergence is judged on the residual (for time steps an iterate test may also end a solve, see below; the
+// summary's convergenceTest says which held): the solve has converged when ‖g_free‖∞ ≤ tolerance, where
+//   tolerance = max(residualTolerance × F, round-off floor).
+//  - F [N] is the objective's force scale (Objective::forceScale: the largest external nodal force, or the force of
+//    the prescribed motion, or the material's force at unit strain when nothing drives the problem). It never
+//    depends on the current residual. Default residualTolerance 1e-6: no free dof is out of balance by more than
+//    a millionth of F.
+//  - The round-off floor is the residual that rounding the positions alone leaves, 64 ε max_i (|H| |x|)_i over the
+//    free dofs (a position known to ε|x| moves the force by H ε|x|); it counts only while it is below 1e-2 F. A
+//    problem whose floor is above that (a load that moves the shell by less than its positions' round-off) cannot
+//    converge and says so.
+// The Newton decrement ½ gᵀH⁻¹g decides nothing on its own: when it falls below decrementTolerance × F × L [J]
+// (L the mean edge length), the full step is taken if it does not raise the energy beyond round-off, and if the
+// residual is still above its tolerance after that the solve ends as Stalled, not converged.
+// The summary records the final residual, the tolerance it was held to, the force scale and its source.
 // The Hessian is assembled with the chosen projection (Clamp by default: each element block's negative
 // eigenvalues are set to zero, so H is PSD and a shift-regularized solve yields a descent direction).
 // Projection costs the quadratic rate near a solution (a stable equilibrium's element blocks can still be
@@ -49,9 +55,9 @@ struct NewtonOptions {
   double armijoC1 = 1e-4;
   double wolfeC2 = 0.9;
   double residualTolerance = 1e-6;    // × force scale [N]
-  double decrementTolerance = 1e-12;  // × force scale × length scale [J]
-  double absoluteResidualTolerance = 0.0;  // [N]; 0: off
-  double relativeResidualTolerance = 0.0;  // × initial residual; 0: off
+  double decrementTolerance = 1e-12;  // × force scale × length scale [J]: the stall test
+  double absoluteResidualTolerance = 0.0;  // [N]; 0: off (presets that state one; the larger tolerance holds)
+  double relativeResidualTolerance = 0.0;  // × the solve's initial residual; 0: off (the page's preset)
   LinearSolverOptions linear;
 };
 

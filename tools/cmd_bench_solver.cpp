@@ -3,6 +3,7 @@
 // bending Hessian (same tolerance). --orderings compares the fill-reducing orderings of the first step's
 // Hessian and of its one-ring part instead (nnz(L), flops, times).
 // Prints Newton iterations per step, milliseconds per phase per iteration, symbolic analyses and peak RSS.
+#include "tools/output/atomic_file.h"
 #include "core/mesh_generators.h"
 #include "solvers/cholmod_factor.h"
 #include "solvers/one_ring_pattern.h"
