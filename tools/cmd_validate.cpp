@@ -2,6 +2,7 @@
 // every tabulated load level with its reference; prints the table, writes a PNG of the load paths and, with
 // --json, one object per benchmark. VALIDATION.md explains the benchmarks, the options and the figures.
 #include "core/input_limits.h"
+#include "tools/output/atomic_file.h"
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "tools/validation/validation_plots.h"
@@ -133,9 +134,7 @@ int runValidate(const ValidateArgs& a) {
     out.push_back(std::move(j));
   }
   if (!a.json.empty()) {
-    std::ofstream f(a.json);
-    if (!f) throw InputError("--json: cannot write '" + a.json + "'");
-    f << out.dump(2) << "\n";
+    writeFileAtomically(a.json, out.dump(2) + "\n");
   }
   return ok ? kOk : kFailed;
 }
