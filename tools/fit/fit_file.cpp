@@ -162,6 +162,11 @@ ObservationSpec readCurveObservation(const Object& o, const Scene& scene, const 
   s.weight = weight(o);
   const double scale = o.number("displacementScale", 1.0);
   check::finite(scale, o.member("displacementScale"));
+  const int loadColumn = o.integer("loadColumn", 0), valueColumn = o.integer("displacementColumn", 1);
+  if (loadColumn < 0 || loadColumn > 63) check::fail(o.member("loadColumn"), loadColumn, "must lie in [0, 63]");
+  if (valueColumn < 0 || valueColumn > 63 || valueColumn == loadColumn)
+    check::fail(o.member("displacementColumn"), valueColumn, "must lie in [0, 63] and differ from loadColumn");
+  const int columns = std::max(loadColumn, valueColumn) + 1;
   const std::string path = resolve(base, o.at("csv").string());
   std::istringstream in(readText(path, "CSV curve"));
   std::string line;
@@ -172,14 +177,17 @@ ObservationSpec readCurveObservation(const Object& o, const Scene& scene, const 
     if (line.find_first_not_of(" \t") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
-    double lambda = 0.0, u = 0.0;
-    std::string extra;
+    std::vector<double> row;
+    double value = 0.0;
+    while (static_cast<int>(row.size()) < columns && fields >> value) row.push_back(value);
     const std::string where = path + ":" + std::to_string(lineNumber);
-    if (!(fields >> lambda >> u)) {
-      if (s.levels.empty() && lineNumber == 1) continue;  // a header line
-      throw InputError(where + ": expected two numbers (load factor, displacement)");
+    if (static_cast<int>(row.size()) < columns) {
+      if (s.levels.empty() && lineNumber == 1 && row.empty()) continue;  // a header line
+      throw InputError(where + ": expected at least " + std::to_string(columns) +
+                       " numbers (load factor in column " + std::to_string(loadColumn) + ", displacement in column " +
+                       std::to_string(valueColumn) + ", counted from 0)");
     }
-    if (fields >> extra) throw InputError(where + ": more than two columns");
+    const double lambda = row[static_cast<std::size_t>(loadColumn)], u = row[static_cast<std::size_t>(valueColumn)];
     if (!(std::isfinite(lambda) && lambda >= 0.0 && lambda <= 100.0))
       throw InputError(where + ": load factor " + std::to_string(lambda) + " must lie in [0, 100]");
     if (!std::isfinite(u)) throw InputError(where + ": displacement not finite");
@@ -298,7 +306,7 @@ FitFile fitFromJson(const nlohmann::json& document, const std::string& base, con
     } else if (type == "shape") {
       s = readShapeObservation(v.object({"type", "actor", "loadFactor", "obj", "weight"}, "a shape observation"), f.scene, base);
     } else {
-      s = readCurveObservation(v.object({"type", "probe", "component", "csv", "displacementScale", "weight"}, "a curve observation"), f.scene, base);
+      s = readCurveObservation(v.object({"type", "probe", "component", "csv", "loadColumn", "displacementColumn", "displacementScale", "weight"}, "a curve observation"), f.scene, base);
     }
     s.where = v.pointer();
     levels.insert(s.levels.begin(), s.levels.end());

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -147,7 +148,7 @@ std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::st
     p.yLabel = "misfit";
     p.logY = true;
     PlotSeries all("every evaluation", {}, {}, "points", "#7f7f7f"), best("best so far", {}, {}, "lines", "#1f77b4");
-    double bestValue = INFINITY;
+    double bestValue = std::numeric_limits<double>::infinity();
     for (const FitRecord& h : r.history) {
       if (!h.ok || !(h.misfit > 0.0)) continue;  // log scale: exact zeros and failures are not drawn
       all.x.push_back(h.evaluation);
@@ -169,7 +170,7 @@ std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::st
     p.title = "Fitted against observed displacements";
     p.xLabel = "observed displacement [m]";
     p.yLabel = "fitted displacement [m]";
-    double lo = INFINITY, hi = -INFINITY;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (double v : d.observed) lo = std::min(lo, v), hi = std::max(hi, v);
     p.series = {PlotSeries("y = x", {lo, hi}, {lo, hi}, "lines", "#7f7f7f", 2),
                 PlotSeries("observed coordinates", d.observed, d.fitted, "points", "#d62728")};

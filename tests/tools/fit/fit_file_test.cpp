@@ -151,7 +151,14 @@ TEST_CASE("fit file: CSV curves and target shapes are read and checked", "[fit]"
   j["observations"][0]["csv"] = "bad_curve.csv";
   CHECK_THAT(errorOf(j), Catch::Contains("bad_curve.csv:2") && Catch::Contains("increase"));
   write(d / "bad_curve.csv", "0.5,0.01\n1.0,x\n");
-  CHECK_THAT(errorOf(j), Catch::Contains("bad_curve.csv:2") && Catch::Contains("two numbers"));
+  CHECK_THAT(errorOf(j), Catch::Contains("bad_curve.csv:2") && Catch::Contains("at least 2 numbers"));
+  write(d / "table.tsv", "# lambda W_A W_B\n0.5\t1\t2\n1.0\t3\t4\n");
+  j["observations"][0]["csv"] = "table.tsv";
+  j["observations"][0]["displacementColumn"] = 2;
+  CHECK(fitFromJson(j, d.string(), "fit.json").observations[0].displacements[1].z() == 4.0);
+  j["observations"][0]["displacementColumn"] = 0;
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/displacementColumn"));
+  j["observations"][0].erase("displacementColumn");
   j["observations"][0]["csv"] = "missing.csv";
   CHECK_THAT(errorOf(j), Catch::Contains("missing.csv") && Catch::Contains("cannot open"));
 
