@@ -167,3 +167,17 @@ TEST_CASE("fit file: CSV curves and target shapes are read and checked", "[fit]"
   j["observations"] = nlohmann::json::parse(R"([{ "type": "shape", "actor": "strip", "loadFactor": 1, "obj": "target.obj" }])");
   CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/obj") && Catch::Contains("has 3 vertices"));
 }
+
+TEST_CASE("fit file: every example fit file (examples/fit_*.json) reads", "[fit]") {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(JETSHELL_SOURCE_DIR) / "examples")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("fit_", 0) != 0 || entry.path().extension() != ".json") continue;
+    INFO(name);
+    const FitFile f = loadFitFile(entry.path().string());
+    CHECK(!f.parameters.empty());
+    CHECK(!f.observations.empty());
+    ++count;
+  }
+  CHECK(count >= 3);
+}
