@@ -132,24 +132,3 @@ TEST_CASE("render: a frame becomes a PNG with the mesh in the middle") {
                     vtu + ": no point array 'velocity' to colour by (known: displacement)");
 }
 
-TEST_CASE("render: gnuplot curves become a PNG") {
-  PlotSpec spec;
-  spec.title = "a \"quoted\" title";
-  spec.xLabel = "x";
-  spec.yLabel = "y";
-  spec.series.push_back({"x^2", {0, 1, 2, 3}, {0, 1, 4, 9}, "linespoints"});
-  spec.width = 320;
-  spec.height = 240;
-  const std::string script = gnuplotScript(spec, {"d.dat"}, "o.png");
-  CHECK(script.find("set title \"a \\\"quoted\\\" title\"") != std::string::npos);
-  spec.series.push_back({"bad", {0, 1}, {0}, "lines"});
-  CHECK_THROWS_WITH(plotPng(spec, scratch("bad.png").string()), Catch::EndsWith("series 'bad' has 2 x values and 1 y values"));
-  spec.series.pop_back();
-  if (!gnuplotAvailable()) return;
-  const std::string png = scratch("plot.png").string();
-  plotPng(spec, png);
-  int w = 0, h = 0;
-  readPngRgb(png, w, h);
-  CHECK(w == 320);
-  CHECK(h == 240);
-}

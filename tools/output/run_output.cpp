@@ -23,6 +23,14 @@ void createDirectory(const std::filesystem::path& p) {
   if (ec || !std::filesystem::is_directory(p)) throw InputError(p.string() + ": cannot create the output directory (" + ec.message() + ")");
 }
 
+/// A CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break, quotes doubled.
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 }  // namespace
 
 RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel& model, std::string scenePath)
@@ -109,7 +117,8 @@ void RunOutput::writeFrame(const StepState& s) {
 void RunOutput::writeProbes() const {
   writeFileAtomically((std::filesystem::path(directory_) / "probes.csv").string(), [&](std::ostream& out) {
     out << "step,time,load_factor";
-    for (const ResolvedProbe& p : model_.probes) out << ',' << p.name << "_ux," << p.name << "_uy," << p.name << "_uz";
+    for (const ResolvedProbe& p : model_.probes)
+      for (const char* axis : {"_ux", "_uy", "_uz"}) out << ',' << csvField(p.name + axis);
     out << '\n';
     for (const ProbeRow& r : rows_) {
       out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
