@@ -4,8 +4,11 @@
 // evaluations (each solves every observed load level), evaluations until every parameter is within --tolerance
 // of the truth (relative), Newton iterations and factorizations, the derivative cost (exact-Hessian
 // factorizations and triangular solves), wall and CPU time, final misfit and parameter error.
+// --demos adds the two demos of FITTING.md: the cloth overhang (fitted flexural rigidity against the self-weight
+// elastica and ASTM D1388's G = w (l/2)³) and the slit annular plate's effective E against Sze's curves.
 #include "tools/fit/fit_setup.h"
 #include "tools/subcommand.h"
+#include "validation/self_weight_elastica.h"
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +16,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -25,13 +29,71 @@ struct Args {
   std::vector<std::string> algorithms{"levenberg-marquardt", "lbfgs", "mma", "bobyqa", "nelder-mead"};
   double tolerance = 1e-6;
   int maxEvaluations = 400;
+  bool demos = false;
+  bool skipSynthetic = false;
   std::string json;
 };
+
+constexpr double kPi = 3.14159265358979323846;
 
 double cpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+
+/// Runs one example fit file with its own settings; prints and returns its figures.
+nlohmann::json runDemo(const std::string& name, const std::function<nlohmann::json(const FitFile&, const FitResult&)>& compare) {
+  const std::string path = std::string(JETSHELL_SOURCE_DIR) + "/examples/" + name;
+  const FitFile file = loadFitFile(path);
+  FitSetup setup(file);
+  const double cpu0 = cpuSeconds();
+  const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
+  const double cpu = cpuSeconds() - cpu0;
+  nlohmann::json j = {{"fit_file", name},
+                      {"algorithm", toString(r.algorithm)},
+                      {"success", r.success},
+                      {"termination", r.termination},
+                      {"evaluations", r.counters.evaluations},
+                      {"full_solves", r.counters.fullSolves},
+                      {"newton_iterations", r.counters.newtonIterations},
+                      {"sensitivity_solves", r.counters.sensitivitySolves},
+                      {"wall_seconds", r.wallSeconds},
+                      {"cpu_seconds", cpu},
+                      {"misfit", r.misfit},
+                      {"value", r.q.size() > 0 ? r.q[0] : 0.0},
+                      {"standard_deviation", r.uncertainty.available ? r.uncertainty.standardDeviation[0] : 0.0}};
+  std::printf("\n%s: %s (%s), %d evaluations (%d full solves, %d Newton iterations), %.2f s wall, %.2f s CPU, misfit %.4e\n",
+              name.c_str(), r.success ? "converged" : "NOT converged", r.termination.c_str(), r.counters.evaluations,
+              r.counters.fullSolves, r.counters.newtonIterations, r.wallSeconds, cpu, r.misfit);
+  if (r.q.size() > 0)
+    std::printf("  %s = %.8g +- %.3g\n", r.variables[0].label.c_str(), r.q[0],
+                r.uncertainty.available ? r.uncertainty.standardDeviation[0] : 0.0);
+  j.update(compare(file, r));
+  return j;
+}
+
+nlohmann::json overhangComparison(const FitFile& file, const FitResult& r) {
+  // The strip's geometry and weight from the example: l 0.05 m, w = ρ_A g, flexural rigidity D = β per width.
+  const double l = 0.05, w = file.material.shell.density * 9.81, theta = 41.5 * kPi / 180.0;
+  const double elastica = validation::rigidityForChordAngle(l, w, theta);  // per unit width (w per area)
+  const double astm = w * std::pow(0.5 * l, 3.0);
+  const double c = validation::peirceBendingLength(l, theta);
+  const double peirce = w * c * c * c;
+  const double fitted = r.q.size() > 0 ? r.q[0] : 0.0;
+  std::printf("  flexural rigidity [N m]: fitted %.6e, elastica %.6e (fitted/elastica - 1 = %+.3f%%), ASTM w (l/2)^3 %.6e "
+              "(%+.3f%%), Peirce's cos/tan formula %.6e (%+.3f%%)\n",
+              fitted, elastica, 100.0 * (fitted / elastica - 1.0), astm, 100.0 * (fitted / astm - 1.0), peirce,
+              100.0 * (fitted / peirce - 1.0));
+  return {{"elastica_rigidity", elastica}, {"astm_rigidity", astm}, {"peirce_rigidity", peirce},
+          {"relative_difference_to_elastica", fitted / elastica - 1.0}};
+}
+
+nlohmann::json slitPlateComparison(const FitFile&, const FitResult& r) {
+  const double E = r.q.size() > 0 ? r.q[0] : 0.0;
+  std::printf("  effective E / 21e6 = %.5f (the discretization's stiffness relative to Sze's reference)\n", E / 21e6);
+  return {{"relative_to_nominal", E / 21e6}};
 }
 
 double maxRelativeError(const Eigen::VectorXd& q, const Eigen::VectorXd& truth) {
@@ -47,14 +109,14 @@ std::string loadAverage() {
   return a.empty() ? "?" : a;
 }
 
-int run(const Args& a) {
+int runSynthetic(const Args& a, nlohmann::json& out) {
   const FitFile file = loadFitFile(a.fit);
   Eigen::VectorXd truth(static_cast<Eigen::Index>(file.parameters.size()));
   for (std::size_t i = 0; i < file.parameters.size(); ++i)
     truth[static_cast<Eigen::Index>(i)] = materialBaseValue(file.material, file.parameters[i].name);
   nlohmann::json rows = nlohmann::json::array();
   std::printf("fit file: %s (%zu parameters; truth = the scene's values)\n", a.fit.c_str(), file.parameters.size());
-  std::printf("load average at start: %s\n\n", loadAverage().c_str());
+  std::printf("\n");
   std::printf("| algorithm | evaluations | to %.0e | full solves to %.0e | Newton it. | Newton fact. | deriv. fact. | deriv. solves | per-gradient solves/level | wall s | CPU s | final misfit | max rel. error |\n",
               a.tolerance, a.tolerance);
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
@@ -117,15 +179,31 @@ int run(const Args& a) {
   if (gradientBest > 0 && freeBest > 0)
     std::printf("\nsolves to %.0e: best derivative-free %d, best gradient-based %d: ratio %.1f\n", a.tolerance, freeBest,
                 gradientBest, static_cast<double>(freeBest) / gradientBest);
+  out = {{"fit_file", a.fit}, {"tolerance", a.tolerance}, {"runs", rows},
+         {"best_gradient_based", gradientBest}, {"best_derivative_free", freeBest}};
+  return failures == 0 ? kOk : kFailed;
+}
+
+int run(const Args& a) {
+  nlohmann::json j;
+  int code = kOk;
+  std::printf("load average at start: %s\n", loadAverage().c_str());
+  if (!a.skipSynthetic) {
+    nlohmann::json synthetic;
+    code = runSynthetic(a, synthetic);
+    j["synthetic"] = synthetic;
+  }
+  if (a.demos) {
+    j["overhang"] = runDemo("fit_cloth_overhang.json", overhangComparison);
+    j["slit_plate"] = runDemo("fit_sze_slit_plate.json", slitPlateComparison);
+  }
   std::printf("load average at end: %s\n", loadAverage().c_str());
   if (!a.json.empty()) {
-    nlohmann::json j = {{"fit_file", a.fit}, {"tolerance", a.tolerance}, {"runs", rows},
-                        {"best_gradient_based", gradientBest}, {"best_derivative_free", freeBest}};
     std::ofstream out(a.json);
     if (!out) throw InputError("--json: cannot write '" + a.json + "'");
     out << j.dump(2) << "\n";
   }
-  return failures == 0 ? kOk : kFailed;
+  return code;
 }
 
 const RegisterSubcommand reg("bench-fit", [](CLI::App& app, int& exitCode) {
@@ -136,6 +214,8 @@ const RegisterSubcommand reg("bench-fit", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--algorithms", a->algorithms, "Algorithms to compare")->delimiter(',');
   cmd->add_option("--tolerance", a->tolerance, "Relative parameter error that counts as recovered")->check(CLI::PositiveNumber);
   cmd->add_option("--max-evaluations", a->maxEvaluations, "Evaluation cap per algorithm")->check(CLI::Range(1, 100000));
+  cmd->add_flag("--demos", a->demos, "Also run the overhang and slit-plate demos (FITTING.md)");
+  cmd->add_flag("--no-synthetic", a->skipSynthetic, "Skip the synthetic algorithm comparison");
   cmd->add_option("--json", a->json, "Write the figures as JSON");
   cmd->callback([a, &exitCode] { exitCode = run(*a); });
 });
