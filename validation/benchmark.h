@@ -5,7 +5,7 @@
 #include "core/mesh_generators.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
-#include "validation/end_moment_term.h"
+#include "energies/end_moment_term.h"
 #include "validation/reference_table.h"
 
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
 #include "core/mesh_generators.h"
-#include "validation/end_moment_term.h"
+#include "energies/end_moment_term.h"
 
 #include <catch2/catch.hpp>
 
@@ -9,7 +9,6 @@
 #include <vector>
 
 using namespace jetshell;
-using namespace jetshell::validation;
 
 namespace {
 
