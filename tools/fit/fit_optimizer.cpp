@@ -252,14 +252,25 @@ FitUncertainty gaussNewtonUncertainty(const Eigen::MatrixXd& J, const Eigen::Vec
     u.message = "as many parameters as residuals: no residual variance to scale the covariance with";
     return u;
   }
-  const Eigen::MatrixXd A = J.transpose() * J;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
+  // Columns scaled to unit norm first: parameters in physical units differ by many decades (λ ~ 1e2, α ~ 1e-5),
+  // which would make JᵀJ look singular when only its scaling is bad.
+  Eigen::VectorXd norms(Q);
+  for (int i = 0; i < Q; ++i) {
+    norms[i] = J.col(i).norm();
+    if (!(norms[i] > 0.0)) {
+      u.message = "a parameter does not change any residual: the observations do not determine it";
+      return u;
+    }
+  }
+  const Eigen::MatrixXd Js = J * norms.cwiseInverse().asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Js.transpose() * Js);
   if (eig.info() != Eigen::Success || !(eig.eigenvalues().minCoeff() > 1e-13 * eig.eigenvalues().maxCoeff())) {
     u.message = "JᵀJ is singular: the observations do not determine every parameter";
     return u;
   }
-  const Eigen::MatrixXd C = eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
-                            eig.eigenvectors().transpose();
+  const Eigen::MatrixXd Cs = eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
+                             eig.eigenvectors().transpose();
+  const Eigen::MatrixXd C = norms.cwiseInverse().asDiagonal() * Cs * norms.cwiseInverse().asDiagonal();
   u.residualVariance = r.squaredNorm() / static_cast<double>(M - Q);
   u.standardDeviation = (u.residualVariance * C.diagonal()).cwiseSqrt();
   u.correlation.resize(Q, Q);
