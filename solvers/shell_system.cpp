@@ -91,6 +91,9 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     if (nodalForces) f += p.nodalForces.segment<3>(3 * v);
     scales.force = std::max(scales.force, f.norm());
   }
+  scales.stiffness = std::max(m.membraneLambda + 2.0 * m.membraneMu,
+                              (m.bendingAlpha + m.bendingBeta) / (scales.length * scales.length));
+  scales.reference = restPositions();
   objective_.setScales(scales);
 }
 

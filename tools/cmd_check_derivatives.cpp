@@ -3,6 +3,7 @@
 // analytic, each path vs Richardson-extrapolated central differences, symmetry of the gradient's Jacobian, and
 // PSD-ness of model (Gauss–Newton) Hessians (tools/checks/derivative_check.h). Prints a table of the largest errors per
 // term; exits 1 when a tolerance is exceeded.
+#include "tools/output/atomic_file.h"
 #include "tools/checks/check_configurations.h"
 #include "tools/checks/derivative_check.h"
 #include "energies/registry.h"
@@ -301,9 +302,7 @@ int run(const CheckOptions& o) {
   std::printf("%s\n", allPass ? "all checks passed" : "SOME CHECKS FAILED");
 
   if (!o.json.empty()) {
-    std::ofstream f(o.json);
-    if (!f) throw InputError("--json: cannot write '" + o.json + "'");
-    f << out.dump(2) << "\n";
+    writeFileAtomically(o.json, out.dump(2) + "\n");
   }
   return allPass ? kOk : kFailed;
 }
