@@ -138,6 +138,10 @@ void runNlopt(Run& run, const Eigen::VectorXd& z0, const Eigen::VectorXd& lower,
   nlopt_set_maxeval(run.opt, run.options.maxEvaluations);
   nlopt_set_xtol_abs1(run.opt, run.options.parameterTolerance);
   nlopt_set_ftol_rel(run.opt, run.options.misfitTolerance);
+  // Derivative-free methods start from a simplex or trust region of this size in z (10% in each parameter):
+  // NLopt's default, a fraction of the bound width, makes first trial points decades away on log scales,
+  // where the static solves are needlessly hard.
+  if (!usesDerivatives(run.options.algorithm)) nlopt_set_initial_step1(run.opt, 0.1);
   std::vector<double> z(z0.data(), z0.data() + n);
   double minf = 0.0;
   const nlopt_result code = nlopt_optimize(run.opt, z.data(), &minf);
