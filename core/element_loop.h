@@ -52,9 +52,13 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
   };
   ParallelErrors errors;
   if (wantG || wantH) {
+    // One parallel region for all colours: a colour ends at the worksharing loop's barrier, without a team
+    // start-up and join per colour (half the synchronization points, each of which costs a scheduling delay
+    // when the other core is busy). Small meshes run serially: thread start-up costs more than their elements.
+#pragma omp parallel if (ne >= kParallelMinElements)
     for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
-#pragma omp parallel for schedule(dynamic, 1) if (ne >= kParallelMinElements)
+#pragma omp for schedule(dynamic, 1)
       for (int i = 0; i < n; ++i)
         errors.run([&] {
           for (int e = color[i].begin; e < color[i].end; ++e) body(e);

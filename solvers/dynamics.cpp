@@ -82,6 +82,19 @@ void DynamicsSolver::setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v
   historyValid_ = false;
 }
 
+void DynamicsSolver::restore(const Snapshot& s) {
+  setState(s.x, s.v, s.t);
+  if (s.historyValid) {
+    if (s.xPrev.size() != s.x.size() || s.vPrev.size() != s.x.size() || !s.xPrev.allFinite() || !s.vPrev.allFinite())
+      throw InputError("dynamics: the BDF2 history of the snapshot does not match the state");
+    xPrev_ = s.xPrev;
+    vPrev_ = s.vPrev;
+  }
+  historyStep_ = s.historyStep;
+  historyValid_ = s.historyValid;
+  steps_ = s.steps;
+}
+
 double DynamicsSolver::kineticEnergy() const {
   const Eigen::VectorXd& m = system_.vertexMass();
   double e = 0.0;

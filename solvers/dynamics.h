@@ -91,6 +91,17 @@ class DynamicsSolver {
   /// Advances one Δt (cutting it when needed). On failure the state is unchanged.
   StepReport step();
 
+  /// The whole state, BDF2 history included: restoring it continues the run bit for bit (checkpoints).
+  struct Snapshot {
+    Eigen::VectorXd x, v, xPrev, vPrev;
+    double t = 0.0, historyStep = 0.0;
+    int steps = 0;
+    bool historyValid = false;
+  };
+  Snapshot snapshot() const { return {x_, v_, xPrev_, vPrev_, t_, historyStep_, steps_, historyValid_}; }
+  /// Throws InputError when the sizes do not match the system or a value is not finite.
+  void restore(const Snapshot& s);
+
   /// ½ Σ m_v |v_v|².
   double kineticEnergy() const;
   /// The potential terms' energy (elastic, gravity, loads) at the current positions.

@@ -1,5 +1,6 @@
 // `jetshell run SCENE.json --out DIR`: solve a scene and write its frames, probes, summary and pictures.
 #include "core/mesh.h"
+#include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
 #include "tools/scene/run_scene.h"
@@ -10,6 +11,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <iostream>
 
 namespace jetshell::cli {
@@ -23,6 +26,8 @@ const RegisterSubcommand reg("run", [](CLI::App& app, int& exitCode) {
     bool quiet = false;
     bool noPictures = false;
     bool checkOnly = false;
+    int checkpointEvery = 0;
+    std::string resume;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("run", "Solve a scene (SCENES.md) and write frames, probes.csv, summary.json and pictures");
@@ -32,6 +37,12 @@ const RegisterSubcommand reg("run", [](CLI::App& app, int& exitCode) {
   cmd->add_flag("--check", args->checkOnly, "Only read and check the scene (and its meshes), then exit");
   cmd->add_flag("--quiet,-q", args->quiet, "No log lines, only the final report");
   cmd->add_flag("--no-pictures", args->noPictures, "Skip final.png and probes.png");
+  cmd->add_option("--checkpoint-every", args->checkpointEvery,
+                  "Dynamics: write checkpoint.cbor into the output directory every N steps")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--resume", args->resume,
+                  "Dynamics: continue the run whose output directory DIR holds a checkpoint (same scene file); "
+                  "it ends bit for bit as an uninterrupted run");
   cmd->callback([args, &exitCode] {
     const Scene scene = loadSceneFile(args->scene);
     if (args->checkOnly) {
@@ -47,9 +58,21 @@ const RegisterSubcommand reg("run", [](CLI::App& app, int& exitCode) {
     }
     RunOptions o;
     o.scenePath = args->scene;
-    o.outputDirectory = args->out.empty()
+    if (!args->resume.empty() && !args->out.empty() &&
+        std::filesystem::weakly_canonical(args->resume) != std::filesystem::weakly_canonical(args->out))
+      throw InputError("--resume " + args->resume + " and --out " + args->out + ": a resumed run writes into its own directory");
+    o.outputDirectory = !args->resume.empty() ? args->resume
+                        : args->out.empty()
                             ? (std::filesystem::path("out") / std::filesystem::path(args->scene).stem()).string()
                             : args->out;
+    o.checkpointEvery = args->checkpointEvery;
+    o.resume = !args->resume.empty();
+    {
+      std::ifstream in(args->scene, std::ios::binary);
+      std::stringstream text;
+      text << in.rdbuf();
+      o.sceneFingerprint = fingerprint(text.str());
+    }
     o.stepLimit = args->steps;
     o.pictures = !args->noPictures;
     o.log = args->quiet ? nullptr : &std::cerr;

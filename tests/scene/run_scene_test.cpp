@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -34,6 +35,7 @@ nlohmann::json readJson(const fs::path& path) {
 TEST_CASE("run: every example runs its first steps and writes its outputs") {
   for (const auto& entry : fs::directory_iterator(fs::path(JETSHELL_SOURCE_DIR) / "examples")) {
     if (entry.path().extension() != ".json") continue;
+    if (entry.path().filename().string().rfind("fit_", 0) == 0) continue;  // fit files (FITTING.md): tests/tools/fit
     INFO(entry.path().string());
     Scene scene = loadSceneFile(entry.path().string());
     scene.outputs.frameStride = 1;
@@ -106,4 +108,83 @@ TEST_CASE("run: actors with different materials are refused with their name") {
   RunOptions o;
   o.outputDirectory = freshDirectory("two").string();
   CHECK_THROWS_WITH(runScene(scene, o), Catch::StartsWith("shell actor 'b': a material different from 'a''s"));
+}
+
+namespace {
+
+std::string fileBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// Every file under dir (relative path → bytes); summary.json without its wall time.
+std::map<std::string, std::string> outputFiles(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& f : fs::recursive_directory_iterator(dir)) {
+    if (!f.is_regular_file()) continue;
+    const std::string rel = fs::relative(f.path(), dir).string();
+    if (rel == "summary.json") {
+      nlohmann::json s = readJson(f.path());
+      s.erase("wall_seconds");
+      files[rel] = s.dump();
+    } else {
+      files[rel] = fileBytes(f.path());
+    }
+  }
+  return files;
+}
+
+}  // namespace
+
+TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an uninterrupted one", "[checkpoint]") {
+  // A small hanging cloth; BDF2, so the history of the last step must survive the restart too.
+  const Scene scene = sceneFromJson(nlohmann::json::parse(R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [{"type": "shell", "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 5, "ny": 5},
+                "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.0005, "volumeDensity": 300,
+                             "massDampingCoefficient": 0.2},
+                "colliderType": "None", "fixed": [{"select": [{"nearest": [0, 1, 0]}, {"nearest": [1, 1, 0]}]}],
+                "probes": [{"name": "corner", "select": {"nearest": [1, 0, 0]}}]}],
+    "analysis": {"type": "dynamic", "timeStep": 0.02, "duration": 0.24, "integrator": "bdf2"},
+    "solver": {"threads": 1},
+    "outputs": {"frameStride": 2, "obj": true}})"),
+                                    ".");
+  RunOptions o;
+  o.pictures = false;
+  o.checkpointEvery = 5;
+  o.sceneFingerprint = "cloth";
+  // Uninterrupted.
+  const fs::path wholeDirectory = freshDirectory("checkpoint_whole");
+  o.outputDirectory = wholeDirectory.string();
+  const RunResult whole = runScene(scene, o);
+  REQUIRE(whole.summary.converged);
+  REQUIRE(whole.summary.steps == 12);
+  // Stopped after step 8 (the last checkpoint is step 5), then resumed.
+  o.outputDirectory = freshDirectory("checkpoint_resumed").string();
+  o.stepLimit = 8;
+  const RunResult stopped = runScene(scene, o);
+  REQUIRE(stopped.stepLimitReached);
+  o.stepLimit = 0;
+  o.resume = true;
+  const RunResult resumed = runScene(scene, o);
+  CHECK(resumed.summary.converged);
+  CHECK(resumed.summary.steps == 12);
+  CHECK(resumed.summary.newtonIterations == whole.summary.newtonIterations);
+  const auto a = outputFiles(wholeDirectory);
+  const auto b = outputFiles(o.outputDirectory);
+  REQUIRE(a.size() == b.size());
+  for (const auto& [name, bytes] : a) {
+    INFO(name);
+    REQUIRE(b.count(name) == 1);
+    CHECK(b.at(name) == bytes);
+  }
+  // A different scene is refused.
+  o.sceneFingerprint = "another";
+  CHECK_THROWS_WITH(runScene(scene, o), Catch::Contains("written for another scene"));
+  // Static runs have no checkpoints.
+  Scene statics = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
+  o.resume = false;
+  CHECK_THROWS_WITH(runScene(statics, o), Catch::Contains("only dynamic analyses have checkpoints"));
 }

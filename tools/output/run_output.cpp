@@ -161,7 +161,7 @@ nlohmann::json RunOutput::state() const {
   return {{"frames", frames_},
           {"last_recorded_step", lastRecordedStep_},
           {"last_frame_step", lastFrameStep_},
-          {"last_frame", lastFrame_},
+          {"last_frame", lastFrame_.empty() ? "" : std::filesystem::relative(lastFrame_, directory_).string()},
           {"rows", rows},
           {"flushed_rows", flushedRows_},
           {"flushed_row_changed", flushedRowChanged_},
@@ -174,7 +174,8 @@ void RunOutput::restore(const nlohmann::json& j) {
   frames_ = j.at("frames").get<int>();
   lastRecordedStep_ = j.at("last_recorded_step").get<int>();
   lastFrameStep_ = j.at("last_frame_step").get<int>();
-  lastFrame_ = j.at("last_frame").get<std::string>();
+  const std::string lastFrame = j.at("last_frame").get<std::string>();
+  lastFrame_ = lastFrame.empty() ? "" : (fs::path(directory_) / lastFrame).string();
   rows_.clear();
   for (const nlohmann::json& r : j.at("rows"))
     rows_.push_back({r.at("step").get<int>(), r.at("time").get<double>(), r.at("load_factor").get<double>(),

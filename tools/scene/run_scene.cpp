@@ -4,6 +4,7 @@
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "solvers/statics.h"
+#include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
 #include "tools/render/plot.h"
@@ -47,7 +48,25 @@ bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
          a.stiffnessDampingCoefficient == b.stiffnessDampingCoefficient;
 }
 
-ShellProblem makeProblem(const Scene& scene, const SceneModel& model) {
+std::string format(const char* fmt, double a) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, fmt, a);
+  return buffer;
+}
+
+/// The up axis for pictures: against gravity, else +z.
+Eigen::Vector3d upAxis(const Scene& scene) {
+  return scene.gravity.norm() > 0 ? Eigen::Vector3d(-scene.gravity.normalized()) : Eigen::Vector3d::UnitZ();
+}
+
+struct ProbeHistory {
+  std::vector<double> abscissa;
+  std::vector<std::vector<double>> u;  // per probe × component: 3 series each
+};
+
+}  // namespace
+
+ShellProblem makeShellProblem(const Scene& scene, const SceneModel& model) {
   // The solver's ShellSystem takes one material and one gravity flag; stacked actors must agree on both.
   for (std::size_t a = 1; a < scene.shells.size(); ++a) {
     if (!sameMaterial(scene.shells[a].material, scene.shells[0].material))
@@ -75,7 +94,7 @@ ShellProblem makeProblem(const Scene& scene, const SceneModel& model) {
   return p;
 }
 
-NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
+NewtonOptions newtonOptionsFor(const SolverSettings& s, int defaultIterations) {
   NewtonOptions n;
   n.maxIterations = s.maxIterations.value_or(defaultIterations);
   if (s.residualTolerance) n.residualTolerance = *s.residualTolerance;
@@ -88,24 +107,6 @@ NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
   n.bendingHessian = s.bendingHessian == "gaussNewton" ? BendingHessian::GaussNewton : BendingHessian::Exact;
   return n;
 }
-
-std::string format(const char* fmt, double a) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, a);
-  return buffer;
-}
-
-/// The up axis for pictures: against gravity, else +z.
-Eigen::Vector3d upAxis(const Scene& scene) {
-  return scene.gravity.norm() > 0 ? Eigen::Vector3d(-scene.gravity.normalized()) : Eigen::Vector3d::UnitZ();
-}
-
-struct ProbeHistory {
-  std::vector<double> abscissa;
-  std::vector<std::vector<double>> u;  // per probe × component: 3 series each
-};
-
-}  // namespace
 
 RunResult runScene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -124,7 +125,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   const AnalysisKind kind = type == AnalysisType::Static    ? AnalysisKind::Statics
                             : type == AnalysisType::Dynamic ? AnalysisKind::Dynamics
                                                             : AnalysisKind::DynamicRelaxation;
-  const ShellProblem problem = makeProblem(scene, model);
+  const ShellProblem problem = makeShellProblem(scene, model);
   ShellSystem system(problem, kind);
   Objective& objective = system.objective();
   RunOutput output(options.outputDirectory, scene, model, options.scenePath);
@@ -139,6 +140,24 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     progress.log(s.str());
   }
 
+  if ((options.checkpointEvery > 0 || options.resume) && type != AnalysisType::Dynamic)
+    throw InputError(std::string("--checkpoint-every/--resume: only dynamic analyses have checkpoints (this one is ") +
+                     toString(type) + ")");
+  if (options.checkpointEvery < 0) throw InputError("--checkpoint-every: must be >= 0");
+  nlohmann::json checkpoint;
+  if (options.resume) {
+    checkpoint = readCheckpoint(options.outputDirectory);
+    const std::string file = checkpointPath(options.outputDirectory);
+    const nlohmann::json expected = {{"scene_fingerprint", options.sceneFingerprint},
+                                     {"vertices", model.numVertices()},
+                                     {"time_step", scene.analysis.timeStep}};
+    bool same = true;
+    for (const auto& item : expected.items())
+      same = same && checkpoint.contains(item.key()) && checkpoint.at(item.key()) == item.value();
+    if (!same)
+      throw InputError(file + ": written for another scene (or the scene file changed since)");
+  }
+
   Eigen::VectorXd x = system.restPositions();
   objective.applyPrescribed(0.0, x);
   ProbeHistory history;
@@ -150,8 +169,18 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         history.u[3 * p + static_cast<std::size_t>(c)].push_back(positions[3 * model.probes[p].vertex + c] -
                                                                  model.world.V(model.probes[p].vertex, c));
   };
-  output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
-  remember(0.0, x);
+  if (options.resume) {
+    try {
+      output.restore(checkpoint.at("output"));
+      history.abscissa = checkpoint.at("history").at("abscissa").get<std::vector<double>>();
+      history.u = checkpoint.at("history").at("u").get<std::vector<std::vector<double>>>();
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
+    }
+  } else {
+    output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
+    remember(0.0, x);
+  }
   auto potentialEnergy = [&](const Eigen::VectorXd& positions) {
     return objective.evaluate(positions, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
   };
@@ -168,7 +197,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   if (type == AnalysisType::Static) {
     LoadSteppingOptions o;
     o.initialIncrement = o.maxIncrement = 1.0 / scene.analysis.loadSteps;
-    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
     const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
       const int step = s.step + 1;
       output.record({step, s.loadFactor, s.loadFactor, &s.x, nullptr});
@@ -193,16 +222,60 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     DynamicsOptions o;
     o.integrator = scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
     o.timeStep = scene.analysis.timeStep;
-    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
     o.acceptIterationCap = scene.solver.acceptIterationCap;
     DynamicsSolver solver(system, o);
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
     const double duration = scene.analysis.duration;
-    if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(o.timeStep));
+    int previousIterations = 0, previousCuts = 0, previousUnconverged = 0;  // before the checkpoint resumed from
+    if (options.resume) {
+      try {
+        const nlohmann::json& c = checkpoint.at("solver");
+        DynamicsSolver::Snapshot snap;
+        snap.x = vectorFromJson(c.at("x"), "solver/x");
+        snap.v = vectorFromJson(c.at("v"), "solver/v");
+        snap.xPrev = vectorFromJson(c.at("x_prev"), "solver/x_prev");
+        snap.vPrev = vectorFromJson(c.at("v_prev"), "solver/v_prev");
+        snap.t = c.at("t").get<double>();
+        snap.historyStep = c.at("history_step").get<double>();
+        snap.steps = c.at("steps").get<int>();
+        snap.historyValid = c.at("history_valid").get<bool>();
+        solver.restore(snap);
+        lastVelocity = snap.v;
+        previousIterations = checkpoint.at("newton_iterations").get<int>();
+        previousCuts = checkpoint.at("cuts").get<int>();
+        previousUnconverged = checkpoint.value("steps_at_iteration_cap", 0);
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
+      }
+      progress.log("resumed from " + checkpointPath(options.outputDirectory) + " at step " +
+                   std::to_string(solver.stepCount()) + ", t = " + format("%.4f", solver.time()) + " s");
+    }
+    int doneIterations = 0, doneCuts = 0;
     int unconvergedSteps = 0;  // accepted at the iteration cap (the scene's acceptIterationCap)
     double worstRatio = 0.0;   // the largest final residual / tolerance over the steps
     SolverSummary lastSolve;
-    const DynamicsResult r = simulate(solver, duration, [&](const StepReport& s, DynamicsSolver& d) {
+    auto writeCheckpointNow = [&](const DynamicsSolver& d) {
+      const DynamicsSolver::Snapshot snap = d.snapshot();
+      writeCheckpoint(options.outputDirectory,
+                      {{"scene_fingerprint", options.sceneFingerprint},
+                       {"vertices", model.numVertices()},
+                       {"time_step", scene.analysis.timeStep},
+                       {"solver", {{"x", toJsonArray(snap.x)}, {"v", toJsonArray(snap.v)},
+                                   {"x_prev", toJsonArray(snap.xPrev)}, {"v_prev", toJsonArray(snap.vPrev)},
+                                   {"t", snap.t}, {"history_step", snap.historyStep}, {"steps", snap.steps},
+                                   {"history_valid", snap.historyValid}}},
+                       {"newton_iterations", previousIterations + doneIterations},
+                       {"cuts", previousCuts + doneCuts},
+                       {"steps_at_iteration_cap", previousUnconverged + unconvergedSteps},
+                       {"history", {{"abscissa", history.abscissa}, {"u", history.u}}},
+                       {"output", output.state()}});
+    };
+    // Whole steps to the end, counted from the start of the run (a resumed run does the rest).
+    const int totalSteps = static_cast<int>(std::ceil(duration / o.timeStep - 1e-9));
+    const double remaining = static_cast<double>(std::max(0, totalSteps - solver.stepCount())) * o.timeStep;
+    if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(solver.time() + o.timeStep));
+    const DynamicsResult r = simulate(solver, remaining, [&](const StepReport& s, DynamicsSolver& d) {
       if (!s.solves.empty()) {
         lastSolve = s.solves.back();
         lastSolve.trace.clear();
@@ -223,26 +296,30 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
            << " J  E_kin " << format("%.6e", d.kineticEnergy()) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       progress.log(line.str());
       progress.update(d.time() / duration, "t = " + format("%.3f", d.time()) + " s");
+      doneIterations += s.newtonIterations;
+      doneCuts += s.cuts;
+      if (options.checkpointEvery > 0 && s.step % options.checkpointEvery == 0) writeCheckpointNow(d);
       return !shouldStop(s.step);
     });
-    summary.steps = r.steps;
-    summary.newtonIterations = r.newtonIterations;
+    summary.steps = solver.stepCount();
+    summary.newtonIterations = previousIterations + r.newtonIterations;
     // A step accepted at the iteration cap did not converge: the run says so (it moved on by the scene's choice).
+    unconvergedSteps += previousUnconverged;
     converged = r.completed && unconvergedSteps == 0;
     termination = !r.completed ? r.message : unconvergedSteps ? "completed_with_unconverged_steps" : "completed";
     x = solver.positions();
     if (r.steps > 0) recordResidualClaim(summary.extra, lastSolve);
     summary.extra["steps_at_iteration_cap"] = unconvergedSteps;
     summary.extra["worst_residual_over_tolerance"] = worstRatio;
-    summary.extra["final_time"] = r.time;
-    summary.extra["step_cuts"] = r.cuts;
+    summary.extra["final_time"] = solver.time();
+    summary.extra["step_cuts"] = previousCuts + r.cuts;
   } else {
     RelaxationOptions o;
     o.timeStep = scene.analysis.timeStep;
     o.massDamping = scene.analysis.massDamping;
     o.maxSteps = scene.analysis.maxSteps;
     o.residualTolerance = scene.analysis.tolerance;
-    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
     double firstResidual = -1.0;
     const RelaxationResult r = relaxToStatic(system, x, o, [&](const StepReport& s, double staticResidual) {
       output.record({s.step, s.time, 1.0, &x, nullptr});
