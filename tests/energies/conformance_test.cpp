@@ -36,7 +36,9 @@ TEST_CASE("conformance: the registry holds the built-in terms and the example, e
     CHECK_FALSE(t.summary.empty());
   }
   for (const char* required :
-       {"membrane", "bending", "bending_gauss_newton", "bending_nested_jet", "gravity", "nodal_forces", "seam_spring"})
+       {"membrane", "bending", "bending_gauss_newton", "bending_clamped", "bending_mirrored_clamp", "bending_nested_jet",
+        "gravity", "nodal_forces", "inertia", "mass_damping", "membrane_damping", "bending_damping", "end_moment",
+        "seam_spring"})
     CHECK(names.count(required) == 1);
   CHECK(findRegisteredTerm("membrane") == &termRegistry().front());
   CHECK(findRegisteredTerm("no_such_term") == nullptr);
