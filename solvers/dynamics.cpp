@@ -102,6 +102,7 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   if (sys.massDamping) sys.massDamping->setCentre(centre, massDamping_ * dampingScale);
   if (sys.stiffnessDamping.membrane) sys.stiffnessDamping.membrane->setStrainOrigin(centre, beta * dampingScale);
   if (sys.stiffnessDamping.bending) sys.stiffnessDamping.bending->setCurvatureOrigin(centre, beta * dampingScale);
+  sys.objective().beginStep(x_, t_, h);  // lagged contact data (friction normal forces, damping origins)
 
   Eigen::VectorXd x = x_ + h * v_;
   sys.objective().applyPrescribed(t_ + h, x);
