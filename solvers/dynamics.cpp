@@ -104,7 +104,10 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   if (sys.stiffnessDamping.bending) sys.stiffnessDamping.bending->setCurvatureOrigin(centre, beta * dampingScale);
   sys.objective().beginStep(x_, t_, h);  // lagged contact data (friction normal forces, damping origins)
 
-  Eigen::VectorXd x = x_ + h * v_;
+  // The initial guess moves along the velocity only as far as the objective's step bound allows (contact: no
+  // sample starts the solve on the wrong side of a layer or surface).
+  const Eigen::VectorXd drift = h * v_;
+  Eigen::VectorXd x = x_ + sys.objective().stepBound(x_, drift) * drift;
   sys.objective().applyPrescribed(t_ + h, x);
   SolverSummary summary = newton_.minimize(x);
   addTimes(report, summary);

@@ -69,12 +69,12 @@ ShellContact addShellContact(Objective& objective, const std::vector<ShellContac
       if (cloud) cloud->beginStep(x, h);
     });
   }
-  objective.addStepBound([volume, cloud, stepFraction](const Eigen::VectorXd& x, const Eigen::VectorXd& d) {
-    double alpha = 1.0;
-    for (const VolumeContactTerms& v : volume) alpha = std::min(alpha, v.state->stepBound(x, d, stepFraction));
-    if (cloud) alpha = std::min(alpha, cloud->stepBound(x, d, stepFraction));
-    return alpha;
-  });
+  // Only layers can be tunnelled through: a volume is solid (its penalty grows with depth and pushes back
+  // whatever the step), and a global bound for it would let one sample near a surface hold the whole shell back.
+  if (cloud)
+    objective.addStepBound([cloud, stepFraction](const Eigen::VectorXd& x, const Eigen::VectorXd& d) {
+      return cloud->stepBound(x, d, stepFraction);
+    });
   return c;
 }
 

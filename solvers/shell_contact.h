@@ -8,9 +8,9 @@
 //     are geometric means;
 //   when at least two actors have point-cloud colliders, or one has self-contact: pointcloud_penalty
 //     (Potential) and, in dynamics, pointcloud_friction (Transient);
-//   the objective's step-start hooks (lagged normal forces, damping origins, friction pairs) and its step
-//     bound: no contact sample approaches a surface or another sample by more than `stepFraction` of its
-//     distance in one Newton step.
+//   the objective's step-start hooks (lagged normal forces, damping origins, friction pairs) and, with point
+//     clouds, its step bound: no sample approaches another by more than `stepFraction` of their distance in one
+//     Newton step (volumes are solid: their penalty pushes back from any depth, so they need none).
 // With no volume collider and no interacting point cloud nothing is built and no detection ever runs.
 #pragma once
 
