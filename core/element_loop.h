@@ -17,6 +17,9 @@
 
 namespace jetshell {
 
+/// Loops over fewer elements than this run serially: thread start-up costs more than their elements.
+inline constexpr int kParallelMinElements = 512;
+
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
 /// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
 template <int K, typename Kernel>
@@ -48,13 +51,12 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
   if (wantG || wantH) {
     for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
-      // Small meshes run serially: thread start-up costs more than their elements.
-#pragma omp parallel for schedule(dynamic, 1) if (ne >= 512)
+#pragma omp parallel for schedule(dynamic, 1) if (ne >= kParallelMinElements)
       for (int i = 0; i < n; ++i)
         for (int e = color[i].begin; e < color[i].end; ++e) body(e);
     }
   } else {
-#pragma omp parallel for schedule(static) if (ne >= 512)
+#pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
     for (int e = 0; e < ne; ++e) {
       Eigen::Matrix<double, M, 1> g;
       Eigen::Matrix<double, M, M> H;

@@ -139,21 +139,22 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     }
   }
   const bool gravityActive = p.gravity.squaredNorm() > 0.0 && gravityMass.maxCoeff() > 0.0;
-  if (gravityActive) objective_.addTerm(makeGravityTerm(gravityMass, p.gravity));
+  // Masses are given at the lead material's density (the gravity term's differentiable parameter).
+  if (gravityActive) objective_.addTerm(makeGravityTerm(gravityMass, p.gravity, material_.density > 0.0 ? material_.density : 1.0));
   if (p.nodalForces.size() != 0 && p.nodalForces.cwiseAbs().maxCoeff() > 0.0) {
     nodalForces = makeNodalForceTerm(p.nodalForces);
     objective_.addTerm(nodalForces);
   }
   const bool massive = vertexMass_.maxCoeff() > 0.0;
   if (dynamic && massive) {
-    inertia = makeInertiaTerm(vertexMass_);
+    inertia = makeInertiaTerm(vertexMass_, material_.density > 0.0 ? material_.density : 1.0);
     objective_.addTerm(inertia, TermRole::Transient);
   }
   if (kind == AnalysisKind::Dynamics && material_.massDampingCoefficient > 0.0 && massive) {
-    massDamping = makeMassDampingTerm(dampedMass);
+    massDamping = makeMassDampingTerm(dampedMass, material_.massDampingCoefficient);
     objective_.addTerm(massDamping, TermRole::Transient);
   } else if (kind == AnalysisKind::DynamicRelaxation && massive) {
-    massDamping = makeMassDampingTerm(vertexMass_);
+    massDamping = makeMassDampingTerm(vertexMass_, material_.massDampingCoefficient > 0.0 ? material_.massDampingCoefficient : 1.0);
     objective_.addTerm(massDamping, TermRole::Transient);
   }
   if (kind == AnalysisKind::Dynamics && material_.stiffnessDampingCoefficient > 0.0) {
@@ -192,6 +193,12 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     if (nodalForces) f += p.nodalForces.segment<3>(3 * v);
     scales.force = std::max(scales.force, f.norm());
   }
+  for (const ShellActorPart& a : actors) {
+    const ShellMaterialParams& m = a.material;
+    scales.stiffness = std::max({scales.stiffness, m.membraneLambda + 2.0 * m.membraneMu,
+                                 (m.bendingAlpha + m.bendingBeta) / (scales.length * scales.length)});
+  }
+  scales.reference = restPositions();
   objective_.setScales(scales);
 }
 

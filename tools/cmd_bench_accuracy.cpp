@@ -2,6 +2,7 @@
 // mesh resolutions, compares the clamped-edge models and the quad splits, and measures the solver knobs that
 // trade time for accuracy; prints markdown tables (error at λ = 1 and over the path, wall and CPU time, Newton
 // iterations, observed order), and writes the error-versus-time chart and, with --json, every run.
+#include "tools/output/atomic_file.h"
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "tools/validation/validation_plots.h"
@@ -208,9 +209,7 @@ int runStudy(bool quick, bool large, const std::string& jsonPath, const std::str
     }
   }
   if (!jsonPath.empty()) {
-    std::ofstream f(jsonPath);
-    if (!f) throw InputError("--json: cannot write '" + jsonPath + "'");
-    f << all.dump(2) << "\n";
+    writeFileAtomically(jsonPath, all.dump(2) + "\n");
   }
   return kOk;
 }

@@ -1,6 +1,7 @@
 // `jetshell bench elements`: per-face cost of the shell energies (value, gradient, Hessian with assembly into
 // the cached pattern) on a 200×200-square grid bent into a wavy shape, for the AD and analytic paths, exact
 // and Gauss–Newton bending Hessians, 1 thread and all threads. Medians of repeats; peak RSS reported.
+#include "tools/output/atomic_file.h"
 #include "core/assembly.h"
 #include "core/mesh_generators.h"
 #include "energies/shell/reference_state.h"
@@ -168,7 +169,7 @@ int runBench(const BenchOptions& o) {
                      {"bending_hessian", r.hessian}, {"variant", true}});
     }
     out.push_back({{"peak_rss_mb", peakRssMb()}, {"faces", mesh.numFaces()}});
-    std::ofstream(o.json) << out.dump(2) << "\n";
+    writeFileAtomically(o.json, out.dump(2) + "\n");
     std::printf("wrote %s\n", o.json.c_str());
   }
   return kOk;

@@ -3,9 +3,13 @@
 // where the setup adds a CLI11 subcommand whose callback sets exitCode (see README: exit codes).
 #pragma once
 
+#include "core/mesh.h"
+
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <functional>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -38,6 +42,41 @@ inline CLI::App* benchCommand(CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print figures (and --json)");
   bench->require_subcommand(1);
   return bench;
+}
+
+/// Sets up every subcommand of `registry` on one CLI11 app, parses argv and runs the chosen one. Every exception,
+/// from set-up as well as from running, reaches one handler here: bad command line → kUsage, InputError →
+/// kInputError, out of memory → kInputError, anything else → kFailed, each with one line on `err`.
+inline int runCommandLine(std::vector<RegisteredSubcommand> registry, int argc, const char* const* argv,
+                          std::ostream& err = std::cerr) {
+  try {
+    CLI::App app{"jetshell: Kirchhoff–Love thin shells with forward-mode automatic differentiation"};
+    app.require_subcommand(1);
+    int exitCode = kOk;
+    std::sort(registry.begin(), registry.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+    for (const RegisteredSubcommand& s : registry) s.setup(app, exitCode);
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      const int code = app.exit(e, std::cout, err);
+      return code == 0 ? kOk : kUsage;
+    }
+    return exitCode;
+  } catch (const InputError& e) {
+    err << "jetshell: error: " << e.what() << "\n";
+    return kInputError;
+  } catch (const std::bad_alloc&) {
+    // Every input size is bounded (core/input_limits.h), but the bounds allow more than a small machine holds.
+    err << "jetshell: error: out of memory: the input needs more memory than is available (use a coarser mesh, "
+           "fewer steps or a larger machine)\n";
+    return kInputError;
+  } catch (const std::exception& e) {
+    err << "jetshell: internal error: " << e.what() << "\n";
+    return kFailed;
+  } catch (...) {
+    err << "jetshell: internal error: unknown exception\n";
+    return kFailed;
+  }
 }
 
 struct RegisterSubcommand {

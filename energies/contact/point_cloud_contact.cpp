@@ -31,6 +31,7 @@ struct PointPairFrictionEnergy {
   std::shared_ptr<const PointPairData> data;
   template <typename T>
   T operator()(const T* x, int e) const {
+    if (data->frictionForce[e] == 0.0) return constant<T>(0.0);  // not in contact at the step start
     const Eigen::Vector3d& n = data->normal[e];
     const Eigen::Vector3d& s = data->startDifference[e];
     V3<T> u;
@@ -159,34 +160,33 @@ bool PointCloudState::refresh(const Eigen::VectorXd& x) {
 void PointCloudState::beginStep(const Eigen::VectorXd& xStart, double h) {
   refresh(xStart);
   if (!hasFriction_) return;
+  // Friction runs over the candidate pairs (zero normal force for those not in contact at the step start), so
+  // its stencils change only when the candidates do: one pattern rebuild for both terms, not one per step.
   auto data = std::make_shared<PointPairData>();
-  StencilTable table{2, {}};
   const PointPairData& cand = *candidateData_;
-  double epsV = 0.0;
   for (int e = 0; e < candidates_.size(); ++e) {
     const int i = candidates_.ids[2 * e], j = candidates_.ids[2 * e + 1];
     const Eigen::Vector3d diff = xStart.segment<3>(3 * i) - xStart.segment<3>(3 * j);
     const double dist = diff.norm();
     const double p = cand.contactDistance[e] - dist;
-    if (p <= 0.0 || dist <= 0.0) continue;
-    table.ids.insert(table.ids.end(), {i, j});
-    data->frictionForce.push_back(cand.friction[e] * cand.weight[e] * contactRampForce(p, cand.smoothing[e]));
-    data->normal.push_back(diff / dist);
+    const bool touching = p > 0.0 && dist > 0.0;
+    data->frictionForce.push_back(touching ? cand.friction[e] * cand.weight[e] * contactRampForce(p, cand.smoothing[e])
+                                           : 0.0);
+    data->normal.push_back(touching ? Eigen::Vector3d(diff / dist) : Eigen::Vector3d::UnitZ());
     data->startDifference.push_back(diff);
   }
   // V_f: the geometric mean over the point-cloud actors (one regularization for the whole term).
   double vf = 1.0;
   for (const PointCloudActor& a : actors_) vf *= std::pow(a.contact.frictionSlipVelocity, 1.0 / actors_.size());
-  epsV = vf * h;
-  data->slipRegularization = epsV;
-  if (frictionMutable_ && table.ids == frictionPairs_.ids) {
+  data->slipRegularization = vf * h;
+  if (frictionMutable_ && frictionVersion_ == candidateVersion_) {
     *frictionMutable_ = std::move(*data);  // same pairs: new lagged values, same pattern
     return;
   }
-  frictionPairs_ = std::move(table);
+  frictionPairs_ = candidates_;
   frictionMutable_ = data;
   frictionData_ = std::move(data);
-  ++frictionVersion_;
+  frictionVersion_ = candidateVersion_;
 }
 
 double PointCloudState::stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double fraction) const {

@@ -13,7 +13,8 @@
 // Candidates come from the spatial hash (energies/contact/spatial_hash.h) with the search radius D + skin
 // and are rebuilt when a sample has moved more than skin/2 since the last build (so no pair closer than D is
 // ever missed); the terms' stencils then change and the objective rebuilds its pattern
-// (EnergyTerm::updateStencils). Friction pairs are the pairs in contact at the step start.
+// (EnergyTerm::updateStencils). Friction runs over the same candidates, with zero normal force for the pairs not
+// in contact at the step start, so both terms change their pattern together.
 #pragma once
 
 #include "core/mesh.h"

@@ -22,6 +22,17 @@ V3<T> samplePoint(const VolumeContactState& s, const T* x, int e, int q) {
   return p;
 }
 
+/// The penetration p = ε − d(x_q, t) of sample point q of element e, when it lies inside the activation band.
+template <int K, typename T>
+bool penetration(const VolumeContactState& s, const T* x, int e, int q, T& p) {
+  const V3<T> xq = samplePoint<K>(s, x, e, q);
+  const Eigen::Vector3d x0 = valueOf3(xq);
+  const SdfSample d = s.collider->query(x0, s.time);
+  if (d.distance >= s.params.activationDistance) return false;
+  p = constant<T>(s.params.activationDistance) - signedDistanceModel(d, xq, x0);
+  return true;
+}
+
 template <int K>
 struct VolumePenaltyEnergy {
   static constexpr int kVertices = K;
@@ -31,11 +42,8 @@ struct VolumePenaltyEnergy {
     const ContactParams& c = s->params;
     T energy = constant<T>(0.0);
     for (int q = 0; q < s->sampling.pointsPerElement; ++q) {
-      const V3<T> xq = samplePoint<K>(*s, x, e, q);
-      const Eigen::Vector3d x0 = valueOf3(xq);
-      const SdfSample d = s->collider->query(x0, s->time);
-      if (d.distance >= c.activationDistance) continue;
-      const T p = constant<T>(c.activationDistance) - signedDistanceModel(d, xq, x0);
+      T p;
+      if (!penetration<K>(*s, x, e, q, p)) continue;
       const double area = s->sampling.area[static_cast<std::size_t>(e) * s->sampling.pointsPerElement + q];
       energy += constant<T>(area * c.penaltyStiffness) * contactRamp(p, c.smoothingDistance);
     }
@@ -53,12 +61,9 @@ struct VolumeDampingEnergy {
     T energy = constant<T>(0.0);
     if (s->timeStep <= 0.0) return energy;
     for (int q = 0; q < s->sampling.pointsPerElement; ++q) {
-      const V3<T> xq = samplePoint<K>(*s, x, e, q);
-      const Eigen::Vector3d x0 = valueOf3(xq);
-      const SdfSample d = s->collider->query(x0, s->time);
-      if (d.distance >= c.activationDistance) continue;
+      T p;
+      if (!penetration<K>(*s, x, e, q, p)) continue;
       const std::size_t i = static_cast<std::size_t>(e) * s->sampling.pointsPerElement + q;
-      const T p = constant<T>(c.activationDistance) - signedDistanceModel(d, xq, x0);
       const double a = s->previousPenetration[i];
       const double scale = s->sampling.area[i] * c.huntCrossleyDamping * c.penaltyStiffness / s->timeStep;
       energy += constant<T>(scale) *

@@ -1,5 +1,6 @@
 #include "tests/test_util.h"
 #include "core/assembly.h"
+#include "core/element_loop.h"
 #include "core/mesh_generators.h"
 #include "energies/shell/shell_terms.h"
 
@@ -89,7 +90,9 @@ TEST_CASE("assembly: the pattern is built once and value-only refills give ident
 }
 
 TEST_CASE("assembly: the same bits with 1 and 2 OpenMP threads") {
-  ShellFixture s(16, 12);  // 384 faces: enough for every colour to be split between threads
+  ShellFixture s(24, 16);  // 768 faces: above the serial threshold, so both loops really run in parallel
+  REQUIRE(s.mesh.numFaces() >= kParallelMinElements);
+  REQUIRE(s.bending->stencils().size() >= kParallelMinElements);
   HessianAssembler A;
   const int slotM = A.addStencils(s.membrane->stencils());
   const int slotB = A.addStencils(s.bending->stencils());

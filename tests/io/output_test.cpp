@@ -1,16 +1,21 @@
 #include "core/mesh_generators.h"
+#include "tools/output/append_file.h"
 #include "tools/output/atomic_file.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
+#include "tools/output/run_output.h"
 #include "tools/output/vtu.h"
 #include "tools/render/image.h"
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
+#include "tools/scene/scene_json.h"
 
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -132,24 +137,67 @@ TEST_CASE("render: a frame becomes a PNG with the mesh in the middle") {
                     vtu + ": no point array 'velocity' to colour by (known: displacement)");
 }
 
-TEST_CASE("render: gnuplot curves become a PNG") {
-  PlotSpec spec;
-  spec.title = "a \"quoted\" title";
-  spec.xLabel = "x";
-  spec.yLabel = "y";
-  spec.series.push_back({"x^2", {0, 1, 2, 3}, {0, 1, 4, 9}, "linespoints"});
-  spec.width = 320;
-  spec.height = 240;
-  const std::string script = gnuplotScript(spec, {"d.dat"}, "o.png");
-  CHECK(script.find("set title \"a \\\"quoted\\\" title\"") != std::string::npos);
-  spec.series.push_back({"bad", {0, 1}, {0}, "lines"});
-  CHECK_THROWS_WITH(plotPng(spec, scratch("bad.png").string()), Catch::EndsWith("series 'bad' has 2 x values and 1 y values"));
-  spec.series.pop_back();
-  if (!gnuplotAvailable()) return;
-  const std::string png = scratch("plot.png").string();
-  plotPng(spec, png);
-  int w = 0, h = 0;
-  readPngRgb(png, w, h);
-  CHECK(w == 320);
-  CHECK(h == 240);
+namespace {
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+ino_t inode(const fs::path& path) {
+  struct stat st {};
+  REQUIRE(::stat(path.c_str(), &st) == 0);
+  return st.st_ino;
+}
+
+}  // namespace
+
+TEST_CASE("output: an append-only file is complete after every append and cut back on reopen", "[append]") {
+  const fs::path path = scratch("append.xml");
+  AppendOnlyFile f;
+  f.create(path.string(), "<a>\n", "</a>\n");
+  CHECK(readText(path) == "<a>\n</a>\n");
+  const ino_t first = inode(path);
+  f.append("1\n");
+  const std::uint64_t afterOne = f.size();
+  f.append("2\n");
+  CHECK(readText(path) == "<a>\n1\n2\n</a>\n");
+  CHECK(inode(path) == first);  // grown in place, not rewritten
+  CHECK(f.size() == fs::file_size(path));
+  AppendOnlyFile again;
+  again.reopen(path.string(), afterOne, "</a>\n");
+  CHECK(readText(path) == "<a>\n1\n</a>\n");
+  again.append("3\n");
+  CHECK(readText(path) == "<a>\n1\n3\n</a>\n");
+  AppendOnlyFile wrong;
+  CHECK_THROWS_WITH(wrong.reopen(path.string(), 1000, "</a>\n"), Catch::Contains("shorter than at the checkpoint"));
+}
+
+TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete after every frame", "[append]") {
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/hanging_cloth.json");
+  scene.outputs.frameStride = 2;
+  const SceneModel model = buildSceneModel(scene);
+  const fs::path dir = scratch("appended_run");
+  fs::remove_all(dir);
+  RunOutput out(dir.string(), scene, model);
+  Eigen::VectorXd x = flatten(model.world.V);
+  out.record({0, 0.0, 1.0, &x, nullptr}, true);
+  const ino_t pvd = inode(dir / "frames.pvd"), csv = inode(dir / "probes.csv");
+  for (int step = 1; step <= 6; ++step) {
+    x[2] += 0.01;
+    out.record({step, 0.1 * step, 1.0, &x, nullptr});
+    const std::string series = readText(dir / "frames.pvd");
+    const std::string probes = readText(dir / "probes.csv");
+    // Complete: the closing tags end the series, and it lists the frames written so far.
+    CHECK(series.substr(series.size() - PvdSeries::tail().size()) == PvdSeries::tail());
+    std::size_t entries = 0;
+    for (std::size_t at = series.find("<DataSet"); at != std::string::npos; at = series.find("<DataSet", at + 1)) ++entries;
+    CHECK(entries == static_cast<std::size_t>(out.framesWritten()));
+    CHECK(probes.back() == '\n');
+    CHECK(std::count(probes.begin(), probes.end(), '\n') == 1 + 1 + 2 * (step / 2));  // header + rows up to the frame
+  }
+  CHECK(inode(dir / "frames.pvd") == pvd);
+  CHECK(inode(dir / "probes.csv") == csv);
 }

@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include <cmath>
 
 using namespace jetshell;
@@ -170,9 +172,15 @@ TEST_CASE("dynamics: a hanging cloth with damping settles at the equilibrium the
   const DynamicsResult dr = simulate(solver, 8.0);
   REQUIRE(dr.completed);
   const double sag = (xs - statics.restPositions()).lpNorm<Eigen::Infinity>();
-  INFO("static sag " << sag << " m, difference " << (solver.positions() - xs).lpNorm<Eigen::Infinity>());
+  // The flat cloth hangs in the x-y plane and buckles out of it; the problem is symmetric under z -> -z, so
+  // round-off (a different BLAS, say) picks the side. Compare with the static solution on the same side.
+  Eigen::VectorXd mirrored = xs;
+  for (int i = 2; i < mirrored.size(); i += 3) mirrored[i] = 2.0 * statics.restPositions()[i] - xs[i];
+  const double difference = std::min((solver.positions() - xs).lpNorm<Eigen::Infinity>(),
+                                     (solver.positions() - mirrored).lpNorm<Eigen::Infinity>());
+  INFO("static sag " << sag << " m, difference " << difference);
   CHECK(sag > 1e-3);
-  CHECK((solver.positions() - xs).lpNorm<Eigen::Infinity>() < 1e-5 * sag);
+  CHECK(difference < 1e-5 * sag);
   CHECK(solver.kineticEnergy() < 1e-12);
 }
 

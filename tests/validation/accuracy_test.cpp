@@ -63,13 +63,12 @@ TEST_CASE("accuracy: slit annular plate, 4x32 quads, every level within 15.6% (f
     for (std::size_t q = 0; q < row.computed.size(); ++q) CHECK(row.computed[q] < row.reference[q]);
 }
 
-TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh with its two-row clamp is about 4% off") {
+TEST_CASE("accuracy: the page's slit ring on the page's 325-vertex mesh with its two-row clamp is within 4.5%") {
   // The page reports ≈ 4% against the 1.75 m reference at the loaded edge's outer point.
   const BenchmarkResult r = run("slit-ring-page", {4, 64}, ClampKind::TwoRow);
   REQUIRE(r.completed);
   REQUIRE(r.vertices == 325);
   const BenchmarkRow& last = r.rows.back();
   CHECK(last.reference[1] == Approx(1.7528));
-  CHECK(last.relError[1] > 0.035);  // measured 4.08% (W_B = 1.6813 m)
-  CHECK(last.relError[1] < 0.045);
+  CHECK(last.relError[1] < 0.045);  // measured 4.08% (W_B = 1.6813 m); the page reports about 4%
 }

@@ -23,6 +23,14 @@ void createDirectory(const std::filesystem::path& p) {
   if (ec || !std::filesystem::is_directory(p)) throw InputError(p.string() + ": cannot create the output directory (" + ec.message() + ")");
 }
 
+/// A CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break, quotes doubled.
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (const char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 }  // namespace
 
 RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel& model, std::string scenePath)
@@ -61,8 +69,14 @@ void RunOutput::record(const StepState& s, bool forceFrame) {
   ProbeRow row{s.step, s.time, s.loadFactor, {}};
   for (const ResolvedProbe& p : model_.probes)
     for (int c = 0; c < 3; ++c) row.u.push_back(x[3 * p.vertex + c] - model_.world.V(p.vertex, c));
-  if (s.step == lastRecordedStep_ && !rows_.empty()) rows_.back() = row;
-  else rows_.push_back(std::move(row));
+  if (s.step == lastRecordedStep_ && !rows_.empty()) {
+    if (rows_.size() == flushedRows_ && (row.time != rows_.back().time || row.loadFactor != rows_.back().loadFactor ||
+                                         row.u != rows_.back().u))
+      flushedRowChanged_ = true;
+    rows_.back() = row;
+  } else {
+    rows_.push_back(std::move(row));
+  }
   lastRecordedStep_ = s.step;
   const int stride = scene_.outputs.frameStride;
   if ((forceFrame || s.step % stride == 0) && s.step != lastFrameStep_) {
@@ -95,9 +109,10 @@ void RunOutput::writeFrame(const StepState& s) {
     const std::string name = frameName(frames_, "vtu");
     lastFrame_ = (fs::path(directory_) / "frames" / name).string();
     writeFileAtomically(lastFrame_, [&](std::ostream& out) { writeVtu(out, frame); });
-    series_.add(s.time, "frames/" + name, 0);
-    if (!volumesFile_.empty()) series_.add(s.time, "volumes.vtu", 1);
-    series_.write((fs::path(directory_) / "frames.pvd").string());
+    std::string entries = PvdSeries::entry(s.time, "frames/" + name, 0);
+    if (!volumesFile_.empty()) entries += PvdSeries::entry(s.time, "volumes.vtu", 1);
+    if (!pvd_.isOpen()) pvd_.create((fs::path(directory_) / "frames.pvd").string(), PvdSeries::head(), PvdSeries::tail());
+    pvd_.append(entries);
   }
   if (scene_.outputs.obj) {
     const std::string path = (fs::path(directory_) / "obj" / frameName(frames_, "obj")).string();
@@ -106,17 +121,30 @@ void RunOutput::writeFrame(const StepState& s) {
   ++frames_;
 }
 
-void RunOutput::writeProbes() const {
-  writeFileAtomically((std::filesystem::path(directory_) / "probes.csv").string(), [&](std::ostream& out) {
-    out << "step,time,load_factor";
-    for (const ResolvedProbe& p : model_.probes) out << ',' << p.name << "_ux," << p.name << "_uy," << p.name << "_uz";
+std::string RunOutput::probeRows(std::size_t from) const {
+  std::ostringstream out;
+  for (std::size_t k = from; k < rows_.size(); ++k) {
+    const ProbeRow& r = rows_[k];
+    out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
+    for (double u : r.u) out << ',' << formatDouble(u);
     out << '\n';
-    for (const ProbeRow& r : rows_) {
-      out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
-      for (double u : r.u) out << ',' << formatDouble(u);
-      out << '\n';
-    }
-  });
+  }
+  return out.str();
+}
+
+void RunOutput::writeProbes() {
+  if (!probesCsv_.isOpen() || flushedRowChanged_) {
+    std::ostringstream header;
+    header << "step,time,load_factor";
+    for (const ResolvedProbe& p : model_.probes)
+      for (const char* axis : {"_ux", "_uy", "_uz"}) header << ',' << csvField(p.name + axis);
+    header << '\n';
+    probesCsv_.create((std::filesystem::path(directory_) / "probes.csv").string(), header.str(), "");
+    flushedRows_ = 0;
+    flushedRowChanged_ = false;
+  }
+  probesCsv_.append(probeRows(flushedRows_));
+  flushedRows_ = rows_.size();
 }
 
 std::map<std::string, Eigen::Vector3d> RunOutput::probeDisplacements() const {
@@ -125,6 +153,38 @@ std::map<std::string, Eigen::Vector3d> RunOutput::probeDisplacements() const {
   for (std::size_t k = 0; k < model_.probes.size(); ++k)
     out[model_.probes[k].name] = Eigen::Vector3d(rows_.back().u[3 * k], rows_.back().u[3 * k + 1], rows_.back().u[3 * k + 2]);
   return out;
+}
+
+nlohmann::json RunOutput::state() const {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const ProbeRow& r : rows_) rows.push_back({{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}});
+  return {{"frames", frames_},
+          {"last_recorded_step", lastRecordedStep_},
+          {"last_frame_step", lastFrameStep_},
+          {"last_frame", lastFrame_},
+          {"rows", rows},
+          {"flushed_rows", flushedRows_},
+          {"flushed_row_changed", flushedRowChanged_},
+          {"pvd_bytes", pvd_.isOpen() ? nlohmann::json(pvd_.size()) : nlohmann::json(nullptr)},
+          {"probes_bytes", probesCsv_.isOpen() ? nlohmann::json(probesCsv_.size()) : nlohmann::json(nullptr)}};
+}
+
+void RunOutput::restore(const nlohmann::json& j) {
+  namespace fs = std::filesystem;
+  frames_ = j.at("frames").get<int>();
+  lastRecordedStep_ = j.at("last_recorded_step").get<int>();
+  lastFrameStep_ = j.at("last_frame_step").get<int>();
+  lastFrame_ = j.at("last_frame").get<std::string>();
+  rows_.clear();
+  for (const nlohmann::json& r : j.at("rows"))
+    rows_.push_back({r.at("step").get<int>(), r.at("time").get<double>(), r.at("load_factor").get<double>(),
+                     r.at("u").get<std::vector<double>>()});
+  flushedRows_ = j.at("flushed_rows").get<std::size_t>();
+  flushedRowChanged_ = j.at("flushed_row_changed").get<bool>();
+  if (!j.at("pvd_bytes").is_null())
+    pvd_.reopen((fs::path(directory_) / "frames.pvd").string(), j.at("pvd_bytes").get<std::uint64_t>(), PvdSeries::tail());
+  if (!j.at("probes_bytes").is_null())
+    probesCsv_.reopen((fs::path(directory_) / "probes.csv").string(), j.at("probes_bytes").get<std::uint64_t>(), "");
 }
 
 void RunOutput::finish(const RunSummary& summary) {

@@ -1,4 +1,5 @@
-// Everything a run writes into its output directory, each file atomically:
+// Everything a run writes into its output directory, each file atomically (frames.pvd and probes.csv grow by
+// appends that leave them complete: tools/output/append_file.h):
 //   frames/frame_NNNNN.vtu + frames.pvd   VTK XML frames and their time series (ParaView)
 //   volumes.vtu                           the rigid volume actors (part 1 of the series), when the scene has any
 //   obj/frame_NNNNN.obj                   optional OBJ per frame
@@ -6,6 +7,7 @@
 //   summary.json                          the run's outcome (see RunSummary)
 #pragma once
 
+#include "tools/output/append_file.h"
 #include "tools/output/vtu.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_model.h"
@@ -44,7 +46,7 @@ class RunOutput {
   RunOutput(std::string directory, const Scene& scene, const SceneModel& model, std::string scenePath = "");
 
   /// Records the probes of this state and, every `frameStride` steps or when `forceFrame`, writes a frame
-  /// (and rewrites frames.pvd and probes.csv, so both are complete after every frame).
+  /// (and appends to frames.pvd and probes.csv, so both are complete after every frame).
   void record(const StepState& state, bool forceFrame = false);
   /// Writes summary.json (with the probes' last displacements) and the final probes.csv.
   void finish(const RunSummary& summary);
@@ -58,15 +60,24 @@ class RunOutput {
   /// The last recorded displacement of each probe.
   std::map<std::string, Eigen::Vector3d> probeDisplacements() const;
 
+  /// What a checkpoint needs to continue the outputs exactly (frame count, probe rows, file sizes).
+  nlohmann::json state() const;
+  /// Continues the outputs of an earlier run of the same scene from its state(): frames.pvd and probes.csv are
+  /// cut back to their sizes at that point. Throws InputError when the files do not match it.
+  void restore(const nlohmann::json& state);
+
  private:
   void writeFrame(const StepState& state);
-  void writeProbes() const;
+  void writeProbes();
+  std::string probeRows(std::size_t from) const;
 
   std::string directory_;
   std::string scenePath_;
   const Scene& scene_;
   const SceneModel& model_;
-  PvdSeries series_;
+  AppendOnlyFile pvd_, probesCsv_;
+  std::size_t flushedRows_ = 0;      // rows_ already in probes.csv
+  bool flushedRowChanged_ = false;  // the last flushed row was recorded again with other values
   std::string lastFrame_, volumesFile_;
   int frames_ = 0;
   int lastRecordedStep_ = -1;

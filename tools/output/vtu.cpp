@@ -162,14 +162,23 @@ VtuFrame readVtu(const std::string& path) {
   return frame;
 }
 
+std::string PvdSeries::head() {
+  return "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+         "  <Collection>\n";
+}
+
+std::string PvdSeries::entry(double time, const std::string& file, int part) {
+  return "    <DataSet timestep=\"" + formatDouble(time) + "\" group=\"\" part=\"" + std::to_string(part) + "\" file=\"" +
+         file + "\"/>\n";
+}
+
+std::string PvdSeries::tail() { return "  </Collection>\n</VTKFile>\n"; }
+
 void PvdSeries::write(const std::string& path) const {
   writeFileAtomically(path, [&](std::ostream& out) {
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-        << "  <Collection>\n";
-    for (const Entry& e : entries_)
-      out << "    <DataSet timestep=\"" << formatDouble(e.time) << "\" group=\"\" part=\"" << e.part << "\" file=\""
-          << e.file << "\"/>\n";
-    out << "  </Collection>\n</VTKFile>\n";
+    out << head();
+    for (const Entry& e : entries_) out << entry(e.time, e.file, e.part);
+    out << tail();
   });
 }
 

@@ -44,6 +44,12 @@ class PvdSeries {
   void write(const std::string& path) const;
   std::size_t size() const { return entries_.size(); }
 
+  /// The file's parts, for writers that append entries one by one (tools/output/append_file.h): the text before
+  /// the first entry, one entry, and the closing text after the last.
+  static std::string head();
+  static std::string entry(double time, const std::string& file, int part = 0);
+  static std::string tail();
+
  private:
   struct Entry {
     double time;

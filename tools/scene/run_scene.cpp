@@ -10,9 +10,11 @@
 #include "tools/render/render_frames.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_problem.h"
+#include "tools/scene/support_check.h"
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +24,22 @@
 
 namespace jetshell {
 namespace {
+
+/// The convergence claim of a solve, so that anyone can check it: the final residual, the tolerance it was held
+/// to and the force scale behind that tolerance (Objective::forceScale).
+void recordResidualClaim(nlohmann::json& extra, double residual, double tolerance, double forceScale,
+                         const std::string& source) {
+  extra["final_residual"] = residual;
+  extra["residual_tolerance"] = tolerance;
+  extra["force_scale"] = forceScale;
+  extra["force_scale_source"] = source;
+}
+
+void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
+  recordResidualClaim(extra, s.finalResidual, s.residualThreshold, s.forceScale, s.forceScaleSource);
+  if (s.roundOffFloor > 0.0) extra["round_off_floor"] = s.roundOffFloor;
+  if (!s.convergenceTest.empty()) extra["convergence_test"] = s.convergenceTest;
+}
 
 NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
   NewtonOptions n;
@@ -58,6 +76,7 @@ struct ProbeHistory {
 RunResult runScene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const SceneModel model = buildSceneModel(scene);
+  checkRigidModes(scene, model);
   if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
   RunResult result;
   result.notes = unsupportedFeatures(scene);
@@ -133,6 +152,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     converged = r.completed;
     termination = r.completed ? "completed" : r.message;
     if (!r.steps.empty()) x = r.steps.back().x;
+    if (!r.steps.empty()) recordResidualClaim(summary.extra, r.steps.back().summary);
     summary.extra["final_load_factor_reached"] = r.loadFactor;
     summary.extra["load_step_cuts"] = r.totalCuts;
   } else if (type == AnalysisType::Dynamic) {
@@ -145,7 +165,17 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
     const double duration = scene.analysis.duration;
     if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(o.timeStep));
+    int unconvergedSteps = 0;  // accepted at the iteration cap (the scene's acceptIterationCap)
+    double worstRatio = 0.0;   // the largest final residual / tolerance over the steps
+    SolverSummary lastSolve;
     const DynamicsResult r = simulate(solver, duration, [&](const StepReport& s, DynamicsSolver& d) {
+      if (!s.solves.empty()) {
+        lastSolve = s.solves.back();
+        lastSolve.trace.clear();
+        if (!lastSolve.converged()) ++unconvergedSteps;
+        if (lastSolve.residualThreshold > 0.0)
+          worstRatio = std::max(worstRatio, lastSolve.finalResidual / lastSolve.residualThreshold);
+      }
       const double lambda = model.loadFactorAtTime(d.time());
       output.record({s.step, d.time(), lambda, &d.positions(), &d.velocities()});
       lastVelocity = d.velocities();
@@ -163,9 +193,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     });
     summary.steps = r.steps;
     summary.newtonIterations = r.newtonIterations;
-    converged = r.completed;
-    termination = r.completed ? "completed" : r.message;
+    // A step accepted at the iteration cap did not converge: the run says so (it moved on by the scene's choice).
+    converged = r.completed && unconvergedSteps == 0;
+    termination = !r.completed ? r.message : unconvergedSteps ? "completed_with_unconverged_steps" : "completed";
     x = solver.positions();
+    if (r.steps > 0) recordResidualClaim(summary.extra, lastSolve);
+    summary.extra["steps_at_iteration_cap"] = unconvergedSteps;
+    summary.extra["worst_residual_over_tolerance"] = worstRatio;
     summary.extra["final_time"] = r.time;
     summary.extra["step_cuts"] = r.cuts;
   } else {
@@ -186,7 +220,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
            << format("%.6e", potentialEnergy(x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       progress.log(line.str());
       // Progress in orders of magnitude of the residual still to go, or in steps when that says more.
-      const double threshold = o.residualTolerance * (objective.scales().force > 0 ? objective.scales().force : firstResidual);
+      const double threshold = o.residualTolerance * objective.forceScale(x, firstResidual).value;
       const double byResidual = std::log(firstResidual / staticResidual) / std::log(firstResidual / threshold);
       const double bySteps = static_cast<double>(s.step) / o.maxSteps;
       progress.update(std::max(std::isfinite(byResidual) ? byResidual : 0.0, bySteps),
@@ -197,8 +231,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     summary.newtonIterations = r.newtonIterations;
     converged = r.converged;
     termination = r.converged ? "converged" : r.message;
-    summary.extra["static_residual"] = r.staticResidual;
-    summary.extra["residual_threshold"] = r.residualThreshold;
+    recordResidualClaim(summary.extra, r.staticResidual, r.residualThreshold, r.forceScale, r.forceScaleSource);
     summary.extra["pseudo_time"] = r.pseudoTime;
   }
   if (result.interrupted) termination = "interrupted";
@@ -210,6 +243,20 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
+  {
+    std::vector<int> inverted;
+    for (const ActorBlock& b : model.actors)
+      for (int f : invertedFaces(b.mesh, b.topology, x)) inverted.push_back(b.firstFace + f);
+    summary.extra["inverted_faces"] = inverted.size();
+    if (!inverted.empty()) {
+      std::ostringstream w;
+      w << inverted.size() << " inverted face(s) at the end of the run (turned by more than 120° against a neighbour), e.g. face "
+        << inverted.front() << ": an element was pushed through itself; the result there is not physical";
+      result.warnings.push_back(w.str());
+      progress.log("warning: " + w.str());
+    }
+  }
+  summary.extra["warnings"] = result.warnings;
   progress.finish();
   summary.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.lastFrame = output.lastFrame();

@@ -26,11 +26,13 @@ struct RunResult {
   std::string lastFrame;   // path of the last .vtu written, or ""
   std::string finalPng;    // or "" when not drawn
   std::string probesPng;   // or ""
-  std::vector<std::string> notes;  // unsupported features, picture problems
+  std::vector<std::string> notes;     // unsupported features, picture problems
+  std::vector<std::string> warnings;  // doubts about the result (inverted faces); also in summary.json
 };
 
 /// Runs the scene. Throws InputError for scenes the solver cannot take yet (see SCENES.md: shell actors with
-/// different materials or gravity flags), and for unwritable outputs. Ctrl-C (after installInterruptHandler())
+/// different materials or gravity flags), for static problems with an unbalanced rigid-body mode
+/// (tools/scene/support_check.h), and for unwritable outputs. Ctrl-C (after installInterruptHandler())
 /// stops after the current step, with its frame written.
 RunResult runScene(const Scene& scene, const RunOptions& options);
 

@@ -1,0 +1,280 @@
+#include "tools/stress/stress_cells.h"
+
+#include "core/mesh.h"
+#include "tools/scene/run_scene.h"
+#include "tools/scene/scene_json.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+using nlohmann::json;
+
+std::string sci(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+json rectangle(double w, double h, int nx, int ny) {
+  return {{"generator", "rectangle"}, {"width", w}, {"height", h}, {"nx", nx}, {"ny", ny}};
+}
+
+json plate(double E, double nu, double h, double rho = 1000.0) {
+  return {{"youngsModulus", E}, {"poissonRatio", nu}, {"thickness", h}, {"volumeDensity", rho}};
+}
+
+json shell(const json& shape, const json& material, const json& fixed, const json& loads) {
+  return {{"type", "shell"},         {"name", "sheet"},  {"shape", shape},  {"material", material},
+          {"colliderType", "None"}, {"fixed", fixed},   {"loads", loads}, {"probes", {{{"name", "P"}, {"select", {{"nearest", {1.0, 1.0, 0.0}}}}}}}};
+}
+
+json scene(const json& actor, const json& analysis, const json& gravity = {0.0, 0.0, -9.81}, json solver = json::object()) {
+  solver["threads"] = 1;
+  return {{"description", "stress cell"}, {"gravity", gravity}, {"actors", {actor}},
+          {"analysis", analysis},         {"solver", solver},   {"outputs", {{"png", false}, {"plots", false}}}};
+}
+
+const json kClampLeft = {{{"select", {{"group", "left"}}}, {"clampRotation", true}}};
+/// The same for inline meshes (no groups): the vertices at x = 0.
+const json kClampLeftArrays = {{{"select", {{"box", {{"min", {-1e-9, -10.0, -10.0}}, {"max", {1e-9, 10.0, 10.0}}}}}}, {"clampRotation", true}}};
+json staticSteps(int n) { return {{"type", "static"}, {"loadSteps", n}}; }
+json dynamic(double dt, int steps, const char* integrator = "backwardEuler") {
+  return {{"type", "dynamic"}, {"timeStep", dt}, {"duration", dt * steps}, {"integrator", integrator}};
+}
+json tipLoad(double fz) { return {{{"select", {{"group", "right"}}}, {"force", {0.0, 0.0, fz}}, {"distribution", "edgeLength"}}}; }
+
+/// A cantilever: 1 m × 1 m, 6 × 6 quads, clamped on the left, under its weight and a tip load.
+json cantilever(const json& material, double tip, const json& analysis, const json& gravity = {0.0, 0.0, -9.81}) {
+  return scene(shell(rectangle(1.0, 1.0, 6, 6), material, kClampLeft, tip != 0.0 ? tipLoad(tip) : json::array()), analysis,
+               gravity);
+}
+
+/// A cloth pinned at its two top corners.
+json hangingCloth(const json& shape, const json& analysis, json solver = json::object()) {
+  const json pins = {{{"select", {{"nearest", {0.0, 1.0, 0.0}}}}}, {{"select", {{"nearest", {1.0, 1.0, 0.0}}}}}};
+  return scene(shell(shape, plate(1e6, 0.3, 1e-3, 200.0), pins, json::array()), analysis, {0.0, -9.81, 0.0}, std::move(solver));
+}
+
+/// Two 1 m squares (nx × n quads each) joined along x = 1, the right one folded back by `degrees` about that
+/// line (180° would lay it onto the left one).
+json foldedSheet(double degrees, int n) {
+  const double phi = degrees * M_PI / 180.0;
+  json V = json::array(), F = json::array();
+  const int columns = 2 * n + 1;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i < columns; ++i) {
+      const double y = static_cast<double>(j) / n;
+      if (i <= n) {
+        V.push_back({static_cast<double>(i) / n, y, 0.0});
+      } else {
+        const double s = static_cast<double>(i - n) / n;
+        V.push_back({1.0 + s * std::cos(phi), y, s * std::sin(phi)});
+      }
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < columns - 1; ++i) {
+      const int a = j * columns + i, b = a + 1, c = a + columns, d = c + 1;
+      F.push_back({a, b, d});
+      F.push_back({a, d, c});
+    }
+  return {{"vertices", V}, {"faces", F}};
+}
+
+/// A 6 × 6 sheet crumpled at rest: a deterministic out-of-plane pattern of about half the edge length.
+json crumpledSheet() {
+  const int n = 6;
+  json V = json::array(), F = json::array();
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = static_cast<double>(i) / n, y = static_cast<double>(j) / n;
+      V.push_back({x, y, 0.09 * std::sin(17.3 * x + 5.1 * y) * std::cos(11.7 * y - 3.0 * x)});
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      F.push_back({a, b, d});
+      F.push_back({a, d, c});
+    }
+  return {{"vertices", V}, {"faces", F}};
+}
+
+void add(std::vector<StressCell>& cells, bool quickOnly, bool quick, std::string name, std::string what, json s,
+         int stepLimit = 0) {
+  if (quickOnly && !quick) return;
+  cells.push_back({std::move(name), std::move(what), std::move(s), stepLimit, quick});
+}
+
+bool hasNonFiniteToken(const std::string& text) {
+  // Numbers are written by formatDouble/printf: a non-finite one reads "nan", "-nan", "inf" or "-inf".
+  std::string lower(text.size(), ' ');
+  std::transform(text.begin(), text.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* token : {"nan", "inf"}) {
+    for (std::size_t at = lower.find(token); at != std::string::npos; at = lower.find(token, at + 1)) {
+      const bool startOk = at == 0 || !std::isalpha(static_cast<unsigned char>(lower[at - 1]));
+      const std::size_t end = at + 3;
+      const bool endOk = end >= lower.size() || !std::isalpha(static_cast<unsigned char>(lower[end])) ||
+                         lower.compare(at, 8, "infinity") == 0;
+      if (startOk && endOk) return true;
+    }
+  }
+  return false;
+}
+
+std::string firstNull(const json& j, const std::string& pointer) {
+  if (j.is_null()) return pointer.empty() ? "/" : pointer;
+  if (j.is_object() || j.is_array()) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string key = j.is_object() ? it.key() : std::to_string(std::distance(j.begin(), it));
+      const std::string found = firstNull(*it, pointer + "/" + key);
+      if (!found.empty()) return found;
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+std::vector<StressCell> stressCells(bool q) {
+  std::vector<StressCell> c;
+  for (double h : {1e-5, 1e-4, 1e-3, 1e-2, 1e-1})
+    add(c, q, h == 1e-5 || h == 1e-1, "thickness/h_L=" + sci(h), "cantilever under its weight, E 1e9 Pa, nu 0.3",
+        cantilever(plate(1e9, 0.3, h), 0.0, staticSteps(4)));
+  for (double E : {1e2, 1e4, 1e6, 1e8, 1e10, 1e12})
+    add(c, q, E == 1e2 || E == 1e12, "young/E=" + sci(E), "cantilever under its weight and a tip load, h 0.01 m",
+        cantilever(plate(E, 0.3, 0.01), -1.0, staticSteps(4)));
+  for (double nu : {-0.9, -0.5, 0.0, 0.3, 0.49})
+    add(c, q, nu == -0.9 || nu == 0.49, "poisson/nu=" + sci(nu), "cantilever under a tip load, E 1e6 Pa, h 0.01 m",
+        cantilever(plate(1e6, nu, 0.01), -0.1, staticSteps(4)));
+  for (double dt : {1e-5, 1e-4, 1e-3, 1e-2, 1e-1})
+    add(c, q, dt == 1e-5 || dt == 1e-1, "time_step/dt=" + sci(dt), "hanging cloth, 5 backward Euler steps",
+        hangingCloth(rectangle(1.0, 1.0, 6, 6), dynamic(dt, 5)));
+  add(c, q, false, "time_step/bdf2_dt=0.1", "hanging cloth, 5 BDF2 steps of 0.1 s",
+      hangingCloth(rectangle(1.0, 1.0, 6, 6), dynamic(0.1, 5, "bdf2")));
+  add(c, q, true, "iteration_cap/move_on", "hanging cloth, 0.1 s steps, 2 Newton iterations then move on",
+      hangingCloth(rectangle(1.0, 1.0, 6, 6), dynamic(0.1, 5), {{"maxIterations", 2}, {"acceptIterationCap", true}}));
+  add(c, q, false, "iteration_cap/stop", "hanging cloth, 0.1 s steps, 1 Newton iteration, cut on the cap",
+      hangingCloth(rectangle(1.0, 1.0, 6, 6), dynamic(0.1, 5), {{"maxIterations", 1}}));
+  for (int steps : {1, 50})
+    add(c, q, steps == 1, "load_steps/n=" + std::to_string(steps), "cantilever, tip load bending it far past its length",
+        cantilever(plate(1e6, 0.0, 0.01, 0.0), -1.0, staticSteps(steps)));
+  add(c, q, true, "sliver/static", "cantilever of 0.5 m x 5 mm triangles (angles 0.57 deg) under a tip load",
+      scene(shell(rectangle(1.0, 0.02, 2, 4), plate(1e6, 0.3, 0.001), kClampLeft, tipLoad(-1e-3)), staticSteps(4)));
+  add(c, q, false, "sliver/dynamic", "hanging strip of sliver triangles, 5 steps of 0.01 s",
+      hangingCloth(rectangle(1.0, 0.02, 2, 4), dynamic(0.01, 5)));
+  for (double fold : {170.0, 179.0, 179.9})
+    add(c, q, fold == 179.9, "fold/rest_" + sci(fold) + "deg", "rest mesh folded back by this angle, clamped, weight",
+        scene(shell(foldedSheet(fold, 3), plate(1e6, 0.3, 0.01), kClampLeftArrays, json::array()), staticSteps(2)));
+  add(c, q, false, "fold/dynamic_179deg", "rest mesh folded back by 179 deg, falling, 5 steps of 0.01 s",
+      hangingCloth(foldedSheet(179.0, 3), dynamic(0.01, 5)));
+  add(c, q, true, "crumpled/rest_dynamic", "crumpled rest mesh, pinned, 5 steps of 0.01 s",
+      hangingCloth(crumpledSheet(), dynamic(0.01, 5)));
+  add(c, q, false, "crumpled/rest_static", "crumpled rest mesh, clamped, weight and tip load",
+      scene(shell(crumpledSheet(), plate(1e6, 0.3, 0.01), kClampLeftArrays,
+                  {{{"select", {{"nearest", {1.0, 1.0, 0.0}}}}, {"force", {0.0, 0.0, -0.1}}}}), staticSteps(4)));
+  add(c, q, false, "crumpled/compressed", "flat sheet pushed to 20% of its length between clamped edges",
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01),
+                  {{{"select", {{"group", "left"}}}, {"clampRotation", true}},
+                   {{"select", {{"group", "right"}}}, {"displacement", {-0.8, 0.0, 0.0}}, {"clampRotation", true}}},
+                  json::array()),
+            staticSteps(8)));
+  add(c, q, true, "singular/no_supports", "static, no fixed vertex, under its weight: a rigid-body mode",
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), json::array(), json::array()), staticSteps(4)));
+  add(c, q, false, "singular/no_supports_pcg_jacobi", "the same with PCG + Jacobi",
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), json::array(), json::array()), staticSteps(4),
+            {0.0, 0.0, -9.81}, {{"linearSolver", "pcg"}, {"preconditioner", "jacobi"}}));
+  add(c, q, false, "singular/x_free", "static, fixed in z only, pushed along x",
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), {{{"select", {{"group", "left"}}}, {"components", "z"}}},
+                  {{{"select", {{"group", "right"}}}, {"force", {1.0, 0.0, 0.0}}}}),
+            staticSteps(4)));
+  add(c, q, true, "invert/pushed_vertex", "membrane with a fixed rim, one inner vertex dragged past its neighbours",
+      scene(shell(rectangle(1.0, 1.0, 4, 4), {{"membraneLambda", 100.0}, {"membraneMu", 100.0}, {"bendingAlpha", 0.0}, {"bendingBeta", 1e-6}},
+                  {{{"select", {{"boundary", true}}}}, {{"select", {{"indices", {6}}}}, {"displacement", {0.6, 0.6, 0.0}}}},
+                  json::array()),
+            staticSteps(4), {0.0, 0.0, 0.0}));
+  add(c, q, false, "invert/crushing_load", "a 1e4 N in-plane load on one corner of a soft clamped sheet",
+      scene(shell(rectangle(1.0, 1.0, 4, 4), plate(1e4, 0.3, 0.001), kClampLeft,
+                  {{{"select", {{"nearest", {1.0, 1.0, 0.0}}}}, {"force", {-1e4, -1e4, 0.0}}}}),
+            staticSteps(4), {0.0, 0.0, 0.0}));
+  add(c, q, false, "extreme/twist_720deg", "a strip's end twisted by 720 deg in 4 load steps",
+      scene(shell(rectangle(1.0, 0.2, 10, 2), plate(1e6, 0.3, 0.01), {{{"select", {{"group", "left"}}}, {"clampRotation", true}},
+                  {{"select", {{"group", "right"}}}, {"rotation", {{"axis", {1.0, 0.0, 0.0}}, {"center", {1.0, 0.1, 0.0}}, {"degrees", 720.0}}}}},
+                  json::array()),
+            staticSteps(4), {0.0, 0.0, 0.0}));
+  add(c, q, false, "extreme/gravity_1e6", "cantilever under 1e6 m/s^2 gravity",
+      cantilever(plate(1e6, 0.3, 0.01), 0.0, staticSteps(4), {0.0, 0.0, -1e6}));
+  add(c, q, false, "extreme/displacement_1e3", "clamped sheet with its far edge moved by 1 km",
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01),
+                  {{{"select", {{"group", "left"}}}, {"clampRotation", true}},
+                   {{"select", {{"group", "right"}}}, {"displacement", {0.0, 0.0, 1e3}}}},
+                  json::array()),
+            staticSteps(4)));
+  return c;
+}
+
+std::string findNonFinite(const std::string& directory) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file()) continue;
+    const fs::path& p = it->path();
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string ext = p.extension().string();
+    if (p.filename() == "summary.json") {
+      const json j = json::parse(text.str(), nullptr, false);
+      if (j.is_discarded()) return p.string() + " (not valid JSON)";
+      const std::string pointer = firstNull(j, "");
+      if (!pointer.empty()) return p.string() + " (null at " + pointer + ")";
+    } else if ((ext == ".vtu" || ext == ".pvd" || ext == ".csv" || ext == ".obj") && hasNonFiniteToken(text.str())) {
+      return p.string();
+    }
+  }
+  return "";
+}
+
+nlohmann::json runStressCell(const StressCell& cell, const std::string& outputDirectory) {
+  json r = {{"name", cell.name}, {"what", cell.what}};
+  try {
+    const Scene scene = sceneFromJson(cell.scene, ".");
+    RunOptions o;
+    o.outputDirectory = outputDirectory;
+    o.stepLimit = cell.stepLimit;
+    o.pictures = false;
+    const RunResult run = runScene(scene, o);
+    const RunSummary& s = run.summary;
+    const bool ok = s.converged || run.stepLimitReached;
+    r["outcome"] = ok ? "ok" : "failed_cleanly";
+    std::string reason = s.termination;
+    for (const std::string& w : run.warnings) reason += "; warning: " + w;
+    r["reason"] = reason;
+    r["termination"] = s.termination;
+    r["steps"] = s.steps;
+    r["newton_iterations"] = s.newtonIterations;
+    r["warnings"] = run.warnings;
+    for (const char* key : {"inverted_faces", "load_step_cuts", "step_cuts", "safeguards"})
+      if (s.extra.contains(key)) r[key] = s.extra[key];
+  } catch (const InputError& e) {
+    r["outcome"] = "failed_cleanly";
+    r["reason"] = std::string("refused: ") + e.what();
+  } catch (const std::exception& e) {
+    r["outcome"] = "defect";
+    r["reason"] = std::string("internal error: ") + e.what();
+  }
+  const std::string bad = findNonFinite(outputDirectory);
+  if (!bad.empty()) {
+    r["outcome"] = "defect";
+    r["reason"] = "non-finite number in " + bad + " (" + r["reason"].get<std::string>() + ")";
+  }
+  return r;
+}
+
+}  // namespace jetshell
