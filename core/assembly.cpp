@@ -81,6 +81,11 @@ int HessianAssembler::addStencils(const StencilTable& table) {
   return static_cast<int>(slots_.size()) - 1;
 }
 
+void HessianAssembler::clearStencils() {
+  slots_.clear();
+  finalized_ = false;
+}
+
 void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedDof) {
   const int n = numVertices;
   const int ndof = 3 * n;

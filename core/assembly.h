@@ -25,6 +25,9 @@ class HessianAssembler {
   /// Builds the pattern for numVertices vertices. fixedDof (size 3N, or empty) marks eliminated dofs.
   void finalize(int numVertices, const std::vector<char>& fixedDof = {});
   bool finalized() const { return finalized_; }
+  /// Forgets every slot so that stencils can be declared anew (a pattern that follows moving contacts); the
+  /// next finalize() bumps patternVersion() as usual.
+  void clearStencils();
 
   /// Zeroes the values (pattern kept). Fixed dofs get their unit diagonal.
   void setZero();

@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,6 +60,14 @@ class EnergyTerm {
   virtual bool zeroAtRest() const { return true; }
   /// True when the energy is invariant under rigid motions of the whole configuration.
   virtual bool rigidInvariant() const { return true; }
+
+  // Terms whose elements follow the configuration (contact pairs from a broad phase). The objective calls
+  // updateStencils(x) before every evaluation and rebuilds its Hessian pattern when stencilVersion() changed.
+  // A term with fixed stencils keeps the defaults.
+  /// Brings stencils() up to date for positions x.
+  virtual void updateStencils(const Eigen::VectorXd& /*x*/) {}
+  /// Changes whenever stencils() changed.
+  virtual std::uint64_t stencilVersion() const { return 0; }
 
   // Parameters as differentiable inputs (fitting, sensitivities). A term exposes the constants its energy is
   // a smooth function of (λ, μ, α, β, density, damping coefficients, load magnitudes, contact stiffness, ...)

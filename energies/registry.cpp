@@ -1,5 +1,6 @@
 #include "energies/registry.h"
 
+#include "energies/contact/contact_registry.h"
 #include "energies/end_moment_term.h"
 #include "energies/examples/seam_spring.h"
 #include "energies/kinetic_terms.h"
@@ -138,7 +139,11 @@ std::vector<RegisteredTerm> buildRegistry() {
 }  // namespace
 
 const std::vector<RegisteredTerm>& termRegistry() {
-  static const std::vector<RegisteredTerm> registry = buildRegistry();
+  static const std::vector<RegisteredTerm> registry = [] {
+    std::vector<RegisteredTerm> r = buildRegistry();
+    for (RegisteredTerm& t : contactRegistryEntries()) r.push_back(std::move(t));
+    return r;
+  }();
   return registry;
 }
 

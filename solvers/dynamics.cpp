@@ -127,10 +127,14 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   if (sys.massDamping) sys.massDamping->setCentre(centre, massDamping_ * dampingScale);
   if (sys.stiffnessDamping.membrane) sys.stiffnessDamping.membrane->setStrainOrigin(centre, beta * dampingScale);
   if (sys.stiffnessDamping.bending) sys.stiffnessDamping.bending->setCurvatureOrigin(centre, beta * dampingScale);
+  sys.objective().beginStep(x_, t_, h);  // lagged contact data (friction normal forces, damping origins)
 
-  // The start: the extrapolated trajectory (constant acceleration over the last full step) or the predictor.
-  Eigen::VectorXd x = x_ + h * v_;
-  if (options_.extrapolatedStart && historyValid_) x += (h * h / historyStep_) * (v_ - vPrev_);
+  // The start: the extrapolated trajectory (constant acceleration over the last full step) or the predictor,
+  // followed only as far as the objective's step bound allows (contact: no sample starts the solve on the
+  // wrong side of a layer).
+  Eigen::VectorXd drift = h * v_;
+  if (options_.extrapolatedStart && historyValid_) drift += (h * h / historyStep_) * (v_ - vPrev_);
+  Eigen::VectorXd x = x_ + sys.objective().stepBound(x_, drift) * drift;
   sys.objective().applyPrescribed(t_ + h, x);
   if (options_.updateTolerance > 0.0 && sys.inertia) {
     // Time-discretization rule (see the header): Newton error estimate against the step's change, both as

@@ -282,6 +282,13 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       return finish(TerminationReason::Stalled, m.str());
     }
 
+    // Step bound (Objective::stepBound; contact): the largest safe fraction of d, from which the search starts,
+    // so no contact sample crosses a layer or surface in one iteration.
+    const double bound = obj.stepBound(x, d);
+    if (bound < 1.0) {
+      d *= bound;
+      slope *= bound;
+    }
     LineSearchOptions lso;
     lso.type = o.lineSearch;
     lso.c1 = o.armijoC1;
@@ -307,7 +314,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     s.trace.push_back(rec);
     ++s.iterations;
     // The quadratic model predicts a decrease of −½ gᵀd for the full step (with the H that was solved).
-    const double ratio = (E - res.point.energy) / decrement;
+    const double ratio = (E - res.point.energy) / (decrement * bound * (2.0 - bound));
     tryExact = alpha == 1.0 && ratio >= 0.5 && ratio <= 2.0;
     if (alpha == trialAlpha) {
       x = xTrial;

@@ -3,6 +3,7 @@
 #include "core/mesh.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -20,8 +21,10 @@ void Objective::addTerm(EnergyTermPtr term, TermRole role) {
     if (e.term->name() == term->name()) throw InputError("objective: duplicate term name '" + term->name() + "'");
   const StencilTable table = term->stencils();
   const int slot = table.width > 0 ? assembler_.addStencils(table) : -1;
-  terms_.push_back({std::move(term), role, slot});
+  const std::uint64_t version = term->stencilVersion();
+  terms_.push_back({std::move(term), role, slot, version});
   termEnergies_.push_back(0.0);
+  termSeconds_.push_back(0.0);
 }
 
 void Objective::setPrescribed(PrescribedPositions prescribed) {
@@ -39,6 +42,15 @@ void Objective::finalize() {
 double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, bool hessian,
                            const EvalOptions& options, TermSelection selection) {
   if (x.size() != numDofs()) throw InputError("objective: x has the wrong size");
+  using Clock = std::chrono::steady_clock;
+  const auto stencilStart = Clock::now();
+  bool changed = false;
+  for (Entry& e : terms_) {
+    e.term->updateStencils(x);
+    changed = changed || e.term->stencilVersion() != e.stencilVersion;
+  }
+  if (changed) rebuildPattern();
+  stencilSeconds_ += std::chrono::duration<double>(Clock::now() - stencilStart).count();
   finalize();
   if (gradient != nullptr) gradient->setZero(numDofs());
   if (hessian) assembler_.setZero();
@@ -50,11 +62,37 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
       continue;
     }
     EvalRequest request{gradient, hessian && e.slot >= 0 ? &assembler_ : nullptr, e.slot};
+    const auto termStart = Clock::now();
     termEnergies_[i] = e.term->evaluate(x, request, options);
+    termSeconds_[i] += std::chrono::duration<double>(Clock::now() - termStart).count();
     total += termEnergies_[i];
   }
   if (gradient != nullptr) zeroFixed(*gradient);
   return total;
+}
+
+void Objective::rebuildPattern() {
+  assembler_.clearStencils();
+  for (Entry& e : terms_) {
+    const StencilTable table = e.term->stencils();
+    e.slot = table.width > 0 ? assembler_.addStencils(table) : -1;
+    e.stencilVersion = e.term->stencilVersion();
+  }
+  assembler_.finalize(numVertices_, fixedDof_);
+  ++patternRebuilds_;
+}
+
+void Objective::beginStep(const Eigen::VectorXd& xStart, double tStart, double timeStep) {
+  for (const StepStartHook& h : stepStartHooks_) h(xStart, tStart, timeStep);
+}
+
+double Objective::stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& direction) const {
+  double alpha = 1.0;
+  for (const StepBound& b : stepBounds_) {
+    const double a = b(x, direction);
+    if (std::isfinite(a) && a > 0.0) alpha = std::min(alpha, a);
+  }
+  return alpha;
 }
 
 void Objective::zeroFixed(Eigen::VectorXd& v) const {

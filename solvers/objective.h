@@ -5,8 +5,14 @@
 // Hessian stencil, the fixed-dof mask from the prescribed positions. Only active terms are ever added (see
 // solvers/shell_system.h, which decides what a scene needs), so nothing inactive is built or evaluated.
 // Every term has a role: Potential terms (elastic energies, gravity, loads) define the static problem; Transient
-// terms (inertia, mass and stiffness damping) exist only inside a time step. The static residual of a dynamic
-// system is the gradient of its Potential terms.
+// terms (inertia, mass and stiffness damping, contact damping and friction) exist only inside a time step. The
+// static residual of a dynamic system is the gradient of its Potential terms.
+// Terms whose stencils follow the configuration (contact pairs) are brought up to date before every evaluation
+// (EnergyTerm::updateStencils); the pattern is rebuilt when one of them changed.
+// Two optional hooks serve contact: step-start hooks (a time integrator calls beginStep before each step, so
+// lagged quantities such as friction's normal forces are taken at the step start) and step bounds (the
+// largest fraction α ≤ 1 of a Newton direction d that is safe to take from x; a Newton solver scales d by
+// stepBound(x, d) before its line search, so fast motion cannot tunnel through a layer).
 #pragma once
 
 #include "core/assembly.h"
@@ -15,6 +21,8 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -91,12 +99,30 @@ class Objective {
   /// initialResidual (source "initial_residual").
   ForceScale forceScale(const Eigen::VectorXd& x, double initialResidual) const;
 
+  using StepStartHook = std::function<void(const Eigen::VectorXd& xStart, double tStart, double timeStep)>;
+  using StepBound = std::function<double(const Eigen::VectorXd& x, const Eigen::VectorXd& direction)>;
+  void addStepStartHook(StepStartHook hook) { stepStartHooks_.push_back(std::move(hook)); }
+  void addStepBound(StepBound bound) { stepBounds_.push_back(std::move(bound)); }
+  /// Runs the step-start hooks (a time step from tStart to tStart + timeStep begins at xStart).
+  void beginStep(const Eigen::VectorXd& xStart, double tStart, double timeStep);
+  /// min(1, every step bound) at x along direction; 1 without bounds. Always in (0, 1].
+  double stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& direction) const;
+  /// How many times the Hessian pattern was rebuilt after the first finalize (moving contacts).
+  int patternRebuilds() const { return patternRebuilds_; }
+  /// Wall seconds spent in each term's evaluate() (activeTermNames() order) and in updating stencils and
+  /// rebuilding the pattern, since construction: the benchmarks' time split.
+  const std::vector<double>& termSeconds() const { return termSeconds_; }
+  double stencilSeconds() const { return stencilSeconds_; }
+
  private:
   struct Entry {
     EnergyTermPtr term;
     TermRole role;
     int slot;  // assembler slot, -1 without a Hessian stencil
+    std::uint64_t stencilVersion = 0;  // as declared to the assembler
   };
+  /// Declares every term's stencils to a fresh pattern and finalizes it.
+  void rebuildPattern();
   int numVertices_;
   int numFree_;
   std::vector<Entry> terms_;
@@ -105,6 +131,11 @@ class Objective {
   HessianAssembler assembler_;
   std::vector<double> termEnergies_;
   PhysicalScales scales_;
+  std::vector<StepStartHook> stepStartHooks_;
+  std::vector<StepBound> stepBounds_;
+  int patternRebuilds_ = 0;
+  std::vector<double> termSeconds_;
+  double stencilSeconds_ = 0.0;
 };
 
 }  // namespace jetshell

@@ -1,5 +1,6 @@
 #include "solvers/shell_system.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -25,12 +26,48 @@ double meanEdgeLength(const TriMesh& mesh, const Topology& topo) {
 
 }  // namespace
 
+namespace {
+
+/// The actors to build: the problem's, or one made of its mesh and material.
+std::vector<ShellActorPart> actorsOf(const ShellProblem& p) {
+  if (!p.actors.empty()) return p.actors;
+  ShellActorPart a;
+  a.mesh = p.mesh;
+  a.material = p.material;
+  a.hasGravity = p.hasGravity;
+  a.clampedVertices = p.clampedVertices;
+  a.pointCloud = false;  // a plain problem has no shell-shell contact
+  return {a};
+}
+
+bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
+  return a.membraneLambda == b.membraneLambda && a.membraneMu == b.membraneMu && a.bendingAlpha == b.bendingAlpha &&
+         a.bendingBeta == b.bendingBeta && a.density == b.density &&
+         a.massDampingCoefficient == b.massDampingCoefficient &&
+         a.stiffnessDampingCoefficient == b.stiffnessDampingCoefficient;
+}
+
+/// The material the solvers read for scalars: the first actor's, with the largest α_R.
+ShellMaterialParams leadMaterial(const ShellProblem& p) {
+  if (p.actors.empty()) return p.material;
+  ShellMaterialParams m = p.actors.front().material;
+  for (const ShellActorPart& a : p.actors) {
+    m.massDampingCoefficient = std::max(m.massDampingCoefficient, a.material.massDampingCoefficient);
+    if (a.material.stiffnessDampingCoefficient != m.stiffnessDampingCoefficient)
+      throw InputError("actor '" + a.name + "': stiffnessDampingCoefficient differs from '" + p.actors.front().name +
+                       "''s; one β_R for all actors is supported");
+  }
+  return m;
+}
+
+}  // namespace
+
 ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     : kind_(kind),
       mesh_(p.mesh),
       topology_(buildTopology(p.mesh)),
       reference_(computeReference(p.mesh, topology_)),
-      material_(p.material),
+      material_(leadMaterial(p)),
       objective_(p.mesh.numVertices()) {
   validate(material_, "material");
   const int n = mesh_.numVertices();
@@ -44,55 +81,123 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
   if (!p.clampedVertices.empty() && static_cast<int>(p.clampedVertices.size()) != n)
     throw InputError("clampedVertices: size must equal the number of vertices");
 
-  vertexMass_ = lumpedMass(mesh_, reference_, material_.density);
-  const ShellMaterialParams& m = material_;
-  const bool dynamic = kind != AnalysisKind::Statics;
+  const std::vector<ShellActorPart> actors = actorsOf(p);
+  std::vector<Topology> actorTopology;
+  std::vector<ShellReference> actorReference;
+  bool uniform = true;
+  int faces = 0;
+  for (const ShellActorPart& a : actors) {
+    const std::string where = a.name.empty() ? std::string("material") : "actor '" + a.name + "'.material";
+    validate(a.material, where);
+    if (a.mesh.numVertices() != n) throw InputError("actor '" + a.name + "': mesh must hold all stacked vertices");
+    if (!a.clampedVertices.empty() && static_cast<int>(a.clampedVertices.size()) != n)
+      throw InputError("actor '" + a.name + "': clampedVertices size must equal the number of vertices");
+    uniform = uniform && sameMaterial(a.material, actors.front().material);
+    faces += a.mesh.numFaces();
+    actorTopology.push_back(p.actors.empty() ? topology_ : buildTopology(a.mesh));
+    actorReference.push_back(p.actors.empty() ? reference_ : computeReference(a.mesh, actorTopology.back()));
+  }
+  if (faces != mesh_.numFaces()) throw InputError("actors: their faces must be those of the stacked mesh");
 
-  if (m.membraneLambda != 0.0 || m.membraneMu != 0.0) {
-    membrane = std::make_shared<MembraneTerm>(mesh_, reference_, m.membraneLambda, m.membraneMu);
-    objective_.addTerm(membrane);
+  const bool dynamic = kind != AnalysisKind::Statics;
+  vertexMass_ = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd gravityMass = Eigen::VectorXd::Zero(n), dampedMass = Eigen::VectorXd::Zero(n);
+  for (std::size_t i = 0; i < actors.size(); ++i) {
+    const Eigen::VectorXd m = lumpedMass(actors[i].mesh, actorReference[i], actors[i].material.density);
+    vertexMass_ += m;
+    if (actors[i].hasGravity) gravityMass += m;
+    if (material_.massDampingCoefficient > 0.0)
+      dampedMass += (actors[i].material.massDampingCoefficient / material_.massDampingCoefficient) * m;
   }
-  if (m.bendingAlpha != 0.0 || m.bendingBeta != 0.0) {
-    bending = std::make_shared<BendingTerm>(mesh_, topology_, reference_, m.bendingAlpha, m.bendingBeta);
-    if (!p.clampedVertices.empty()) bending->setClampedBoundary(p.clampedVertices);
-    objective_.addTerm(bending);
+  std::vector<char> clamped;
+  for (const ShellActorPart& a : actors) {
+    if (a.clampedVertices.empty()) continue;
+    if (clamped.empty()) clamped.assign(static_cast<std::size_t>(n), 0);
+    for (std::size_t v = 0; v < a.clampedVertices.size(); ++v) clamped[v] |= a.clampedVertices[v];
   }
-  const bool gravityActive = p.hasGravity && p.gravity.squaredNorm() > 0.0 && m.density > 0.0;
-  if (gravityActive) objective_.addTerm(makeGravityTerm(vertexMass_, p.gravity, m.density));
+
+  // Elastic terms: one set over the whole mesh when the actors agree, else one per actor.
+  const std::size_t sets = uniform ? 1 : actors.size();
+  for (std::size_t i = 0; i < sets; ++i) {
+    const ShellMaterialParams& m = actors[i].material;
+    const TriMesh& mesh = uniform ? mesh_ : actors[i].mesh;
+    const Topology& topo = uniform ? topology_ : actorTopology[i];
+    const ShellReference& ref = uniform ? reference_ : actorReference[i];
+    const std::string suffix = uniform ? "" : "/" + actors[i].name;
+    if (m.membraneLambda != 0.0 || m.membraneMu != 0.0) {
+      auto t = std::make_shared<MembraneTerm>(mesh, ref, m.membraneLambda, m.membraneMu);
+      if (!uniform) t->setName("membrane" + suffix);
+      objective_.addTerm(t);
+      if (!membrane) membrane = t;
+    }
+    if (m.bendingAlpha != 0.0 || m.bendingBeta != 0.0) {
+      auto t = std::make_shared<BendingTerm>(mesh, topo, ref, m.bendingAlpha, m.bendingBeta);
+      if (!clamped.empty()) t->setClampedBoundary(clamped);
+      if (!uniform) t->setName("bending" + suffix);
+      objective_.addTerm(t);
+      if (!bending) bending = t;
+    }
+  }
+  const bool gravityActive = p.gravity.squaredNorm() > 0.0 && gravityMass.maxCoeff() > 0.0;
+  // Masses are given at the lead material's density (the gravity term's differentiable parameter).
+  if (gravityActive) objective_.addTerm(makeGravityTerm(gravityMass, p.gravity, material_.density > 0.0 ? material_.density : 1.0));
   if (p.nodalForces.size() != 0 && p.nodalForces.cwiseAbs().maxCoeff() > 0.0) {
     nodalForces = makeNodalForceTerm(p.nodalForces);
     objective_.addTerm(nodalForces);
   }
-  if (dynamic && m.density > 0.0) {
-    inertia = makeInertiaTerm(vertexMass_, m.density);
+  const bool massive = vertexMass_.maxCoeff() > 0.0;
+  if (dynamic && massive) {
+    inertia = makeInertiaTerm(vertexMass_, material_.density > 0.0 ? material_.density : 1.0);
     objective_.addTerm(inertia, TermRole::Transient);
   }
-  if ((kind == AnalysisKind::Dynamics && m.massDampingCoefficient > 0.0 && m.density > 0.0) ||
-      (kind == AnalysisKind::DynamicRelaxation && m.density > 0.0)) {
-    massDamping = makeMassDampingTerm(vertexMass_, m.massDampingCoefficient > 0.0 ? m.massDampingCoefficient : 1.0);
+  if (kind == AnalysisKind::Dynamics && material_.massDampingCoefficient > 0.0 && massive) {
+    massDamping = makeMassDampingTerm(dampedMass, material_.massDampingCoefficient);
+    objective_.addTerm(massDamping, TermRole::Transient);
+  } else if (kind == AnalysisKind::DynamicRelaxation && massive) {
+    massDamping = makeMassDampingTerm(vertexMass_, material_.massDampingCoefficient > 0.0 ? material_.massDampingCoefficient : 1.0);
     objective_.addTerm(massDamping, TermRole::Transient);
   }
-  if (kind == AnalysisKind::Dynamics && m.stiffnessDampingCoefficient > 0.0) {
-    stiffnessDamping = makeStiffnessDampingTerms(mesh_, topology_, reference_, m);
+  if (kind == AnalysisKind::Dynamics && material_.stiffnessDampingCoefficient > 0.0) {
+    if (!uniform) throw InputError("actors: stiffness damping with different materials per actor is not supported");
+    stiffnessDamping = makeStiffnessDampingTerms(mesh_, topology_, reference_, material_);
     if (stiffnessDamping.membrane) objective_.addTerm(stiffnessDamping.membrane, TermRole::Transient);
     if (stiffnessDamping.bending) {
-      if (!p.clampedVertices.empty()) stiffnessDamping.bending->setClampedBoundary(p.clampedVertices);
+      if (!clamped.empty()) stiffnessDamping.bending->setClampedBoundary(clamped);
       objective_.addTerm(stiffnessDamping.bending, TermRole::Transient);
     }
   }
-  // Not finalized here: callers may still add terms (contact, user energies) before the first evaluation.
+
+  // Contact: only when there is something to collide with.
+  std::vector<ShellContactActor> contactActors;
+  for (std::size_t i = 0; i < actors.size(); ++i) {
+    ShellContactActor c;
+    c.name = actors[i].name.empty() ? "shell" : actors[i].name;
+    c.mesh = &actors[i].mesh;
+    c.faceArea = actorReference[i].area;
+    c.contact = actors[i].contact;
+    c.quadrature = actors[i].contactQuadrature;
+    c.pointCloud = actors[i].pointCloud;
+    c.pointCloudCollider = actors[i].pointCloudCollider;
+    contactActors.push_back(std::move(c));
+  }
+  contact = addShellContact(objective_, contactActors, p.volumes, mesh_.V, dynamic);
+
+  // Not finalized here: callers may still add terms (user energies) before the first evaluation.
   objective_.setPrescribed(p.prescribed);
 
   PhysicalScales scales;
   scales.length = meanEdgeLength(mesh_, topology_);
   for (int v = 0; v < n; ++v) {
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
-    if (gravityActive) f += vertexMass_[v] * p.gravity;
+    if (gravityActive) f += gravityMass[v] * p.gravity;
     if (nodalForces) f += p.nodalForces.segment<3>(3 * v);
     scales.force = std::max(scales.force, f.norm());
   }
-  scales.stiffness = std::max(m.membraneLambda + 2.0 * m.membraneMu,
-                              (m.bendingAlpha + m.bendingBeta) / (scales.length * scales.length));
+  for (const ShellActorPart& a : actors) {
+    const ShellMaterialParams& m = a.material;
+    scales.stiffness = std::max({scales.stiffness, m.membraneLambda + 2.0 * m.membraneMu,
+                                 (m.bendingAlpha + m.bendingBeta) / (scales.length * scales.length)});
+  }
   scales.reference = restPositions();
   objective_.setScales(scales);
 }

@@ -8,7 +8,13 @@
 //   mass_damping        dynamics when α_R > 0; dynamic relaxation always (its α comes from the relaxation)
 //   membrane_damping,   dynamics when β_R > 0 (and the matching elastic term is active)
 //   bending_damping
+//   contact terms       when the problem has volume colliders or interacting point clouds (solvers/shell_contact.h)
 // Statics has no inertia and no dissipation. objective().activeTermNames() is the run summary's list.
+// Several actors (ShellProblem::actors): each has its own material, gravity flag, clamps and contact settings.
+// When their materials agree the elastic terms span the whole stacked mesh as for one actor; otherwise each
+// actor gets "membrane/<name>" and "bending/<name>" on its own faces (membrane/bending point to the first).
+// Mass damping weights each vertex by its actor's α_R (material().massDampingCoefficient is the largest);
+// stiffness damping needs one β_R for all actors.
 // The objective is finalized at its first evaluation, so more terms (contact, user energies written as
 // ElementEnergyTerm functors) can be added with objective().addTerm() until then.
 #pragma once
@@ -23,6 +29,7 @@
 #include "energies/shell/shell_terms.h"
 #include "solvers/objective.h"
 #include "solvers/prescribed_positions.h"
+#include "solvers/shell_contact.h"
 
 #include <Eigen/Core>
 
@@ -30,6 +37,19 @@
 #include <vector>
 
 namespace jetshell {
+
+/// One shell actor of a multi-actor problem.
+struct ShellActorPart {
+  std::string name;
+  TriMesh mesh;  // every stacked vertex, only this actor's faces
+  ShellMaterialParams material;
+  bool hasGravity = true;
+  std::vector<char> clampedVertices;  // N or empty
+  ContactParams contact;
+  ContactQuadrature contactQuadrature = ContactQuadrature::Vertices;
+  bool pointCloud = true;  // has a point-cloud collider (shell–shell contact)
+  PointCloudColliderParams pointCloudCollider;
+};
 
 struct ShellProblem {
   TriMesh mesh;                      // the reference configuration
@@ -39,6 +59,11 @@ struct ShellProblem {
   PrescribedPositions prescribed;    // eliminated dofs
   Eigen::VectorXd nodalForces;       // 3N [N] at load factor 1, or empty
   std::vector<char> clampedVertices;  // N or empty: boundary edges with both ends marked are clamped
+  /// Several actors over the stacked `mesh` (its faces = the union of theirs); empty: one actor made of
+  /// mesh, material, hasGravity and clampedVertices (with default contact settings).
+  std::vector<ShellActorPart> actors;
+  /// Rigid volume actors shells collide with.
+  std::vector<VolumeColliderPart> volumes;
 };
 
 enum class AnalysisKind { Statics, Dynamics, DynamicRelaxation };
@@ -73,6 +98,7 @@ class ShellSystem {
   std::shared_ptr<DiagonalQuadraticTerm> inertia;
   std::shared_ptr<DiagonalQuadraticTerm> massDamping;
   StiffnessDampingTerms stiffnessDamping;
+  ShellContact contact;  // empty without colliders
 
  private:
   AnalysisKind kind_;

@@ -1,13 +1,14 @@
 #include "tools/fit/fit_setup.h"
 
 #include "tools/scene/run_scene.h"
+#include "tools/scene/scene_problem.h"
 
 #include <algorithm>
 
 namespace jetshell {
 
 FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(file.scene)) {
-  system_ = std::make_unique<ShellSystem>(makeShellProblem(file_.scene, model_), AnalysisKind::Statics);
+  system_ = std::make_unique<ShellSystem>(shellProblemFromScene(file_.scene, model_), AnalysisKind::Statics);
   std::vector<std::string> names, labels;
   for (const FitParameterSpec& p : file_.parameters) {
     names.push_back(p.name);

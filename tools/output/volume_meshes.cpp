@@ -1,6 +1,7 @@
 #include "tools/output/volume_meshes.h"
 
 #include "core/mesh_generators.h"
+#include "energies/contact/sdf_grid.h"
 
 #include <cmath>
 
@@ -59,6 +60,30 @@ TriMesh volumeSurface(const VolumeActorParams& volume, double planeHalfSize, con
       m = sphere();
       m.V *= volume.radius;
       break;
+    case VolumeActorParams::Kind::Capsule: {  // two hemispherical caps and the cylinder between them
+      const TriMesh caps = sphere();
+      const TriMesh side = makeCylinder(1.0, 1.0, 2.0 * 3.14159265358979323846, 24, 2);
+      m.V.resize(caps.V.rows() + side.V.rows(), 3);
+      m.F.resize(caps.F.rows() + side.F.rows(), 3);
+      for (Eigen::Index v = 0; v < caps.V.rows(); ++v) {
+        m.V.row(v) = volume.radius * caps.V.row(v);
+        m.V(v, 2) += (v < caps.V.rows() / 2 ? 1.0 : -1.0) * volume.halfLength;
+      }
+      for (Eigen::Index v = 0; v < side.V.rows(); ++v)  // cylinder axis y ∈ [0, 1] -> z ∈ [−L, L]
+        m.V.row(caps.V.rows() + v) << volume.radius * side.V(v, 0), volume.radius * side.V(v, 2),
+            volume.halfLength * (2.0 * side.V(v, 1) - 1.0);
+      m.F.topRows(caps.F.rows()) = caps.F;
+      m.F.bottomRows(side.F.rows()) = side.F.array() + static_cast<int>(caps.V.rows());
+      break;
+    }
+    case VolumeActorParams::Kind::SdfGrid: {  // the grid's bounding box
+      const SdfGrid g = readSdfGrid(volume.sdfFile);
+      const Eigen::Vector3d half = 0.5 * g.spacing * Eigen::Vector3d(g.nx - 1, g.ny - 1, g.nz - 1);
+      m = box();
+      for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+        m.V.row(v) = (g.origin + half + m.V.row(v).transpose().cwiseProduct(half)).transpose();
+      break;
+    }
   }
   for (Eigen::Index v = 0; v < m.V.rows(); ++v) m.V.row(v) = T.apply(Eigen::Vector3d(m.V.row(v))).transpose();
   return m;

@@ -27,7 +27,7 @@ void validate(const RigidTransform& t, const std::string& where) {
 void validate(const ContactParams& p, const std::string& where) {
   check::nonNegative(p.penaltyStiffness, where + ".penaltyStiffness");
   check::nonNegative(p.activationDistance, where + ".activationDistance");
-  check::nonNegative(p.smoothingDistance, where + ".smoothingDistance");
+  check::positive(p.smoothingDistance, where + ".smoothingDistance");
   check::nonNegative(p.huntCrossleyDamping, where + ".huntCrossleyDamping");
   check::nonNegative(p.frictionCoefficient, where + ".frictionCoefficient");
   check::positive(p.frictionSlipVelocity, where + ".frictionSlipVelocity");
@@ -47,7 +47,13 @@ void validate(const VolumeActorParams& p, const std::string& where) {
   validate(p.worldFromLocalTransform, where + ".worldFromLocalTransform");
   if (p.kind == VolumeActorParams::Kind::Box)
     for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], where + ".halfExtents[" + std::to_string(c) + "]");
-  if (p.kind == VolumeActorParams::Kind::Sphere) check::positive(p.radius, where + ".radius");
+  if (p.kind == VolumeActorParams::Kind::Sphere || p.kind == VolumeActorParams::Kind::Capsule)
+    check::positive(p.radius, where + ".radius");
+  if (p.kind == VolumeActorParams::Kind::Capsule) check::nonNegative(p.halfLength, where + ".halfLength");
+  if (p.kind == VolumeActorParams::Kind::SdfGrid && p.sdfFile.empty())
+    throw InputError(where + ".sdfFile: missing (required for an SDF grid)");
+  check::finite(p.velocity, where + ".velocity");
+  check::finite(p.angularVelocity, where + ".angularVelocity");
   validate(p.contact, where + ".contact");
 }
 
@@ -68,6 +74,8 @@ const char* toString(VolumeActorParams::Kind k) {
     case VolumeActorParams::Kind::Plane: return "plane";
     case VolumeActorParams::Kind::Box: return "box";
     case VolumeActorParams::Kind::Sphere: return "sphere";
+    case VolumeActorParams::Kind::Capsule: return "capsule";
+    case VolumeActorParams::Kind::SdfGrid: return "sdfGrid";
   }
   return "?";
 }

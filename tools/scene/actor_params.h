@@ -1,10 +1,9 @@
-// The spec's actor parameters: ShellActorParams and what it holds (transform, collider, contact), plus the rigid
-// volume actors (plane, box, sphere) shells can meet.
-//
-// Contact is stored and validated so scenes can state it, but no contact or collider term exists yet: a scene
-// that asks for contact runs without it and says so (see tools/scene/scene.h, Scene::warnings()).
+// The spec's actor parameters: ShellActorParams and what it holds (transform, collider, contact; ContactParams
+// and PointCloudColliderParams live in energies/contact/contact_params.h), plus the rigid volume actors (plane,
+// box, sphere, capsule, signed-distance grid) shells collide with, static or moving on a prescribed path.
 #pragma once
 
+#include "energies/contact/contact_params.h"
 #include "energies/shell/material.h"
 #include "tools/scene/shapes.h"
 
@@ -30,24 +29,6 @@ enum class ColliderType { PointCloud, None };
 /// Quadrature that samples contact points on a shell surface.
 enum class ActorBoundaryElementType { Default, Vertices, FaceCentroids, FaceThreePoint };
 
-/// Contact with volume actors: penalty on the signed distance with a C²-smoothed ramp, Hunt–Crossley normal
-/// damping, regularized Coulomb friction (which also applies to shell–shell contact). Defaults from the spec.
-struct ContactParams {
-  double penaltyStiffness = 1e9;       // Pa/m, k
-  double activationDistance = 0.005;   // m, ε
-  double smoothingDistance = 0.001;    // m, δ
-  double huntCrossleyDamping = 0.0;    // s/m
-  double frictionCoefficient = 0.5;    // μ
-  double frictionSlipVelocity = 0.01;  // m/s, V_f
-};
-
-/// Point-cloud collider of a shell: spheres of `radius` at the contact samples.
-struct PointCloudColliderParams {
-  double radius = 0.01;                    // m
-  bool selfContact = false;
-  double selfContactExclusionRatio = 1.5;  // samples closer than ratio·radius in the rest shape never collide
-};
-
 /// The spec's ShellActorParams, with its defaults.
 struct ShellActorParams {
   std::string name;
@@ -62,9 +43,9 @@ struct ShellActorParams {
   ActorBoundaryElementType contactElementType = ActorBoundaryElementType::Default;
 };
 
-/// A rigid, static volume actor shells can rest on.
+/// A rigid volume actor shells collide with.
 struct VolumeActorParams {
-  enum class Kind { Plane, Box, Sphere };
+  enum class Kind { Plane, Box, Sphere, Capsule, SdfGrid };
   Kind kind = Kind::Plane;
   std::string name;
   std::string layer;
@@ -72,7 +53,13 @@ struct VolumeActorParams {
   /// Sphere: centred at the local origin.
   RigidTransform worldFromLocalTransform;
   Eigen::Vector3d halfExtents = Eigen::Vector3d::Constant(0.5);  // box, m
-  double radius = 0.5;                                            // sphere, m
+  double radius = 0.5;                                            // sphere and capsule, m
+  double halfLength = 0.5;    // capsule: half length of its axis segment along local z, m
+  std::string sdfFile;        // SdfGrid: the grid file (energies/contact/sdf_grid.h), local coordinates
+  /// Prescribed motion from the transform at t = 0: constant velocity [m/s] and angular velocity [rad/s]
+  /// (world axes, about the actor's origin). Zero: static.
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();
   ContactParams contact;
 };
 

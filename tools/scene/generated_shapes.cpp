@@ -1,5 +1,6 @@
 #include "tools/scene/generated_shapes.h"
 
+#include "core/garment_generator.h"
 #include "core/mesh_generators.h"
 
 #include <algorithm>
@@ -84,6 +85,19 @@ ShapeHandle makeHemisphereShape(double radius, int rings, int segments, double h
     g["azimuthEnd"] = sequence(rings + 1 - first, [&](int k) { return ringStart(k + first) + segments; });
   }
   return CreateTriMeshShape(std::move(m), "generator hemisphere", std::move(g));
+}
+
+}  // namespace jetshell
+
+namespace jetshell {
+
+ShapeHandle makeTShirtShape(int resolution, double gap) {
+  GarmentMesh g = makeTShirt(resolution, gap);
+  Groups groups;
+  groups["neck"] = sorted(g.neck);
+  groups["waist"] = sorted(g.waist);
+  groups["cuffs"] = sorted(g.cuffs);
+  return CreateTriMeshShape(std::move(g.mesh), "generator tshirt", std::move(groups));
 }
 
 }  // namespace jetshell

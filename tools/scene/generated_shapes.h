@@ -24,4 +24,8 @@ ShapeHandle makeCylinderShape(double radius, double length, double arcRadians, i
 ShapeHandle makeHemisphereShape(double radius, int rings, int segments, double holeRadians, double azimuthRadians,
                                 QuadDiagonals diagonals = QuadDiagonals::Uniform);
 
+/// A T-shirt (core/garment_generator.h): resolution cells per 5 cm, panels 2·gap apart at rest.
+/// Groups: "neck", "waist", "cuffs" (the openings' rims).
+ShapeHandle makeTShirtShape(int resolution, double gap = 0.03);
+
 }  // namespace jetshell

@@ -10,6 +10,7 @@
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
 #include "tools/scene/scene_model.h"
+#include "tools/scene/scene_problem.h"
 #include "tools/scene/support_check.h"
 #include "validation/boundary_rule_term.h"
 
@@ -42,13 +43,6 @@ void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
   if (!s.convergenceTest.empty()) extra["convergence_test"] = s.convergenceTest;
 }
 
-bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
-  return a.membraneLambda == b.membraneLambda && a.membraneMu == b.membraneMu && a.bendingAlpha == b.bendingAlpha &&
-         a.bendingBeta == b.bendingBeta && a.density == b.density &&
-         a.massDampingCoefficient == b.massDampingCoefficient &&
-         a.stiffnessDampingCoefficient == b.stiffnessDampingCoefficient;
-}
-
 std::string format(const char* fmt, double a) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, fmt, a);
@@ -66,34 +60,6 @@ struct ProbeHistory {
 };
 
 }  // namespace
-
-ShellProblem makeShellProblem(const Scene& scene, const SceneModel& model) {
-  // The solver's ShellSystem takes one material and one gravity flag; stacked actors must agree on both.
-  for (std::size_t a = 1; a < scene.shells.size(); ++a) {
-    if (!sameMaterial(scene.shells[a].material, scene.shells[0].material))
-      throw InputError("shell actor '" + scene.shells[a].name + "': a material different from '" + scene.shells[0].name +
-                       "''s is not supported yet (the solver takes one material per scene)");
-    if (scene.shells[a].hasGravity != scene.shells[0].hasGravity)
-      throw InputError("shell actor '" + scene.shells[a].name + "': hasGravity differs from '" + scene.shells[0].name +
-                       "''s, which is not supported yet");
-  }
-  ShellProblem p;
-  p.mesh = model.world;
-  p.material = scene.shells[0].material;
-  p.hasGravity = scene.shells[0].hasGravity;
-  p.gravity = scene.gravity;
-  for (const PrescribedCoordinate& c : model.prescribed) {
-    if (c.value) p.prescribed.fix(c.vertex, c.component, TimeFunction(c.value));
-    else p.prescribed.fix(c.vertex, c.component, c.constant);
-  }
-  if (model.appliedForces.cwiseAbs().maxCoeff() > 0.0) p.nodalForces = model.appliedForces;
-  for (const ActorBlock& b : model.actors) {
-    if (b.clampedVertices.empty()) continue;
-    if (p.clampedVertices.empty()) p.clampedVertices.assign(static_cast<std::size_t>(model.numVertices()), 0);
-    for (std::size_t v = 0; v < b.clampedVertices.size(); ++v) p.clampedVertices[v] |= b.clampedVertices[v];
-  }
-  return p;
-}
 
 NewtonOptions newtonOptionsFor(const SolverSettings& s, int defaultIterations, bool statics) {
   NewtonOptions n;
@@ -146,7 +112,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   const AnalysisKind kind = type == AnalysisType::Static    ? AnalysisKind::Statics
                             : type == AnalysisType::Dynamic ? AnalysisKind::Dynamics
                                                             : AnalysisKind::DynamicRelaxation;
-  const ShellProblem problem = makeShellProblem(scene, model);
+  const ShellProblem problem = shellProblemFromScene(scene, model);
   ShellSystem system(problem, kind);
   addEdgeRules(scene, problem, system);
   Objective& objective = system.objective();

@@ -39,9 +39,6 @@ struct RunResult {
   std::vector<std::string> warnings;  // doubts about the result (inverted faces); also in summary.json
 };
 
-/// The solver's problem for a resolved scene. Throws InputError when shell actors differ in material or gravity
-/// flag (the solver takes one of each per scene).
-ShellProblem makeShellProblem(const Scene& scene, const SceneModel& model);
 /// Newton options from a scene's solver settings (defaultIterations when the scene sets none). psdProjection
 /// "auto": none on static paths (`statics`; the projected Hessian makes Newton linear near large-rotation
 /// equilibria: 2x the iterations, and stalls; VALIDATION.md), clamp otherwise.

@@ -151,12 +151,9 @@ void validate(const Scene& scene) {
 
 std::vector<std::string> unsupportedFeatures(const Scene& scene) {
   std::vector<std::string> notes;
-  if (!scene.volumes.empty())
-    notes.push_back("contact with volume actors is not implemented yet: the " + std::to_string(scene.volumes.size()) +
-                    " volume actor(s) are written to the outputs but do not push on the shells");
-  for (const ShellActorParams& s : scene.shells)
-    if (s.colliderType == ColliderType::PointCloud && s.pointCloudCollider.selfContact)
-      notes.push_back("shell actor '" + s.name + "': point-cloud self-contact is not implemented yet (ignored)");
+  for (const VolumeActorParams& v : scene.volumes)
+    if (v.velocity.squaredNorm() > 0.0 || v.angularVelocity.squaredNorm() > 0.0)
+      notes.push_back("volume actor '" + v.name + "' moves: volumes.vtu shows it at t = 0 only");
   return notes;
 }
 

@@ -138,7 +138,7 @@ struct Scene {
 /// option names. Throws InputError naming the field.
 void validate(const Scene& scene);
 
-/// What the scene asks for that this build does not do yet (contact, colliders), one line each, for the log.
+/// What the scene asks for that this build does only in part (moving volumes are drawn at t = 0), one line each.
 std::vector<std::string> unsupportedFeatures(const Scene& scene);
 
 const char* toString(AnalysisType t);

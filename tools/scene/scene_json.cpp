@@ -1,5 +1,6 @@
 #include "tools/scene/scene_json.h"
 
+#include "energies/contact/sdf_grid.h"
 #include "tools/scene/checks.h"
 #include "tools/scene/generated_shapes.h"
 #include "tools/scene/json_reader.h"
@@ -73,7 +74,15 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (!j.contains("generator"))
     v.error("missing \"obj\", \"generator\" or \"vertices\"/\"faces\" (a shell needs a triangle mesh)");
   const std::string generator =
-      Object(v).choice("generator", {"rectangle", "slitAnnulus", "cylinder", "hemisphere"}, "");
+      Object(v).choice("generator", {"rectangle", "slitAnnulus", "cylinder", "hemisphere", "tshirt"}, "");
+  if (generator == "tshirt") {
+    const Object o = v.object({"generator", "resolution", "gap"}, "a tshirt generator");
+    const int resolution = atLeast(o, "resolution", 1);
+    if (resolution > 40) check::fail(o.member("resolution"), resolution, "must be <= 40");
+    const double gap = o.number("gap", 0.03);
+    check::nonNegative(gap, o.member("gap"));
+    return at(v.pointer(), [&] { return makeTShirtShape(resolution, gap); });
+  }
   if (generator == "rectangle") {
     const Object o = v.object({"generator", "width", "height", "nx", "ny", "diagonals"}, "a rectangle generator");
     const double w = positive(o, "width"), h = positive(o, "height");
@@ -187,7 +196,7 @@ ContactParams readContact(const Value& v) {
   };
   read("penaltyStiffness", c.penaltyStiffness, false);
   read("activationDistance", c.activationDistance, false);
-  read("smoothingDistance", c.smoothingDistance, false);
+  read("smoothingDistance", c.smoothingDistance, true);
   read("huntCrossleyDamping", c.huntCrossleyDamping, false);
   read("frictionCoefficient", c.frictionCoefficient, false);
   read("frictionSlipVelocity", c.frictionSlipVelocity, true);
@@ -352,12 +361,14 @@ void readShell(const Value& v, Scene& scene, const std::string& baseDirectory) {
   forEach(o, "probes", [&](const Value& e) { readProbe(e, actor, scene); });
 }
 
-void readVolume(const Value& v, const std::string& type, Scene& scene) {
+void readVolume(const Value& v, const std::string& type, Scene& scene, const std::string& baseDirectory) {
   VolumeActorParams p;
-  std::vector<std::string> keys = {"type", "name", "layer", "contact"};
+  std::vector<std::string> keys = {"type", "name", "layer", "contact", "velocity", "angularVelocity"};
   if (type == "plane") keys.insert(keys.end(), {"point", "normal"});
   if (type == "box") keys.insert(keys.end(), {"center", "halfExtents", "rotation"});
   if (type == "sphere") keys.insert(keys.end(), {"center", "radius"});
+  if (type == "capsule") keys.insert(keys.end(), {"center", "radius", "halfLength", "rotation"});
+  if (type == "sdfGrid") keys.insert(keys.end(), {"file", "center", "rotation"});
   const Object o = v.object(keys, "a " + type + " actor");
   p.name = o.string("name", "");
   p.layer = o.string("layer", "");
@@ -374,11 +385,28 @@ void readVolume(const Value& v, const std::string& type, Scene& scene) {
     if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
     p.halfExtents = o.at("halfExtents").vec3();
     for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], o.member("halfExtents") + "/" + std::to_string(c));
-  } else {
+  } else if (type == "sphere") {
     p.kind = VolumeActorParams::Kind::Sphere;
     p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
     p.radius = positive(o, "radius");
+  } else if (type == "capsule") {
+    p.kind = VolumeActorParams::Kind::Capsule;
+    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
+    if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
+    p.radius = positive(o, "radius");
+    p.halfLength = o.number("halfLength", 0.0);
+    check::nonNegative(p.halfLength, o.member("halfLength"));
+  } else {
+    p.kind = VolumeActorParams::Kind::SdfGrid;
+    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
+    if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
+    const std::string file = o.string("file", "");
+    if (file.empty()) throw InputError(o.member("file") + ": missing (the SDF grid file)");
+    p.sdfFile = (std::filesystem::path(baseDirectory) / file).lexically_normal().string();
+    at(o.member("file"), [&] { return readSdfGrid(p.sdfFile); });  // named errors now, not at run time
   }
+  p.velocity = o.vec3("velocity", Eigen::Vector3d::Zero());
+  p.angularVelocity = o.vec3("angularVelocity", Eigen::Vector3d::Zero());
   at(v.pointer(), [&] { scene.addVolumeActor(std::move(p)); });
 }
 
@@ -489,10 +517,12 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
   const std::vector<Value> actors = o.at("actors").array();
   for (const Value& a : actors) {
     if (!a.isObject()) a.typeError("an object (an actor)");
-    const std::string type = Object(a).choice("type", {"shell", "plane", "box", "sphere"}, "");
-    if (type.empty()) throw InputError(a.pointer() + "/type: missing (required: shell, plane, box or sphere)");
+    const std::string type =
+        Object(a).choice("type", {"shell", "plane", "box", "sphere", "capsule", "sdfGrid"}, "");
+    if (type.empty())
+      throw InputError(a.pointer() + "/type: missing (required: shell, plane, box, sphere, capsule or sdfGrid)");
     if (type == "shell") readShell(a, scene, baseDirectory);
-    else readVolume(a, type, scene);
+    else readVolume(a, type, scene, baseDirectory);
   }
   if (scene.shells.empty()) throw InputError("/actors: no shell actor (nothing to simulate)");
   scene.analysis = readAnalysis(o.at("analysis"));

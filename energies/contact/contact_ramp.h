@@ -1,0 +1,55 @@
+// The C²-smoothed penalty ramp shared by every contact energy, written once for any scalar type.
+//
+// Input: a penetration p [m] (positive inside the activation band) and the smoothing width δ > 0 [m].
+// Output: R(p) [m²], the energy per unit stiffness; r(p) = R'(p) [m], the force per unit stiffness.
+//   r(p) = 0 (p ≤ 0),  p²/(2δ) (0 < p < δ),  p − δ/2 (p ≥ δ):   a ramp max(0, p) with a C¹ corner,
+//   R(p) = 0,          p³/(6δ),              p²/2 − δp/2 + δ²/6: C², so Newton sees a continuous Hessian.
+// Kinks (where R''' jumps) sit at p = 0 and p = δ.
+// G(p) = ∫₀ᵖ s r(s) ds is the primitive the Hunt–Crossley damping potential needs:
+//   G(p) = 0, p⁴/(8δ), p³/3 − δp²/4 + δ³/24.
+#pragma once
+
+#include "core/scalar.h"
+
+namespace jetshell {
+
+template <typename T>
+T contactRamp(const T& p, double delta) {
+  const double v = valueOf(p);
+  if (v <= 0.0) return constant<T>(0.0);
+  if (v < delta) return p * p * p * constant<T>(1.0 / (6.0 * delta));
+  return constant<T>(0.5) * p * p - constant<T>(0.5 * delta) * p + constant<T>(delta * delta / 6.0);
+}
+
+template <typename T>
+T contactRampForce(const T& p, double delta) {
+  const double v = valueOf(p);
+  if (v <= 0.0) return constant<T>(0.0);
+  if (v < delta) return p * p * constant<T>(0.5 / delta);
+  return p - constant<T>(0.5 * delta);
+}
+
+template <typename T>
+T contactRampMoment(const T& p, double delta) {
+  const double v = valueOf(p);
+  if (v <= 0.0) return constant<T>(0.0);
+  if (v < delta) return p * p * p * p * constant<T>(1.0 / (8.0 * delta));
+  return p * p * p * constant<T>(1.0 / 3.0) - constant<T>(0.25 * delta) * p * p +
+         constant<T>(delta * delta * delta / 24.0);
+}
+
+/// The regularized Coulomb friction primitive f₀ (Li et al., IPC 2020) minus its value at zero slip, for a
+/// slip length y ≥ 0 given as y² (so zero slip stays differentiable) and the slip regularization ε_v > 0 [m]:
+///   f₀(y) = −y³/(3ε_v²) + y²/ε_v   (y < ε_v),   y − ε_v/3   (y ≥ ε_v).
+/// Its derivative f₁ = f₀' rises from 0 to 1 over [0, ε_v]: friction force μλ f₁(y) in the slip direction.
+template <typename T>
+T frictionPrimitive(const T& y2, double epsV) {
+  using std::sqrt;
+  const double v2 = valueOf(y2);
+  if (v2 >= epsV * epsV) return sqrt(y2) - constant<T>(epsV / 3.0);
+  // y³ = y²·y has zero first and second derivatives at y = 0, where sqrt's derivative is not finite.
+  const T cubic = v2 > 1e-300 ? y2 * sqrt(y2) : constant<T>(0.0);
+  return y2 * constant<T>(1.0 / epsV) - cubic * constant<T>(1.0 / (3.0 * epsV * epsV));
+}
+
+}  // namespace jetshell

@@ -1,0 +1,32 @@
+// A signed distance sampled on a regular grid, read from a text file, as a volume shape.
+//
+// File format (whitespace separated; lines starting with '#' are comments):
+//   dims nx ny nz          2 <= n_i, nx·ny·nz <= 16,777,216
+//   origin ox oy oz        local position of sample (0,0,0) [m]
+//   spacing h              grid spacing [m], > 0
+//   then nx·ny·nz finite distances [m], x fastest, then y, then z (negative inside the solid).
+// Inside the grid the distance is trilinear (its gradient and Hessian are those of the trilinear cell, so the
+// Hessian has no diagonal); outside, the distance at the nearest grid point plus the distance to it.
+// Errors name the file and line (InputError).
+#pragma once
+
+#include "energies/contact/volume_shapes.h"
+
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+struct SdfGrid {
+  int nx = 0, ny = 0, nz = 0;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double spacing = 1.0;
+  std::vector<double> values;  // x fastest
+};
+
+/// Reads a grid file; throws InputError "<path>:<line>: ..." for malformed or out-of-bounds content.
+SdfGrid readSdfGrid(const std::string& path);
+/// The grid as a shape (validated: sizes and finite values).
+VolumeShapePtr makeSdfGridShape(SdfGrid grid);
+
+}  // namespace jetshell

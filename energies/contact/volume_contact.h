@@ -1,0 +1,65 @@
+// Contact between a shell and a rigid volume actor: three energy terms over the shell's contact samples
+// (energies/contact/contact_sampling.h), each written once for any scalar type and differentiated by the
+// framework (ElementEnergyTerm):
+//   contact_penalty   Σ_q A_q k R(p_q)                    (Potential)
+//   contact_damping   Σ_q A_q (c k / Δt) [G(p_q) − a_q R(p_q)]   (Transient: Hunt–Crossley)
+//   contact_friction  Σ_q μ λ_q f₀(‖P_q u_q‖)             (Transient: regularized Coulomb dissipation)
+// with p_q = ε − d(x_q, t) the penetration of sample point x_q into the activation band of the collider at the
+// end-of-step time t, R, G the C²-smoothed ramp and its moment (energies/contact/contact_ramp.h), and lagged
+// at the start of the step (beginStep): a_q = p(x_q^n, t_n), λ_q = A_q k r(a_q) (the normal force),
+// P_q = I − n nᵀ (n = ∇d there), u_q = x_q − x_q^n − Δt·v_collider(x_q^n) (the slip relative to the solid),
+// f₀ with ε_v = V_f Δt. ∂/∂p of the damping potential is A_q k r(p) · c (p − a_q)/Δt: the Hunt–Crossley force
+// k r(p) c ṗ. Both transient terms are zero until a step begins (statics).
+// Damping and friction energies, differentiated, are forces of the step, not potential energies of the state.
+#pragma once
+
+#include "core/mesh.h"
+#include "energies/contact/contact_params.h"
+#include "energies/contact/contact_sampling.h"
+#include "energies/contact/volume_collider.h"
+#include "core/term.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+/// What the three terms of one (shell, collider) pair share; beginStep updates the lagged data.
+struct VolumeContactState {
+  VolumeContactState(ContactSampling sampling, VolumeColliderPtr collider, const ContactParams& params);
+
+  ContactSampling sampling;
+  VolumeColliderPtr collider;
+  ContactParams params;
+  double time = 0.0;      // t at which the collider is evaluated (end of the step)
+  double timeStep = 0.0;  // Δt of the current step; 0 before the first step
+  // Lagged per sample point (element × Q + q), from beginStep.
+  std::vector<double> previousPenetration;  // a_q [m]
+  std::vector<double> normalForce;          // λ_q [N]
+  std::vector<Eigen::Vector3d> normal, start, colliderShift;
+
+  /// Sample point positions of element e from x (3N).
+  Eigen::Vector3d point(const Eigen::VectorXd& x, int e, int q) const;
+  /// Lags the step-start data from x_n (3N) at t_n; the step ends at t_n + h.
+  void beginStep(const Eigen::VectorXd& xStart, double tStart, double h);
+  /// Largest α ≤ 1 such that no sample point approaches the surface by more than `fraction` of its distance
+  /// to it (at least the activation distance) along x + α d.
+  double stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double fraction) const;
+  /// Min over sample points of the signed distance (m): how deep the shell is in the collider.
+  double minDistance(const Eigen::VectorXd& x) const;
+};
+
+struct VolumeContactTerms {
+  std::shared_ptr<VolumeContactState> state;
+  EnergyTermPtr penalty;   // Potential
+  EnergyTermPtr damping;   // Transient; null when c = 0
+  EnergyTermPtr friction;  // Transient; null when μ = 0
+};
+
+/// Builds the terms for one shell (sampling over numVertices stacked vertices) and one collider. Names are
+/// "contact_penalty<suffix>", "contact_damping<suffix>", "contact_friction<suffix>".
+VolumeContactTerms makeVolumeContactTerms(ContactSampling sampling, int numVertices, VolumeColliderPtr collider,
+                                          const ContactParams& params, const std::string& suffix = "");
+
+}  // namespace jetshell

@@ -1,0 +1,121 @@
+#include "energies/contact/volume_shapes.h"
+
+#include "core/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jetshell {
+namespace {
+
+/// Distance to a point c (a sphere of radius `radius` about it): d = ‖p − c‖ − radius. `dropAxis` removes one
+/// direction from the Hessian when c slides along it (a capsule's side).
+SdfSample roundDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& c, double radius, int dropAxis = -1) {
+  SdfSample s;
+  const Eigen::Vector3d v = p - c;
+  const double n = v.norm();
+  s.distance = n - radius;
+  if (n < 1e-300) {  // at the centre: any direction; the Hessian is unbounded, report none
+    s.gradient = Eigen::Vector3d::UnitZ();
+    return s;
+  }
+  s.gradient = v / n;
+  s.hessian = (Eigen::Matrix3d::Identity() - s.gradient * s.gradient.transpose()) / n;
+  if (dropAxis >= 0) {
+    s.hessian.row(dropAxis).setZero();
+    s.hessian.col(dropAxis).setZero();
+  }
+  return s;
+}
+
+class PlaneShape : public VolumeShape {
+ public:
+  std::string kind() const override { return "plane"; }
+  SdfSample signedDistance(const Eigen::Vector3d& p) const override {
+    SdfSample s;
+    s.distance = p.z();
+    return s;
+  }
+};
+
+class SphereShape : public VolumeShape {
+ public:
+  explicit SphereShape(double r) : r_(r) {}
+  std::string kind() const override { return "sphere"; }
+  SdfSample signedDistance(const Eigen::Vector3d& p) const override {
+    return roundDistance(p, Eigen::Vector3d::Zero(), r_);
+  }
+
+ private:
+  double r_;
+};
+
+class BoxShape : public VolumeShape {
+ public:
+  explicit BoxShape(const Eigen::Vector3d& h) : h_(h) {}
+  std::string kind() const override { return "box"; }
+  SdfSample signedDistance(const Eigen::Vector3d& p) const override {
+    SdfSample s;
+    Eigen::Vector3d q, sign;
+    for (int i = 0; i < 3; ++i) {
+      q[i] = std::abs(p[i]) - h_[i];
+      sign[i] = p[i] < 0.0 ? -1.0 : 1.0;
+    }
+    if (q.maxCoeff() <= 0.0) {  // inside: distance to the nearest face
+      int m = 0;
+      s.distance = q.maxCoeff(&m);
+      s.gradient = Eigen::Vector3d::Zero();
+      s.gradient[m] = sign[m];
+      return s;
+    }
+    const Eigen::Vector3d w = q.cwiseMax(0.0);  // outside: distance to the nearest face, edge or corner
+    const double d = w.norm();
+    s.distance = d;
+    s.gradient = sign.cwiseProduct(w) / d;
+    s.hessian.setZero();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (w[i] > 0.0 && w[j] > 0.0) s.hessian(i, j) = ((i == j ? 1.0 : 0.0) - s.gradient[i] * s.gradient[j]) / d;
+    return s;
+  }
+
+ private:
+  Eigen::Vector3d h_;
+};
+
+class CapsuleShape : public VolumeShape {
+ public:
+  CapsuleShape(double r, double halfLength) : r_(r), l_(halfLength) {}
+  std::string kind() const override { return "capsule"; }
+  SdfSample signedDistance(const Eigen::Vector3d& p) const override {
+    const double z = std::clamp(p.z(), -l_, l_);
+    const bool side = std::abs(p.z()) < l_;
+    return roundDistance(p, Eigen::Vector3d(0.0, 0.0, z), r_, side ? 2 : -1);
+  }
+
+ private:
+  double r_, l_;
+};
+
+void requirePositive(double v, const char* what) {
+  if (!(std::isfinite(v) && v > 0.0)) throw InputError(std::string(what) + " = " + std::to_string(v) + ": must be finite and > 0");
+}
+
+}  // namespace
+
+VolumeShapePtr makePlaneShape() { return std::make_shared<PlaneShape>(); }
+VolumeShapePtr makeSphereShape(double radius) {
+  requirePositive(radius, "sphere radius");
+  return std::make_shared<SphereShape>(radius);
+}
+VolumeShapePtr makeBoxShape(const Eigen::Vector3d& halfExtents) {
+  for (int i = 0; i < 3; ++i) requirePositive(halfExtents[i], "box half extent");
+  return std::make_shared<BoxShape>(halfExtents);
+}
+VolumeShapePtr makeCapsuleShape(double radius, double halfLength) {
+  requirePositive(radius, "capsule radius");
+  if (!(std::isfinite(halfLength) && halfLength >= 0.0)) throw InputError("capsule halfLength: must be finite and >= 0");
+  return std::make_shared<CapsuleShape>(radius, halfLength);
+}
+
+}  // namespace jetshell

@@ -1,0 +1,81 @@
+#include "solvers/shell_contact.h"
+
+namespace jetshell {
+
+std::vector<std::string> ShellContact::termNames() const {
+  std::vector<std::string> names;
+  for (const VolumeContactTerms& v : volume)
+    for (const EnergyTermPtr& t : {v.penalty, v.damping, v.friction})
+      if (t) names.push_back(t->name());
+  for (const EnergyTermPtr& t : {pointCloud.penalty, pointCloud.friction})
+    if (t) names.push_back(t->name());
+  return names;
+}
+
+ShellContact addShellContact(Objective& objective, const std::vector<ShellContactActor>& actors,
+                             const std::vector<VolumeColliderPart>& volumes, const Positions& rest, bool dynamic,
+                             double stepFraction) {
+  ShellContact c;
+  const int n = static_cast<int>(rest.rows());
+  for (const ShellContactActor& a : actors) {
+    if (!a.mesh) throw InputError("contact: actor '" + a.name + "' has no mesh");
+    for (const VolumeColliderPart& v : volumes) {
+      const std::string suffix = "/" + a.name + "/" + v.collider->name();
+      VolumeContactTerms t = makeVolumeContactTerms(sampleContactPoints(*a.mesh, a.faceArea, a.quadrature), n,
+                                                    v.collider, combine(a.contact, v.contact), suffix);
+      objective.addTerm(t.penalty, TermRole::Potential);
+      if (dynamic && t.damping) objective.addTerm(t.damping, TermRole::Transient);
+      if (dynamic && t.friction) objective.addTerm(t.friction, TermRole::Transient);
+      if (!dynamic) t.damping = t.friction = nullptr;
+      c.volume.push_back(t);
+    }
+  }
+  int clouds = 0;
+  bool self = false;
+  for (const ShellContactActor& a : actors)
+    if (a.pointCloud) {
+      ++clouds;
+      self = self || a.pointCloudCollider.selfContact;
+    }
+  if (clouds >= 2 || self) {
+    std::vector<PointCloudActor> cloud;
+    for (const ShellContactActor& a : actors) {
+      if (!a.pointCloud) continue;
+      // Samples at the actor's vertices, with their lumped rest areas.
+      std::vector<double> area(static_cast<std::size_t>(n), 0.0);
+      for (int f = 0; f < a.mesh->numFaces(); ++f)
+        for (int k = 0; k < 3; ++k) area[a.mesh->F(f, k)] += a.faceArea[f] / 3.0;
+      PointCloudActor p;
+      p.collider = a.pointCloudCollider;
+      p.contact = a.contact;
+      for (int v = 0; v < n; ++v)
+        if (area[v] > 0.0) {
+          p.vertices.push_back(v);
+          p.area.push_back(area[v]);
+        }
+      cloud.push_back(std::move(p));
+    }
+    c.pointCloud = makePointCloudTerms(std::move(cloud), rest);
+    objective.addTerm(c.pointCloud.penalty, TermRole::Potential);
+    if (dynamic && c.pointCloud.friction) objective.addTerm(c.pointCloud.friction, TermRole::Transient);
+    if (!dynamic) c.pointCloud.friction = nullptr;
+  }
+  if (c.empty()) return c;
+  const std::vector<VolumeContactTerms> volume = c.volume;
+  const std::shared_ptr<PointCloudState> cloud = c.pointCloud.state;
+  if (dynamic) {
+    objective.addStepStartHook([volume, cloud](const Eigen::VectorXd& x, double t, double h) {
+      for (const VolumeContactTerms& v : volume) v.state->beginStep(x, t, h);
+      if (cloud) cloud->beginStep(x, h);
+    });
+  }
+  // Only layers can be tunnelled through: a volume is solid (its penalty grows with depth and pushes back
+  // whatever the step), and a global bound for it would let one sample near a surface hold the whole shell back.
+  if (cloud)
+    objective.addStepBound([cloud, stepFraction](const Eigen::VectorXd& x, const Eigen::VectorXd& d) {
+      return cloud->stepBound(x, d, stepFraction);
+    });
+  return c;
+}
+
+}  // namespace jetshell

@@ -1,0 +1,59 @@
+// Contact terms of a shell problem: what ShellSystem adds to its objective when the problem has colliders.
+//
+// Input: the shell actors' contact settings (per actor: faces over the stacked vertices, contact parameters,
+// sampling, point-cloud collider) and the rigid volume colliders with their contact parameters.
+// Output, added to the objective:
+//   per (shell actor, volume collider): contact_penalty/<actor>/<volume> (Potential) and, in dynamics,
+//     contact_damping/... (when c > 0) and contact_friction/... (when μ > 0) (Transient); pair coefficients
+//     are geometric means;
+//   when at least two actors have point-cloud colliders, or one has self-contact: pointcloud_penalty
+//     (Potential) and, in dynamics, pointcloud_friction (Transient);
+//   the objective's step-start hooks (lagged normal forces, damping origins, friction pairs) and, with point
+//     clouds, its step bound: no sample approaches another by more than `stepFraction` of their distance in one
+//     Newton step (volumes are solid: their penalty pushes back from any depth, so they need none).
+// With no volume collider and no interacting point cloud nothing is built and no detection ever runs.
+#pragma once
+
+#include "core/mesh.h"
+#include "energies/contact/contact_params.h"
+#include "energies/contact/contact_sampling.h"
+#include "energies/contact/point_cloud_contact.h"
+#include "energies/contact/volume_contact.h"
+#include "solvers/objective.h"
+
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+struct ShellContactActor {
+  std::string name;
+  const TriMesh* mesh = nullptr;       // the actor's faces over the stacked vertices
+  std::vector<double> faceArea;        // rest area per face of *mesh
+  ContactParams contact;
+  ContactQuadrature quadrature = ContactQuadrature::Vertices;
+  bool pointCloud = false;
+  PointCloudColliderParams pointCloudCollider;
+};
+
+struct VolumeColliderPart {
+  VolumeColliderPtr collider;
+  ContactParams contact;
+};
+
+struct ShellContact {
+  std::vector<VolumeContactTerms> volume;
+  PointCloudTerms pointCloud;  // state null when no point-cloud contact
+  bool empty() const { return volume.empty() && !pointCloud.state; }
+  /// Names of the contact terms (for timing splits).
+  std::vector<std::string> termNames() const;
+  /// Seconds spent in the point-cloud broad phase so far.
+  double broadPhaseSeconds() const { return pointCloud.state ? pointCloud.state->broadPhaseSeconds() : 0.0; }
+};
+
+/// Builds and adds the contact terms (see the file comment). rest: stacked rest positions (N × 3).
+ShellContact addShellContact(Objective& objective, const std::vector<ShellContactActor>& actors,
+                             const std::vector<VolumeColliderPart>& volumes, const Positions& rest, bool dynamic,
+                             double stepFraction = 0.5);
+
+}  // namespace jetshell

@@ -1,0 +1,144 @@
+// Contact terms at the configurations the generic checks rarely hit: just either side of the ramp's kinks
+// (p = 0, p = δ), at zero slip and either side of the slip regularization ε_v; plus the stiffness parameter.
+#include "energies/contact/point_cloud_contact.h"
+#include "energies/contact/volume_contact.h"
+#include "tests/test_util.h"
+
+#include <catch2/catch.hpp>
+
+using namespace jetshell;
+using namespace jetshell::test;
+
+namespace {
+
+/// Points on a line of single-vertex samples, each with its own height above the plane z = 0.
+struct PlaneCase {
+  TriMesh mesh;  // no faces: the sampling is built by hand
+  ContactSampling sampling;
+  ContactParams params;
+};
+
+PlaneCase heights(const std::vector<double>& z) {
+  PlaneCase c;
+  c.mesh.V.resize(static_cast<Eigen::Index>(z.size()), 3);
+  c.sampling.table.width = 1;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    c.mesh.V.row(static_cast<Eigen::Index>(i)) << 0.1 * static_cast<double>(i), 0.05, z[i];
+    c.sampling.table.ids.push_back(static_cast<int>(i));
+    c.sampling.weights.push_back(1.0);
+    c.sampling.area.push_back(1e-3 * (1.0 + static_cast<double>(i)));
+  }
+  c.params.penaltyStiffness = 1e5;
+  c.params.activationDistance = 0.005;
+  c.params.smoothingDistance = 0.001;
+  c.params.huntCrossleyDamping = 0.5;
+  c.params.frictionCoefficient = 0.5;
+  c.params.frictionSlipVelocity = 0.01;
+  return c;
+}
+
+VolumeColliderPtr floorPlane() { return std::make_shared<VolumeCollider>("floor", makePlaneShape(), RigidPath{}); }
+
+void requireAccurate(EnergyTerm& term, const Eigen::VectorXd& x, double initialStep = 1e-4) {
+  DerivativeCheckOptions o;
+  o.initialStep = initialStep;
+  o.lengthScale = 0.01;
+  const DerivativeCheckResult r = checkDerivatives(term, x, o);
+  for (const std::string& f : checkFailures(r, DerivativeTolerances{})) FAIL_CHECK(f);
+  CHECK(r.finite);
+}
+
+}  // namespace
+
+TEST_CASE("contact terms: exact derivatives just either side of the ramp's kinks", "[contact]") {
+  const double eps = 0.005, delta = 0.001;
+  // Penetrations p = ε − z: just outside, just past onset, either side of δ, deep.
+  const std::vector<double> p = {-1e-3 * delta, 1e-3 * delta, delta * (1 - 1e-3), delta * (1 + 1e-3), 4 * delta};
+  std::vector<double> z;
+  for (double v : p) z.push_back(eps - v);
+  PlaneCase c = heights(z);
+  VolumeContactTerms t = makeVolumeContactTerms(c.sampling, c.mesh.numVertices(), floorPlane(), c.params);
+  const Eigen::VectorXd x = flatten(c.mesh.V);
+  requireAccurate(*t.penalty, x, 1e-6);
+  // The damping potential after a step begun a little higher (the shell approaches).
+  Eigen::VectorXd start = x;
+  for (int i = 0; i < c.mesh.numVertices(); ++i) start[3 * i + 2] += 2e-4;
+  t.state->beginStep(start, 0.0, 0.01);
+  requireAccurate(*t.damping, x, 1e-6);
+  // Energies match the closed form at the deepest point: A k R(p) with R = p²/2 − δp/2 + δ²/6.
+  const double pd = 4 * delta, A = c.sampling.area[4];
+  Eigen::VectorXd only = x;
+  for (int i = 0; i < 4; ++i) only[3 * i + 2] = 1.0;  // lift the others away
+  t.state->beginStep(only, 0.0, 0.01);
+  CHECK(t.penalty->evaluate(only, {}, {}) == Approx(A * 1e5 * (pd * pd / 2 - delta * pd / 2 + delta * delta / 6)));
+}
+
+TEST_CASE("contact terms: friction is differentiable at zero slip and either side of the regularization",
+          "[contact]") {
+  PlaneCase c = heights({0.004, 0.004, 0.004, 0.004});  // all in contact (p = 1 mm)
+  VolumeContactTerms t = makeVolumeContactTerms(c.sampling, c.mesh.numVertices(), floorPlane(), c.params);
+  const Eigen::VectorXd start = flatten(c.mesh.V);
+  const double h = 0.01, epsV = c.params.frictionSlipVelocity * h;
+  t.state->beginStep(start, 0.0, h);
+  Eigen::VectorXd x = start;
+  // Slips: none (only a normal move), tiny, either side of ε_v.
+  const double slip[4] = {0.0, 1e-3 * epsV, epsV * (1 - 1e-3), epsV * (1 + 1e-3)};
+  for (int i = 0; i < 4; ++i) {
+    x[3 * i + 0] += slip[i];
+    x[3 * i + 2] -= 1e-5;
+  }
+  requireAccurate(*t.friction, x, 1e-6);
+  // At zero slip the friction force is zero (sticking starts from rest), beyond ε_v it is μλ.
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+  t.friction->evaluate(x, {&g, nullptr, -1}, {});
+  CHECK(g.segment<3>(0).norm() == 0.0);
+  const double lambda = c.sampling.area[3] * c.params.penaltyStiffness * 0.5 * 1e-3;  // p = δ: r = δ/2
+  CHECK(g[9] == Approx(c.params.frictionCoefficient * lambda).epsilon(1e-9));
+}
+
+TEST_CASE("contact terms: the penalty stiffness is a differentiable parameter", "[contact]") {
+  PlaneCase c = heights({0.0045, 0.003, 0.001});
+  VolumeContactTerms t = makeVolumeContactTerms(c.sampling, c.mesh.numVertices(), floorPlane(), c.params);
+  EnergyTerm& term = *t.penalty;
+  REQUIRE(term.parameterNames() == std::vector<std::string>{"penaltyStiffness"});
+  const Eigen::VectorXd x = flatten(c.mesh.V);
+  ParameterDerivatives d;
+  term.evaluateParameterDerivatives(x, d);
+  Eigen::VectorXd g0 = Eigen::VectorXd::Zero(x.size()), g1 = g0;
+  const double k = term.parameterValues()[0], dk = 1e-3 * k;
+  const double e0 = term.evaluate(x, {&g0, nullptr, -1}, {});
+  term.setParameterValues({k + dk});
+  const double e1 = term.evaluate(x, {&g1, nullptr, -1}, {});
+  term.setParameterValues({k});
+  CHECK(d.energy[0] == Approx((e1 - e0) / dk).epsilon(1e-9));
+  CHECK((d.mixed.col(0) - (g1 - g0) / dk).norm() <= 1e-9 * d.mixed.norm());
+  CHECK(term.parameterValues()[0] == k);
+  CHECK_THROWS_AS(term.setParameterValues({-1.0}), InputError);
+}
+
+TEST_CASE("contact terms: the point-cloud pair list follows the points and bumps the stencil version",
+          "[contact]") {
+  // Two points of different actors approaching along x.
+  Positions rest(2, 3);
+  rest << 0, 0, 0, 0.1, 0, 0;
+  PointCloudActor a, b;
+  a.vertices = {0};
+  b.vertices = {1};
+  a.area = b.area = {1e-4};
+  a.collider.radius = b.collider.radius = 0.01;
+  PointCloudTerms t = makePointCloudTerms({a, b}, rest);
+  Eigen::VectorXd x = flatten(rest);
+  t.penalty->updateStencils(x);
+  CHECK(t.penalty->stencils().size() == 0);  // 10 cm apart: not even a candidate
+  const std::uint64_t v0 = t.penalty->stencilVersion();
+  x[3] = 0.015;  // 1.5 cm apart: inside 2r = 2 cm
+  t.penalty->updateStencils(x);
+  CHECK(t.penalty->stencilVersion() != v0);
+  REQUIRE(t.penalty->stencils().size() == 1);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(6);
+  CHECK(t.penalty->evaluate(x, {&g, nullptr, -1}, {}) > 0.0);
+  CHECK(g[0] > 0.0);  // pushes point 0 towards −x, away from point 1
+  CHECK(g[3] < 0.0);
+  CHECK(t.state->minDistanceRatio(x) == Approx(0.75));
+  requireAccurate(*t.penalty, x, 1e-4);
+}

@@ -1,0 +1,87 @@
+#include "energies/contact/sdf_grid.h"
+#include "energies/contact/volume_collider.h"
+#include "tests/test_util.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace jetshell;
+
+namespace {
+
+/// Central differences of the distance and its gradient at p against the sample's gradient and Hessian.
+void checkSample(const VolumeCollider& c, const Eigen::Vector3d& p, double t = 0.0) {
+  const SdfSample s = c.query(p, t);
+  const double h = 1e-6;
+  for (int i = 0; i < 3; ++i) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[i] = h;
+    const SdfSample a = c.query(p + e, t), b = c.query(p - e, t);
+    CHECK((a.distance - b.distance) / (2 * h) == Approx(s.gradient[i]).margin(1e-7));
+    const Eigen::Vector3d col = (a.gradient - b.gradient) / (2 * h);
+    for (int j = 0; j < 3; ++j) CHECK(col[j] == Approx(s.hessian(j, i)).margin(1e-5));
+  }
+}
+
+std::string tempFile(const std::string& name, const std::string& text) {
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+}  // namespace
+
+TEST_CASE("volume shapes: distances, normals and curvature of plane, sphere, box and capsule", "[contact]") {
+  RigidPath tilted;
+  tilted.origin = Eigen::Vector3d(0.1, -0.2, 0.3);
+  tilted.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  const VolumeCollider plane("p", makePlaneShape(), tilted), sphere("s", makeSphereShape(0.5), tilted),
+      box("b", makeBoxShape({0.3, 0.2, 0.1}), tilted), capsule("c", makeCapsuleShape(0.2, 0.4), tilted);
+  const Eigen::Vector3d q = tilted.origin + tilted.rotation * Eigen::Vector3d(0.05, 0.1, 0.9);
+  CHECK(plane.query(q, 0).distance == Approx(0.9));
+  CHECK(sphere.query(q, 0).distance == Approx(std::sqrt(0.05 * 0.05 + 0.01 + 0.81) - 0.5));
+  CHECK(box.query(q, 0).distance == Approx(0.8));
+  CHECK(capsule.query(q, 0).distance == Approx(std::sqrt(0.05 * 0.05 + 0.01 + 0.25) - 0.2));
+  // Inside: negative.
+  CHECK(box.query(tilted.origin, 0).distance == Approx(-0.1));
+  CHECK(capsule.query(tilted.origin, 0).distance < 0.0);
+  for (const VolumeCollider* c : {&plane, &sphere, &box, &capsule}) {
+    INFO(c->shape().kind());
+    checkSample(*c, q);
+    checkSample(*c, tilted.origin + tilted.rotation * Eigen::Vector3d(0.5, 0.35, 0.2));  // near a box edge
+  }
+}
+
+TEST_CASE("volume shapes: a collider moves on its path, with the material velocity friction needs", "[contact]") {
+  RigidPath path;
+  path.velocity = Eigen::Vector3d(0, 0, 1);
+  path.angularVelocity = Eigen::Vector3d(0, 0, 2);
+  const VolumeCollider sphere("s", makeSphereShape(0.5), path);
+  CHECK(sphere.query(Eigen::Vector3d(0, 0, 2), 1.0).distance == Approx(0.5));
+  const Eigen::Vector3d v = sphere.velocityAt(Eigen::Vector3d(1, 0, 1), 1.0);
+  CHECK(v.x() == Approx(0.0).margin(1e-12));
+  CHECK(v.y() == Approx(2.0));
+  CHECK(v.z() == Approx(1.0));
+  checkSample(sphere, Eigen::Vector3d(0.3, 0.4, 1.9), 1.0);
+}
+
+TEST_CASE("sdf grid: a sampled plane reads back exactly, bad files name their line", "[contact]") {
+  std::string text = "# z - 0.25 on a 3x3x3 grid\ndims 3 3 3\norigin 0 0 0\nspacing 0.5\n";
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) text += std::to_string(0.5 * k - 0.25) + (i == 2 ? "\n" : " ");
+  const VolumeShapePtr grid = makeSdfGridShape(readSdfGrid(tempFile("grid_ok.sdf", text)));
+  const SdfSample s = grid->signedDistance(Eigen::Vector3d(0.3, 0.7, 0.6));
+  CHECK(s.distance == Approx(0.35));
+  CHECK(s.gradient.z() == Approx(1.0));
+  CHECK(grid->signedDistance(Eigen::Vector3d(0.5, 0.5, 2.0)).distance == Approx(1.75));  // outside: continued
+  CHECK_THROWS_WITH(readSdfGrid(tempFile("grid_bad1.sdf", "dims 3 3\n")), Catch::Contains("grid_bad1.sdf:1"));
+  CHECK_THROWS_WITH(readSdfGrid(tempFile("grid_bad2.sdf", "dims 2 2 2\norigin 0 0 0\nspacing 1\n1 2 x\n")),
+                    Catch::Contains("grid_bad2.sdf:4") && Catch::Contains("'x'"));
+  CHECK_THROWS_WITH(readSdfGrid(tempFile("grid_bad3.sdf", "dims 2 2 2\norigin 0 0 0\nspacing 1\n1 2 3\n")),
+                    Catch::Contains("3 distance values, 8 expected"));
+  CHECK_THROWS_WITH(readSdfGrid(tempFile("grid_bad4.sdf", "dims 100000 100000 100000\n")),
+                    Catch::Contains("at most"));
+}

@@ -1,0 +1,200 @@
+// Shells meeting rigid volume actors and each other, through the solver (ShellSystem + DynamicsSolver):
+// friction on an incline, a cloth draped on a sphere and sliding off a box, two cloths dropped on each other,
+// and a problem without colliders that builds no contact at all. Small meshes, a few hundred steps at most.
+#include "core/mesh_generators.h"
+#include "solvers/dynamics.h"
+#include "solvers/shell_system.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace jetshell;
+
+namespace {
+
+ShellMaterialParams cloth() {
+  // E = 1e5 Pa, ν = 0.25, ρ0 = 1000 kg/m³, h = 2 mm (the T-shirt's material).
+  return ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
+}
+
+/// A square cloth of side `size`, n × n cells, horizontal (y up) with its centre at `centre`.
+TriMesh square(double size, int n, const Eigen::Vector3d& centre) {
+  TriMesh m = makeRectangleGrid(size, size, n, n);
+  Positions V(m.V.rows(), 3);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    V.row(v) << centre.x() + m.V(v, 0) - 0.5 * size, centre.y(), centre.z() - (m.V(v, 1) - 0.5 * size);
+  m.V = V;
+  return m;
+}
+
+VolumeColliderPart collider(const std::string& name, VolumeShapePtr shape, const Eigen::Vector3d& origin,
+                            const Eigen::Quaterniond& rotation = Eigen::Quaterniond::Identity(),
+                            double mu = 0.5) {
+  RigidPath path;
+  path.origin = origin;
+  path.rotation = rotation;
+  ContactParams c;
+  c.frictionCoefficient = mu;
+  return {std::make_shared<VolumeCollider>(name, shape, path), c};
+}
+
+DynamicsOptions options(int iterations = 30) {
+  DynamicsOptions o;
+  o.timeStep = 1.0 / 60.0;
+  o.newton.maxIterations = iterations;
+  o.newton.residualTolerance = 1e-5;
+  return o;
+}
+
+Eigen::Vector3d meanOf(const Eigen::VectorXd& x) {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (Eigen::Index v = 0; v < x.size() / 3; ++v) s += x.segment<3>(3 * v);
+  return s / static_cast<double>(x.size() / 3);
+}
+
+double lowest(const Eigen::VectorXd& x) {
+  double y = 1e300;
+  for (Eigen::Index v = 0; v < x.size() / 3; ++v) y = std::min(y, x[3 * v + 1]);
+  return y;
+}
+
+}  // namespace
+
+TEST_CASE("contact dynamics: a problem without colliders builds no contact term and runs no detection",
+          "[contact]") {
+  ShellProblem p;
+  p.mesh = square(0.2, 4, {0, 1, 0});
+  p.material = cloth();
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  CHECK(system.contact.empty());
+  for (const std::string& name : system.objective().activeTermNames()) {
+    CHECK(name.find("contact") == std::string::npos);
+    CHECK(name.find("pointcloud") == std::string::npos);
+  }
+  const Eigen::VectorXd x = system.restPositions();
+  CHECK(system.objective().stepBound(x, Eigen::VectorXd::Constant(x.size(), 100.0)) == 1.0);
+  // One actor with a point-cloud collider but no self-contact has nothing to collide with either.
+  ShellActorPart a;
+  a.name = "cloth";
+  a.mesh = p.mesh;
+  a.material = p.material;
+  p.actors = {a};
+  ShellSystem single(p, AnalysisKind::Dynamics);
+  CHECK(single.contact.empty());
+}
+
+TEST_CASE("contact dynamics: on an incline a shell sticks when tan θ < μ and slides with g(sin θ − μ cos θ) "
+          "when tan θ > μ", "[contact]") {
+  const double mu = 0.5, g = 9.81, eps = 0.005;
+  for (double tanTheta : {0.3, 0.8}) {
+    const double theta = std::atan(tanTheta);
+    // The incline's normal n = (−sin θ, cos θ, 0); gravity along it points down = −(cos θ, sin θ, 0).
+    const Eigen::Vector3d n(-std::sin(theta), std::cos(theta), 0.0), down(-std::cos(theta), -std::sin(theta), 0.0);
+    const Eigen::Quaterniond R = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), n);
+    ShellProblem p;
+    TriMesh m = square(0.1, 2, Eigen::Vector3d::Zero());
+    // Lay the patch in the incline plane, inside the activation band (0.9 ε above the surface).
+    const Eigen::Quaterniond tilt = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(), n);
+    for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+      m.V.row(v) = (tilt * Eigen::Vector3d(m.V.row(v)) + 0.9 * eps * n).transpose();
+    p.mesh = m;
+    p.material = cloth();
+    p.volumes = {collider("incline", makePlaneShape(), Eigen::Vector3d::Zero(), R, mu)};
+    ShellSystem system(p, AnalysisKind::Dynamics);
+    DynamicsSolver solver(system, options());
+    std::vector<double> speed;
+    for (int s = 0; s < 36; ++s) {
+      REQUIRE(solver.step().success);
+      speed.push_back(meanOf(solver.velocities()).dot(down));
+    }
+    INFO("tan θ = " << tanTheta);
+    if (tanTheta < mu) {
+      // Regularized Coulomb friction creeps below the slip velocity V_f = 0.01 m/s, never slides.
+      CHECK(std::abs(speed.back()) < 0.01);
+      CHECK((meanOf(solver.positions()) - meanOf(system.restPositions())).dot(down) < 0.005);
+    } else {
+      const double expected = g * (std::sin(theta) - mu * std::cos(theta));
+      const double measured = (speed[35] - speed[11]) / (24.0 / 60.0);  // after the landing transient
+      CHECK(measured == Approx(expected).epsilon(0.02));
+    }
+    CHECK(solver.positions().allFinite());
+  }
+}
+
+TEST_CASE("contact dynamics: a square cloth dropped on a sphere drapes over it", "[contact]") {
+  ShellProblem p;
+  p.mesh = square(0.6, 12, {0.0, 0.33, 0.0});
+  p.material = cloth();
+  p.material.massDampingCoefficient = 2.0;
+  p.volumes = {collider("ball", makeSphereShape(0.15), Eigen::Vector3d(0, 0.15, 0)),
+               collider("floor", makePlaneShape(), Eigen::Vector3d::Zero(),
+                        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY()))};
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsSolver solver(system, options());
+  for (int s = 0; s < 45; ++s) REQUIRE(solver.step().success);
+  const Eigen::VectorXd& x = solver.positions();
+  REQUIRE(x.allFinite());
+  // The centre rests on the ball's top (y ≈ 0.3 + ε), the corners hang well below it.
+  const int centre = 6 * 13 + 6;
+  CHECK(x[3 * centre + 1] == Approx(0.305).margin(0.01));
+  CHECK(x[1] < 0.2);
+  // Nothing inside the ball beyond the penalty's tolerance (1 mm).
+  for (const VolumeContactTerms& v : system.contact.volume) CHECK(v.state->minDistance(x) > -0.001);
+}
+
+TEST_CASE("contact dynamics: a cloth dropped on the edge of a box slides off it", "[contact]") {
+  ShellProblem p;
+  // Most of the cloth beyond the box's edge at x = 0: its weight pulls it over the edge.
+  p.mesh = square(0.3, 8, {0.08, 0.22, 0.0});
+  p.material = cloth();
+  p.volumes = {collider("box", makeBoxShape({0.1, 0.1, 0.2}), Eigen::Vector3d(-0.1, 0.1, 0.0),
+                        Eigen::Quaterniond::Identity(), 0.1)};
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsSolver solver(system, options());
+  for (int s = 0; s < 70; ++s) REQUIRE(solver.step().success);
+  const Eigen::VectorXd& x = solver.positions();
+  REQUIRE(x.allFinite());
+  // It has slid off: nothing rests on the box's top (y = 0.2 for x < 0) any more, most of it hangs below.
+  for (Eigen::Index v = 0; v < x.size() / 3; ++v)
+    if (x[3 * v] < 0.0) CHECK(x[3 * v + 1] < 0.15);
+  CHECK(meanOf(x).y() < 0.1);
+  CHECK(system.contact.volume[0].state->minDistance(x) > -0.001);
+}
+
+TEST_CASE("contact dynamics: two cloths dropped on each other do not interpenetrate", "[contact]") {
+  // 2 cm spacing, r = 1.5 cm: the samples of a layer overlap, so the other layer cannot pass between them.
+  const TriMesh lower = square(0.2, 10, {0.0, 0.012, 0.0}), upper = square(0.2, 10, {0.03, 0.07, 0.02});
+  ShellProblem p;
+  const int n = lower.numVertices();
+  p.mesh.V.resize(2 * n, 3);
+  p.mesh.V << lower.V, upper.V;
+  p.mesh.F.resize(2 * lower.numFaces(), 3);
+  p.mesh.F << lower.F, (upper.F.array() + n).matrix();
+  for (int a = 0; a < 2; ++a) {
+    ShellActorPart part;
+    part.name = a == 0 ? "lower" : "upper";
+    part.mesh.V = p.mesh.V;
+    part.mesh.F = a == 0 ? lower.F : Faces((upper.F.array() + n).matrix());
+    part.material = cloth();
+    part.pointCloudCollider.radius = 0.015;
+    p.actors.push_back(part);
+  }
+  p.volumes = {collider("floor", makePlaneShape(), Eigen::Vector3d::Zero(),
+                        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY()))};
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  REQUIRE(system.contact.pointCloud.state);
+  DynamicsSolver solver(system, options());
+  double closest = 1.0;
+  for (int s = 0; s < 30; ++s) {
+    REQUIRE(solver.step().success);
+    closest = std::min(closest, system.contact.pointCloud.state->minDistanceRatio(solver.positions()));
+  }
+  const Eigen::VectorXd& x = solver.positions();
+  REQUIRE(x.allFinite());
+  // The upper cloth rests on the lower one (its overhang droops to the floor), and no two samples of the two
+  // cloths ever came closer than half the contact distance 2r.
+  CHECK(closest > 0.5);
+  CHECK(meanOf(x.tail(3 * n)).y() > meanOf(x.head(3 * n)).y() + 0.01);
+  CHECK(lowest(x) > -0.001);
+}
