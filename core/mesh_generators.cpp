@@ -1,6 +1,9 @@
 #include "core/mesh_generators.h"
 
+#include "core/input_limits.h"
+
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <functional>
 #include <sstream>
@@ -27,6 +30,17 @@ void requireAtLeast(const char* generator, const char* name, int value, int mini
   if (value < minimum) {
     std::ostringstream s;
     s << name << " = " << value << ": must be >= " << minimum;
+    invalid(generator, s.str());
+  }
+}
+
+/// Rejects a resolution whose mesh would exceed inputLimits() (counted in 64 bits: no int overflow).
+void requireSize(const char* generator, std::int64_t vertices, std::int64_t faces) {
+  const InputLimits& limits = inputLimits();
+  if (vertices > limits.maxVertices || faces > limits.maxFaces) {
+    std::ostringstream s;
+    s << "the resolution gives " << vertices << " vertices and " << faces << " faces, too many (at most "
+      << limits.maxVertices << " vertices and " << limits.maxFaces << " faces)";
     invalid(generator, s.str());
   }
 }
@@ -66,6 +80,7 @@ TriMesh makeRectangleGrid(double width, double height, int nx, int ny) {
     throw InputError(s.str());
   }
   if (!(width > 0) || !(height > 0)) throw InputError("rectangle grid: width and height must be > 0");
+  requireSize("rectangle grid", (std::int64_t{nx} + 1) * (std::int64_t{ny} + 1), 2 * std::int64_t{nx} * ny);
   TriMesh m;
   m.V.resize((nx + 1) * (ny + 1), 3);
   for (int j = 0; j <= ny; ++j)
@@ -94,6 +109,7 @@ TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int n
   if (!(outerRadius > innerRadius)) invalid(g, "outerRadius must be > innerRadius");
   requireAtLeast(g, "rings", rings, 2);
   requireAtLeast(g, "nodesPerRing", nodesPerRing, 4);
+  requireSize(g, std::int64_t{rings} * nodesPerRing, 2 * std::int64_t{rings - 1} * (nodesPerRing - 1));
   TriMesh m;
   m.V.resize(rings * nodesPerRing, 3);
   for (int r = 0; r < rings; ++r) {
@@ -120,6 +136,7 @@ TriMesh makeCylinder(double radius, double length, double arcRadians, int nAroun
   const bool closed = arcRadians >= kTwoPi * (1 - 1e-12);
   requireAtLeast(g, "nAround", nAround, closed ? 3 : 1);
   requireAtLeast(g, "nAlong", nAlong, 1);
+  requireSize(g, (std::int64_t{nAround} + 1) * (std::int64_t{nAlong} + 1), 2 * std::int64_t{nAround} * nAlong);
   const int columns = closed ? nAround : nAround + 1;
   TriMesh m;
   m.V.resize(columns * (nAlong + 1), 3);
@@ -152,6 +169,7 @@ TriMesh makeHemisphere(double radius, int rings, int segments, double holeRadian
   const bool pole = holeRadians == 0.0;
   requireAtLeast(g, "segments", segments, closedAround ? 3 : 1);
   if (pole && !closedAround) invalid(g, "a partial azimuth needs a hole angle > 0 (the pole would be degenerate)");
+  requireSize(g, 1 + (std::int64_t{rings} + 1) * (std::int64_t{segments} + 1), 2 * std::int64_t{rings} * segments);
   const int columns = closedAround ? segments : segments + 1;
   const int firstRing = pole ? 1 : 0;  // ring 0 of a closed cap is the single pole vertex
   const int numVertices = (pole ? 1 : 0) + (rings + 1 - firstRing) * columns;

@@ -1,7 +1,9 @@
 // Built-in mesh generators (reference configurations for examples, tests and benchmarks).
 //
 // Every generator documents its vertex numbering, so scenes can select vertices by index ranges, and orients
-// its triangles so that the normals point the stated way. Invalid parameters throw InputError naming them.
+// its triangles so that the normals point the stated way. Invalid parameters throw InputError naming them,
+// including a resolution whose mesh would exceed inputLimits().maxVertices or maxFaces (checked before anything
+// is allocated).
 #pragma once
 
 #include "core/mesh.h"

@@ -1,5 +1,9 @@
 #include "core/mesh_io.h"
 
+#include "core/input_file.h"
+#include "core/input_limits.h"
+#include "core/topology.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -12,7 +16,6 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
-#include <unordered_map>
 
 namespace jetshell {
 namespace {
@@ -51,32 +54,46 @@ struct PendingFace {
   int line;
 };
 
-void checkOrientationAndManifold(const ObjMesh& m, const std::string& name) {
-  struct Use {
-    int face;
-    bool forward;
-  };
-  std::unordered_map<std::uint64_t, std::vector<Use>> edges;
-  const Faces& F = m.mesh.F;
-  edges.reserve(static_cast<std::size_t>(F.rows()) * 2);
-  for (int f = 0; f < F.rows(); ++f) {
-    for (int i = 0; i < 3; ++i) {
-      const int a = F(f, i), b = F(f, (i + 1) % 3);
-      const std::uint64_t lo = static_cast<std::uint64_t>(std::min(a, b)), hi = static_cast<std::uint64_t>(std::max(a, b));
-      std::vector<Use>& uses = edges[(lo << 32) | hi];
-      uses.push_back({f, a < b});
-      if (uses.size() == 3) {
-        std::ostringstream s;
-        s << "non-manifold edge between vertices " << lo + 1 << " and " << hi + 1 << ": also used by the faces on lines "
-          << m.faceLine[uses[0].face] << " and " << m.faceLine[uses[1].face];
-        fail(name, m.faceLine[f], s.str());
-      }
-      if (uses.size() == 2 && uses[0].forward == uses[1].forward) {
-        std::ostringstream s;
-        s << "face orientation is inconsistent with the face on line " << m.faceLine[uses[0].face]
-          << " (both traverse the edge between vertices " << a + 1 << " and " << b + 1 << " in the same direction)";
-        fail(name, m.faceLine[f], s.str());
-      }
+/// Reads one line (without its '\n' or '\r\n') of at most maxBytes; false at the end of the input.
+bool readLine(std::istream& in, std::string& line, std::int64_t maxBytes, const std::string& name, int number,
+              std::int64_t& totalBytes, std::int64_t maxTotal) {
+  line.clear();
+  std::streambuf* buffer = in.rdbuf();
+  bool any = false;
+  for (;;) {
+    const int c = buffer->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      break;
+    }
+    any = true;
+    if (++totalBytes > maxTotal) {
+      std::ostringstream s;
+      s << "the file is too large (at most " << maxTotal << " bytes)";
+      fail(name, number, s.str());
+    }
+    if (c == '\n') break;
+    if (static_cast<std::int64_t>(line.size()) >= maxBytes) {
+      std::ostringstream s;
+      s << "line is too long (at most " << maxBytes << " bytes)";
+      fail(name, number, s.str());
+    }
+    line.push_back(static_cast<char>(c));
+  }
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return any;
+}
+
+/// Text lines hold printable characters, tabs and (in names and comments) UTF-8; other control bytes mean the
+/// file is not text.
+void requireText(const std::string& text, const std::string& name, int line) {
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 && c != '\t' && c != '\v' && c != '\f') {
+      std::ostringstream s;
+      s << "binary data (byte 0x" << std::hex << std::setw(2) << std::setfill('0') << static_cast<int>(c)
+        << "): not an OBJ text file";
+      fail(name, line, s.str());
     }
   }
 }
@@ -84,14 +101,17 @@ void checkOrientationAndManifold(const ObjMesh& m, const std::string& name) {
 }  // namespace
 
 ObjMesh parseObj(std::istream& in, const std::string& name) {
+  const InputLimits& limits = inputLimits();
   std::vector<Eigen::Vector3d> vertices;
   std::vector<int> vertexLine;
   std::vector<PendingFace> faces;
   std::string text;
   int line = 0;
-  while (std::getline(in, text)) {
+  std::int64_t totalBytes = 0;
+  while (readLine(in, text, limits.maxObjLineBytes, name, line + 1, totalBytes, limits.maxObjBytes)) {
     ++line;
-    if (!text.empty() && text.back() == '\r') text.pop_back();
+    if (line == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 byte-order mark
+    requireText(text, name, line);
     std::istringstream tokens(text);
     std::string keyword;
     if (!(tokens >> keyword) || keyword[0] == '#') continue;
@@ -101,15 +121,28 @@ ObjMesh parseObj(std::istream& in, const std::string& name) {
       args.push_back(t);
     }
     if (keyword == "v") {
-      if (args.size() < 3 || args.size() > 4) fail(name, line, "a vertex needs 3 coordinates (x y z [w])");
+      // x y z, x y z w, or with a vertex colour: x y z r g b (some exporters write x y z w r g b).
+      if (args.size() < 3 || args.size() > 7 || args.size() == 5)
+        fail(name, line, "a vertex needs 3 coordinates (x y z, optionally w or a colour r g b)");
       Eigen::Vector3d p;
       for (int c = 0; c < 3; ++c) p[c] = parseCoordinate(args[static_cast<std::size_t>(c)], name, line);
+      for (std::size_t c = 3; c < args.size(); ++c) parseCoordinate(args[c], name, line);
+      if (static_cast<std::int64_t>(vertices.size()) >= limits.maxVertices) {
+        std::ostringstream s;
+        s << "too many vertices (at most " << limits.maxVertices << ")";
+        fail(name, line, s.str());
+      }
       vertices.push_back(p);
       vertexLine.push_back(line);
     } else if (keyword == "f") {
       if (args.size() < 3) fail(name, line, "a face needs at least 3 corners");
       std::vector<long> corners;
       for (const std::string& t : args) corners.push_back(parseCorner(t, name, line));
+      if (static_cast<std::int64_t>(faces.size() + corners.size() - 2) > limits.maxFaces) {
+        std::ostringstream s;
+        s << "too many faces (at most " << limits.maxFaces << " triangles)";
+        fail(name, line, s.str());
+      }
       for (std::size_t k = 1; k + 1 < corners.size(); ++k)  // fan triangulation of polygons
         faces.push_back({{corners[0], corners[k], corners[k + 1]}, static_cast<int>(vertices.size()), line});
     } else if (keyword == "l" || keyword == "p") {
@@ -143,20 +176,18 @@ ObjMesh parseObj(std::istream& in, const std::string& name) {
       }
       out.mesh.F(static_cast<Eigen::Index>(f), c) = static_cast<int>(index);
     }
-    const auto row = out.mesh.F.row(static_cast<Eigen::Index>(f));
-    if (row[0] == row[1] || row[1] == row[2] || row[0] == row[2]) fail(name, p.line, "face repeats a vertex");
-    const Eigen::Vector3d x0 = out.mesh.V.row(row[0]), x1 = out.mesh.V.row(row[1]), x2 = out.mesh.V.row(row[2]);
-    const double doubleArea = (x1 - x0).cross(x2 - x0).norm();
-    const double scale = std::max({(x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(), (x2 - x1).squaredNorm()});
-    if (scale == 0.0 || !(doubleArea > 1e-12 * scale)) fail(name, p.line, "degenerate face (zero area)");
   }
-  checkOrientationAndManifold(out, name);
+  const std::vector<int>& faceLine = out.faceLine;
+  MeshNaming naming;
+  naming.subject = [&](int f) { return name + ":" + std::to_string(faceLine[static_cast<std::size_t>(f)]) + ": face"; };
+  naming.other = [&](int f) { return "the face on line " + std::to_string(faceLine[static_cast<std::size_t>(f)]); };
+  naming.firstVertexNumber = 1;
+  validateMesh(out.mesh, naming);
   return out;
 }
 
 TriMesh readObj(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open mesh file");
+  std::ifstream in = openInputFile(path, inputLimits().maxObjBytes, "mesh file");
   return parseObj(in, path).mesh;
 }
 

@@ -1,10 +1,14 @@
 // Wavefront OBJ input and output of triangle meshes.
 //
 // Reading keeps `v` and `f` statements (faces with more than three corners are fan-triangulated; `v/vt/vn`
-// corners and negative, relative indices are accepted) and skips the rest (vt, vn, g, o, s, usemtl, mtllib, #).
-// Every problem is an InputError that names the file and line: a malformed number, an index out of range, a
-// repeated corner, a degenerate face, a non-finite coordinate, an edge shared by three or more faces, or two
-// neighbouring faces with opposite orientation.
+// corners and negative, relative indices are accepted; vertex colours `v x y z r g b` and a `w` are read and
+// ignored) and skips the rest (vt, vn, g, o, s, usemtl, mtllib, #, unknown statements). CRLF line ends and a
+// UTF-8 byte-order mark are accepted. Every problem is an InputError that names the file and line: a malformed
+// number, an index that is 0 or out of range, binary data, a line longer than inputLimits().maxObjLineBytes, a
+// file larger than maxObjBytes or with more than maxVertices / maxFaces, and every mesh defect validateMesh
+// finds (repeated corner, degenerate face, duplicate or reversed-duplicate face, non-manifold edge, neighbours
+// with opposite orientation, neighbours folded flat onto each other), with the other face named by its line.
+// readObj reads only regular files (a FIFO or /dev/zero given as the mesh is an error, not a hang).
 #pragma once
 
 #include "core/mesh.h"
@@ -25,7 +29,8 @@ struct ObjMesh {
 /// Parses OBJ text; `name` is the file name used in messages ("name:line: ..."). Validates as described above.
 ObjMesh parseObj(std::istream& in, const std::string& name);
 
-/// Reads an OBJ file. Throws InputError "path: cannot open" when the file is missing or unreadable.
+/// Reads an OBJ file. Throws InputError "path: cannot open mesh file" when it is missing or unreadable, and
+/// names the path when it is not a regular file or too large (core/input_file.h).
 TriMesh readObj(const std::string& path);
 
 /// Writes `v` and `f` statements (1-based indices) with full double precision: positions V (N×3, e.g. a

@@ -1,15 +1,13 @@
 #include "core/term.h"
 
 #include "core/mesh.h"
+#include "core/parameter_derivatives.h"
 
 namespace jetshell {
 
 void EnergyTerm::setParameterValues(const std::vector<double>& values) {
-  const std::size_t expected = parameterNames().size();
-  if (values.size() != expected)
-    throw InputError("term '" + name() + "': " + std::to_string(values.size()) + " parameter values given, " +
-                     std::to_string(expected) + " expected");
-  if (expected != 0) throw InputError("term '" + name() + "' does not implement setParameterValues");
+  validateParameterValues(name(), parameterNames(), values);
+  if (!values.empty()) throw InputError("term '" + name() + "' does not implement setParameterValues");
 }
 
 void EnergyTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {

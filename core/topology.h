@@ -8,6 +8,8 @@
 #include "core/mesh.h"
 
 #include <array>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace jetshell {
@@ -29,12 +31,30 @@ struct Topology {
   bool isBoundaryEdge(int e) const { return edgeFaces(e, 1) < 0; }
 };
 
-/// Checks the mesh and builds its topology. Throws InputError naming the problem and the index for:
-/// out-of-range or repeated vertex indices in a face, non-finite coordinates, degenerate (zero-area) faces,
-/// non-manifold edges (three or more faces), inconsistently oriented neighbours, and empty meshes.
+/// How validation messages name faces and vertices: a message is `subject(f) + " " + what`, where `what` may
+/// mention other faces through `other(g)`. The default names faces by 0-based index ("mesh: face 3 (0, 1, 2)",
+/// "face 2 (0, 2, 3)"); the OBJ reader by file and line ("m.obj:12: face", "the face on line 9"), with vertices
+/// numbered from 1.
+struct MeshNaming {
+  std::function<std::string(int face)> subject;
+  std::function<std::string(int face)> other;
+  int firstVertexNumber = 0;
+};
+
+/// Faces whose normals are further apart than this across a shared edge are folded flat onto each other: the
+/// mid-edge normal of such an edge (the mean of the two normals, Kelvin-inverted) is undefined at 180° and
+/// explodes as 1/cos(θ/2) before, so a rest mesh with such a fold has no usable rest curvature.
+constexpr double kMaxRestFoldDegrees = 179.9;
+
+/// Checks the mesh and builds its topology. Throws InputError naming the problem and the faces for: empty meshes,
+/// more vertices or faces than inputLimits() allows, non-finite coordinates, out-of-range or repeated vertex
+/// indices in a face, degenerate (zero-area) faces, a face repeated (same or reversed order), non-manifold edges
+/// (three or more faces), inconsistently oriented neighbours, and neighbours folded flat onto each other
+/// (normals more than kMaxRestFoldDegrees apart).
 Topology buildTopology(const TriMesh& mesh);
 
-/// The validation part of buildTopology alone.
+/// The validation part of buildTopology alone, with the default naming or the caller's.
 void validateMesh(const TriMesh& mesh);
+void validateMesh(const TriMesh& mesh, const MeshNaming& naming);
 
 }  // namespace jetshell

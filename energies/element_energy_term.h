@@ -9,25 +9,44 @@
 //   };
 // Write constants as constant<T>(c) and use the helpers of core/scalar.h instead of Eigen reductions: they
 // work for every Jet nesting depth.
+//
+// Parameters as differentiable inputs (optional, detected at compile time): a functor that also declares
+//     static constexpr int kParameters = P;
+//     static constexpr std::array<const char*, P> kParameterNames{{"stiffness", ...}};
+//     std::array<double, P> parameters;                                   // current values
+//     template <typename T> T operator()(const T* x, const T* p, int element) const;   // p: the P parameters
+// gets parameterNames()/parameterValues()/setParameterValues() and evaluateParameterDerivatives() (∂E/∂p and
+// ∂²E/∂x∂p from duals seeded on p, core/parameter_derivatives.h). Functors without kParameters keep the
+// two-argument form.
 #pragma once
 
 #include "core/assembly.h"
 #include "core/element_loop.h"
+#include "core/parameter_derivatives.h"
 #include "core/scalar.h"
 #include "core/term.h"
 
 #include <ceres/jet.h>
 
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace jetshell {
+
+/// Functor::kParameters, or 0 for a functor without parameters.
+template <typename Functor, typename = void>
+struct FunctorParameterCount : std::integral_constant<int, 0> {};
+template <typename Functor>
+struct FunctorParameterCount<Functor, std::void_t<decltype(Functor::kParameters)>>
+    : std::integral_constant<int, Functor::kParameters> {};
 
 template <typename Functor>
 class ElementEnergyTerm : public EnergyTerm {
  public:
   static constexpr int K = Functor::kVertices;
   static constexpr int M = 3 * K;
+  static constexpr int P = FunctorParameterCount<Functor>::value;
 
   ElementEnergyTerm(std::string name, StencilTable stencils, int numVertices, Functor functor,
                     bool zeroAtRest = true, bool rigidInvariant = true)
@@ -43,6 +62,32 @@ class ElementEnergyTerm : public EnergyTerm {
   bool zeroAtRest() const override { return zeroAtRest_; }
   bool rigidInvariant() const override { return rigidInvariant_; }
   const Functor& functor() const { return functor_; }
+  Functor& functor() { return functor_; }
+
+  std::vector<std::string> parameterNames() const override {
+    if constexpr (P > 0) {
+      return std::vector<std::string>(Functor::kParameterNames.begin(), Functor::kParameterNames.end());
+    } else {
+      return {};
+    }
+  }
+  std::vector<double> parameterValues() const override {
+    if constexpr (P > 0) {
+      return std::vector<double>(functor_.parameters.begin(), functor_.parameters.end());
+    } else {
+      return {};
+    }
+  }
+  void setParameterValues(const std::vector<double>& values) override {
+    validateParameterValues(name_, parameterNames(), values);
+    if constexpr (P > 0)
+      for (int j = 0; j < P; ++j) functor_.parameters[j] = values[static_cast<std::size_t>(j)];
+  }
+  void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override {
+    resetParameterDerivatives(out, x.size(), P);
+    if constexpr (P > 0)
+      addParameterDerivatives<K, P>(table_, x, functor_.parameters.data(), functor_, out);
+  }
 
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
     return runElementLoop<K>(table_, schedule_, x, request, options.projection, elementEnergy_,
@@ -53,6 +98,18 @@ class ElementEnergyTerm : public EnergyTerm {
  private:
   using J1 = ceres::Jet<double, M>;
   using J2 = ceres::Jet<J1, M>;
+
+  /// The functor's energy with the current parameters as constants of type T (when it has any).
+  template <typename T>
+  T energy(const T* x, int e) const {
+    if constexpr (P > 0) {
+      T p[P];
+      for (int j = 0; j < P; ++j) p[j] = constant<T>(functor_.parameters[j]);
+      return functor_(x, static_cast<const T*>(p), e);
+    } else {
+      return functor_(x, e);
+    }
+  }
 
   double element(const Eigen::VectorXd& x, int e, const int* ids, bool wantG, bool wantH,
                  Eigen::Matrix<double, M, 1>& g, Eigen::Matrix<double, M, M>& H) const {
@@ -65,7 +122,7 @@ class ElementEnergyTerm : public EnergyTerm {
         xj[i] = J2(J1(xe[i], i));
         xj[i].v[i] = J1(1.0);
       }
-      const J2 E = functor_(xj, e);
+      const J2 E = energy(static_cast<const J2*>(xj), e);
       for (int i = 0; i < M; ++i) {
         g[i] = E.a.v[i];
         for (int j = 0; j < M; ++j) H(i, j) = E.v[i].v[j];
@@ -76,11 +133,11 @@ class ElementEnergyTerm : public EnergyTerm {
     if (wantG) {
       J1 xj[M];
       for (int i = 0; i < M; ++i) xj[i] = J1(xe[i], i);
-      const J1 E = functor_(xj, e);
+      const J1 E = energy(static_cast<const J1*>(xj), e);
       g = E.v;
       return E.a;
     }
-    return functor_(xe, e);
+    return energy(static_cast<const double*>(xe), e);
   }
 
   std::string name_;

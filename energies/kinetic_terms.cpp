@@ -1,14 +1,23 @@
 #include "energies/kinetic_terms.h"
 
 #include "core/mesh.h"
+#include "core/parameter_derivatives.h"
 
 #include <cmath>
 #include <sstream>
 
 namespace jetshell {
 
-DiagonalQuadraticTerm::DiagonalQuadraticTerm(std::string name, Eigen::VectorXd vertexMass)
-    : name_(std::move(name)), mass_(std::move(vertexMass)), centre_(Eigen::VectorXd::Zero(3 * mass_.size())) {
+DiagonalQuadraticTerm::DiagonalQuadraticTerm(std::string name, Eigen::VectorXd vertexMass, std::string parameter,
+                                             double parameterValue)
+    : name_(std::move(name)),
+      mass_(std::move(vertexMass)),
+      centre_(Eigen::VectorXd::Zero(3 * mass_.size())),
+      parameter_(std::move(parameter)),
+      parameterReference_(parameterValue),
+      parameterValue_(parameterValue) {
+  if (!(std::isfinite(parameterValue) && parameterValue > 0.0))
+    throw InputError(name_ + ": " + parameter_ + " must be finite and > 0");
   for (Eigen::Index v = 0; v < mass_.size(); ++v) {
     if (!(std::isfinite(mass_[v]) && mass_[v] >= 0.0)) {
       std::ostringstream s;
@@ -16,9 +25,26 @@ DiagonalQuadraticTerm::DiagonalQuadraticTerm(std::string name, Eigen::VectorXd v
       throw InputError(s.str());
     }
   }
-  table_.width = 1;
-  table_.ids.resize(static_cast<std::size_t>(mass_.size()));
-  for (Eigen::Index v = 0; v < mass_.size(); ++v) table_.ids[static_cast<std::size_t>(v)] = static_cast<int>(v);
+  table_ = vertexStencils(static_cast<int>(mass_.size()));
+}
+
+void DiagonalQuadraticTerm::setParameterValues(const std::vector<double>& values) {
+  validateParameterValues(name_, parameterNames(), values);
+  parameterValue_ = values[0];
+}
+
+void DiagonalQuadraticTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
+  resetParameterDerivatives(out, x.size(), 1);
+  // ½ c (q/q₀) m_v |x_v − y_v|² per vertex, with q a dual.
+  const double k = 0.5 * coefficient_ / parameterReference_;
+  addParameterDerivatives<1, 1>(table_, x, &parameterValue_,
+                                [&](const auto* xv, const auto* q, int v) {
+                                  using T = std::remove_const_t<std::remove_pointer_t<decltype(xv)>>;
+                                  const V3<T> y{{constant<T>(centre_[3 * v]), constant<T>(centre_[3 * v + 1]),
+                                                 constant<T>(centre_[3 * v + 2])}};
+                                  return constant<T>(k * mass_[v]) * q[0] * squaredNorm(load3(xv) - y);
+                                },
+                                out);
 }
 
 void DiagonalQuadraticTerm::setCentre(const Eigen::VectorXd& centre, double coefficient) {
@@ -37,19 +63,20 @@ double DiagonalQuadraticTerm::evaluate(const Eigen::VectorXd& x, const EvalReque
     const Eigen::Vector3d d = x.segment<3>(3 * v) - centre_.segment<3>(3 * v);
     energy += mass_[v] * d.squaredNorm();
   }
-  energy *= 0.5 * coefficient_;
+  const double c = effectiveCoefficient();
+  energy *= 0.5 * c;
   if (request.gradient != nullptr) {
     Eigen::VectorXd& g = *request.gradient;
 #pragma omp parallel for schedule(static)
     for (Eigen::Index v = 0; v < n; ++v)
-      g.segment<3>(3 * v) += coefficient_ * mass_[v] * (x.segment<3>(3 * v) - centre_.segment<3>(3 * v));
+      g.segment<3>(3 * v) += c * mass_[v] * (x.segment<3>(3 * v) - centre_.segment<3>(3 * v));
   }
   if (request.hessian != nullptr) {
     HessianAssembler& A = *request.hessian;
     const int slot = request.hessianSlot;
 #pragma omp parallel for schedule(static)
     for (Eigen::Index v = 0; v < n; ++v) {
-      const double k = coefficient_ * mass_[v];
+      const double k = c * mass_[v];
       const double H[9] = {k, 0.0, 0.0, 0.0, k, 0.0, 0.0, 0.0, k};
       A.addElementHessian(slot, static_cast<int>(v), H);
     }
@@ -57,12 +84,12 @@ double DiagonalQuadraticTerm::evaluate(const Eigen::VectorXd& x, const EvalReque
   return energy;
 }
 
-std::shared_ptr<DiagonalQuadraticTerm> makeInertiaTerm(const Eigen::VectorXd& vertexMass) {
-  return std::make_shared<DiagonalQuadraticTerm>("inertia", vertexMass);
+std::shared_ptr<DiagonalQuadraticTerm> makeInertiaTerm(const Eigen::VectorXd& vertexMass, double density) {
+  return std::make_shared<DiagonalQuadraticTerm>("inertia", vertexMass, "density", density);
 }
 
-std::shared_ptr<DiagonalQuadraticTerm> makeMassDampingTerm(const Eigen::VectorXd& vertexMass) {
-  return std::make_shared<DiagonalQuadraticTerm>("mass_damping", vertexMass);
+std::shared_ptr<DiagonalQuadraticTerm> makeMassDampingTerm(const Eigen::VectorXd& vertexMass, double alphaR) {
+  return std::make_shared<DiagonalQuadraticTerm>("mass_damping", vertexMass, "alpha_R", alphaR);
 }
 
 }  // namespace jetshell

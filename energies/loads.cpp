@@ -1,12 +1,27 @@
 // Lumped mass, gravity and external nodal forces: terms linear in x (zero Hessian).
 #include "energies/shell/shell_terms.h"
 
+#include "core/parameter_derivatives.h"
+
+#include <cmath>
+
 namespace jetshell {
 namespace {
 
+/// −s Σ_v w_v·x_v for one vertex, with s a parameter (any scalar type): the templated energy whose duals give
+/// the parameter derivatives of the linear loads.
+template <typename T>
+T linearLoad(const T* x, const T& s, const double* w) {
+  return -s * (constant<T>(w[0]) * x[0] + constant<T>(w[1]) * x[1] + constant<T>(w[2]) * x[2]);
+}
+
 class GravityTerm : public EnergyTerm {
  public:
-  GravityTerm(const Eigen::VectorXd& mass, const Eigen::Vector3d& g) : weight_(mass.size() * 3) {
+  /// mass: per vertex at the density `density` (> 0); the parameter "density" scales the masses by
+  /// density'/density.
+  GravityTerm(const Eigen::VectorXd& mass, const Eigen::Vector3d& g, double density)
+      : weight_(mass.size() * 3), referenceDensity_(density), density_(density) {
+    if (!(std::isfinite(density) && density > 0.0)) throw InputError("gravity: density must be finite and > 0");
     for (Eigen::Index v = 0; v < mass.size(); ++v) weight_.segment<3>(3 * v) = mass[v] * g;
   }
   std::string name() const override { return "gravity"; }
@@ -15,12 +30,30 @@ class GravityTerm : public EnergyTerm {
   bool zeroAtRest() const override { return false; }
   bool rigidInvariant() const override { return false; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions&) override {
-    if (request.gradient) *request.gradient -= weight_;
-    return -weight_.dot(x);
+    const double s = density_ / referenceDensity_;
+    if (request.gradient) *request.gradient -= s * weight_;
+    return -s * weight_.dot(x);
+  }
+  std::vector<std::string> parameterNames() const override { return {"density"}; }
+  std::vector<double> parameterValues() const override { return {density_}; }
+  void setParameterValues(const std::vector<double>& values) override {
+    validateParameterValues(name(), parameterNames(), values);
+    density_ = values[0];
+  }
+  void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override {
+    resetParameterDerivatives(out, x.size(), 1);
+    const double inv = 1.0 / referenceDensity_;
+    addParameterDerivatives<1, 1>(vertexStencils(static_cast<int>(x.size() / 3)), x, &density_,
+                                  [&](const auto* xv, const auto* p, int v) {
+                                    using T = std::remove_const_t<std::remove_pointer_t<decltype(xv)>>;
+                                    return linearLoad(xv, constant<T>(inv) * p[0], weight_.data() + 3 * v);
+                                  },
+                                  out);
   }
 
  private:
-  Eigen::VectorXd weight_;  // m_v g per dof
+  Eigen::VectorXd weight_;  // m_v g per dof, at the reference density
+  double referenceDensity_, density_;
 };
 
 }  // namespace
@@ -32,13 +65,27 @@ Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference,
   return m;
 }
 
-EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity) {
-  return std::make_shared<GravityTerm>(vertexMass, gravity);
+EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity, double density) {
+  return std::make_shared<GravityTerm>(vertexMass, gravity, density);
 }
 
 double NodalForceTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions&) {
   if (request.gradient) *request.gradient -= scale_ * forces_;
   return -scale_ * forces_.dot(x);
+}
+
+void NodalForceTerm::setParameterValues(const std::vector<double>& values) {
+  validateParameterValues(name(), parameterNames(), values);
+  scale_ = values[0];
+}
+
+void NodalForceTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
+  resetParameterDerivatives(out, x.size(), 1);
+  addParameterDerivatives<1, 1>(vertexStencils(static_cast<int>(x.size() / 3)), x, &scale_,
+                                [&](const auto* xv, const auto* p, int v) {
+                                  return linearLoad(xv, p[0], forces_.data() + 3 * v);
+                                },
+                                out);
 }
 
 StiffnessDampingTerms makeStiffnessDampingTerms(const TriMesh& mesh, const Topology& topology,
@@ -48,10 +95,12 @@ StiffnessDampingTerms makeStiffnessDampingTerms(const TriMesh& mesh, const Topol
   if (m.membraneLambda != 0.0 || m.membraneMu != 0.0) {
     t.membrane = std::make_shared<MembraneTerm>(mesh, reference, m.membraneLambda, m.membraneMu);
     t.membrane->setName("membrane_damping");
+    t.membrane->makeStiffnessDamping(m.stiffnessDampingCoefficient);
   }
   if (m.bendingAlpha != 0.0 || m.bendingBeta != 0.0) {
     t.bending = std::make_shared<BendingTerm>(mesh, topology, reference, m.bendingAlpha, m.bendingBeta);
     t.bending->setName("bending_damping");
+    t.bending->makeStiffnessDamping(m.stiffnessDampingCoefficient);
   }
   return t;
 }

@@ -1,6 +1,8 @@
 #include "energies/registry.h"
 
+#include "energies/end_moment_term.h"
 #include "energies/examples/seam_spring.h"
+#include "energies/kinetic_terms.h"
 #include "energies/shell/shell_terms.h"
 
 #include <cmath>
@@ -14,19 +16,55 @@ EvalOptions gaussNewton() {
   return o;
 }
 
-/// Bending with the first boundary edge clamped (its missing neighbour's normal is the reference normal).
-EnergyTermPtr makeClampedBending(const TermSetup& s) {
-  auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
-                                            s.material.bendingBeta);
+/// The endpoints of the first boundary edge.
+std::vector<char> firstBoundaryEdgeMask(const TermSetup& s) {
   std::vector<char> mask(static_cast<std::size_t>(s.mesh.numVertices()), 0);
   for (int e = 0; e < s.topology.numEdges(); ++e) {
     if (!s.topology.isBoundaryEdge(e)) continue;
     mask[s.topology.edges(e, 0)] = mask[s.topology.edges(e, 1)] = 1;
     break;
   }
-  term->setClampedBoundary(mask);
-  term->setName("bending_clamped");
+  return mask;
+}
+
+/// Bending with the first boundary edge under `rule` (energies/shell/edge_rules.h), the others free.
+EnergyTermPtr makeRuledBending(const TermSetup& s, EdgeRule rule, const char* name) {
+  auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
+                                            s.material.bendingBeta);
+  term->setEdgeRule(firstBoundaryEdgeMask(s), rule);
+  term->setName(name);
   return term;
+}
+
+/// A fixed, smooth displacement of the rest positions (centres and origins of the transient terms).
+Eigen::VectorXd displacedRest(const TriMesh& mesh, double amplitude) {
+  Eigen::VectorXd x = flatten(mesh.V);
+  for (int i = 0; i < x.size(); ++i) x[i] += amplitude * std::cos(0.3 + 1.1 * i);
+  return x;
+}
+
+/// The stiffness-damping terms with their origin moved to a displaced configuration (β_R = 0.05 s, Δt = 0.01 s).
+StiffnessDampingTerms dampingTerms(const TermSetup& s) {
+  ShellMaterialParams m = s.material;
+  m.stiffnessDampingCoefficient = 0.05;
+  StiffnessDampingTerms t = makeStiffnessDampingTerms(s.mesh, s.topology, s.reference, m);
+  const Eigen::VectorXd origin = displacedRest(s.mesh, 0.02);
+  t.membrane->setStrainOrigin(origin, 0.05 / 0.01);
+  t.bending->setCurvatureOrigin(origin, 0.05 / 0.01);
+  return t;
+}
+
+/// The end moment on the first boundary edge, about its own direction.
+EnergyTermPtr makeSampleEndMoment(const TermSetup& s) {
+  for (int e = 0; e < s.topology.numEdges(); ++e) {
+    if (!s.topology.isBoundaryEdge(e)) continue;
+    const int a = s.topology.edges(e, 0), b = s.topology.edges(e, 1);
+    const Eigen::Vector3d axis = s.mesh.V.row(b) - s.mesh.V.row(a);
+    auto term = makeEndMomentTerm(s.mesh, {a, b}, axis, 1.3);
+    term->setLoadFactor(0.8);
+    return term;
+  }
+  throw InputError("end moment: the mesh has no boundary edge");
 }
 
 /// A fixed, non-uniform nodal load.
@@ -56,7 +94,13 @@ std::vector<RegisteredTerm> buildRegistry() {
          return makeBendingTerm(s.mesh, s.topology, s.reference, s.material.bendingAlpha, s.material.bendingBeta);
        },
        gaussNewton(), false},
-      {"bending_clamped", "bending with one clamped boundary edge", makeClampedBending},
+      {"bending_clamped", "bending with one boundary edge under the reference_clamp rule (ghost normal = r)",
+       [](S s) { return makeRuledBending(s, EdgeRule::ReferenceClamp, "bending_clamped"); }},
+      {"bending_mirrored_clamp", "bending with one boundary edge under the mirrored_clamp rule (2(n.r)r - n)",
+       [](S s) { return makeRuledBending(s, EdgeRule::MirroredClamp, "bending_mirrored_clamp"); }},
+      {"bending_clamped_gauss_newton", "clamped bending with the Gauss-Newton Hessian (a model: checked PSD)",
+       [](S s) { return makeRuledBending(s, EdgeRule::MirroredClamp, "bending_clamped_gauss_newton"); },
+       gaussNewton(), false},
       {"bending_nested_jet", "bending as one 18-dof nested-Jet element (the naive reference)",
        [](S s) {
          return makeBendingTermNestedJet(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
@@ -64,10 +108,28 @@ std::vector<RegisteredTerm> buildRegistry() {
        }},
       {"gravity", "gravity on the lumped mass",
        [](S s) {
-         return makeGravityTerm(lumpedMass(s.mesh, s.reference, s.material.density), Eigen::Vector3d(0, 0, -9.81));
+         return makeGravityTerm(lumpedMass(s.mesh, s.reference, s.material.density), Eigen::Vector3d(0, 0, -9.81),
+                                s.material.density);
        }},
       {"nodal_forces", "external nodal forces",
        [](S s) { return EnergyTermPtr(makeNodalForceTerm(sampleForces(s.mesh.numVertices()))); }},
+      {"inertia", "lumped inertia 1/2 c sum m |x - x~|^2 (c = 1/dt^2, dt = 0.1 s)",
+       [](S s) {
+         auto t = makeInertiaTerm(lumpedMass(s.mesh, s.reference, s.material.density), s.material.density);
+         t->setCentre(displacedRest(s.mesh, 0.05), 100.0);
+         return EnergyTermPtr(t);
+       }},
+      {"mass_damping", "mass damping 1/2 c sum m |x - x_prev|^2 (c = alpha_R/dt, alpha_R = 0.5/s, dt = 0.1 s)",
+       [](S s) {
+         auto t = makeMassDampingTerm(lumpedMass(s.mesh, s.reference, s.material.density), 0.5);
+         t->setCentre(displacedRest(s.mesh, 0.03), 5.0);
+         return EnergyTermPtr(t);
+       }},
+      {"membrane_damping", "membrane stiffness damping (origin x_prev, scale beta_R/dt)",
+       [](S s) { return EnergyTermPtr(dampingTerms(s).membrane); }},
+      {"bending_damping", "bending stiffness damping (origin x_prev, scale beta_R/dt)",
+       [](S s) { return EnergyTermPtr(dampingTerms(s).bending); }},
+      {"end_moment", "end moment -lambda M theta on a boundary edge (no hand derivatives)", makeSampleEndMoment},
       // Example of a term written without hand derivatives, registered in one line (energies/examples/).
       {"seam_spring", "edge springs", [](S s) { return makeSeamSpringTerm(s.mesh, edgePairs(s.topology), 10.0); }},
   };

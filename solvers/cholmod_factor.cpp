@@ -44,8 +44,25 @@ std::string statusMessage(const char* what, const cholmod_common& c) {
 
 }  // namespace
 
-CholmodFactor::CholmodFactor() : impl_(std::make_unique<Impl>()) {
+CholmodFactor::CholmodFactor(FillOrdering ordering) : impl_(std::make_unique<Impl>()) {
   cholmod_start(&impl_->common);
+  cholmod_common& c = impl_->common;
+  switch (ordering) {
+    case FillOrdering::Auto: break;  // CHOLMOD's default (nmethods = 0)
+    case FillOrdering::AMD:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_AMD;
+      break;
+    case FillOrdering::METIS:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_METIS;
+      break;
+    case FillOrdering::NESDIS:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_NESDIS;
+      break;
+  }
+  c.postorder = 1;
   impl_->common.supernodal = CHOLMOD_SUPERNODAL;
   // A matrix that is not positive definite is retried with a shift, so the partial factor is of no use.
   impl_->common.quick_return_if_not_posdef = 1;
@@ -72,6 +89,16 @@ CholmodFactor::Status CholmodFactor::analyze(const Eigen::SparseMatrix<double>& 
   if (impl_->factor == nullptr) {
     message_ = statusMessage("cholmod_analyze", *c);
     return Status::Failed;
+  }
+  statistics_.nnzL = c->lnz;
+  statistics_.flops = c->fl;
+  statistics_.nnzA = c->anz;
+  switch (impl_->factor->ordering) {
+    case CHOLMOD_AMD: statistics_.ordering = "amd"; break;
+    case CHOLMOD_METIS: statistics_.ordering = "metis"; break;
+    case CHOLMOD_NESDIS: statistics_.ordering = "nesdis"; break;
+    case CHOLMOD_NATURAL: statistics_.ordering = "natural"; break;
+    default: statistics_.ordering = "other"; break;
   }
   return Status::Ok;
 }

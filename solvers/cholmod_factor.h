@@ -1,6 +1,11 @@
 // A CHOLMOD supernodal LLᵀ factor of a symmetric matrix given as its upper triangle (Eigen CSC), wrapped
 // without copying (stype = 1). Used by the direct solver and by the lagged-factor preconditioner.
+// Inputs: the fill-reducing ordering (FillOrdering; Auto is CHOLMOD's default: AMD, then METIS when AMD's
+// fill is poor), the matrix. Outputs: the factor, its solves, and the analysis statistics (nnz(L) and the
+// flop count of one numeric factorization, deterministic for a given pattern and ordering).
 #pragma once
+
+#include "solvers/fill_ordering.h"
 
 #include <Eigen/Sparse>
 
@@ -13,7 +18,7 @@ class CholmodFactor {
  public:
   enum class Status { Ok, NotPositiveDefinite, Failed };
 
-  CholmodFactor();
+  explicit CholmodFactor(FillOrdering ordering = FillOrdering::Auto);
   ~CholmodFactor();
   CholmodFactor(const CholmodFactor&) = delete;
   CholmodFactor& operator=(const CholmodFactor&) = delete;
@@ -26,6 +31,8 @@ class CholmodFactor {
   Status solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
 
   bool analyzed() const;
+  /// nnz(L), flops and ordering of the last analysis (zeros before the first).
+  const FactorStatistics& statistics() const { return statistics_; }
   bool factorized() const { return factorized_; }
   /// What went wrong in the last failed call.
   const std::string& message() const { return message_; }
@@ -34,6 +41,7 @@ class CholmodFactor {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   bool factorized_ = false;
+  FactorStatistics statistics_;
   std::string message_;
 };
 

@@ -9,8 +9,9 @@ namespace {
 
 class CholmodSolver : public LinearSolver {
  public:
-  explicit CholmodSolver(const LinearSolverOptions& options) : LinearSolver(options) {}
+  explicit CholmodSolver(const LinearSolverOptions& options) : LinearSolver(options), factor_(options.ordering) {}
   std::string name() const override { return "cholmod"; }
+  FactorStatistics factorStatistics() const override { return factor_.statistics(); }
 
  protected:
   Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift, const Eigen::VectorXd& b,

@@ -34,7 +34,10 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
     return g.lpNorm<Eigen::Infinity>();
   };
   const double r0 = staticResidual();
-  result.residualThreshold = o.residualTolerance * (obj.scales().force > 0.0 ? obj.scales().force : r0);
+  const ForceScale F = obj.forceScale(solver.positions(), r0);
+  result.forceScale = F.value;
+  result.forceScaleSource = F.source;
+  result.residualThreshold = o.residualTolerance * F.value;
   result.staticResidual = r0;
   if (r0 <= result.residualThreshold) {
     result.converged = true;

@@ -31,7 +31,9 @@ struct RelaxationResult {
   int steps = 0;
   double pseudoTime = 0.0;
   double staticResidual = 0.0;     // ‖g_potential‖∞ at the end [N]
-  double residualThreshold = 0.0;  // [N]
+  double residualThreshold = 0.0;  // [N]: residualTolerance × forceScale
+  double forceScale = 0.0;         // [N] (Objective::forceScale)
+  std::string forceScaleSource;
   std::vector<double> residualHistory;  // after each step
   int newtonIterations = 0;
   int cuts = 0;

@@ -42,7 +42,11 @@ double evaluate(unsigned n, const double* xf, double* grad, void* data) {
   if (!p.thresholdSet) {
     p.summary->initialEnergy = E;
     p.summary->initialResidual = r;
-    p.threshold = p.residualTolerance * (p.forceScale > 0.0 ? p.forceScale : r);
+    const ForceScale F = p.objective->forceScale(p.x, r);
+    p.forceScale = F.value;
+    p.summary->forceScale = F.value;
+    p.summary->forceScaleSource = F.source;
+    p.threshold = p.residualTolerance * F.value;
     p.thresholdSet = true;
   }
   if (!finite) {
@@ -76,7 +80,6 @@ SolverSummary minimizeLbfgs(Objective& objective, Eigen::VectorXd& x, const Lbfg
   p.eval.path = options.derivatives;
   p.x = x;
   p.best = x;
-  p.forceScale = objective.scales().force;
   p.residualTolerance = options.residualTolerance;
   p.summary = &s;
   objective.finalize();

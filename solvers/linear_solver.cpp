@@ -30,7 +30,9 @@ Preconditioner preconditionerFromString(const std::string& name) {
   if (name == "block_jacobi") return Preconditioner::BlockJacobi;
   if (name == "ic") return Preconditioner::IncompleteCholesky;
   if (name == "lagged_cholesky") return Preconditioner::LaggedCholesky;
-  throw InputError("preconditioner '" + name + "': expected jacobi, block_jacobi, ic or lagged_cholesky");
+  if (name == "one_ring_cholesky") return Preconditioner::OneRingCholesky;
+  throw InputError("preconditioner '" + name +
+                   "': expected jacobi, block_jacobi, ic, lagged_cholesky or one_ring_cholesky");
 }
 
 const char* toString(Preconditioner p) {
@@ -39,6 +41,7 @@ const char* toString(Preconditioner p) {
     case Preconditioner::BlockJacobi: return "block_jacobi";
     case Preconditioner::IncompleteCholesky: return "ic";
     case Preconditioner::LaggedCholesky: return "lagged_cholesky";
+    case Preconditioner::OneRingCholesky: return "one_ring_cholesky";
   }
   return "?";
 }

@@ -11,6 +11,8 @@
 #pragma once
 
 #include "core/assembly.h"
+#include "solvers/fill_ordering.h"
+#include "solvers/one_ring_pattern.h"
 
 #include <Eigen/Sparse>
 
@@ -29,16 +31,23 @@ enum class LinearSolverType {
 };
 /// LaggedCholesky: the CHOLMOD factor of an earlier Hessian, kept across iterations and steps and refactored
 /// (with the current Hessian) only when CG needs more than lagRefactorIterations with it.
-enum class Preconditioner { Jacobi, BlockJacobi, IncompleteCholesky, LaggedCholesky };
+/// OneRingCholesky: the CHOLMOD factor of the Hessian's one-ring part (solvers/one_ring_pattern.h), refactored
+/// every solve: about a tenth of the full factor's flops on a shell Hessian (bending couples two-rings).
+enum class Preconditioner { Jacobi, BlockJacobi, IncompleteCholesky, LaggedCholesky, OneRingCholesky };
 
 LinearSolverType linearSolverTypeFromString(const std::string& name);  // auto | cholmod | ldlt | pcg
 const char* toString(LinearSolverType t);
-Preconditioner preconditionerFromString(const std::string& name);  // jacobi | block_jacobi | ic | lagged_cholesky
+/// jacobi | block_jacobi | ic | lagged_cholesky | one_ring_cholesky
+Preconditioner preconditionerFromString(const std::string& name);
 const char* toString(Preconditioner p);
 
 struct LinearSolverOptions {
   LinearSolverType type = LinearSolverType::Auto;
   Preconditioner preconditioner = Preconditioner::IncompleteCholesky;  // PCG only
+  FillOrdering ordering = FillOrdering::Auto;  // CHOLMOD factors (direct and lagged preconditioner)
+  /// The mesh's vertex adjacency, needed by the OneRingCholesky preconditioner (solvers/dynamics.cpp and
+  /// solvers/statics.cpp fill it from the system's mesh when it is empty).
+  std::shared_ptr<const OneRingFilter> oneRing;
   /// Auto chooses CHOLMOD at or below this many dofs (direct factorization of shell Hessians stays cheap on
   /// 2D meshes: nested-dissection fill grows as n log n).
   int autoDirectMaxDofs = 300000;
@@ -79,6 +88,10 @@ class LinearSolver {
                           int maxRegularizations = -1) {
     return solve(assembler.matrix(), assembler.patternVersion(), b, x, &assembler.fixedDof(), maxRegularizations);
   }
+
+  /// nnz(L), flops and ordering of the last symbolic analysis of a Cholesky factor (zeros when the solver has
+  /// none).
+  virtual FactorStatistics factorStatistics() const { return {}; }
 
   /// Symbolic analyses done so far (one per distinct pattern when all goes well).
   int symbolicAnalyses() const { return analyses_; }

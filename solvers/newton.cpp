@@ -13,10 +13,29 @@ namespace {
 bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& b) {
   return a.type == b.type && a.preconditioner == b.preconditioner && a.autoDirectMaxDofs == b.autoDirectMaxDofs &&
          a.cgRelativeTolerance == b.cgRelativeTolerance && a.cgMaxIterations == b.cgMaxIterations &&
-         a.maxRegularizations == b.maxRegularizations;
+         a.maxRegularizations == b.maxRegularizations && a.ordering == b.ordering &&
+         a.lagRefactorIterations == b.lagRefactorIterations && a.oneRing == b.oneRing;
 }
 
 double infNorm(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
+
+/// max_i Σ_j |H_ij| |x_j| over the free dofs, from the upper triangle of the symmetric H: the force error that
+/// rounding every position to ε|x| can cause, divided by ε.
+double absoluteHessianTimesPositions(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& x,
+                                     const std::vector<char>& fixed) {
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
+  for (Eigen::Index j = 0; j < H.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(H, j); it; ++it) {
+      const Eigen::Index i = it.row();
+      const double a = std::abs(it.value());
+      y[i] += a * std::abs(x[j]);
+      if (i != j) y[j] += a * std::abs(x[i]);
+    }
+  double m = 0.0;
+  for (Eigen::Index i = 0; i < y.size(); ++i)
+    if (!fixed[static_cast<std::size_t>(i)]) m = std::max(m, y[i]);
+  return m;
+}
 
 /// Mean |H_ii| of the assembled upper triangle (the steepest-descent fallback's scale).
 double meanDiagonal(const Eigen::SparseMatrix<double>& H) {
@@ -56,9 +75,25 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   int exactCooldown = 0;     // iterations to wait before the next try, growing with each fallback
   bool haveExact = false;    // the assembled Hessian is the unprojected one
   double residualThreshold = 0.0, decrementThreshold = 0.0;
+  double scaledTolerance = 0.0, forceScale = 0.0;
+  constexpr double kRoundOffFactor = 64.0 * std::numeric_limits<double>::epsilon();
+  constexpr double kFloorCeiling = 1e-2;  // a floor above this fraction of F does not count
+  // The tolerance is the larger of the scaled one and the round-off floor of the last assembled Hessian.
+  auto updateFloor = [&]() {
+    const double floor = kRoundOffFactor * absoluteHessianTimesPositions(obj.assembler().matrix(), x, obj.fixedDof());
+    if (std::isfinite(floor) && floor > scaledTolerance && floor <= kFloorCeiling * forceScale) {
+      s.roundOffFloor = floor;
+      residualThreshold = floor;
+    } else {
+      s.roundOffFloor = std::isfinite(floor) && floor > scaledTolerance ? floor : 0.0;
+      residualThreshold = scaledTolerance;
+    }
+    s.residualThreshold = residualThreshold;
+  };
 
   auto finish = [&](TerminationReason reason, const std::string& message) {
     s.reason = reason;
+    if (reason == TerminationReason::Converged && s.convergenceTest.empty()) s.convergenceTest = "residual";
     s.message = message;
     s.finalEnergy = E;
     s.finalResidual = r;
@@ -85,6 +120,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     xTrial = x + alpha * d;
     LineSearchPoint p;
     p.energy = obj.evaluate(xTrial, wantGradient ? &gTrial : nullptr, false, projected);
+    if (!std::isfinite(p.energy) || (wantGradient && !gTrial.allFinite())) ++s.nonFiniteTrials;
     ++s.energyEvaluations;
     if (wantGradient) {
       ++s.gradientEvaluations;
@@ -102,6 +138,15 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.iteration = k;
     const bool useExact = adaptive && tryExact && exactCooldown == 0;
     if (exactCooldown > 0) --exactCooldown;
+    if (have == Have::Nothing && iterateTest_ && k > 0) {
+      // The iterate test may end the solve here: the gradient first, the Hessian only if it is needed.
+      const Timer t;
+      E = obj.evaluate(x, &g, false, projected);
+      rec.assemblySeconds += t.seconds();
+      ++s.energyEvaluations;
+      ++s.gradientEvaluations;
+      have = Have::Gradient;
+    }
     if (have == Have::Nothing) assemble(useExact, rec);
     r = infNorm(g);
     if (!std::isfinite(E) || !g.allFinite()) {
@@ -111,25 +156,52 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     if (k == 0) {
       s.initialEnergy = E;
       s.initialResidual = r;
-      const double F = obj.scales().force > 0.0 ? obj.scales().force : r;
-      residualThreshold = o.residualTolerance * F;
-      decrementThreshold = o.decrementTolerance * F * obj.scales().length;
+      const ForceScale F = obj.forceScale(x, r);
+      forceScale = F.value;
+      s.forceScale = F.value;
+      s.forceScaleSource = F.source;
+      scaledTolerance = o.residualTolerance * F.value;
+      // Presets that state their own tolerances (the page's: absolute 1e-3 N, relative 1e-6 of the step's first
+      // residual) loosen the test to the larger one; the summary records which tolerance held.
+      if (o.absoluteResidualTolerance > 0.0) scaledTolerance = std::max(scaledTolerance, o.absoluteResidualTolerance);
+      if (o.relativeResidualTolerance > 0.0) scaledTolerance = std::max(scaledTolerance, o.relativeResidualTolerance * r);
+      residualThreshold = scaledTolerance;
+      decrementThreshold = o.decrementTolerance * F.value * obj.scales().length;
       s.residualThreshold = residualThreshold;
       s.decrementThreshold = decrementThreshold;
+      if (have == Have::Hessian) updateFloor();
     }
     rec.energy = E;
     rec.residual = r;
     if (r <= residualThreshold) {
       s.assemblySeconds += rec.assemblySeconds;
       std::ostringstream m;
-      m << "residual " << r << " N <= " << residualThreshold << " N";
+      m << "residual " << r << " N <= " << residualThreshold << " N"
+        << (residualThreshold > scaledTolerance ? " (the round-off floor; " : " (")
+        << o.residualTolerance << " x force scale " << forceScale << " N from " << s.forceScaleSource << ")";
       return finish(TerminationReason::Converged, m.str());
+    }
+    if (iterateTest_) {
+      const IterateTestResult t = iterateTest_(x, g);
+      if (t.passed) {
+        s.assemblySeconds += rec.assemblySeconds;
+        std::ostringstream m;
+        m << "iterate test: estimate " << t.estimate << " m <= " << t.threshold << " m; residual " << r << " N";
+        s.convergenceTest = "iterate";
+        return finish(TerminationReason::Converged, m.str());
+      }
     }
     if (k >= o.maxIterations) {
       s.assemblySeconds += rec.assemblySeconds;
-      return finish(TerminationReason::IterationCap, "reached " + std::to_string(o.maxIterations) + " iterations");
+      std::ostringstream m;
+      m << "reached " << o.maxIterations << " iterations with residual " << r << " N > " << residualThreshold << " N";
+      if (s.roundOffFloor > kFloorCeiling * forceScale)
+        m << "; the residual's round-off floor " << s.roundOffFloor << " N is above 1% of the force scale " << forceScale
+          << " N: the loads move the shell by less than its positions' round-off";
+      return finish(TerminationReason::IterationCap, m.str());
     }
     if (have != Have::Hessian || haveExact != useExact) assemble(useExact, rec);
+    updateFloor();
 
     // Newton direction. An unprojected Hessian gets no regularization: if it is indefinite, the projected one
     // is the better fix.
@@ -181,8 +253,11 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
 
     const Timer ls;
     if (decrement <= decrementThreshold) {
+      // The step releases next to no energy. Take it if it does not raise the energy beyond round-off; then the
+      // residual decides. A residual still above its tolerance after such a step will not improve: stalled.
       const LineSearchPoint p = evaluateTrial(1.0, true);
       rec.lineSearchEvaluations = 1;
+      bool moved = false;
       if (std::isfinite(p.energy) && gTrial.allFinite() && p.energy <= E + noise) {
         x = xTrial;
         E = p.energy;
@@ -190,13 +265,22 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
         r = infNorm(g);
         rec.stepLength = 1.0;
         ++s.iterations;
+        moved = true;
       }
       rec.lineSearchSeconds = ls.seconds();
       s.lineSearchSeconds += rec.lineSearchSeconds;
       s.trace.push_back(rec);
+      if (r <= residualThreshold) {
+        std::ostringstream m;
+        m << "residual " << r << " N <= " << residualThreshold << " N after a step with Newton decrement " << decrement
+          << " J";
+        return finish(TerminationReason::Converged, m.str());
+      }
       std::ostringstream m;
-      m << "Newton decrement " << decrement << " J <= " << decrementThreshold << " J";
-      return finish(TerminationReason::Converged, m.str());
+      m << "stalled: Newton decrement " << decrement << " J <= " << decrementThreshold << " J"
+        << (moved ? "" : " (the step raised the energy)") << " but residual " << r << " N > " << residualThreshold
+        << " N";
+      return finish(TerminationReason::Stalled, m.str());
     }
 
     LineSearchOptions lso;

@@ -1,14 +1,20 @@
 // Newton's method on an Objective, with per-element PSD projection, a line search and a sparse linear solver.
 //
-// Convergence (either test ends the solve; both are stated in physical units in the summary):
-//  - residual:  ‖g_free‖∞ ≤ residualTolerance × F, where F [N] is the objective's force scale (the largest
-//    external nodal force: a vertex's weight plus its applied force at λ = 1) or, when the objective has no
-//    external force, the initial residual. Default 1e-6: no free dof is out of balance by more than a
-//    millionth of the largest applied nodal force.
-//  - Newton decrement: ½ gᵀH⁻¹g = −½ gᵀd ≤ decrementTolerance × F × L [J], L [m] the mean reference edge
-//    length. Default 1e-12: the energy the remaining step would release is below 1e-12 of the work of the
-//    largest nodal force over one edge length (the remaining step, in the H-norm, is ~1e-6 L·√(F/(kL))).
-//    When it passes, the (tiny) full step is still taken if it does not raise the energy beyond round-off.
+// Convergence is judged on the residual (for time steps an iterate test may also end a solve, see below; the
+// summary's convergenceTest says which held): the solve has converged when ‖g_free‖∞ ≤ tolerance, where
+//   tolerance = max(residualTolerance × F, round-off floor).
+//  - F [N] is the objective's force scale (Objective::forceScale: the largest external nodal force, or the force of
+//    the prescribed motion, or the material's force at unit strain when nothing drives the problem). It never
+//    depends on the current residual. Default residualTolerance 1e-6: no free dof is out of balance by more than
+//    a millionth of F.
+//  - The round-off floor is the residual that rounding the positions alone leaves, 64 ε max_i (|H| |x|)_i over the
+//    free dofs (a position known to ε|x| moves the force by H ε|x|); it counts only while it is below 1e-2 F. A
+//    problem whose floor is above that (a load that moves the shell by less than its positions' round-off) cannot
+//    converge and says so.
+// The Newton decrement ½ gᵀH⁻¹g decides nothing on its own: when it falls below decrementTolerance × F × L [J]
+// (L the mean edge length), the full step is taken if it does not raise the energy beyond round-off, and if the
+// residual is still above its tolerance after that the solve ends as Stalled, not converged.
+// The summary records the final residual, the tolerance it was held to, the force scale and its source.
 // The Hessian is assembled with the chosen projection (Clamp by default: each element block's negative
 // eigenvalues are set to zero, so H is PSD and a shift-regularized solve yields a descent direction).
 // Projection costs the quadratic rate near a solution (a stable equilibrium's element blocks can still be
@@ -18,6 +24,11 @@
 // Hessian; if it is not positive definite, the projected one is reassembled for that iteration, and the next
 // try waits 2, 4, 8, ... (up to 64) iterations (measured before the back-off: a Gauss–Newton static solve fell
 // back 101 times in 139 iterations, each costing an extra assembly and factorization).
+// Two more residual tests, off by default, for presets that state them so: absoluteResidualTolerance [N]
+// (‖g_free‖∞ ≤ it) and relativeResidualTolerance (‖g_free‖∞ ≤ it × the initial residual).
+// An iterate test (setIterateTest; time stepping sets one, see solvers/dynamics.h) is asked at every iterate,
+// with its gradient, before the iteration cap and the solve; when it passes the solve ends as converged, and the
+// summary's message states the test's estimate and threshold in metres.
 #pragma once
 
 #include "core/term.h"
@@ -28,6 +39,7 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <memory>
 
 namespace jetshell {
@@ -43,9 +55,20 @@ struct NewtonOptions {
   double armijoC1 = 1e-4;
   double wolfeC2 = 0.9;
   double residualTolerance = 1e-6;    // × force scale [N]
-  double decrementTolerance = 1e-12;  // × force scale × length scale [J]
+  double decrementTolerance = 1e-12;  // × force scale × length scale [J]: the stall test
+  double absoluteResidualTolerance = 0.0;  // [N]; 0: off (presets that state one; the larger tolerance holds)
+  double relativeResidualTolerance = 0.0;  // × the solve's initial residual; 0: off (the page's preset)
   LinearSolverOptions linear;
 };
+
+/// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
+struct IterateTestResult {
+  bool passed = false;
+  double estimate = 0.0;
+  double threshold = 0.0;
+};
+/// x: the iterate; gradient: the objective's gradient there (fixed dofs zeroed).
+using IterateTest = std::function<IterateTestResult(const Eigen::VectorXd& x, const Eigen::VectorXd& gradient)>;
 
 class NewtonSolver {
  public:
@@ -61,12 +84,15 @@ class NewtonSolver {
   /// Changes the options; the linear solver (and its analysis) is kept unless its options changed.
   void setOptions(const NewtonOptions& options);
   LinearSolver& linearSolver() { return *linear_; }
+  /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
+  void setIterateTest(IterateTest test) { iterateTest_ = std::move(test); }
   Objective& objective() { return objective_; }
 
  private:
   Objective& objective_;
   NewtonOptions options_;
   std::unique_ptr<LinearSolver> linear_;
+  IterateTest iterateTest_;
 };
 
 }  // namespace jetshell

@@ -2,6 +2,7 @@
 
 #include "core/mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -77,6 +78,22 @@ double Objective::energyMagnitude() const {
   double m = 0.0;
   for (double e : termEnergies_) m += std::abs(e);
   return m;
+}
+
+ForceScale Objective::forceScale(const Eigen::VectorXd& x, double initialResidual) const {
+  ForceScale f;
+  if (scales_.force > 0.0) f = {scales_.force, "external_loads"};
+  if (scales_.stiffness > 0.0 && scales_.reference.size() == x.size()) {
+    double moved = 0.0;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (fixedDof_[static_cast<std::size_t>(i)])
+        moved = std::max(moved, std::abs(x[i] - scales_.reference[i]));
+    const double prescribed = scales_.stiffness * moved;
+    if (prescribed > f.value) f = {prescribed, "prescribed_motion"};
+  }
+  if (!(f.value > 0.0) && scales_.stiffness > 0.0) f = {scales_.stiffness * scales_.length, "material"};
+  if (!(f.value > 0.0) || !std::isfinite(f.value)) f = {initialResidual, "initial_residual"};
+  return f;
 }
 
 }  // namespace jetshell

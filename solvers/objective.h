@@ -24,10 +24,19 @@ enum class TermRole { Potential, Transient };
 /// Which terms an evaluation sums.
 enum class TermSelection { All, PotentialOnly };
 
-/// Scales that turn the solvers' dimensionless tolerances into physical units (see solvers/newton.h).
+/// Scales that turn the solvers' dimensionless tolerances into physical units (see forceScale() and
+/// solvers/newton.h). ShellSystem fills them from the scene; a hand-built objective should set them.
 struct PhysicalScales {
-  double force = 0.0;   // N: the largest external nodal force (weight m_v|g| plus applied force at λ = 1)
-  double length = 1.0;  // m: the mean reference edge length
+  double force = 0.0;      // N: the largest external nodal force (weight m_v|g| plus applied force at λ = 1)
+  double length = 1.0;     // m: the mean reference edge length
+  double stiffness = 0.0;  // N/m: the membrane stiffness λ + 2μ (or (α + β)/L² where larger), largest over actors
+  Eigen::VectorXd reference;  // rest positions (3N), against which prescribed displacements are measured
+};
+
+/// The force a residual is judged against, and where it came from.
+struct ForceScale {
+  double value = 0.0;  // N
+  std::string source;  // "external_loads", "prescribed_motion", "material" or "initial_residual"
 };
 
 class Objective {
@@ -74,6 +83,13 @@ class Objective {
 
   void setScales(const PhysicalScales& scales) { scales_ = scales; }
   const PhysicalScales& scales() const { return scales_; }
+  /// The force scale F of the configuration x (prescribed values applied) that residuals are judged against, the
+  /// same for every solver: the larger of the largest external nodal force and the force of the prescribed motion
+  /// (stiffness × largest prescribed displacement from the reference); when neither drives the problem, the
+  /// material's force at unit strain (stiffness × length). It never depends on the current residual, so a wild
+  /// starting point cannot loosen its own test. Only an objective with no scales at all falls back to
+  /// initialResidual (source "initial_residual").
+  ForceScale forceScale(const Eigen::VectorXd& x, double initialResidual) const;
 
  private:
   struct Entry {

@@ -4,7 +4,9 @@
 // pattern version changes) and the lagged Cholesky factor (CHOLMOD, of an earlier Hessian: successive Newton
 // Hessians of a time-stepped cloth differ little, so a few CG iterations with an old factor replace most
 // factorizations; when CG needs more than lagRefactorIterations, the current Hessian is factored and CG
-// restarts). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base class answers with
+// restarts) and the one-ring factor (CHOLMOD, of the Hessian's one-ring part with the dropped entries'
+// magnitudes on the diagonal, solvers/one_ring_pattern.h: refactored every solve at about a tenth of the full
+// factor's flops, its pattern analysed once per pattern version). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base class answers with
 // a diagonal shift.
 #include "solvers/cholmod_factor.h"
 #include "solvers/linear_solver.h"
@@ -22,7 +24,8 @@ namespace {
 
 class PcgSolver : public LinearSolver {
  public:
-  explicit PcgSolver(const LinearSolverOptions& options) : LinearSolver(options) {}
+  explicit PcgSolver(const LinearSolverOptions& options) : LinearSolver(options), factor_(options.ordering) {}
+  FactorStatistics factorStatistics() const override { return factor_.statistics(); }
   std::string name() const override {
     return std::string("pcg+") + toString(options().preconditioner);
   }
@@ -145,6 +148,22 @@ class PcgSolver : public LinearSolver {
         }
         return true;
       }
+      case Preconditioner::OneRingCholesky: {
+        using Status = CholmodFactor::Status;
+        if (!options().oneRing || options().oneRing->empty())
+          throw std::invalid_argument("one_ring_cholesky preconditioner without the mesh's adjacency");
+        options().oneRing->apply(H, oneRingMatrix_);
+        if ((analyze || !factor_.analyzed()) && factor_.analyze(oneRingMatrix_) != Status::Ok) {
+          report.message = factor_.message();
+          return false;
+        }
+        ++report.numericFactorizations;
+        if (factor_.factorize(oneRingMatrix_, shift) != Status::Ok) {
+          report.message = "one-ring factor: " + factor_.message();
+          return false;
+        }
+        return true;
+      }
       case Preconditioner::LaggedCholesky: break;  // laggedAttempt
     }
     return false;
@@ -166,6 +185,7 @@ class PcgSolver : public LinearSolver {
         z = ic_.solve(r);
         return;
       case Preconditioner::LaggedCholesky:
+      case Preconditioner::OneRingCholesky:
         if (factor_.solve(r, z) != CholmodFactor::Status::Ok) z = r;
         return;
     }
@@ -211,6 +231,7 @@ class PcgSolver : public LinearSolver {
   Eigen::IncompleteCholesky<double, Eigen::Upper, Eigen::AMDOrdering<int>> ic_;
   bool icAnalyzed_ = false;
   Eigen::SparseMatrix<double> shifted_;
+  Eigen::SparseMatrix<double> oneRingMatrix_;
   CholmodFactor factor_;
 };
 

@@ -58,18 +58,18 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     objective_.addTerm(bending);
   }
   const bool gravityActive = p.hasGravity && p.gravity.squaredNorm() > 0.0 && m.density > 0.0;
-  if (gravityActive) objective_.addTerm(makeGravityTerm(vertexMass_, p.gravity));
+  if (gravityActive) objective_.addTerm(makeGravityTerm(vertexMass_, p.gravity, m.density));
   if (p.nodalForces.size() != 0 && p.nodalForces.cwiseAbs().maxCoeff() > 0.0) {
     nodalForces = makeNodalForceTerm(p.nodalForces);
     objective_.addTerm(nodalForces);
   }
   if (dynamic && m.density > 0.0) {
-    inertia = makeInertiaTerm(vertexMass_);
+    inertia = makeInertiaTerm(vertexMass_, m.density);
     objective_.addTerm(inertia, TermRole::Transient);
   }
   if ((kind == AnalysisKind::Dynamics && m.massDampingCoefficient > 0.0 && m.density > 0.0) ||
       (kind == AnalysisKind::DynamicRelaxation && m.density > 0.0)) {
-    massDamping = makeMassDampingTerm(vertexMass_);
+    massDamping = makeMassDampingTerm(vertexMass_, m.massDampingCoefficient > 0.0 ? m.massDampingCoefficient : 1.0);
     objective_.addTerm(massDamping, TermRole::Transient);
   }
   if (kind == AnalysisKind::Dynamics && m.stiffnessDampingCoefficient > 0.0) {
@@ -91,6 +91,9 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     if (nodalForces) f += p.nodalForces.segment<3>(3 * v);
     scales.force = std::max(scales.force, f.norm());
   }
+  scales.stiffness = std::max(m.membraneLambda + 2.0 * m.membraneMu,
+                              (m.bendingAlpha + m.bendingBeta) / (scales.length * scales.length));
+  scales.reference = restPositions();
   objective_.setScales(scales);
 }
 

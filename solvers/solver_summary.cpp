@@ -14,6 +14,7 @@ const char* toString(TerminationReason r) {
     case TerminationReason::LineSearchFailure: return "line_search_failure";
     case TerminationReason::LinearSolverFailure: return "linear_solver_failure";
     case TerminationReason::NonFinite: return "non_finite";
+    case TerminationReason::Stalled: return "stalled";
   }
   return "?";
 }
@@ -60,7 +61,11 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                       {"initial_residual", m.initialResidual},
                       {"final_residual", m.finalResidual},
                       {"final_decrement", m.finalDecrement},
-                      {"residual_threshold", m.residualThreshold},
+                      {"residual_tolerance", m.residualThreshold},
+                      {"force_scale", m.forceScale},
+                      {"force_scale_source", m.forceScaleSource},
+                      {"round_off_floor", m.roundOffFloor},
+                      {"convergence_test", m.convergenceTest},
                       {"decrement_threshold", m.decrementThreshold},
                       {"assembly_seconds", m.assemblySeconds},
                       {"factorization_seconds", m.factorizationSeconds},
@@ -72,6 +77,7 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                       {"regularizations", m.regularizations},
                       {"exact_hessian_steps", m.exactHessianSteps},
                       {"projection_fallbacks", m.projectionFallbacks},
+                      {"non_finite_trials", m.nonFiniteTrials},
                       {"energy_evaluations", m.energyEvaluations},
                       {"gradient_evaluations", m.gradientEvaluations},
                       {"hessian_evaluations", m.hessianEvaluations}};

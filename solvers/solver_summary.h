@@ -15,6 +15,7 @@ enum class TerminationReason {
   LineSearchFailure,    // no acceptable step along the search direction
   LinearSolverFailure,  // the Newton system could not be solved, even regularized
   NonFinite,            // a non-finite energy or gradient at the current point, or along every trial step
+  Stalled,              // the Newton step no longer changes anything, but the residual is above its tolerance
 };
 const char* toString(TerminationReason r);
 
@@ -46,8 +47,12 @@ struct SolverSummary {
   double initialEnergy = 0.0, finalEnergy = 0.0;
   double initialResidual = 0.0, finalResidual = 0.0;  // ‖g_free‖∞ [N]
   double finalDecrement = 0.0;                          // [J]
-  double residualThreshold = 0.0;   // the residual test in N (tolerance × force scale)
-  double decrementThreshold = 0.0;  // the decrement test in J (tolerance × force scale × length scale)
+  double residualThreshold = 0.0;   // the residual test in N: max(tolerance × force scale, round-off floor)
+  double decrementThreshold = 0.0;  // the stall test in J (tolerance × force scale × length scale)
+  double forceScale = 0.0;          // N: the force the residual is judged against (Objective::forceScale)
+  std::string forceScaleSource;     // where forceScale came from
+  double roundOffFloor = 0.0;       // N: the residual round-off alone can leave (0 while below the tolerance)
+  std::string convergenceTest;      // when converged: "residual", or "iterate" (a time step's update test, in m)
 
   double assemblySeconds = 0.0;       // energy + gradient + Hessian at the iterates
   double factorizationSeconds = 0.0;  // symbolic + numeric factorization or preconditioner
@@ -59,6 +64,7 @@ struct SolverSummary {
   int regularizations = 0;   // diagonal-shift retries during this minimization
   int exactHessianSteps = 0;     // Newton steps taken with the unprojected Hessian
   int projectionFallbacks = 0;   // unprojected Hessians found indefinite and reassembled projected
+  int nonFiniteTrials = 0;       // line-search trial points rejected for a non-finite energy or gradient
   int energyEvaluations = 0, gradientEvaluations = 0, hessianEvaluations = 0;
   std::vector<IterationRecord> trace;
 

@@ -45,6 +45,8 @@ StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::V
     SolverSummary summary = newton.minimize(trial);
     result.newtonIterations += summary.iterations;
     if (!summary.converged()) {
+      summary.trace.clear();
+      result.failedSolves.push_back(summary);
       ++cuts;
       ++result.totalCuts;
       increment *= 0.5;

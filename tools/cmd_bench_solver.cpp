@@ -1,13 +1,18 @@
-// `jetshell bench solver`: the solver on a hanging cloth. An n×n-square, 1 m cloth (the spec's T-shirt
-// material: E 1e5 Pa, ν 0.25, ρ0 1000 kg/m³, h 2 mm) lies flat in the z = 0 plane, pinned at the two corners
-// of its y = 1 edge, and falls under gravity −z: `steps` backward-Euler steps of Δt, then one static solve from
-// the last dynamic state, once with the exact and once with the Gauss–Newton bending Hessian (same tolerance).
+// `jetshell bench solver`: the solver on the hanging cloth (tools/bench_cloth.h): `steps` backward-Euler steps
+// of Δt, then one static solve from the last dynamic state, once with the exact and once with the Gauss–Newton
+// bending Hessian (same tolerance). --orderings compares the fill-reducing orderings of the first step's
+// Hessian and of its one-ring part instead (nnz(L), flops, times).
 // Prints Newton iterations per step, milliseconds per phase per iteration, symbolic analyses and peak RSS.
 #include "tools/output/atomic_file.h"
 #include "core/mesh_generators.h"
+#include "solvers/cholmod_factor.h"
+#include "solvers/one_ring_pattern.h"
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "solvers/statics.h"
+#include "solvers/time_step_policy.h"
+#include "tools/bench_cloth.h"
+#include "tools/output/atomic_file.h"
 #include "tools/subcommand.h"
 
 #include <nlohmann/json.hpp>
@@ -33,6 +38,9 @@ struct SolverBenchOptions {
   std::string integrator = "backward_euler";
   std::string linearSolver = "auto";
   std::string preconditioner = "ic";
+  std::string ordering = "auto";
+  std::string policy = "jetshell";
+  bool orderings = false;
   double cgTolerance = LinearSolverOptions{}.cgRelativeTolerance;
   std::string lineSearch = "armijo";
   std::string projection = "clamp";
@@ -46,20 +54,6 @@ double peakRssMb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return static_cast<double>(u.ru_maxrss) / 1024.0;
-}
-
-/// CPU seconds of the whole process (all threads): on a shared, oversubscribed machine the single-thread CPU time
-/// is the repeatable figure, wall time is not.
-double processCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-double wallSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 double median(std::vector<double> v) {
@@ -103,23 +97,12 @@ struct PhaseFigures {
   }
 };
 
-ShellProblem clothProblem(const SolverBenchOptions& o) {
-  ShellProblem p;
-  p.mesh = makeRectangleGrid(1.0, 1.0, o.n, o.n);
-  p.material = ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
-  p.material.massDampingCoefficient = o.massDamping;
-  p.material.stiffnessDampingCoefficient = o.stiffnessDamping;
-  p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-  const int topLeft = o.n * (o.n + 1), topRight = topLeft + o.n;
-  p.prescribed.fixVertex(topLeft, p.mesh.V.row(topLeft).transpose());
-  p.prescribed.fixVertex(topRight, p.mesh.V.row(topRight).transpose());
-  return p;
-}
-
-NewtonOptions newtonOptions(const SolverBenchOptions& o) {
+NewtonOptions newtonOptions(const SolverBenchOptions& o, const TriMesh& mesh) {
   NewtonOptions n;
+  n.linear.oneRing = std::make_shared<OneRingFilter>(mesh.F, mesh.numVertices());
   n.linear.type = linearSolverTypeFromString(o.linearSolver);
   n.linear.preconditioner = preconditionerFromString(o.preconditioner);
+  n.linear.ordering = fillOrderingFromString(o.ordering);
   n.linear.cgRelativeTolerance = o.cgTolerance;
   n.lineSearch = lineSearchTypeFromString(o.lineSearch);
   n.projection = psdProjectionFromString(o.projection);
@@ -132,26 +115,82 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
+/// The fill-reducing orderings on the first time step's Hessian: nnz(L) and flops (deterministic), then the
+/// analysis and one numeric factorization timed (wall).
+int runOrderingComparison(const SolverBenchOptions& o, const ShellProblem& problem, nlohmann::json& out) {
+  ShellSystem dynamics(problem, AnalysisKind::Dynamics);
+  DynamicsOptions d;
+  d.timeStep = o.dt;
+  const Eigen::VectorXd x = dynamics.restPositions();
+  dynamics.inertia->setCentre(x, 1.0 / (o.dt * o.dt));  // the first step's inertia, at rest
+  Objective& obj = dynamics.objective();
+  Eigen::VectorXd g;
+  obj.evaluate(x, &g, true, EvalOptions{});
+  const Eigen::SparseMatrix<double>& full = obj.assembler().matrix();
+  Eigen::SparseMatrix<double> oneRing;
+  OneRingFilter(problem.mesh.F, problem.mesh.numVertices()).apply(full, oneRing);
+  std::printf("fill-reducing orderings on the first step's Hessian (%ld dofs; nnz(upper H) %ld, of its one-ring "
+              "part %ld):\n",
+              static_cast<long>(full.rows()), static_cast<long>(full.nonZeros()), static_cast<long>(oneRing.nonZeros()));
+  std::printf("  %-9s %-8s %-8s %12s %10s %10s %12s\n", "matrix", "asked", "used", "nnz(L)", "GFlop", "analyze ms",
+              "factorize ms");
+  nlohmann::json rows = nlohmann::json::array();
+  for (const char* which : {"full", "one_ring"})
+  for (FillOrdering ordering : {FillOrdering::AMD, FillOrdering::METIS, FillOrdering::NESDIS, FillOrdering::Auto}) {
+    const Eigen::SparseMatrix<double>& H = std::string(which) == "full" ? full : oneRing;
+    CholmodFactor factor(ordering);
+    const double w0 = wallSeconds();
+    if (factor.analyze(H) != CholmodFactor::Status::Ok) {
+      std::printf("  %-8s analysis failed: %s\n", toString(ordering), factor.message().c_str());
+      return kFailed;
+    }
+    const double w1 = wallSeconds();
+    const CholmodFactor::Status f = factor.factorize(H, 0.0);
+    const double w2 = wallSeconds();
+    const FactorStatistics& st = factor.statistics();
+    std::printf("  %-9s %-8s %-8s %12.0f %10.3f %10.1f %12.1f%s\n", which, toString(ordering), st.ordering.c_str(), st.nnzL,
+                1e-9 * st.flops, 1e3 * (w1 - w0), 1e3 * (w2 - w1),
+                f == CholmodFactor::Status::Ok ? "" : " (factorization failed)");
+    rows.push_back({{"matrix", which},
+                    {"asked", toString(ordering)},
+                    {"used", st.ordering},
+                    {"nnz_A", st.nnzA},
+                    {"nnz_L", st.nnzL},
+                    {"flops", st.flops},
+                    {"analyze_ms", 1e3 * (w1 - w0)},
+                    {"factorize_ms", 1e3 * (w2 - w1)}});
+  }
+  out["orderings"] = rows;
+  return kOk;
+}
+
 int runSolverBench(const SolverBenchOptions& o) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // line-buffered: long runs show progress when redirected
   if (o.threads > 0) omp_set_num_threads(o.threads);
   nlohmann::json out;
-  const ShellProblem problem = clothProblem(o);
+  const ShellProblem problem = hangingCloth(o.n, o.massDamping, o.stiffnessDamping);
   std::printf("jetshell bench solver: %d×%d-square cloth, %d vertices, %d faces, pinned at two corners; %d threads\n",
               o.n, o.n, problem.mesh.numVertices(), problem.mesh.numFaces(), omp_get_max_threads());
   out["mesh"] = {{"squares_per_side", o.n},
                  {"vertices", problem.mesh.numVertices()},
                  {"faces", problem.mesh.numFaces()}};
   out["threads"] = omp_get_max_threads();
+  if (o.orderings) {
+    const int code = runOrderingComparison(o, problem, out);
+    if (!o.json.empty()) writeFileAtomically(o.json, out.dump(2) + "\n");
+    return code;
+  }
 
   // Dynamics.
   ShellSystem dynamics(problem, AnalysisKind::Dynamics);
   DynamicsOptions d;
   d.integrator = timeIntegratorFromString(o.integrator);
   d.timeStep = o.dt;
-  d.newton = newtonOptions(o);
+  d.newton = newtonOptions(o, problem.mesh);
+  if (o.policy != "static") applyTimeStepPolicy(timeStepPolicyFromString(o.policy), d);
   DynamicsSolver solver(dynamics, d);
-  std::printf("dynamics (%s, dt = %.5g s, %d steps), active terms: %s\n", o.integrator.c_str(), o.dt, o.steps,
+  std::printf("dynamics (%s, dt = %.5g s, %d steps, policy %s), active terms: %s\n", o.integrator.c_str(), o.dt,
+              o.steps, o.policy.c_str(),
               joined(dynamics.objective().activeTermNames()).c_str());
   PhaseFigures dyn;
   nlohmann::json steps = nlohmann::json::array();
@@ -171,9 +210,10 @@ int runSolverBench(const SolverBenchOptions& o) {
     return true;
   });
   const double dynCpu = processCpuSeconds() - cpu0, dynWall = wallSeconds() - wall0;
-  std::printf("  %s\n  wall %.2f s, process CPU %.2f s: %.1f ms wall and %.1f ms CPU per Newton iteration (everything)\n",
-              run.message.c_str(), dynWall, dynCpu, 1e3 * dynWall / std::max(1, run.newtonIterations),
-              1e3 * dynCpu / std::max(1, run.newtonIterations));
+  std::printf("  %s\n  wall %.2f s (load %.1f), process CPU %.2f s: %.1f ms wall and %.1f ms CPU per Newton iteration "
+              "(everything); %.1f steps per second (wall)\n",
+              run.message.c_str(), dynWall, loadAverage(), dynCpu, 1e3 * dynWall / std::max(1, run.newtonIterations),
+              1e3 * dynCpu / std::max(1, run.newtonIterations), run.steps / std::max(dynWall, 1e-9));
   std::printf("  Newton iterations per step:");
   for (int it : iterationsPerStep) std::printf(" %d", it);
   std::printf("\n");
@@ -184,6 +224,8 @@ int runSolverBench(const SolverBenchOptions& o) {
               static_cast<long>(dynamics.objective().assembler().matrix().nonZeros()),
               static_cast<double>(dynamics.objective().assembler().memoryBytes()) / 1e6);
   out["dynamics"] = {{"integrator", o.integrator},
+                     {"policy", o.policy},
+                     {"load_average", loadAverage()},
                      {"time_step", o.dt},
                      {"steps", steps},
                      {"completed", run.completed},
@@ -204,7 +246,7 @@ int runSolverBench(const SolverBenchOptions& o) {
     for (BendingHessian bh : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
       const char* name = bh == BendingHessian::Exact ? "exact" : "gauss_newton";
       LoadSteppingOptions ls;
-      ls.newton = newtonOptions(o);
+      ls.newton = newtonOptions(o, problem.mesh);
       ls.newton.bendingHessian = bh;
       ls.newton.maxIterations = 200;
       Eigen::VectorXd x = solver.positions();
@@ -260,8 +302,15 @@ const RegisterSubcommand reg("bench solver", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--linear-solver", opts->linearSolver, "auto | cholmod | ldlt | pcg")
       ->check(CLI::IsMember({"auto", "cholmod", "ldlt", "pcg"}));
   cmd->add_option("--preconditioner", opts->preconditioner,
-                  "PCG preconditioner: jacobi | block_jacobi | ic | lagged_cholesky")
-      ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic", "lagged_cholesky"}));
+                  "PCG preconditioner: jacobi | block_jacobi | ic | lagged_cholesky | one_ring_cholesky")
+      ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic", "lagged_cholesky", "one_ring_cholesky"}));
+  cmd->add_option("--policy", opts->policy,
+                  "Time-step Newton policy: jetshell | page | static (Newton to the static tolerance)")
+      ->check(CLI::IsMember({"jetshell", "page", "static"}));
+  cmd->add_option("--ordering", opts->ordering, "CHOLMOD fill-reducing ordering: auto | amd | metis | nesdis")
+      ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
+  cmd->add_flag("--orderings", opts->orderings,
+                "Only compare the fill-reducing orderings (nnz(L), flops, times) on the first step's Hessian");
   cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--line-search", opts->lineSearch, "none | armijo | residual | wolfe")

@@ -35,6 +35,7 @@ struct CheckOptions {
   bool list = false;
   bool byKind = false;
   bool verbose = false;
+  bool parameters = false;
   DerivativeTolerances tolerances;
   ConfigurationOptions configuration;
   DerivativeCheckOptions check;
@@ -134,6 +135,66 @@ std::uint64_t configurationSeed(std::uint64_t base, std::size_t mesh, Configurat
   return z ^ (z >> 31);
 }
 
+/// `--parameters`: ∂E/∂p and ∂²E/∂x∂p of every term with parameters against finite differences in p.
+bool runParameterChecks(const CheckOptions& o, const std::vector<const RegisteredTerm*>& terms,
+                        const std::vector<CheckMesh>& meshes,
+                        const std::vector<std::vector<CheckConfiguration>>& configurations, nlohmann::json& out) {
+  const ShellMaterialParams material;
+  std::printf("\nparameter derivatives (dual numbers seeded on the parameters) vs central differences in p\n");
+  std::printf("%-28s %-22s %7s  %9s  %9s  %9s  %s\n", "term", "parameters", "checked", "dE/dp", "d2E/dxdp",
+              "FD-noise", "result");
+  bool allPass = true;
+  for (const RegisteredTerm* entry : terms) {
+    DerivativeCheckOptions options = o.check;
+    options.evalOptions = entry->options;
+    int checked = 0, failed = 0;
+    double maxEnergy = 0.0, maxMixed = 0.0, maxNoise = 0.0;
+    std::string names;
+    std::vector<std::string> failures;
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+      const CheckMesh& cm = meshes[m];
+      const EnergyTermPtr term = entry->make(TermSetup{cm.mesh, cm.topology, cm.reference, material});
+      names.clear();
+      for (const std::string& n : term->parameterNames()) names += (names.empty() ? "" : ",") + n;
+      if (names.empty()) break;
+      for (const CheckConfiguration& c : configurations[m]) {
+        const ParameterCheckResult r = checkParameterDerivatives(*term, c.x, options);
+        ++checked;
+        for (const ParameterCheck& pc : r.parameters) {
+          maxEnergy = std::max(maxEnergy, pc.energyVsFd);
+          maxMixed = std::max(maxMixed, pc.mixedVsFd);
+        }
+        maxNoise = std::max(maxNoise, r.maxFdUncertainty());
+        const std::vector<std::string> f = checkFailures(r, o.tolerances);
+        if (!f.empty()) ++failed;
+        for (const std::string& line : f) failures.push_back(c.description + ": " + line);
+      }
+    }
+    if (names.empty()) {
+      std::printf("%-28s %-22s %7s\n", entry->name.c_str(), "(none)", "-");
+      continue;
+    }
+    std::printf("%-28s %-22s %7d  %9s  %9s  %9s  %s\n", entry->name.c_str(), names.c_str(), checked,
+                sci(maxEnergy).c_str(), sci(maxMixed).c_str(), sci(maxNoise).c_str(),
+                failed == 0 ? "pass" : ("FAIL " + std::to_string(failed)).c_str());
+    for (std::size_t i = 0; i < failures.size() && i < 5; ++i) std::printf("    failed: %s\n", failures[i].c_str());
+    allPass = allPass && failed == 0;
+    nlohmann::json j;
+    j["term"] = entry->name;
+    j["parameters"] = names;
+    j["checked"] = checked;
+    j["failed"] = failed;
+    j["max_rel_err_energy_vs_fd"] = maxEnergy;
+    j["max_rel_err_mixed_vs_fd"] = maxMixed;
+    j["max_fd_uncertainty"] = maxNoise;
+    j["pass"] = failed == 0;
+    out.push_back(j);
+  }
+  std::printf("\ntolerance: vs FD %.0e\n%s\n", o.tolerances.vsFd,
+              allPass ? "all parameter checks passed" : "SOME PARAMETER CHECKS FAILED");
+  return allPass;
+}
+
 int run(const CheckOptions& o) {
   if (o.list) {
     for (const RegisteredTerm& t : termRegistry()) std::printf("%-24s %s\n", t.name.c_str(), t.summary.c_str());
@@ -182,6 +243,16 @@ int run(const CheckOptions& o) {
     const KindGeometry& k = geometry[kind];
     std::printf("  %-10s  %3d  min aspect %.1e  max fold angle %8.3f deg  max stretch %.2f\n", toString(kind),
                 k.count, k.minAspect, k.maxFoldDeg, k.maxStretch);
+  }
+  if (o.parameters) {
+    nlohmann::json out = nlohmann::json::array();
+    const bool pass = runParameterChecks(o, terms, meshes, configurations, out);
+    if (!o.json.empty()) {
+      std::ofstream f(o.json);
+      if (!f) throw InputError("--json: cannot write '" + o.json + "'");
+      f << out.dump(2) << "\n";
+    }
+    return pass ? kOk : kFailed;
   }
   std::printf("\nrelative errors (max over configurations; see tools/checks/derivative_check.h for the definition)\n");
   std::printf("%-24s %7s  %9s  %9s  %11s  %9s  %9s  %9s  %s\n", "term", "checked", "AD-vs-an", "grad-FD",
@@ -263,6 +334,8 @@ const RegisterSubcommand reg("check-derivatives", [](CLI::App& app, int& exitCod
       ->default_val(o->threads)
       ->check(CLI::Range(1, 256));
   cmd->add_flag("--list", o->list, "List the registered terms and exit");
+  cmd->add_flag("--parameters", o->parameters,
+                "Check the parameter derivatives instead (dE/dp and d2E/dxdp from duals vs central differences in p)");
   cmd->add_flag("--by-kind", o->byKind, "Also print one row per configuration kind under each term");
   cmd->add_flag("-v,--verbose", o->verbose, "Print every configuration's errors");
   cmd->add_option("--tol-ad", o->tolerances.adVsAnalytic, "Tolerance, AD vs analytic")

@@ -1,6 +1,7 @@
 // `jetshell validate NAME | --all`: runs the validation benchmarks (validation/benchmarks.cpp) and compares
 // every tabulated load level with its reference; prints the table, writes a PNG of the load paths and, with
 // --json, one object per benchmark. VALIDATION.md explains the benchmarks, the options and the figures.
+#include "core/input_limits.h"
 #include "tools/output/atomic_file.h"
 #include "core/mesh.h"
 #include "tools/subcommand.h"
@@ -10,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cstdio>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -43,13 +44,25 @@ struct ValidateArgs {
   bool log = false;
 };
 
+/// "N1xN2": two counts from 1 to 100000 whose grid stays within the vertex limit (no silent wrap-around).
 Resolution parseMesh(const std::string& s) {
+  const std::string usage = "--mesh: '" + s + "' is not N1xN2 with counts from 1 to 100000 (e.g. 8x64)";
+  const std::size_t x = s.find_first_of("xX");
+  if (x == std::string::npos) throw InputError(usage);
+  auto count = [&](const std::string& digits) {
+    if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos)
+      throw InputError(usage);
+    const long value = std::stol(digits);
+    if (value < 1 || value > 100000) throw InputError(usage);
+    return static_cast<int>(value);
+  };
   Resolution r;
-  char x = 0;
-  char rest = 0;
-  if (std::sscanf(s.c_str(), "%d%c%d%c", &r.n1, &x, &r.n2, &rest) != 3 || (x != 'x' && x != 'X') || r.n1 < 1 ||
-      r.n2 < 1)
-    throw InputError("--mesh: '" + s + "' is not N1xN2 with positive counts (e.g. 8x64)");
+  r.n1 = count(s.substr(0, x));
+  r.n2 = count(s.substr(x + 1));
+  const std::int64_t vertices = (std::int64_t{r.n1} + 1) * (std::int64_t{r.n2} + 1);
+  if (vertices > inputLimits().maxVertices)
+    throw InputError("--mesh: " + s + " gives " + std::to_string(vertices) + " vertices, too many (at most " +
+                     std::to_string(inputLimits().maxVertices) + ")");
   return r;
 }
 

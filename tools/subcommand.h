@@ -46,7 +46,7 @@ inline CLI::App* benchCommand(CLI::App& app) {
 
 /// Sets up every subcommand of `registry` on one CLI11 app, parses argv and runs the chosen one. Every exception,
 /// from set-up as well as from running, reaches one handler here: bad command line → kUsage, InputError →
-/// kInputError, out of memory or anything else → kFailed, each with one line on `err`.
+/// kInputError, out of memory → kInputError, anything else → kFailed, each with one line on `err`.
 inline int runCommandLine(std::vector<RegisteredSubcommand> registry, int argc, const char* const* argv,
                           std::ostream& err = std::cerr) {
   try {
@@ -66,8 +66,10 @@ inline int runCommandLine(std::vector<RegisteredSubcommand> registry, int argc, 
     err << "jetshell: error: " << e.what() << "\n";
     return kInputError;
   } catch (const std::bad_alloc&) {
-    err << "jetshell: error: out of memory\n";
-    return kFailed;
+    // Every input size is bounded (core/input_limits.h), but the bounds allow more than a small machine holds.
+    err << "jetshell: error: out of memory: the input needs more memory than is available (use a coarser mesh, "
+           "fewer steps or a larger machine)\n";
+    return kInputError;
   } catch (const std::exception& e) {
     err << "jetshell: internal error: " << e.what() << "\n";
     return kFailed;

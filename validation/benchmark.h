@@ -5,7 +5,7 @@
 #include "core/mesh_generators.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
-#include "validation/end_moment_term.h"
+#include "energies/end_moment_term.h"
 #include "validation/reference_table.h"
 
 #include <Eigen/Core>
@@ -22,7 +22,8 @@ namespace jetshell::validation {
 enum class ClampKind {
   Normal,    // fix the edge's nodes; BendingTerm::setClampedBoundary: missing neighbour normal := reference normal
   Mirrored,  // the same nodes; missing neighbour normal := the face normal mirrored about the reference normal
-             // (validation/mirrored_clamp_term.h), so the mid-edge normal keeps the reference direction
+             // (the bending term's mirrored_clamp edge rule, energies/shell/edge_rules.h), so the mid-edge
+             // normal keeps the reference direction
   TwoRow,    // fix the edge's nodes and the next row of nodes (the page's example; depends on the mesh)
 };
 const char* toString(ClampKind k);

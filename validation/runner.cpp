@@ -2,7 +2,7 @@
 // then the comparison with the reference.
 #include "solvers/dynamic_relaxation.h"
 #include "validation/benchmark.h"
-#include "validation/mirrored_clamp_term.h"
+#include "energies/shell/bending_term.h"
 
 #include <algorithm>
 #include <chrono>
@@ -122,12 +122,10 @@ void compare(const Benchmark& b, int row, const std::vector<double>& computed, B
   r.rows.push_back(std::move(out));
 }
 
+/// The mirrored clamp: the bending term's mirrored_clamp edge rule on the clamped edges.
 void addMirroredClamp(ShellSystem& system, const BenchmarkCase& c, ClampKind clamp) {
-  if (clamp != ClampKind::Mirrored) return;
-  const ShellMaterialParams& m = system.material();
-  if (auto term = makeMirroredClampTerm(system.mesh(), system.topology(), system.reference(), m.bendingAlpha,
-                                        m.bendingBeta, c.problem.clampedVertices))
-    system.objective().addTerm(term);
+  if (clamp != ClampKind::Mirrored || !system.bending) return;
+  system.bending->setEdgeRule(c.problem.clampedVertices, EdgeRule::MirroredClamp);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 // algebra through core/scalar.h: Ceres' nested Jets reject plain doubles and Eigen reductions.)
 #pragma once
 
+#include "core/mesh.h"
 #include "energies/element_energy_term.h"
 
 #include <array>
@@ -15,13 +16,16 @@ namespace jetshell {
 
 struct SeamSpringEnergy {
   static constexpr int kVertices = 2;  // one element = one vertex pair
-  double stiffness = 1.0;              // k
-  std::vector<double> restLength;      // L per pair
+  // The stiffness k is a differentiable parameter: ∂E/∂k and ∂²E/∂x∂k come from duals seeded on it.
+  static constexpr int kParameters = 1;
+  static constexpr std::array<const char*, 1> kParameterNames{{"stiffness"}};
+  std::array<double, 1> parameters{{1.0}};  // k
+  std::vector<double> restLength;           // L per pair
 
   template <typename T>
-  T operator()(const T* x, int pair) const {  // x: the pair's 6 coordinates
+  T operator()(const T* x, const T* p, int pair) const {  // x: the pair's 6 coordinates; p[0] = k
     const T stretch = norm(load3(x + 3) - load3(x)) - constant<T>(restLength[pair]);
-    return constant<T>(0.5 * stiffness) * stretch * stretch;
+    return constant<T>(0.5) * p[0] * stretch * stretch;
   }
 };
 
@@ -29,7 +33,7 @@ struct SeamSpringEnergy {
 inline EnergyTermPtr makeSeamSpringTerm(const TriMesh& mesh, const std::vector<std::array<int, 2>>& pairs,
                                         double stiffness) {
   StencilTable table{2, {}};
-  SeamSpringEnergy energy{stiffness, {}};
+  SeamSpringEnergy energy{{{stiffness}}, {}};
   for (const auto& [i, j] : pairs) {
     if (i < 0 || j < 0 || i >= mesh.numVertices() || j >= mesh.numVertices() || i == j)
       throw InputError("seam spring (" + std::to_string(i) + ", " + std::to_string(j) + "): bad vertex pair");

@@ -12,6 +12,7 @@
 #include "energies/shell/bending_term.h"
 
 #include "core/element_loop.h"
+#include "core/parameter_derivatives.h"
 #include "energies/shell/analytic_stages.h"
 #include "energies/element_energy_term.h"
 #include "energies/shell/shell_geometry.h"
@@ -94,27 +95,99 @@ BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellR
   edges_.resize(static_cast<std::size_t>(topo.numEdges()));
   faceHessian_.resize(static_cast<std::size_t>(nf));
   edgeHessian_.resize(static_cast<std::size_t>(topo.numEdges()));
-  referenceNormal_.resize(static_cast<std::size_t>(nf));
-  for (int f = 0; f < nf; ++f) {
+  const int ne = topo.numEdges();
+  rules_.assign(static_cast<std::size_t>(ne), EdgeRule::PageFree);
+  ruleData_.resize(static_cast<std::size_t>(ne));
+  ghosts_.resize(static_cast<std::size_t>(ne));
+  for (int e = 0; e < ne; ++e) {
+    const int f = topo.edgeFaces(e, 0);
     const Vec3 x0 = mesh.V.row(mesh.F(f, 0));
-    referenceNormal_[f] = (Vec3(mesh.V.row(mesh.F(f, 1))) - x0).cross(Vec3(mesh.V.row(mesh.F(f, 2))) - x0).normalized();
+    const Vec3 r = (Vec3(mesh.V.row(mesh.F(f, 1))) - x0).cross(Vec3(mesh.V.row(mesh.F(f, 2))) - x0).normalized();
+    for (int c = 0; c < 3; ++c) ruleData_[e].reference[c] = r[c];
   }
 }
 
-int BendingTerm::setClampedBoundary(const std::vector<char>& vertexMask) {
-  clamped_.assign(static_cast<std::size_t>(topo_.numEdges()), 0);
+int BendingTerm::setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule) {
+  if (rule == EdgeRule::Count) throw InputError("bending: invalid edge rule");
   int count = 0;
+  ruledEdges_ = 0;
   for (int e = 0; e < topo_.numEdges(); ++e) {
     if (!topo_.isBoundaryEdge(e)) continue;
     const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
     if (a < static_cast<int>(vertexMask.size()) && b < static_cast<int>(vertexMask.size()) && vertexMask[a] &&
         vertexMask[b]) {
-      clamped_[e] = 1;
+      rules_[e] = rule;
       ++count;
     }
+    if (rules_[e] != EdgeRule::PageFree) ++ruledEdges_;
   }
-  if (count == 0) clamped_.clear();
   return count;
+}
+
+int BendingTerm::setClampedBoundary(const std::vector<char>& vertexMask) {
+  std::fill(rules_.begin(), rules_.end(), EdgeRule::PageFree);
+  return setEdgeRule(vertexMask, EdgeRule::ReferenceClamp);
+}
+
+void BendingTerm::makeStiffnessDamping(double betaR) {
+  if (!(std::isfinite(betaR) && betaR > 0.0)) throw InputError(name_ + ": beta_R must be finite and > 0");
+  dampingReference_ = dampingValue_ = betaR;
+}
+
+std::vector<std::string> BendingTerm::parameterNames() const {
+  if (dampingReference_ > 0.0) return {"beta_R"};
+  return {"alpha", "beta"};
+}
+
+std::vector<double> BendingTerm::parameterValues() const {
+  if (dampingReference_ > 0.0) return {dampingValue_};
+  return {alpha_, beta_};
+}
+
+void BendingTerm::setParameterValues(const std::vector<double>& values) {
+  validateParameterValues(name_, parameterNames(), values);
+  if (dampingReference_ > 0.0) {
+    dampingValue_ = values[0];
+  } else {
+    alpha_ = values[0];
+    beta_ = values[1];
+  }
+}
+
+StencilEdges BendingTerm::stencilEdges(int f) const {
+  StencilEdges s;
+  for (int i = 0; i < 3; ++i) {
+    const int e = topo_.faceEdges(f, i);
+    s.boundary[i] = topo_.faceNeighbors(f, i) < 0;
+    s.rule[i] = rules_[e];
+    s.data[i] = ruleData_[e];
+  }
+  return s;
+}
+
+void BendingTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
+  const int nf = static_cast<int>(F_.rows());
+  std::vector<StencilEdges> edges(static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f) edges[f] = stencilEdges(f);
+  // The whole stencil's energy as a function of positions and parameters (the same templated geometry the
+  // stages differentiate); duals seeded on the parameters give ∂E/∂p and ∂²E/∂x∂p.
+  auto energy = [&](const auto* xe, const auto* p, int f) {
+    using T = std::remove_const_t<std::remove_pointer_t<decltype(xe)>>;
+    T b[3];
+    stencilSecondFundamentalForm(xe, edges[f], b);
+    const double* B = ref_.secondFundamentalForm[f].data();
+    const double* P = ref_.inverseMetric[f].data();
+    if (dampingReference_ > 0.0)
+      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * bendingDensity(b, B, P, alpha_, beta_);
+    return constant<T>(scale_ * ref_.area[f]) * bendingDensity(b, B, P, p[0], p[1]);
+  };
+  const std::vector<double> p = parameterValues();
+  resetParameterDerivatives(out, x.size(), static_cast<int>(p.size()));
+  if (dampingReference_ > 0.0) {
+    addParameterDerivatives<6, 1>(table_, x, p.data(), energy, out);
+  } else {
+    addParameterDerivatives<6, 2>(table_, x, p.data(), energy, out);
+  }
 }
 
 void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale) {
@@ -130,6 +203,30 @@ void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scal
   }
   scale_ = scale;
   originMoved_ = true;
+}
+
+Vec3 BendingTerm::meanNormal(int e, int order) {
+  const int fa = topo_.edgeFaces(e, 0), fb = topo_.edgeFaces(e, 1);
+  const Vec3& n = faces_[fa].n;
+  if (fb >= 0) return 0.5 * (n + faces_[fb].n);
+  // A boundary edge: the ghost normal from the edge's rule, differentiated with Jets as a 3 → 3 stage.
+  const EdgeRule rule = rules_[e];
+  const EdgeRuleData& data = ruleData_[e];
+  const auto ghost = [rule, &data](const auto& z) { return ghostNormal(rule, z, data); };
+  Vec3 g;
+  Mat3 G;
+  GhostStage& s = ghosts_[e];
+  if (order == 0) {
+    const V3<double> v = ghost(V3<double>{{n[0], n[1], n[2]}});
+    g = Vec3(v[0], v[1], v[2]);
+  } else if (order == 1) {
+    vectorStageJacobian(ghost, n, g, G);
+  } else {
+    vectorStageDerivatives(ghost, n, g, G, s.hessians);
+    for (Mat3& h : s.hessians) h *= 0.5;
+  }
+  if (order > 0) s.dmdn = 0.5 * (Mat3::Identity() + G);
+  return 0.5 * (n + g);
 }
 
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
@@ -153,7 +250,10 @@ void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad
       const Vec3 c = e0.cross(e1);
       FaceStage& s = faces_[f];
       if (order == 0) {
-        s.n = c.normalized();
+        // The same function the derivative paths differentiate: a zero-area face gives a non-finite energy on
+        // every path (Eigen's normalized() would leave c = 0 finite here while the derivatives are NaN).
+        const V3<double> v = unitNormal(V3<double>{{c[0], c[1], c[2]}});
+        s.n = Vec3(v[0], v[1], v[2]);
         continue;
       }
       const auto stage = [](const auto& z) { return unitNormal(z); };
@@ -173,13 +273,12 @@ void BendingTerm::computeEdgeStages(int order, bool ad) {
     const int ne = topo_.numEdges();
 #pragma omp parallel for schedule(static)
     for (int e = 0; e < ne; ++e) {
-      const int fa = topo_.edgeFaces(e, 0), fb = topo_.edgeFaces(e, 1);
-      const Vec3& nB = fb >= 0 ? faces_[fb].n : isClamped(e) ? referenceNormal_[fa] : faces_[fa].n;
-      const Vec3 m = 0.5 * (faces_[fa].n + nB);
+      const Vec3 m = meanNormal(e, order);
       EdgeStage& s = edges_[e];
       const auto stage = [](const auto& z) { return kelvinInversion(z); };
       if (order == 0) {
-        s.nbar = m / m.squaredNorm();
+        const V3<double> v = kelvinInversion(V3<double>{{m[0], m[1], m[2]}});
+        s.nbar = Vec3(v[0], v[1], v[2]);
       } else if (ad && order == 2) {
         vectorStageDerivatives(stage, m, s.nbar, s.dndm, edgeHessian_[e]);
       } else if (ad) {
@@ -205,7 +304,7 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     secondFundamentalForm(ve0, ve1, nb[0], nb[1], nb[2], b);
     const double* B = ref_.secondFundamentalForm[f].data();
     const double* P = ref_.inverseMetric[f].data();
-    const double area = scale_ * ref_.area[f];
+    const double area = energyScale() * ref_.area[f];
     if (!wantG && !wantH) return area * bendingDensity(b, B, P, alpha_, beta_);
 
     double W;
@@ -243,8 +342,9 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
           const int c = nloc[3 * i + k] < 3 ? nloc[3 * i + k] : 3;
           M[i].middleCols<3>(3 * c) += 0.5 * dn.middleCols<3>(3 * k);
         }
-      } else if (!isClamped(topo_.faceEdges(f, i))) {
-        M[i].leftCols<9>() *= 2.0;  // the missing normal is this face's own
+      } else {
+        // A boundary edge: m = ½(n + n_ghost(n)), ∂m/∂n from the rule's stage.
+        M[i].leftCols<9>() = ghosts_[topo_.faceEdges(f, i)].dmdn.lazyProduct(dndx[0]);
       }
       N[i] = edge[i]->dndm.lazyProduct(M[i]);
     }
@@ -298,6 +398,8 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
 
     const Vec3 gnb[3] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};
     Vec3 hFace[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // this face, neighbours 0..2
+    Mat3 ghostCurvature = Mat3::Zero();  // Σ_k (∂s/∂m)_k ∇²_n m_k over boundary edges (nonlinear rules)
+    bool anyGhost = false;
     for (int i = 0; i < 3; ++i) {
       const int e = topo_.faceEdges(f, i);
       const EdgeStage& s = edges_[e];
@@ -308,12 +410,15 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       const int vertex[4] = {0, 1, 2, 3 + i};
       for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) H.block<3, 3>(3 * vertex[r], 3 * vertex[c]) += He.block<3, 3>(3 * r, 3 * c);
-      const Vec3 h = 0.5 * (s.dndm.transpose() * gnb[i]);
-      hFace[0] += h;
+      const Vec3 gm = s.dndm.transpose() * gnb[i];
       if (fn[i] >= 0) {
-        hFace[1 + i] += h;
-      } else if (!isClamped(topo_.faceEdges(f, i))) {
-        hFace[0] += h;
+        hFace[0] += 0.5 * gm;
+        hFace[1 + i] += 0.5 * gm;
+      } else {
+        const GhostStage& ghost = ghosts_[e];
+        hFace[0] += ghost.dmdn.transpose() * gm;
+        ghostCurvature += gm[0] * ghost.hessians[0] + gm[1] * ghost.hessians[1] + gm[2] * ghost.hessians[2];
+        anyGhost = true;
       }
     }
     for (int j = 0; j < 4; ++j) {
@@ -327,6 +432,10 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       const Mat3 Hc = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
       const Mat39 HcC = Hc.lazyProduct(C);
       Eigen::Matrix<double, 9, 9> Hf = C.transpose().lazyProduct(HcC);
+      if (j == 0 && anyGhost) {
+        const Mat39 D = s.dndc.lazyProduct(C);
+        Hf.noalias() += D.transpose().lazyProduct(ghostCurvature.lazyProduct(D));
+      }
       // k·c = k·(e0 × e1) = e0ᵀ Q e1 with Q = −[k]×, k = (∂n/∂c)ᵀ h.
       const Mat3 Q = -skew(s.dndc.transpose() * h);
       Hf.block<3, 3>(3, 6) += Q;
@@ -342,18 +451,21 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
 
 namespace {
 
-/// The whole stencil as one 18-dof element energy: the naive nested-Jet reference.
+/// The whole stencil as one 18-dof element energy: the naive nested-Jet reference, with α and β as
+/// parameters.
 struct BendingStencilEnergy {
   static constexpr int kVertices = 6;
-  std::vector<std::array<bool, 3>> boundary;
+  static constexpr int kParameters = 2;
+  static constexpr std::array<const char*, 2> kParameterNames{{"alpha", "beta"}};
+  std::array<double, 2> parameters{};
+  std::vector<StencilEdges> edges;
   ShellReference ref;
-  double alpha, beta;
   template <typename T>
-  T operator()(const T* x, int f) const {
+  T operator()(const T* x, const T* p, int f) const {
     T b[3];
-    stencilSecondFundamentalForm(x, boundary[f].data(), b);
+    stencilSecondFundamentalForm(x, edges[f], b);
     return constant<T>(ref.area[f]) *
-           bendingDensity(b, ref.secondFundamentalForm[f].data(), ref.inverseMetric[f].data(), alpha, beta);
+           bendingDensity(b, ref.secondFundamentalForm[f].data(), ref.inverseMetric[f].data(), p[0], p[1]);
   }
 };
 
@@ -366,10 +478,10 @@ EnergyTermPtr makeBendingTerm(const TriMesh& mesh, const Topology& topology, con
 
 EnergyTermPtr makeBendingTermNestedJet(const TriMesh& mesh, const Topology& topology,
                                        const ShellReference& reference, double alpha, double beta) {
-  BendingStencilEnergy energy{{}, reference, alpha, beta};
-  energy.boundary.resize(static_cast<std::size_t>(mesh.numFaces()));
+  BendingStencilEnergy energy{{{alpha, beta}}, {}, reference};
+  energy.edges.resize(static_cast<std::size_t>(mesh.numFaces()));
   for (int f = 0; f < mesh.numFaces(); ++f)
-    for (int i = 0; i < 3; ++i) energy.boundary[f][i] = topology.bendingStencil(f, 3 + i) < 0;
+    for (int i = 0; i < 3; ++i) energy.edges[f].boundary[i] = topology.bendingStencil(f, 3 + i) < 0;
   StencilTable table;
   table.width = 6;
   table.ids.assign(topology.bendingStencil.data(), topology.bendingStencil.data() + topology.bendingStencil.size());

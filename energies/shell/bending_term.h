@@ -6,6 +6,8 @@
 #include "energies/shell/reference_state.h"
 #include "core/term.h"
 #include "core/topology.h"
+#include "energies/shell/edge_rules.h"
+#include "energies/shell/shell_geometry.h"
 
 #include <Eigen/Core>
 
@@ -25,19 +27,36 @@ class BendingTerm : public EnergyTerm {
   bool hasAnalytic() const override { return true; }
   /// Zero at the reference configuration until the origin is moved (stiffness damping: zero at x_prev).
   bool zeroAtRest() const override { return !originMoved_; }
-  bool rigidInvariant() const override { return clamped_.empty(); }
+  /// Invariant while every boundary edge follows the page's free rule (the other rules hold reference data).
+  bool rigidInvariant() const override { return ruledEdges_ == 0; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
 
-  /// Clamps the boundary edges whose two endpoints are both marked in vertexMask (size N): the missing
-  /// neighbour's normal becomes the face's reference normal instead of the face's current normal, so the
-  /// mid-edge normal resists rotation about the edge (a mesh-independent clamp). Returns the number of
-  /// clamped edges. An empty mask unclamps.
+  /// Parameters: "alpha", "beta" (α, β of W_b); a stiffness-damping term (makeStiffnessDamping) has "beta_R"
+  /// instead. Derivatives from duals seeded on them over the whole stencil (core/parameter_derivatives.h).
+  std::vector<std::string> parameterNames() const override;
+  std::vector<double> parameterValues() const override;
+  void setParameterValues(const std::vector<double>& values) override;
+  void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
+
+  /// Gives the boundary edges whose two endpoints are both marked in vertexMask (size N) the rule
+  /// (energies/shell/edge_rules.h): the missing neighbour's normal. Other edges keep theirs. Returns the number
+  /// of edges set.
+  int setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule);
+  /// The rule of boundary edge e (PageFree for every edge until set).
+  EdgeRule edgeRule(int e) const { return rules_[static_cast<std::size_t>(e)]; }
+
+  /// Every boundary edge back to the page's free rule, then the reference clamp on the edges marked in
+  /// vertexMask: the missing neighbour's normal becomes the face's reference normal, so the mid-edge normal
+  /// resists rotation about the edge (a mesh-independent clamp). Returns the number of clamped edges.
   int setClampedBoundary(const std::vector<char>& vertexMask);
 
   /// Moves the curvature origin to b(xOrigin) and scales the energy: with scale = β_R/Δt and xOrigin = x_prev
   /// this is the stiffness-damping potential Δt·β_R·W_b(κ̇), κ̇ = (κ(x) − κ(x_prev))/Δt.
   void setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale);
   void setName(std::string name) { name_ = std::move(name); }
+  /// Makes this the stiffness-damping term: its parameter becomes β_R (value betaR > 0), and the energy
+  /// scales with β_R / betaR relative to the scale given to setCurvatureOrigin.
+  void makeStiffnessDamping(double betaR);
 
  private:
   // Stage results are split by order so that a pass touches only what it needs (the stencil pass is bound by
@@ -50,6 +69,11 @@ class BendingTerm : public EnergyTerm {
     Eigen::Vector3d nbar;
     Eigen::Matrix3d dndm;
   };
+  /// A boundary edge's ghost stage: ∂m/∂n = ½(I + ∂n_ghost/∂n) and ½ ∇²n_ghost,k (from Jets of its rule).
+  struct GhostStage {
+    Eigen::Matrix3d dmdn;
+    std::array<Eigen::Matrix3d, 3> hessians;
+  };
   using StageHessian = std::array<Eigen::Matrix3d, 3>;  // ∇² of each output component
 
   void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad);
@@ -60,7 +84,10 @@ class BendingTerm : public EnergyTerm {
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 12>* M,
                        const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
                        const Eigen::Matrix<double, 3, 9>* crossJacobians, Eigen::Matrix<double, 18, 18>& H) const;
-  bool isClamped(int edge) const { return !clamped_.empty() && clamped_[edge]; }
+  Eigen::Vector3d meanNormal(int edge, int order);
+  StencilEdges stencilEdges(int f) const;
+  /// scale_, times β_R / β_R(reference) for a stiffness-damping term.
+  double energyScale() const { return dampingReference_ > 0.0 ? scale_ * dampingValue_ / dampingReference_ : scale_; }
 
   std::string name_ = "bending";
   Faces F_;
@@ -68,12 +95,16 @@ class BendingTerm : public EnergyTerm {
   ShellReference ref_;  // secondFundamentalForm = curvature origin
   double alpha_, beta_;
   double scale_ = 1.0;
+  double dampingReference_ = 0.0;  // > 0: a stiffness-damping term with parameter β_R (this value at scale_)
+  double dampingValue_ = 0.0;
   bool originMoved_ = false;
   StencilTable table_;
   ElementSchedule schedule_;
   std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k
-  std::vector<char> clamped_;                              // per edge; empty = none
-  std::vector<Eigen::Vector3d> referenceNormal_;           // per face, for clamped edges
+  std::vector<EdgeRule> rules_;                            // per edge (boundary edges only matter)
+  std::vector<EdgeRuleData> ruleData_;                     // per edge
+  int ruledEdges_ = 0;                                     // boundary edges with a rule other than PageFree
+  std::vector<GhostStage> ghosts_;                         // per edge (boundary edges only)
   std::vector<FaceStage> faces_;
   std::vector<EdgeStage> edges_;
   std::vector<StageHessian> faceHessian_;  // ∇²_c n_k per face

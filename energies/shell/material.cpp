@@ -34,14 +34,17 @@ ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double E, double nu, doub
 }
 
 void validate(const ShellMaterialParams& m, const std::string& w) {
+  // The energies are positive definite exactly when these hold. In 2D, splitting ε into its deviator and trace,
+  // λ/2 (tr ε)² + μ tr(ε²) = μ |dev ε|² + (λ + μ)/2 (tr ε)²: μ > 0 and λ + μ > 0. Bending alike,
+  // ½(α (tr κ)² + β tr(κ²)) = β/2 |dev κ|² + (2α + β)/4 (tr κ)²: β > 0 and 2α + β > 0.
   require(std::isfinite(m.membraneLambda), w, "membraneLambda", m.membraneLambda, "must be finite");
-  require(std::isfinite(m.membraneMu) && m.membraneMu >= 0, w, "membraneMu", m.membraneMu, "must be finite and >= 0");
-  require(m.membraneMu == 0 || m.membraneLambda + m.membraneMu > 0, w, "membraneLambda", m.membraneLambda,
-          "must satisfy lambda + mu > 0");
+  require(std::isfinite(m.membraneMu) && m.membraneMu > 0, w, "membraneMu", m.membraneMu, "must be finite and > 0");
+  require(m.membraneLambda + m.membraneMu > 0, w, "membraneLambda", m.membraneLambda,
+          "must satisfy membraneLambda + membraneMu > 0");
   require(std::isfinite(m.bendingAlpha), w, "bendingAlpha", m.bendingAlpha, "must be finite");
-  require(std::isfinite(m.bendingBeta) && m.bendingBeta >= 0, w, "bendingBeta", m.bendingBeta, "must be finite and >= 0");
-  require(m.bendingBeta == 0 || m.bendingAlpha + m.bendingBeta > 0, w, "bendingAlpha", m.bendingAlpha,
-          "must satisfy alpha + beta > 0");
+  require(std::isfinite(m.bendingBeta) && m.bendingBeta > 0, w, "bendingBeta", m.bendingBeta, "must be finite and > 0");
+  require(2.0 * m.bendingAlpha + m.bendingBeta > 0, w, "bendingAlpha", m.bendingAlpha,
+          "must satisfy 2 bendingAlpha + bendingBeta > 0");
   require(std::isfinite(m.density) && m.density >= 0, w, "density", m.density, "must be finite and >= 0");
   require(std::isfinite(m.massDampingCoefficient) && m.massDampingCoefficient >= 0, w, "massDampingCoefficient",
           m.massDampingCoefficient, "must be finite and >= 0");

@@ -20,8 +20,9 @@ struct ShellMaterialParams {
 ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double youngsModulus, double poissonRatio,
                                                        double density3d, double thickness);
 
-/// Throws InputError naming the field (prefixed by `where`) when a parameter is negative or non-finite, or
-/// when the membrane is not positive definite (μ <= 0 or λ + μ <= 0).
+/// Throws InputError naming the field (prefixed by `where`) when a parameter is non-finite, a density or damping
+/// coefficient negative, or an energy not positive definite: it accepts exactly μ > 0, λ + μ > 0, β > 0 and
+/// 2α + β > 0.
 void validate(const ShellMaterialParams& m, const std::string& where = "material");
 
 }  // namespace jetshell

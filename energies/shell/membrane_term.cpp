@@ -3,6 +3,7 @@
 #include "energies/shell/membrane_term.h"
 
 #include "core/element_loop.h"
+#include "core/parameter_derivatives.h"
 #include "energies/shell/analytic_stages.h"
 #include "energies/shell/shell_geometry.h"
 #include "energies/shell/shell_terms.h"
@@ -42,7 +43,7 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
     const double a[3] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
     const double* A = ref_.metric[f].data();
     const double* P = ref_.inverseMetric[f].data();
-    const double area = scale_ * ref_.area[f];
+    const double area = energyScale() * ref_.area[f];
     if (!wantG && !wantH) return area * membraneDensity(a, A, P, lambda_, mu_);
 
     double W;
@@ -80,6 +81,54 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
       H.block<3, 3>(0, 0) = -(H.block<3, 3>(0, 3) + H.block<3, 3>(0, 6));
     }
   return area * W;
+}
+
+void MembraneTerm::makeStiffnessDamping(double betaR) {
+  if (!(std::isfinite(betaR) && betaR > 0.0)) throw InputError(name_ + ": beta_R must be finite and > 0");
+  dampingReference_ = dampingValue_ = betaR;
+}
+
+std::vector<std::string> MembraneTerm::parameterNames() const {
+  if (dampingReference_ > 0.0) return {"beta_R"};
+  return {"lambda", "mu"};
+}
+
+std::vector<double> MembraneTerm::parameterValues() const {
+  if (dampingReference_ > 0.0) return {dampingValue_};
+  return {lambda_, mu_};
+}
+
+void MembraneTerm::setParameterValues(const std::vector<double>& values) {
+  validateParameterValues(name_, parameterNames(), values);
+  if (dampingReference_ > 0.0) {
+    dampingValue_ = values[0];
+  } else {
+    lambda_ = values[0];
+    mu_ = values[1];
+  }
+}
+
+void MembraneTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
+  // The face's energy as a function of positions and parameters (the templated geometry and density the
+  // stages differentiate); duals seeded on the parameters give ∂E/∂p and ∂²E/∂x∂p.
+  auto energy = [&](const auto* xe, const auto* p, int f) {
+    using T = std::remove_const_t<std::remove_pointer_t<decltype(xe)>>;
+    const V3<T> x0 = load3(xe);
+    T a[3];
+    metric(load3(xe + 3) - x0, load3(xe + 6) - x0, a);
+    const double* A = ref_.metric[f].data();
+    const double* P = ref_.inverseMetric[f].data();
+    if (dampingReference_ > 0.0)
+      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * membraneDensity(a, A, P, lambda_, mu_);
+    return constant<T>(scale_ * ref_.area[f]) * membraneDensity(a, A, P, p[0], p[1]);
+  };
+  const std::vector<double> p = parameterValues();
+  resetParameterDerivatives(out, x.size(), static_cast<int>(p.size()));
+  if (dampingReference_ > 0.0) {
+    addParameterDerivatives<3, 1>(table_, x, p.data(), energy, out);
+  } else {
+    addParameterDerivatives<3, 2>(table_, x, p.data(), energy, out);
+  }
 }
 
 EnergyTermPtr makeMembraneTerm(const TriMesh& mesh, const ShellReference& reference, double lambda, double mu) {

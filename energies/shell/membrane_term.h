@@ -22,10 +22,20 @@ class MembraneTerm : public EnergyTerm {
   bool zeroAtRest() const override { return !originMoved_; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
 
+  /// Parameters: "lambda", "mu" (λ, μ of W_m); a stiffness-damping term (makeStiffnessDamping) has "beta_R"
+  /// instead. Derivatives from duals seeded on them (core/parameter_derivatives.h).
+  std::vector<std::string> parameterNames() const override;
+  std::vector<double> parameterValues() const override;
+  void setParameterValues(const std::vector<double>& values) override;
+  void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
+
   /// Moves the strain origin to the metric of xOrigin and scales the energy: with scale = β_R/Δt and
   /// xOrigin = x_prev this is the stiffness-damping potential Δt·β_R·W_m(ε̇), ε̇ = (ε(x) − ε(x_prev))/Δt.
   void setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale);
   void setName(std::string name) { name_ = std::move(name); }
+  /// Makes this the stiffness-damping term: its parameter becomes β_R (value betaR > 0), and the energy
+  /// scales with β_R / betaR relative to the scale given to setStrainOrigin.
+  void makeStiffnessDamping(double betaR);
 
  private:
   double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
@@ -37,6 +47,9 @@ class MembraneTerm : public EnergyTerm {
   ShellReference ref_;  // a copy: the term must not outlive borrowed data; metric = strain origin
   double lambda_, mu_;
   double scale_ = 1.0;
+  double dampingReference_ = 0.0;  // > 0: a stiffness-damping term with parameter β_R (this value at scale_)
+  double dampingValue_ = 0.0;
+  double energyScale() const { return dampingReference_ > 0.0 ? scale_ * dampingValue_ / dampingReference_ : scale_; }
   bool originMoved_ = false;
   std::vector<double> elementEnergy_;
 };

@@ -8,6 +8,9 @@
 #pragma once
 
 #include "core/scalar.h"
+#include "energies/shell/edge_rules.h"
+
+#include <type_traits>
 
 namespace jetshell {
 
@@ -64,38 +67,59 @@ T traceOfSquare(const double P[3], const T t[3]) {
   return pt00 * pt00 + constant<T>(2.0) * pt01 * pt10 + pt11 * pt11;
 }
 
+/// c·q as a scalar of type T, for a material parameter q that is either a plain double (folded into one
+/// constant) or a dual of type T (parameters seeded as duals, core/parameter_derivatives.h).
+template <typename T, typename Q>
+T scaledParameter(double c, const Q& q) {
+  if constexpr (std::is_same_v<Q, T>) {
+    return constant<T>(c) * q;
+  } else {
+    return constant<T>(c * q);
+  }
+}
+
 /// St. Venant–Kirchhoff membrane energy density W_m = λ/2 (tr ε)² + μ tr(ε²), ε = ½(a − A), traces with A⁻¹.
-template <typename T>
-T membraneDensity(const T a[3], const double A[3], const double Ainv[3], double lambda, double mu) {
+/// λ and μ are doubles or duals of type T.
+template <typename T, typename Q>
+T membraneDensity(const T a[3], const double A[3], const double Ainv[3], const Q& lambda, const Q& mu) {
   const T half = constant<T>(0.5);
   const T eps[3] = {half * (a[0] - constant<T>(A[0])), half * (a[1] - constant<T>(A[1])),
                     half * (a[2] - constant<T>(A[2]))};
   const T tr = trace(Ainv, eps);
-  return constant<T>(0.5 * lambda) * tr * tr + constant<T>(mu) * traceOfSquare(Ainv, eps);
+  return scaledParameter<T>(0.5, lambda) * tr * tr + scaledParameter<T>(1.0, mu) * traceOfSquare(Ainv, eps);
 }
 
-/// Bending energy density W_b = ½(α (tr κ)² + β tr(κ²)), κ = B − b, traces with A⁻¹.
-template <typename T>
-T bendingDensity(const T b[3], const double B[3], const double Ainv[3], double alpha, double beta) {
+/// Bending energy density W_b = ½(α (tr κ)² + β tr(κ²)), κ = B − b, traces with A⁻¹. α and β are doubles or
+/// duals of type T.
+template <typename T, typename Q>
+T bendingDensity(const T b[3], const double B[3], const double Ainv[3], const Q& alpha, const Q& beta) {
   const T kappa[3] = {constant<T>(B[0]) - b[0], constant<T>(B[1]) - b[1], constant<T>(B[2]) - b[2]};
   const T tr = trace(Ainv, kappa);
-  return constant<T>(0.5 * alpha) * tr * tr + constant<T>(0.5 * beta) * traceOfSquare(Ainv, kappa);
+  return scaledParameter<T>(0.5, alpha) * tr * tr + scaledParameter<T>(0.5, beta) * traceOfSquare(Ainv, kappa);
 }
 
+/// How a face's three stencil edges close: boundary[i] marks edge i as a boundary edge, whose missing
+/// neighbour's normal comes from rule[i] (energies/shell/edge_rules.h) with the constants data[i].
+struct StencilEdges {
+  bool boundary[3] = {false, false, false};
+  EdgeRule rule[3] = {EdgeRule::PageFree, EdgeRule::PageFree, EdgeRule::PageFree};
+  EdgeRuleData data[3];
+};
+
 /// Everything the bending energy of one face sees, from the 6 stencil positions x (18 values: the face's
-/// vertices 0,1,2, then the opposite vertices across edges 0,1,2). boundary[i] marks edge i as a boundary
-/// edge (its opposite vertex is ignored and the missing normal is this face's normal). The staged evaluator
-/// in energies/shell/bending_term.cpp differentiates the same pieces separately; this composite serves the value,
-/// the reference state, and the whole-stencil nested-Jet reference in the checks.
+/// vertices 0,1,2, then the opposite vertices across edges 0,1,2). A boundary edge's opposite vertex is
+/// ignored and the missing normal comes from the edge's rule. The staged evaluator in
+/// energies/shell/bending_term.cpp differentiates the same pieces separately; this composite serves the value,
+/// the reference state, parameter derivatives and the whole-stencil nested-Jet reference in the checks.
 template <typename T>
-void stencilSecondFundamentalForm(const T* x, const bool boundary[3], T b[3]) {
+void stencilSecondFundamentalForm(const T* x, const StencilEdges& edges, T b[3]) {
   const V3<T> p[3] = {load3(x), load3(x + 3), load3(x + 6)};
   const V3<T> e0 = p[1] - p[0], e1 = p[2] - p[0];
   const V3<T> nA = unitNormal(cross(e0, e1));
   V3<T> nbar[3];
   for (int i = 0; i < 3; ++i) {
-    if (boundary[i]) {
-      nbar[i] = midEdgeNormal(nA, nA);
+    if (edges.boundary[i]) {
+      nbar[i] = midEdgeNormal(nA, ghostNormal(edges.rule[i], nA, edges.data[i]));
     } else {
       // The neighbour traverses edge i backwards: its vertices in order are (p[i+2], p[i+1], opposite).
       const V3<T>& q0 = p[(i + 2) % 3];
@@ -105,6 +129,14 @@ void stencilSecondFundamentalForm(const T* x, const bool boundary[3], T b[3]) {
     }
   }
   secondFundamentalForm(e0, e1, nbar[0], nbar[1], nbar[2], b);
+}
+
+/// The same with every boundary edge free (the page's rule).
+template <typename T>
+void stencilSecondFundamentalForm(const T* x, const bool boundary[3], T b[3]) {
+  StencilEdges edges;
+  for (int i = 0; i < 3; ++i) edges.boundary[i] = boundary[i];
+  stencilSecondFundamentalForm(x, edges, b);
 }
 
 }  // namespace jetshell

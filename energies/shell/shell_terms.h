@@ -41,10 +41,13 @@ StiffnessDampingTerms makeStiffnessDampingTerms(const TriMesh& mesh, const Topol
 /// Lumped mass per vertex: each face gives a third of ρ_A0 · area to each of its vertices.
 Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference, double density);
 
-/// Gravity: −Σ_v m_v g·x_v (constant per-vertex masses).
-EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity);
+/// Gravity: −(ρ/ρ₀) Σ_v m_v g·x_v with the per-vertex masses m_v given at the density ρ₀ = `density` (> 0).
+/// Its parameter "density" is ρ (initially ρ₀): a mass scale per unit density, so that ∂E/∂ρ is the
+/// sensitivity to the material density when the masses come from lumpedMass(mesh, reference, ρ₀).
+EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity,
+                              double density = 1.0);
 
-/// External nodal forces: −scale·Σ f·x. forces has size 3N; scale is the load factor λ (settable).
+/// External nodal forces: −λ·Σ f·x. forces has size 3N; λ is the load factor, the parameter "load_factor".
 class NodalForceTerm;
 std::shared_ptr<NodalForceTerm> makeNodalForceTerm(const Eigen::VectorXd& forces);
 
@@ -58,6 +61,10 @@ class NodalForceTerm : public EnergyTerm {
   bool rigidInvariant() const override { return false; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
   void setLoadFactor(double s) { scale_ = s; }
+  std::vector<std::string> parameterNames() const override { return {"load_factor"}; }
+  std::vector<double> parameterValues() const override { return {scale_}; }
+  void setParameterValues(const std::vector<double>& values) override;
+  void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
   double loadFactor() const { return scale_; }
   const Eigen::VectorXd& forces() const { return forces_; }
 

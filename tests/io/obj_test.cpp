@@ -56,13 +56,12 @@ TEST_CASE("obj: broken files name the file and line") {
   CHECK(errorOf(std::string(kSquare) + "f 1 2 2\n") == "m.obj:5: face repeats a vertex");
   CHECK(errorOf(std::string(kSquare) + "f 1 2\n") == "m.obj:5: a face needs at least 3 corners");
   CHECK(errorOf(std::string(kSquare) + "f 1 x 3\n") == "m.obj:5: face corner 'x' is not an index");
-  CHECK(errorOf("v 0 0\n") == "m.obj:1: a vertex needs 3 coordinates (x y z [w])");
+  CHECK(errorOf("v 0 0\n") == "m.obj:1: a vertex needs 3 coordinates (x y z, optionally w or a colour r g b)");
   CHECK(errorOf("v 0 nan 0\n") == "m.obj:1: vertex coordinate 'nan' is not finite");
   CHECK(errorOf("v 0 1e999 0\n") == "m.obj:1: vertex coordinate '1e999' is not finite");
   CHECK(errorOf("v 0 1.5q 0\n") == "m.obj:1: '1.5q' is not a number");
-  CHECK(errorOf("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n") == "m.obj:4: degenerate face (zero area)");
-  CHECK(errorOf(std::string(kSquare) + "f 1 2 3\nf 1 2 4\n").rfind("m.obj:6: face orientation is inconsistent with "
-                                                                   "the face on line 5",
+  CHECK(errorOf("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n") == "m.obj:4: face is degenerate (area 0)");
+  CHECK(errorOf(std::string(kSquare) + "f 1 2 3\nf 1 2 4\n").rfind("m.obj:6: face is oriented against the face on line 5",
                                                                    0) == 0);
   CHECK(errorOf("") == "m.obj: no vertices ('v' lines)");
   CHECK(errorOf(kSquare) == "m.obj: no faces ('f' lines)");
@@ -71,7 +70,8 @@ TEST_CASE("obj: broken files name the file and line") {
 
 TEST_CASE("obj: an edge shared by three faces is reported with all three lines") {
   const std::string fin = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
-  CHECK(errorOf(fin) == "m.obj:8: non-manifold edge between vertices 1 and 2: also used by the faces on lines 6 and 7");
+  CHECK(errorOf(fin) == "m.obj:8: face uses the non-manifold edge between vertices 1 and 2, also used by the face on line 6 and "
+                      "the face on line 7 (an edge joins at most two faces)");
 }
 
 TEST_CASE("obj: a missing file is named") {

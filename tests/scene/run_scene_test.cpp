@@ -48,8 +48,13 @@ TEST_CASE("run: every example runs its first steps and writes its outputs") {
     CHECK(r.summary.steps == 2);
     CHECK(r.summary.newtonIterations > 0);
     const nlohmann::json s = readJson(fs::path(o.outputDirectory) / "summary.json");
-    for (const char* key : {"converged", "termination", "steps", "newton_iterations", "wall_seconds", "active_terms", "probes"})
+    for (const char* key : {"converged", "termination", "steps", "newton_iterations", "wall_seconds", "active_terms", "probes",
+                            "final_residual", "residual_tolerance", "force_scale"})
       CHECK(s.contains(key));
+    // Every accepted solve's claim can be checked from the summary alone.
+    if (s.contains("final_residual") && s["termination"] != "step_limit")
+      CHECK(s["final_residual"].get<double>() <= s["residual_tolerance"].get<double>());
+    if (s.contains("force_scale")) CHECK(s["force_scale"].get<double>() > 0.0);
     CHECK(s["termination"] == "step_limit");
     CHECK(s["active_terms"].size() >= 2);
     REQUIRE(!s["probes"].empty());

@@ -258,7 +258,7 @@ TEST_CASE("scene: broken and missing meshes name the file and line") {
   CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = {{"obj", "bad_index.obj"}}; }) ==
         "/actors/0/shape/obj: " + dir + "/bad_index.obj:4: face index 4 is out of range (the file has 3 vertices)");
   CHECK(startsWith(errorAfter([](Json& s) { s["actors"][0]["shape"] = {{"obj", "fin.obj"}}; }),
-                   "/actors/0/shape/obj: " + dir + "/fin.obj:8: non-manifold edge between vertices 1 and 2"));
+                   "/actors/0/shape/obj: " + dir + "/fin.obj:8: face uses the non-manifold edge between vertices 1 and 2"));
   CHECK(errorAfter([](Json& s) {
           s["actors"][0]["shape"] = {{"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, {"faces", {{0, 1, 5}}}};
         }) == "/actors/0/shape: mesh: face 0 (0, 1, 5) has vertex index 5 out of range [0, 3)");

@@ -294,4 +294,85 @@ std::vector<std::string> checkFailures(const DerivativeCheckResult& r, const Der
   return out;
 }
 
+double ParameterCheckResult::maxVsFd() const {
+  double m = 0.0;
+  for (const ParameterCheck& p : parameters) m = std::max({m, p.energyVsFd, p.mixedVsFd});
+  return m;
+}
+
+double ParameterCheckResult::maxFdUncertainty() const {
+  double m = 0.0;
+  for (const ParameterCheck& p : parameters) m = std::max(m, p.fdUncertainty);
+  return m;
+}
+
+ParameterCheckResult checkParameterDerivatives(EnergyTerm& term, const Eigen::VectorXd& x,
+                                               const DerivativeCheckOptions& options) {
+  ParameterCheckResult r;
+  const std::vector<std::string> names = term.parameterNames();
+  if (names.empty()) return r;
+  const std::vector<double> p0 = term.parameterValues();
+  const EvalOptions o = withPath(options.evalOptions,
+                                 term.hasAnalytic() ? DerivativePath::Analytic : DerivativePath::AutoDiff);
+  const double ell = options.lengthScale > 0.0 ? options.lengthScale : configurationLengthScale(x);
+  const Eigen::Index ndof = x.size();
+  Eigen::VectorXd g0 = Eigen::VectorXd::Zero(ndof);
+  const double e0 = term.evaluate(x, EvalRequest{&g0, nullptr, -1}, o);
+  double S = std::max(std::abs(e0), g0.norm() * ell);
+  if (!(S > 0.0)) S = std::numeric_limits<double>::min();
+  ParameterDerivatives d;
+  term.evaluateParameterDerivatives(x, d);
+  if (!(std::isfinite(e0) && g0.allFinite() && d.energy.allFinite() && d.mixed.allFinite())) r.finite = false;
+  for (std::size_t j = 0; j < names.size(); ++j) {
+    ParameterCheck pc;
+    pc.name = names[j];
+    pc.value = p0[j];
+    const double sigma = p0[j] != 0.0 ? std::abs(p0[j]) : 1.0;
+    const double floorE = options.floorFraction * S / sigma, floorG = floorE / ell;
+    std::vector<double> p = p0;
+    // Energy and gradient together as one vector function of p_j: [E, g].
+    auto along = [&](double pj) {
+      p[j] = pj;
+      term.setParameterValues(p);
+      Eigen::VectorXd v = Eigen::VectorXd::Zero(ndof + 1);
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(ndof);
+      v[0] = term.evaluate(x, EvalRequest{&g, nullptr, -1}, o);
+      v.tail(ndof) = g;
+      return v;
+    };
+    const double h0 = options.initialStep * sigma;
+    // Energy and gradient need separate floors, so they are extrapolated separately (the same evaluations).
+    auto energyAlong = [&](double pj) { return Eigen::VectorXd(along(pj).head(1)); };
+    auto gradientAlong = [&](double pj) { return Eigen::VectorXd(along(pj).tail(ndof)); };
+    const Extrapolated de = extrapolatedDerivative(energyAlong, p0[j], h0, options.extrapolationSteps,
+                                                   options.maxSequences, options.sequenceAgreement, floorE);
+    const Extrapolated dg = extrapolatedDerivative(gradientAlong, p0[j], h0, options.extrapolationSteps,
+                                                   options.maxSequences, options.sequenceAgreement, floorG);
+    term.setParameterValues(p0);
+    if (!(de.derivative.allFinite() && dg.derivative.allFinite())) r.finite = false;
+    pc.energyVsFd = relativeError(d.energy[static_cast<Eigen::Index>(j)], de.derivative[0], floorE);
+    pc.mixedVsFd = relativeError(Eigen::VectorXd(d.mixed.col(static_cast<Eigen::Index>(j))), dg.derivative, floorG);
+    pc.fdUncertainty = std::max(de.errorEstimate / std::max(std::abs(de.derivative[0]), floorE),
+                                dg.errorEstimate / std::max(dg.derivative.norm(), floorG));
+    r.parameters.push_back(pc);
+  }
+  return r;
+}
+
+std::vector<std::string> checkFailures(const ParameterCheckResult& r, const DerivativeTolerances& tol) {
+  std::vector<std::string> out;
+  if (!r.finite) out.push_back("non-finite parameter derivative or finite difference");
+  for (const ParameterCheck& p : r.parameters) {
+    for (const auto& [what, value] : {std::pair<const char*, double>{"dE/dp", p.energyVsFd},
+                                      std::pair<const char*, double>{"d2E/dxdp", p.mixedVsFd}}) {
+      if (value <= tol.vsFd) continue;  // also catches NaN
+      std::ostringstream s;
+      s << "parameter '" << p.name << "' " << what << " vs FD = " << value << " > " << tol.vsFd;
+      if (p.fdUncertainty > tol.vsFd) s << " (inconclusive: FD uncertainty " << p.fdUncertainty << ")";
+      out.push_back(s.str());
+    }
+  }
+  return out;
+}
+
 }  // namespace jetshell

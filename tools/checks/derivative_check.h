@@ -128,4 +128,33 @@ struct DerivativeTolerances {
 /// The violated tolerances, one human-readable line each; empty when the check passes. Non-finite values fail.
 std::vector<std::string> checkFailures(const DerivativeCheckResult& result, const DerivativeTolerances& tolerances);
 
+/// One parameter p_j of a term (EnergyTerm::parameterNames()) checked at x: the dual-number derivatives
+/// (evaluateParameterDerivatives) against Richardson-extrapolated central differences in p_j of the energy and
+/// of the gradient (the term's parameters are changed with setParameterValues and restored).
+/// Relative errors as above, with σ_j = |p_j| (1 when p_j = 0) as the parameter's scale:
+/// floor(∂E/∂p_j) = τ S / σ_j, floor(∂g/∂p_j) = τ S / (ℓ σ_j), S = max(|E|, ‖g‖ ℓ).
+struct ParameterCheck {
+  std::string name;
+  double value = 0.0;
+  double energyVsFd = 0.0;     // relErr(∂E/∂p_j, FD)
+  double mixedVsFd = 0.0;      // relErr(∂²E/∂x∂p_j, FD of the gradient)
+  double fdUncertainty = 0.0;  // Richardson's error estimate, relative like the errors (max of both)
+};
+
+struct ParameterCheckResult {
+  bool finite = true;
+  std::vector<ParameterCheck> parameters;  // in parameterNames() order
+  double maxVsFd() const;
+  double maxFdUncertainty() const;
+};
+
+/// Checks ∂E/∂p and ∂²E/∂x∂p of every parameter of the term at x (nothing for a term without parameters).
+/// Uses options.evalOptions (the analytic path when the term has one), initialStep (relative to σ_j),
+/// extrapolationSteps, maxSequences, sequenceAgreement and floorFraction.
+ParameterCheckResult checkParameterDerivatives(EnergyTerm& term, const Eigen::VectorXd& x,
+                                               const DerivativeCheckOptions& options = {});
+
+/// Failures of a parameter check against tolerances.vsFd (one line each; non-finite values fail).
+std::vector<std::string> checkFailures(const ParameterCheckResult& result, const DerivativeTolerances& tolerances);
+
 }  // namespace jetshell

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <string>
 
@@ -33,6 +34,24 @@ inline void atLeast(int v, int minimum, const std::string& field) {
     s << "must be >= " << minimum;
     const std::string rule = s.str();
     fail(field, v, rule.c_str());
+  }
+}
+inline void atMost(std::int64_t v, std::int64_t maximum, const std::string& field) {
+  if (v > maximum) {
+    std::ostringstream s;
+    s << field << " = " << v << ": too large (at most " << maximum << ")";
+    throw InputError(s.str());
+  }
+}
+/// duration / timeStep steps must be at most maxSteps ("<field> = 1e-300: 1e+300 steps over the duration 1 s, too
+/// many (at most 10000000)").
+inline void stepCount(double duration, double timeStep, std::int64_t maxSteps, const std::string& field) {
+  const double steps = std::ceil(duration / timeStep);
+  if (!(steps <= static_cast<double>(maxSteps))) {
+    std::ostringstream s;
+    s << field << " = " << timeStep << ": " << steps << " steps over the duration " << duration
+      << " s, too many (at most " << maxSteps << ")";
+    throw InputError(s.str());
   }
 }
 inline void finite(const Eigen::Vector3d& v, const std::string& field) {

@@ -1,9 +1,12 @@
 #include "tools/scene/json_reader.h"
 
+#include "core/input_file.h"
+#include "core/input_limits.h"
 #include "core/mesh.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -103,8 +106,18 @@ std::string escapeKey(const std::string& key) {
 nlohmann::json parse(const std::string& text, const std::string& name) {
   DuplicateKeyCheck duplicates(name);
   // The callback sees a key event with the key as its parsed value.
+  const int maxDepth = inputLimits().maxJsonDepth;
   auto callback = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-    if (event == nlohmann::json::parse_event_t::key) duplicates.setKey(parsed.get<std::string>());
+    using E = nlohmann::json::parse_event_t;
+    if ((event == E::object_start || event == E::array_start) && depth >= maxDepth)
+      throw InputError(name + ": nested too deeply (at most " + std::to_string(maxDepth) + " levels of arrays and objects)");
+    if (event == E::key) {
+      const std::string& key = parsed.get_ref<const std::string&>();
+      if (static_cast<std::int64_t>(key.size()) > inputLimits().maxStringBytes)
+        throw InputError(name + ": a key of " + std::to_string(key.size()) + " bytes is too long (at most " +
+                         std::to_string(inputLimits().maxStringBytes) + ")");
+      duplicates.setKey(key);
+    }
     return duplicates(depth, event, parsed);
   };
   try {
@@ -141,6 +154,10 @@ nlohmann::json parse(const std::string& text, const std::string& name) {
   }
 }
 
+nlohmann::json parseFile(const std::string& path, const std::string& what) {
+  return parse(readInputFile(path, inputLimits().maxJsonBytes, what), path);
+}
+
 std::string closest(const std::string& word, const std::vector<std::string>& candidates) {
   std::string best;
   std::size_t bestDistance = std::numeric_limits<std::size_t>::max();
@@ -155,21 +172,23 @@ void Value::typeError(const std::string& what) const {
   error("expected " + what + ", got " + typeName(*j_));
 }
 
-void Value::error(const std::string& message) const { throw InputError(pointer_ + ": " + message); }
+void Value::error(const std::string& message) const {
+  throw InputError((pointer_.empty() ? "(root)" : pointer_) + ": " + message);
+}
 
 double Value::number() const {
   if (!j_->is_number()) typeError("a number");
   return j_->get<double>();
 }
 
-int Value::integer() const {
+int Value::integer() const { return integer(std::numeric_limits<int>::min(), std::numeric_limits<int>::max()); }
+
+int Value::integer(int minimum, int maximum) const {
   if (!j_->is_number()) typeError("an integer");
   const double d = j_->get<double>();
-  if (!(std::floor(d) == d && std::abs(d) <= std::numeric_limits<int>::max())) {
-    std::ostringstream s;
-    s << "expected an integer, got " << j_->dump();
-    error(s.str());
-  }
+  if (!(std::isfinite(d) && std::floor(d) == d)) error("expected an integer, got " + j_->dump());
+  if (d > maximum) throw InputError(pointer_ + " = " + j_->dump() + ": too large (at most " + std::to_string(maximum) + ")");
+  if (d < minimum) throw InputError(pointer_ + " = " + j_->dump() + ": must be >= " + std::to_string(minimum));
   return static_cast<int>(d);
 }
 
@@ -180,7 +199,11 @@ bool Value::boolean() const {
 
 std::string Value::string() const {
   if (!j_->is_string()) typeError("a string");
-  return j_->get<std::string>();
+  const std::string& text = j_->get_ref<const std::string&>();
+  const std::int64_t limit = inputLimits().maxStringBytes;
+  if (static_cast<std::int64_t>(text.size()) > limit)
+    error("a string of " + std::to_string(text.size()) + " bytes is too long (at most " + std::to_string(limit) + ")");
+  return text;
 }
 
 Eigen::Vector3d Value::vec3() const {
@@ -236,6 +259,11 @@ double Object::number(const std::string& key, double fallback) const {
 int Object::integer(const std::string& key, int fallback) const {
   const auto v = find(key);
   return v ? v->integer() : fallback;
+}
+
+int Object::integer(const std::string& key, int fallback, int minimum, int maximum) const {
+  const auto v = find(key);
+  return v ? v->integer(minimum, maximum) : fallback;
 }
 
 bool Object::boolean(const std::string& key, bool fallback) const {

@@ -1,6 +1,8 @@
 // Strict reading of JSON scene files: every value is read through its JSON pointer, so each error names the
 // field ("/actors/0/material/poissonRatio: expected a number, got a string"), and objects reject unknown keys
-// (with a "did you mean" hint). Files are parsed with comments allowed and duplicate keys rejected.
+// (with a "did you mean" hint). Files are parsed with comments allowed and duplicate keys rejected. Sizes are
+// bounded (core/input_limits.h): the file, the nesting depth, every string, every integer (each field states its
+// own range).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -17,6 +19,10 @@ namespace jetshell::json {
 /// comments are allowed; a repeated key in one object is an error naming its pointer.
 nlohmann::json parse(const std::string& text, const std::string& name);
 
+/// Reads and parses a JSON file (a regular file of at most inputLimits().maxJsonBytes; `what` names it in
+/// errors: "scene file").
+nlohmann::json parseFile(const std::string& path, const std::string& what);
+
 /// Escapes a key for a JSON pointer (RFC 6901: ~ → ~0, / → ~1).
 std::string escapeKey(const std::string& key);
 
@@ -31,8 +37,10 @@ class Value {
 
   double number() const;         // any finite or infinite number; use the check:: helpers for ranges
   int integer() const;           // a number with an integral value that fits an int
+  /// An integer in [minimum, maximum]: "<pointer> = 20000000: too large (at most 10000000)".
+  int integer(int minimum, int maximum) const;
   bool boolean() const;
-  std::string string() const;
+  std::string string() const;    // at most inputLimits().maxStringBytes
   Eigen::Vector3d vec3() const;  // [x, y, z], finite
   std::vector<Value> array() const;
   /// This value as an object whose keys must all be in `allowed`; `what` names it in the hint
@@ -64,6 +72,7 @@ class Object {
 
   double number(const std::string& key, double fallback) const;
   int integer(const std::string& key, int fallback) const;
+  int integer(const std::string& key, int fallback, int minimum, int maximum) const;
   bool boolean(const std::string& key, bool fallback) const;
   std::string string(const std::string& key, const std::string& fallback) const;
   Eigen::Vector3d vec3(const std::string& key, const Eigen::Vector3d& fallback) const;

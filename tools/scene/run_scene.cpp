@@ -9,11 +9,13 @@
 #include "tools/output/progress.h"
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
+#include "tools/scene/safeguard_report.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/support_check.h"
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +25,22 @@
 
 namespace jetshell {
 namespace {
+
+/// The convergence claim of a solve, so that anyone can check it: the final residual, the tolerance it was held
+/// to and the force scale behind that tolerance (Objective::forceScale).
+void recordResidualClaim(nlohmann::json& extra, double residual, double tolerance, double forceScale,
+                         const std::string& source) {
+  extra["final_residual"] = residual;
+  extra["residual_tolerance"] = tolerance;
+  extra["force_scale"] = forceScale;
+  extra["force_scale_source"] = source;
+}
+
+void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
+  recordResidualClaim(extra, s.finalResidual, s.residualThreshold, s.forceScale, s.forceScaleSource);
+  if (s.roundOffFloor > 0.0) extra["round_off_floor"] = s.roundOffFloor;
+  if (!s.convergenceTest.empty()) extra["convergence_test"] = s.convergenceTest;
+}
 
 bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
   return a.membraneLambda == b.membraneLambda && a.membraneMu == b.membraneMu && a.bendingAlpha == b.bendingAlpha &&
@@ -176,6 +194,12 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
 
   std::string termination;
   bool converged = false;
+  SafeguardReport safeguards;
+  const bool moveOn = scene.solver.acceptIterationCap && type != AnalysisType::Static;
+  auto addSolves = [&](const StepReport& s) {
+    for (const SolverSummary& solve : s.solves)
+      safeguards.add(solve, solve.converged() || (moveOn && solve.reason == TerminationReason::IterationCap));
+  };
   Eigen::VectorXd lastVelocity;  // dynamics: the final frame carries it like the others
   if (type == AnalysisType::Static) {
     LoadSteppingOptions o;
@@ -198,8 +222,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     converged = r.completed;
     termination = r.completed ? "completed" : r.message;
     if (!r.steps.empty()) x = r.steps.back().x;
+    if (!r.steps.empty()) recordResidualClaim(summary.extra, r.steps.back().summary);
     summary.extra["final_load_factor_reached"] = r.loadFactor;
     summary.extra["load_step_cuts"] = r.totalCuts;
+    for (const SolverSummary& f : r.failedSolves) safeguards.add(f, false);
+    for (const LoadStepResult& step : r.steps) safeguards.add(step.summary, true);
   } else if (type == AnalysisType::Dynamic) {
     DynamicsOptions o;
     o.integrator = scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
@@ -210,6 +237,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
     const double duration = scene.analysis.duration;
     int previousIterations = 0, previousCuts = 0;  // before the checkpoint resumed from
+    int unconvergedSteps = 0;  // accepted at the iteration cap (the scene's acceptIterationCap)
+    double worstRatio = 0.0;   // the largest final residual / tolerance over the steps
+    SolverSummary lastSolve;
     if (options.resume) {
       try {
         const nlohmann::json& c = checkpoint.at("solver");
@@ -226,6 +256,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         lastVelocity = snap.v;
         previousIterations = checkpoint.at("newton_iterations").get<int>();
         previousCuts = checkpoint.at("cuts").get<int>();
+        unconvergedSteps = checkpoint.at("steps_at_iteration_cap").get<int>();
+        worstRatio = checkpoint.at("worst_residual_over_tolerance").get<double>();
+        safeguards.restore(checkpoint.at("safeguards"));
       } catch (const nlohmann::json::exception& e) {
         throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
       }
@@ -245,6 +278,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                                    {"history_valid", snap.historyValid}}},
                        {"newton_iterations", previousIterations + doneIterations},
                        {"cuts", previousCuts + doneCuts},
+                       {"steps_at_iteration_cap", unconvergedSteps},
+                       {"worst_residual_over_tolerance", worstRatio},
+                       {"safeguards", safeguards.state()},
                        {"history", {{"abscissa", history.abscissa}, {"u", history.u}}},
                        {"output", output.state()}});
     };
@@ -253,6 +289,14 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     const double remaining = static_cast<double>(std::max(0, totalSteps - solver.stepCount())) * o.timeStep;
     if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(solver.time() + o.timeStep));
     const DynamicsResult r = simulate(solver, remaining, [&](const StepReport& s, DynamicsSolver& d) {
+      addSolves(s);
+      if (!s.solves.empty()) {
+        lastSolve = s.solves.back();
+        lastSolve.trace.clear();
+        if (!lastSolve.converged()) ++unconvergedSteps;
+        if (lastSolve.residualThreshold > 0.0)
+          worstRatio = std::max(worstRatio, lastSolve.finalResidual / lastSolve.residualThreshold);
+      }
       const double lambda = model.loadFactorAtTime(d.time());
       output.record({s.step, d.time(), lambda, &d.positions(), &d.velocities()});
       lastVelocity = d.velocities();
@@ -273,9 +317,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     });
     summary.steps = solver.stepCount();
     summary.newtonIterations = previousIterations + r.newtonIterations;
-    converged = r.completed;
-    termination = r.completed ? "completed" : r.message;
+    // A step accepted at the iteration cap did not converge: the run says so (it moved on by the scene's choice).
+    converged = r.completed && unconvergedSteps == 0;
+    termination = !r.completed ? r.message : unconvergedSteps ? "completed_with_unconverged_steps" : "completed";
     x = solver.positions();
+    if (r.steps > 0) recordResidualClaim(summary.extra, lastSolve);
+    summary.extra["steps_at_iteration_cap"] = unconvergedSteps;
+    summary.extra["worst_residual_over_tolerance"] = worstRatio;
     summary.extra["final_time"] = solver.time();
     summary.extra["step_cuts"] = previousCuts + r.cuts;
   } else {
@@ -287,6 +335,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
     double firstResidual = -1.0;
     const RelaxationResult r = relaxToStatic(system, x, o, [&](const StepReport& s, double staticResidual) {
+      addSolves(s);
       output.record({s.step, s.time, 1.0, &x, nullptr});
       remember(s.time, x);
       if (firstResidual < 0) firstResidual = staticResidual;
@@ -296,7 +345,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
            << format("%.6e", potentialEnergy(x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       progress.log(line.str());
       // Progress in orders of magnitude of the residual still to go, or in steps when that says more.
-      const double threshold = o.residualTolerance * (objective.scales().force > 0 ? objective.scales().force : firstResidual);
+      const double threshold = o.residualTolerance * objective.forceScale(x, firstResidual).value;
       const double byResidual = std::log(firstResidual / staticResidual) / std::log(firstResidual / threshold);
       const double bySteps = static_cast<double>(s.step) / o.maxSteps;
       progress.update(std::max(std::isfinite(byResidual) ? byResidual : 0.0, bySteps),
@@ -307,10 +356,12 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     summary.newtonIterations = r.newtonIterations;
     converged = r.converged;
     termination = r.converged ? "converged" : r.message;
-    summary.extra["static_residual"] = r.staticResidual;
-    summary.extra["residual_threshold"] = r.residualThreshold;
+    recordResidualClaim(summary.extra, r.staticResidual, r.residualThreshold, r.forceScale, r.forceScaleSource);
     summary.extra["pseudo_time"] = r.pseudoTime;
   }
+  summary.extra["safeguards"] = safeguards.toJson(moveOn ? "move_on" : "cut_step");
+  // Ctrl-C during a step that then failed (every cut tried) still ends as an interruption.
+  if (interruptRequested()) result.interrupted = true;
   if (result.interrupted) termination = "interrupted";
   else if (result.stepLimitReached && !converged) termination = "step_limit";
   summary.converged = converged;

@@ -2,6 +2,10 @@
 
 #include "tools/scene/checks.h"
 
+#include "core/input_limits.h"
+
+#include <cstdint>
+
 #include <set>
 
 namespace jetshell {
@@ -101,8 +105,17 @@ void validate(const Scene& scene) {
     if (p.name.empty()) throw InputError(p.where + "/name: must not be empty");
     if (!probeNames.insert(p.name).second) throw InputError(p.where + "/name = \"" + p.name + "\": duplicate probe name");
   }
+  const InputLimits& limits = inputLimits();
+  std::int64_t vertices = 0, faces = 0;
+  for (const ShellActorParams& s : scene.shells) {
+    vertices += s.shape->mesh.numVertices();
+    faces += s.shape->mesh.numFaces();
+  }
+  check::atMost(vertices, limits.maxVertices, "scene: vertices of all shell actors");
+  check::atMost(faces, limits.maxFaces, "scene: faces of all shell actors");
   const AnalysisSettings& a = scene.analysis;
   if (a.type == AnalysisType::Static) check::atLeast(a.loadSteps, 1, "/analysis/loadSteps");
+  if (a.type == AnalysisType::Static) check::atMost(a.loadSteps, limits.maxSteps, "/analysis/loadSteps");
   if (a.type != AnalysisType::Static) {
     check::positive(a.timeStep, "/analysis/timeStep");
     check::nonNegative(a.loadRampTime, "/analysis/loadRampTime");
@@ -110,15 +123,18 @@ void validate(const Scene& scene) {
   if (a.type == AnalysisType::Dynamic) {
     check::positive(a.duration, "/analysis/duration");
     if (a.duration < a.timeStep) check::fail("/analysis/duration", a.duration, "must be >= timeStep");
+    check::stepCount(a.duration, a.timeStep, limits.maxSteps, "/analysis/timeStep");
   }
   if (a.type == AnalysisType::DynamicRelaxation) {
     check::atLeast(a.maxSteps, 1, "/analysis/maxSteps");
+    check::atMost(a.maxSteps, limits.maxSteps, "/analysis/maxSteps");
     check::positive(a.tolerance, "/analysis/tolerance");
     check::nonNegative(a.massDamping, "/analysis/massDamping");
     if (a.loadRampTime != 0.0) check::fail("/analysis/loadRampTime", a.loadRampTime, "must be 0 for dynamic relaxation");
   }
   const SolverSettings& s = scene.solver;
   if (s.maxIterations) check::atLeast(*s.maxIterations, 1, "/solver/maxIterations");
+  if (s.maxIterations) check::atMost(*s.maxIterations, limits.maxIterations, "/solver/maxIterations");
   if (s.residualTolerance) check::nonNegative(*s.residualTolerance, "/solver/residualTolerance");
   if (s.decrementTolerance) check::nonNegative(*s.decrementTolerance, "/solver/decrementTolerance");
   requireOneOf(s.lineSearch, {"default", "none", "armijo", "residual", "wolfe"}, "/solver/lineSearch");
@@ -128,7 +144,9 @@ void validate(const Scene& scene) {
   requireOneOf(s.derivatives, {"analytic", "autodiff"}, "/solver/derivatives");
   requireOneOf(s.bendingHessian, {"exact", "gaussNewton"}, "/solver/bendingHessian");
   check::atLeast(s.threads, 0, "/solver/threads");
+  check::atMost(s.threads, limits.maxThreads, "/solver/threads");
   check::atLeast(scene.outputs.frameStride, 1, "/outputs/frameStride");
+  check::atMost(scene.outputs.frameStride, limits.maxSteps, "/outputs/frameStride");
 }
 
 std::vector<std::string> unsupportedFeatures(const Scene& scene) {

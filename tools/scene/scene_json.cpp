@@ -4,8 +4,13 @@
 #include "tools/scene/generated_shapes.h"
 #include "tools/scene/json_reader.h"
 
+#include "core/input_limits.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace jetshell {
@@ -32,10 +37,9 @@ double positive(const Object& o, const std::string& key) {
   return v;
 }
 
+/// A required resolution count: at least `minimum`, at most the vertex limit (the generator bounds the product).
 int atLeast(const Object& o, const std::string& key, int minimum) {
-  const int v = o.at(key).integer();
-  check::atLeast(v, minimum, o.member(key));
-  return v;
+  return o.at(key).integer(minimum, static_cast<int>(inputLimits().maxVertices));
 }
 
 QuadDiagonals diagonals(const Object& generator) {
@@ -54,6 +58,8 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (j.contains("vertices") || j.contains("faces")) {
     const Object o = v.object({"vertices", "faces"}, "a shape given by arrays");
     const std::vector<Value> rows = o.at("vertices").array(), faces = o.at("faces").array();
+    check::atMost(static_cast<std::int64_t>(rows.size()), inputLimits().maxVertices, o.member("vertices") + " (count)");
+    check::atMost(static_cast<std::int64_t>(faces.size()), inputLimits().maxFaces, o.member("faces") + " (count)");
     Positions V(static_cast<Eigen::Index>(rows.size()), 3);
     for (std::size_t k = 0; k < rows.size(); ++k) V.row(static_cast<Eigen::Index>(k)) = rows[k].vec3().transpose();
     Faces F(static_cast<Eigen::Index>(faces.size()), 3);
@@ -153,11 +159,11 @@ ShellMaterialParams readMaterial(const Value& v) {
     m.membraneLambda = o.number("membraneLambda", m.membraneLambda);
     check::finite(m.membraneLambda, o.member("membraneLambda"));
     m.membraneMu = o.number("membraneMu", m.membraneMu);
-    check::nonNegative(m.membraneMu, o.member("membraneMu"));
+    check::positive(m.membraneMu, o.member("membraneMu"));
     m.bendingAlpha = o.number("bendingAlpha", m.bendingAlpha);
     check::finite(m.bendingAlpha, o.member("bendingAlpha"));
     m.bendingBeta = o.number("bendingBeta", m.bendingBeta);
-    check::nonNegative(m.bendingBeta, o.member("bendingBeta"));
+    check::positive(m.bendingBeta, o.member("bendingBeta"));
     m.density = o.number("density", m.density);
     check::nonNegative(m.density, o.member("density"));
   }
@@ -165,7 +171,7 @@ ShellMaterialParams readMaterial(const Value& v) {
   check::nonNegative(m.massDampingCoefficient, o.member("massDampingCoefficient"));
   m.stiffnessDampingCoefficient = o.number("stiffnessDampingCoefficient", 0.0);
   check::nonNegative(m.stiffnessDampingCoefficient, o.member("stiffnessDampingCoefficient"));
-  at(o.pointer(), [&] { validate(m, "material"); });  // the combined rules (λ + μ > 0, α + β > 0)
+  at(o.pointer(), [&] { validate(m, "material"); });  // the combined rules (λ + μ > 0, 2α + β > 0)
   return m;
 }
 
@@ -208,18 +214,21 @@ VertexSelector readSelector(const Value& v) {
     throw InputError(o.member("range") + ": cannot be combined with \"indices\" (use one)");
   if (const auto list = o.find("indices")) {
     s.indices.emplace();
-    for (const Value& e : list->array()) s.indices->push_back(e.integer());
+    const std::vector<Value> entries = list->array();
+    check::atMost(static_cast<std::int64_t>(entries.size()), inputLimits().maxVertices, list->pointer() + " (count)");
+    for (const Value& e : entries) s.indices->push_back(e.integer());
     if (s.indices->empty()) list->error("selects nothing (an empty list)");
   }
   if (const auto r = o.find("range")) {
     const std::vector<Value> parts = r->array();
     if (parts.size() != 2 && parts.size() != 3) r->typeError("[start, stop] or [start, stop, step]");
-    const int start = parts[0].integer(), stop = parts[1].integer(), step = parts.size() == 3 ? parts[2].integer() : 1;
-    check::atLeast(start, 0, parts[0].pointer());
-    check::atLeast(step, 1, parts.size() == 3 ? parts[2].pointer() : r->pointer() + "/2");
+    // Bounded before anything is filled in: stop <= the vertex limit, and the loop runs in 64 bits.
+    const int maxIndex = static_cast<int>(inputLimits().maxVertices);
+    const int start = parts[0].integer(0, maxIndex), stop = parts[1].integer(0, maxIndex);
+    const int step = parts.size() == 3 ? parts[2].integer(1, std::numeric_limits<int>::max()) : 1;
     if (stop <= start) check::fail(parts[1].pointer(), stop, "must be > start (stop is exclusive)");
     s.indices.emplace();
-    for (int k = start; k < stop; k += step) s.indices->push_back(k);
+    for (std::int64_t k = start; k < stop; k += step) s.indices->push_back(static_cast<int>(k));
   }
   if (const auto g = o.find("group")) s.group = g->string();
   if (const auto b = o.find("box")) {
@@ -378,11 +387,11 @@ AnalysisSettings readAnalysis(const Value& v) {
   const std::string type = Object(v).choice("type", {"static", "dynamic", "dynamicRelaxation"}, "");
   if (type.empty()) throw InputError(v.pointer() + "/type: missing (required: static, dynamic or dynamicRelaxation)");
   AnalysisSettings a;
+  const int maxSteps = static_cast<int>(inputLimits().maxSteps);
   if (type == "static") {
     const Object o = v.object({"type", "loadSteps"}, "a static analysis");
     a.type = AnalysisType::Static;
-    a.loadSteps = o.integer("loadSteps", a.loadSteps);
-    check::atLeast(a.loadSteps, 1, o.member("loadSteps"));
+    a.loadSteps = o.integer("loadSteps", a.loadSteps, 1, maxSteps);
     return a;
   }
   const bool dynamic = type == "dynamic";
@@ -396,11 +405,11 @@ AnalysisSettings readAnalysis(const Value& v) {
     check::nonNegative(a.loadRampTime, o.member("loadRampTime"));
     a.duration = positive(o, "duration");
     if (a.duration < a.timeStep) check::fail(o.member("duration"), a.duration, "must be >= timeStep");
+    check::stepCount(a.duration, a.timeStep, maxSteps, o.member("timeStep"));
     a.integrator = o.choice("integrator", {"backwardEuler", "bdf2"}, "backwardEuler") == "bdf2" ? Integrator::BDF2
                                                                                             : Integrator::BackwardEuler;
   } else {
-    a.maxSteps = o.integer("maxSteps", a.maxSteps);
-    check::atLeast(a.maxSteps, 1, o.member("maxSteps"));
+    a.maxSteps = o.integer("maxSteps", a.maxSteps, 1, maxSteps);
     a.tolerance = o.number("tolerance", a.tolerance);
     check::positive(a.tolerance, o.member("tolerance"));
     a.massDamping = o.number("massDamping", a.massDamping);
@@ -416,8 +425,7 @@ SolverSettings readSolver(const Value& v) {
                             "solver settings");
   SolverSettings s;
   if (const auto m = o.find("maxIterations")) {
-    s.maxIterations = m->integer();
-    check::atLeast(*s.maxIterations, 1, m->pointer());
+    s.maxIterations = m->integer(1, static_cast<int>(inputLimits().maxIterations));
   }
   if (const auto t = o.find("residualTolerance")) {
     s.residualTolerance = t->number();
@@ -434,8 +442,7 @@ SolverSettings readSolver(const Value& v) {
   s.derivatives = o.choice("derivatives", {"analytic", "autodiff"}, s.derivatives);
   s.bendingHessian = o.choice("bendingHessian", {"exact", "gaussNewton"}, s.bendingHessian);
   s.acceptIterationCap = o.boolean("acceptIterationCap", s.acceptIterationCap);
-  s.threads = o.integer("threads", s.threads);
-  check::atLeast(s.threads, 0, o.member("threads"));
+  s.threads = o.integer("threads", s.threads, 0, inputLimits().maxThreads);
   return s;
 }
 
@@ -444,8 +451,7 @@ OutputSettings readOutputs(const Value& v) {
   OutputSettings out;
   out.vtu = o.boolean("vtu", out.vtu);
   out.obj = o.boolean("obj", out.obj);
-  out.frameStride = o.integer("frameStride", out.frameStride);
-  check::atLeast(out.frameStride, 1, o.member("frameStride"));
+  out.frameStride = o.integer("frameStride", out.frameStride, 1, static_cast<int>(inputLimits().maxSteps));
   out.probesCsv = o.boolean("probesCsv", out.probesCsv);
   out.png = o.boolean("png", out.png);
   out.plots = o.boolean("plots", out.plots);
@@ -477,11 +483,7 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
 }
 
 Scene loadSceneFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const nlohmann::json document = json::parse(text.str(), path);
+  const nlohmann::json document = json::parseFile(path, "scene file");
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   return sceneFromJson(document, base.empty() ? "." : base.string());
 }

@@ -73,6 +73,17 @@ TEST_CASE("material: validate names the offending field") {
   rejects([](ShellMaterialParams& m) { m.massDampingCoefficient = -0.1; }, "massDampingCoefficient");
   rejects([](ShellMaterialParams& m) { m.stiffnessDampingCoefficient = std::nan(""); },
           "stiffnessDampingCoefficient");
+  // Exactly the positive-definite energies pass: μ > 0, λ + μ > 0, β > 0, 2α + β > 0.
+  rejects([](ShellMaterialParams& m) { m.membraneMu = 0.0; m.membraneLambda = -100.0; }, "membraneMu");
+  rejects([](ShellMaterialParams& m) { m.membraneMu = 0.0; m.membraneLambda = 100.0; }, "membraneMu");
+  rejects([](ShellMaterialParams& m) { m.membraneLambda = -m.membraneMu; }, "membraneLambda");
+  rejects([](ShellMaterialParams& m) { m.bendingBeta = 0.0; }, "bendingBeta");
+  rejects([](ShellMaterialParams& m) { m.bendingAlpha = -0.6 * m.bendingBeta; }, "bendingAlpha");  // α + β > 0 only
+  rejects([](ShellMaterialParams& m) { m.bendingAlpha = -0.5 * m.bendingBeta; }, "bendingAlpha");
+  ShellMaterialParams nearBounds;
+  nearBounds.membraneLambda = -0.99 * nearBounds.membraneMu;
+  nearBounds.bendingAlpha = -0.49 * nearBounds.bendingBeta;
+  CHECK_NOTHROW(validate(nearBounds));
   ShellMaterialParams negativeLambda;
   negativeLambda.membraneLambda = -100.0;  // auxetic but still positive definite (λ + μ > 0)
   CHECK_NOTHROW(validate(negativeLambda));

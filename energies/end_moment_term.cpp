@@ -1,13 +1,12 @@
-#include "validation/end_moment_term.h"
+#include "energies/end_moment_term.h"
 
 #include "core/topology.h"
-#include "validation/line_load.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-namespace jetshell::validation {
+namespace jetshell {
 namespace {
 
 Eigen::Vector3d unitFaceNormal(const Eigen::VectorXd& x, const int* ids) {
@@ -61,7 +60,14 @@ double EndMomentTerm::meanRotation(const Eigen::VectorXd& x) const {
 std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std::vector<int>& chain,
                                                  const Eigen::Vector3d& axis, double moment) {
   if (!(axis.norm() > 0.0)) throw InputError("end moment: the axis must be nonzero");
-  const double length = chainLength(mesh, chain);
+  if (chain.size() < 2) throw InputError("end moment: the chain needs at least two vertices");
+  double length = 0.0;
+  for (std::size_t k = 0; k < chain.size(); ++k) {
+    if (chain[k] < 0 || chain[k] >= mesh.numVertices())
+      throw InputError("end moment: chain vertex " + std::to_string(k) + " = " + std::to_string(chain[k]) +
+                       " is out of range [0, " + std::to_string(mesh.numVertices()) + ")");
+    if (k > 0) length += (mesh.V.row(chain[k]) - mesh.V.row(chain[k - 1])).norm();
+  }
   const Topology topo = buildTopology(mesh);
   auto state = std::make_shared<EndMomentEnergy::State>();
   StencilTable table;
@@ -95,4 +101,4 @@ std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std:
   return std::make_shared<EndMomentTerm>(mesh.numVertices(), std::move(table), std::move(state));
 }
 
-}  // namespace jetshell::validation
+}  // namespace jetshell

@@ -1,5 +1,6 @@
 // An end moment as an energy term, −λ·M·θ, written only as a templated element energy: the framework's Jets
-// give its gradient and Hessian (no hand derivatives).
+// give its gradient and Hessian (no hand derivatives). The load factor λ is a differentiable parameter
+// ("load_factor"). Used by the validation benchmarks (validation/benchmarks.cpp) and available to any scene.
 //
 // A displacement-only shell has no rotational dofs, so a moment acts through the rotation θ of the loaded
 // edge, measured from the faces along it: each boundary segment of the loaded edge contributes
@@ -19,11 +20,12 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <vector>
 
-namespace jetshell::validation {
+namespace jetshell {
 
 /// The element energy: one element per loaded boundary segment, stencil = its face's three vertices.
 struct EndMomentEnergy {
@@ -37,9 +39,11 @@ struct EndMomentEnergy {
   };
   struct State {
     std::vector<Element> elements;
-    double loadFactor = 1.0;
   };
   std::shared_ptr<State> state;
+  static constexpr int kParameters = 1;
+  static constexpr std::array<const char*, 1> kParameterNames{{"load_factor"}};
+  std::array<double, 1> parameters{{1.0}};  // λ
 
   /// Rotation θ_f of element e at positions x (the face's 9 coordinates). The stored normal o is carried by
   /// the smallest rotation taking the stored direction u to the current one a (Rodrigues with w = u × a:
@@ -62,8 +66,8 @@ struct EndMomentEnergy {
   }
 
   template <typename T>
-  T operator()(const T* x, int e) const {
-    return constant<T>(-state->loadFactor * state->elements[static_cast<std::size_t>(e)].moment) * rotation(x, e);
+  T operator()(const T* x, const T* p, int e) const {
+    return -p[0] * constant<T>(state->elements[static_cast<std::size_t>(e)].moment) * rotation(x, e);
   }
 };
 
@@ -72,8 +76,8 @@ class EndMomentTerm : public ElementEnergyTerm<EndMomentEnergy> {
   /// Use makeEndMomentTerm; table holds one face (3 vertex ids) per element.
   EndMomentTerm(int numVertices, StencilTable table, std::shared_ptr<EndMomentEnergy::State> state);
 
-  void setLoadFactor(double lambda) { functor().state->loadFactor = lambda; }
-  double loadFactor() const { return functor().state->loadFactor; }
+  void setLoadFactor(double lambda) { functor().parameters[0] = lambda; }
+  double loadFactor() const { return functor().parameters[0]; }
 
   /// Makes x the unwrapping origin: stores every face's current rotation and normal. Call after each
   /// accepted load step.
@@ -95,4 +99,4 @@ class EndMomentTerm : public ElementEnergyTerm<EndMomentEnergy> {
 std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std::vector<int>& chain,
                                                  const Eigen::Vector3d& axis, double moment);
 
-}  // namespace jetshell::validation
+}  // namespace jetshell

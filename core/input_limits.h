@@ -1,0 +1,41 @@
+// Bounds on every size and count that enters from outside (files, scene fields, generator parameters, the
+// command line). Input beyond a bound is rejected where it enters, with a message naming the field and the bound,
+// before anything is allocated for it, so no input can overflow an int index or exhaust the memory.
+//
+// Why these values:
+// - vertices, faces: 3N unknowns and the Hessian's ~170 N non-zeros must fit the int indices of the sparse
+//   matrices with room to spare (4e6 vertices → ~7e8 non-zeros); such a mesh already needs tens of GB to solve.
+// - steps: load steps, time steps (duration / timeStep) and relaxation steps; 1e7 steps of 60 Hz dynamics are
+//   46 hours of simulated time.
+// - Newton iterations per step, threads: far above any useful value, far below what breaks OpenMP or an int.
+// - file sizes, line length, JSON depth and string length: bound the memory a hostile file can claim (an OBJ
+//   line, a JSON document) and the recursion of everything that walks a JSON tree.
+//
+// The values are a mutable process-wide struct so that a harness (the fuzzers) can lower them to keep each input
+// cheap; the program never changes them.
+#pragma once
+
+#include <cstdint>
+
+namespace jetshell {
+
+struct InputLimits {
+  std::int64_t maxVertices = 4'000'000;      // per mesh and per scene (all shell actors stacked)
+  std::int64_t maxFaces = 8'000'000;         // per mesh and per scene
+  std::int64_t maxSteps = 10'000'000;        // load steps, time steps, relaxation steps
+  std::int64_t maxIterations = 1'000'000;    // Newton iterations per step
+  int maxThreads = 256;                      // solver.threads
+  std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)
+  std::int64_t maxObjLineBytes = 1 << 16;    // one OBJ line (64 KiB)
+  std::int64_t maxJsonBytes = 256LL << 20;   // scene (JSON) file size (256 MiB)
+  int maxJsonDepth = 64;                     // nesting of JSON arrays and objects
+  std::int64_t maxStringBytes = 4096;        // any JSON string (names, paths, description)
+};
+
+/// The limits in force (defaults above).
+inline InputLimits& inputLimits() {
+  static InputLimits limits;
+  return limits;
+}
+
+}  // namespace jetshell

@@ -1,0 +1,37 @@
+// The one-ring part of a vertex-blocked Hessian: the entries that couple a vertex with itself or with a vertex it
+// shares an edge with. Bending stencils couple each vertex with its two-ring, which makes the Cholesky factor of
+// the full Hessian several times larger than that of the one-ring pattern (membrane + inertia); the one-ring
+// part's factor is therefore a cheap preconditioner for CG on the full Hessian.
+// Inputs: the mesh's triangles (vertex indices), the upper triangle of a 3N×3N Hessian (CSC, compressed).
+// Outputs: the upper triangle restricted to the one-ring vertex pairs (same 3N×3N size, compressed), each dropped
+// entry's magnitude added to the two diagonal entries it couples (so the result ⪰ H: positive definite whenever H
+// is); fixed dofs' identity rows stay as they are (they are diagonal).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Sparse>
+
+#include <vector>
+
+namespace jetshell {
+
+class OneRingFilter {
+ public:
+  OneRingFilter() = default;
+  /// F: triangles (rows of three vertex indices in [0, numVertices)).
+  OneRingFilter(const Eigen::MatrixXi& F, int numVertices);
+
+  bool empty() const { return neighbours_.empty(); }
+  int numVertices() const { return static_cast<int>(neighbours_.size()); }
+  /// Whether vertices a and b are equal or share an edge.
+  bool adjacent(int a, int b) const;
+
+  /// The one-ring part of `upper` (3·numVertices square). Reuses `out`'s storage; the result's pattern depends
+  /// only on upper's pattern.
+  void apply(const Eigen::SparseMatrix<double>& upper, Eigen::SparseMatrix<double>& out) const;
+
+ private:
+  std::vector<std::vector<int>> neighbours_;  // sorted, self included
+};
+
+}  // namespace jetshell

@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Hostile input through the `jetshell` program: each case must exit with code 3 and print one line naming the
+# problem (checked by a fragment), and finish quickly (a FIFO or /dev/zero must not hang or eat memory).
+# Usage: hostile_cli_test.sh path/to/jetshell
+set -u
+js="$1"
+dir="$(mktemp -d)"
+trap 'rm -rf "$dir"' EXIT
+failures=0
+
+# expect CODE FRAGMENT -- COMMAND...: runs COMMAND (at most 20 s), checks its exit code and that stderr holds FRAGMENT.
+expect() {
+  local code="$1" fragment="$2"
+  shift 3
+  local err rc
+  err="$(timeout 20 "$@" 2>&1 >/dev/null)"
+  rc=$?
+  if [ "$rc" -ne "$code" ] || [[ "$err" != *"$fragment"* ]]; then
+    echo "FAIL: $* -> exit $rc (expected $code), stderr: ${err:0:300}"
+    echo "      expected to contain: $fragment"
+    failures=$((failures + 1))
+  fi
+}
+
+static='{"type": "static", "loadSteps": 1}'
+scene() {  # scene FILE SHAPE ANALYSIS [EXTRA]
+  cat >"$dir/$1" <<JSON
+{"gravity": [0, 0, 0],
+ "actors": [{"type": "shell", "shape": $2, "colliderType": "None", "fixed": [{"select": {"all": true}}]}],
+ "analysis": $3 ${4:-}}
+JSON
+}
+rect='{"generator": "rectangle", "width": 1, "height": 1, "nx": 2, "ny": 2}'
+
+scene huge.json '{"generator": "rectangle", "width": 1, "height": 1, "nx": 65535, "ny": 65535}' "$static"
+expect 3 "/actors/0/shape: rectangle grid: the resolution gives 4294967296 vertices" -- "$js" run "$dir/huge.json" --check
+scene dt.json "$rect" '{"type": "dynamic", "timeStep": 1e-300, "duration": 1}'
+expect 3 "/analysis/timeStep = 1e-300: 1e+300 steps over the duration 1 s, too many (at most 10000000)" -- \
+  "$js" run "$dir/dt.json" --check
+scene threads.json "$rect" "$static" ', "solver": {"threads": 1000000}'
+expect 3 "/solver/threads = 1000000: too large (at most 256)" -- "$js" run "$dir/threads.json" --check
+expect 3 "/dev/zero: not a regular file" -- "$js" run /dev/zero --check
+mkfifo "$dir/scene.fifo"
+expect 3 "scene.fifo: not a regular file" -- "$js" run "$dir/scene.fifo" --check
+mkfifo "$dir/mesh.fifo"
+scene fifo_mesh.json '{"obj": "mesh.fifo"}' "$static"
+expect 3 "/actors/0/shape/obj: $dir/mesh.fifo: not a regular file" -- "$js" run "$dir/fifo_mesh.json" --check
+scene zero_mesh.json '{"obj": "/dev/zero"}' "$static"
+expect 3 "/actors/0/shape/obj: /dev/zero: not a regular file" -- "$js" run "$dir/zero_mesh.json" --check
+head -c 100000 /dev/urandom >"$dir/garbage.obj"
+scene garbage.json '{"obj": "garbage.obj"}' "$static"
+expect 3 "garbage.obj:" -- "$js" run "$dir/garbage.json" --check
+expect 3 "--mesh: '4294967300x1' is not N1xN2 with counts from 1 to 100000" -- "$js" validate cantilever-end-shear --mesh 4294967300x1
+expect 3 "--mesh: 100000x100000 gives 10000200001 vertices, too many (at most 4000000)" -- \
+  "$js" validate cantilever-end-shear --mesh 100000x100000
+expect 3 "--mesh: '8x' is not N1xN2" -- "$js" validate cantilever-end-shear --mesh 8x
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures hostile command-line case(s) failed"
+  exit 1
+fi
+echo "all hostile command-line cases exit 3 with their message"

@@ -1,0 +1,42 @@
+#include "tools/bench_cloth.h"
+
+#include "core/mesh_generators.h"
+
+#include <ctime>
+#include <fstream>
+
+namespace jetshell::cli {
+
+ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping) {
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(1.0, 1.0, n, n);
+  p.material = ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
+  p.material.massDampingCoefficient = massDamping;
+  p.material.stiffnessDampingCoefficient = stiffnessDamping;
+  p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  const int topLeft = n * (n + 1), topRight = topLeft + n;
+  p.prescribed.fixVertex(topLeft, p.mesh.V.row(topLeft).transpose());
+  p.prescribed.fixVertex(topRight, p.mesh.V.row(topRight).transpose());
+  return p;
+}
+
+double wallSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+double loadAverage() {
+  std::ifstream f("/proc/loadavg");
+  double load = -1.0;
+  if (!(f >> load)) return -1.0;
+  return load;
+}
+
+}  // namespace jetshell::cli
