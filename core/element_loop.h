@@ -3,10 +3,12 @@
 // For each colour of the schedule (blocks of elements sharing no vertex), blocks run in parallel with OpenMP
 // and the elements of a block in order; colours run one after another. Gradient and Hessian entries are
 // therefore summed in a fixed order whatever the thread count, and the energy is summed serially from
-// per-element values: the same input gives the same bits.
+// per-element values: the same input gives the same bits. An exception thrown by an element is caught inside
+// the parallel region and rethrown after it (core/parallel_errors.h), never terminating the program.
 #pragma once
 
 #include "core/assembly.h"
+#include "core/parallel_errors.h"
 #include "core/psd_projection.h"
 #include "core/stencil.h"
 #include "core/term.h"
@@ -48,20 +50,31 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
       request.hessian->addElementHessian(request.hessianSlot, e, H.data());
     }
   };
+  ParallelErrors errors;
   if (wantG || wantH) {
+    // One parallel region for all colours: a colour ends at the worksharing loop's barrier, without a team
+    // start-up and join per colour (half the synchronization points, each of which costs a scheduling delay
+    // when the other core is busy). Small meshes run serially: thread start-up costs more than their elements.
+#pragma omp parallel if (ne >= kParallelMinElements)
     for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
-#pragma omp parallel for schedule(dynamic, 1) if (ne >= kParallelMinElements)
+#pragma omp for schedule(dynamic, 1)
       for (int i = 0; i < n; ++i)
-        for (int e = color[i].begin; e < color[i].end; ++e) body(e);
+        errors.run([&] {
+          for (int e = color[i].begin; e < color[i].end; ++e) body(e);
+        });
+      errors.rethrow();
     }
   } else {
 #pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
     for (int e = 0; e < ne; ++e) {
-      Eigen::Matrix<double, M, 1> g;
-      Eigen::Matrix<double, M, M> H;
-      elementEnergy[e] = kernel(e, table.element(e), false, false, g, H);
+      errors.run([&] {
+        Eigen::Matrix<double, M, 1> g;
+        Eigen::Matrix<double, M, M> H;
+        elementEnergy[e] = kernel(e, table.element(e), false, false, g, H);
+      });
     }
+    errors.rethrow();
   }
   double total = 0.0;
   for (double v : elementEnergy) total += v;

@@ -1,11 +1,62 @@
 #!/usr/bin/env bash
-# Installs the dependencies, builds jetshell (portable Release) and runs the whole test
-# suite with CTest. Usage: bash scripts/test.sh [build-dir]
+# Installs the dependencies, builds jetshell (portable Release) and runs the whole test suite with CTest.
+# With --all (the default when CI=true) two more passes follow, each in a build directory of its own:
+#   <build-dir>-sanitize  the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer (g++), but
+#                         the wall-clock-budgeted stress matrix;
+#   <build-dir>-fuzz      the libFuzzer harnesses of tests/fuzz (clang 14, scripts/install-fuzz-deps.sh), each
+#                         run for FUZZ_SECONDS (default 45) from the committed seed corpus.
+# Every pass runs; the script fails if any of them failed.
+# Usage: bash scripts/test.sh [--all] [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+all=0
+[ "${CI:-}" = "true" ] && all=1
+if [ "${1:-}" = "--all" ]; then all=1; shift; fi
 build="${1:-build-test}"
+jobs="$(nproc)"
+fuzzSeconds="${FUZZ_SECONDS:-45}"
+
 bash scripts/install-deps.sh
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF
-cmake --build "$build" -j"$(nproc)"
-cd "$build"
-ctest --output-on-failure -j"$(nproc)" --timeout 900
+cmake --build "$build" -j"$jobs"
+(cd "$build" && ctest --output-on-failure -j"$jobs" --timeout 900)
+[ "$all" -eq 1 ] || exit 0
+
+failed=()
+# The stress matrix gives every cell a wall-clock budget, which the sanitizers' slow-down (2-3x) would break;
+# its code paths run in the unit suites.
+sanitizeExclude="^stress_quick$"
+sanitize() {
+  cmake -S . -B "$build-sanitize" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF -DJETSHELL_SANITIZE=ON &&
+    cmake --build "$build-sanitize" -j"$jobs" &&
+    (cd "$build-sanitize" &&
+      ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        ctest --output-on-failure -j"$jobs" --timeout 900 -E "$sanitizeExclude")
+}
+fuzz() {
+  bash scripts/install-fuzz-deps.sh &&
+    cmake -S . -B "$build-fuzz" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++-14 &&
+    cmake --build "$build-fuzz" -j"$jobs" || return 1
+  for parser in obj scene; do
+    mkdir -p "$build-fuzz/corpus-$parser"
+    # New inputs go to the build directory; the committed seeds stay as they are.
+    local log="$build-fuzz/$parser-fuzz.log"
+    if ! "$build-fuzz/tests/fuzz/${parser}_fuzzer" -dict="tests/fuzz/$parser.dict" -max_total_time="$fuzzSeconds" \
+      -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 -artifact_prefix="$build-fuzz/" \
+      "$build-fuzz/corpus-$parser" "tests/fuzz/corpus/$parser" >"$log" 2>&1; then
+      tail -n 80 "$log"
+      echo "test.sh: the $parser fuzzer failed (log: $log)"
+      return 1
+    fi
+    echo "$parser fuzzer: $(grep -E '^Done' "$log")"
+  done
+}
+echo "== test.sh: sanitizer pass (ASan + UBSan) =="
+sanitize || failed+=("sanitizer")
+echo "== test.sh: fuzz pass (${fuzzSeconds} s per parser) =="
+fuzz || failed+=("fuzz")
+if [ ${#failed[@]} -ne 0 ]; then
+  echo "test.sh: failed passes: ${failed[*]}"
+  exit 1
+fi
+echo "test.sh: main, sanitizer and fuzz passes all passed"

@@ -1,6 +1,7 @@
 #include "solvers/cholmod_factor.h"
 
 #include <cholmod.h>
+#include <omp.h>
 
 #include <sstream>
 
@@ -44,7 +45,26 @@ std::string statusMessage(const char* what, const cholmod_common& c) {
 
 }  // namespace
 
-CholmodFactor::CholmodFactor(FillOrdering ordering) : impl_(std::make_unique<Impl>()) {
+namespace {
+
+/// Runs the enclosing scope with n OpenMP threads (the BLAS's, for OpenBLAS's OpenMP build).
+class ScopedThreads {
+ public:
+  explicit ScopedThreads(int n) : saved_(omp_get_max_threads()) {
+    if (n > 0 && n != saved_) omp_set_num_threads(n);
+  }
+  ~ScopedThreads() { omp_set_num_threads(saved_); }
+  ScopedThreads(const ScopedThreads&) = delete;
+  ScopedThreads& operator=(const ScopedThreads&) = delete;
+
+ private:
+  int saved_;
+};
+
+}  // namespace
+
+CholmodFactor::CholmodFactor(FillOrdering ordering, int blasThreads)
+    : impl_(std::make_unique<Impl>()), blasThreads_(blasThreads) {
   cholmod_start(&impl_->common);
   cholmod_common& c = impl_->common;
   switch (ordering) {
@@ -111,6 +131,7 @@ CholmodFactor::Status CholmodFactor::factorize(const Eigen::SparseMatrix<double>
     return Status::Failed;
   }
   cholmod_sparse A = view(upper);
+  const ScopedThreads threads(blasThreads_);
   double beta[2] = {shift, 0.0};  // CHOLMOD factors A + βI
   const int ok = cholmod_factorize_p(&A, beta, nullptr, 0, impl_->factor, c);
   if (c->status == CHOLMOD_NOT_POSDEF || impl_->factor->minor < impl_->factor->n) {
@@ -132,6 +153,7 @@ CholmodFactor::Status CholmodFactor::solve(const Eigen::VectorXd& b, Eigen::Vect
     message_ = "solve without a factor";
     return Status::Failed;
   }
+  const ScopedThreads threads(blasThreads_);
   cholmod_dense B;
   B.nrow = B.d = B.nzmax = static_cast<std::size_t>(b.size());
   B.ncol = 1;

@@ -3,6 +3,10 @@
 // Inputs: the fill-reducing ordering (FillOrdering; Auto is CHOLMOD's default: AMD, then METIS when AMD's
 // fill is poor), the matrix. Outputs: the factor, its solves, and the analysis statistics (nnz(L) and the
 // flop count of one numeric factorization, deterministic for a given pattern and ordering).
+// Threads: factorizations and solves run with `blasThreads` OpenMP threads (default 1), restored afterwards.
+// OpenBLAS's OpenMP build (scripts/install-deps.sh) follows omp_get_max_threads() per call; other BLAS builds
+// ignore it. Measured on the 2-core machine under load: the one-ring factor of the 2.6k-vertex cloth took
+// 12–15 ms with one thread and 59–78 ms with two (small supernodes: the threads mostly wait at BLAS barriers).
 #pragma once
 
 #include "solvers/fill_ordering.h"
@@ -18,7 +22,7 @@ class CholmodFactor {
  public:
   enum class Status { Ok, NotPositiveDefinite, Failed };
 
-  explicit CholmodFactor(FillOrdering ordering = FillOrdering::Auto);
+  explicit CholmodFactor(FillOrdering ordering = FillOrdering::Auto, int blasThreads = 1);
   ~CholmodFactor();
   CholmodFactor(const CholmodFactor&) = delete;
   CholmodFactor& operator=(const CholmodFactor&) = delete;
@@ -42,6 +46,7 @@ class CholmodFactor {
   std::unique_ptr<Impl> impl_;
   bool factorized_ = false;
   FactorStatistics statistics_;
+  int blasThreads_ = 1;
   std::string message_;
 };
 

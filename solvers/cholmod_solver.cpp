@@ -9,7 +9,7 @@ namespace {
 
 class CholmodSolver : public LinearSolver {
  public:
-  explicit CholmodSolver(const LinearSolverOptions& options) : LinearSolver(options), factor_(options.ordering) {}
+  explicit CholmodSolver(const LinearSolverOptions& options) : LinearSolver(options), factor_(options.ordering, options.blasThreads) {}
   std::string name() const override { return "cholmod"; }
   FactorStatistics factorStatistics() const override { return factor_.statistics(); }
 

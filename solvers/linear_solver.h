@@ -45,6 +45,7 @@ struct LinearSolverOptions {
   LinearSolverType type = LinearSolverType::Auto;
   Preconditioner preconditioner = Preconditioner::IncompleteCholesky;  // PCG only
   FillOrdering ordering = FillOrdering::Auto;  // CHOLMOD factors (direct and lagged preconditioner)
+  int blasThreads = 1;  // threads of CHOLMOD's BLAS (solvers/cholmod_factor.h)
   /// The mesh's vertex adjacency, needed by the OneRingCholesky preconditioner (solvers/dynamics.cpp and
   /// solvers/statics.cpp fill it from the system's mesh when it is empty).
   std::shared_ptr<const OneRingFilter> oneRing;

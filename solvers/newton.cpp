@@ -13,7 +13,7 @@ namespace {
 bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& b) {
   return a.type == b.type && a.preconditioner == b.preconditioner && a.autoDirectMaxDofs == b.autoDirectMaxDofs &&
          a.cgRelativeTolerance == b.cgRelativeTolerance && a.cgMaxIterations == b.cgMaxIterations &&
-         a.maxRegularizations == b.maxRegularizations && a.ordering == b.ordering &&
+         a.maxRegularizations == b.maxRegularizations && a.ordering == b.ordering && a.blasThreads == b.blasThreads &&
          a.lagRefactorIterations == b.lagRefactorIterations && a.oneRing == b.oneRing;
 }
 

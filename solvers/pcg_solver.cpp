@@ -24,7 +24,7 @@ namespace {
 
 class PcgSolver : public LinearSolver {
  public:
-  explicit PcgSolver(const LinearSolverOptions& options) : LinearSolver(options), factor_(options.ordering) {}
+  explicit PcgSolver(const LinearSolverOptions& options) : LinearSolver(options), factor_(options.ordering, options.blasThreads) {}
   FactorStatistics factorStatistics() const override { return factor_.statistics(); }
   std::string name() const override {
     return std::string("pcg+") + toString(options().preconditioner);

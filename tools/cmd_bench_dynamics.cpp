@@ -4,7 +4,8 @@
 //   RMS error  = sqrt(mean over samples and vertices of |x − x_ref|²)   [m]
 //   final error = sqrt(mean over vertices of |x − x_ref|²) at the last sample   [m]
 // against the run's wall and process-CPU seconds (the load average is printed next to them). Prints a table
-// (markdown), writes --json and a log-log PNG chart of RMS error against wall time (--png).
+// (markdown), writes --json and a log-log PNG chart of RMS error against wall (or, --chart-time cpu, process CPU)
+// time (--png); --replot redraws the chart from an earlier --json without running anything.
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "solvers/time_step_policy.h"
@@ -19,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -43,6 +45,8 @@ struct DynamicsBenchOptions {
   double cgTolerance = 1e-6;
   std::string ordering = "auto";
   std::string json, png;
+  std::string chartTime = "wall";  // wall | cpu
+  std::string replot;
 };
 
 std::vector<std::string> splitList(const std::string& text, const char* field) {
@@ -169,8 +173,76 @@ nlohmann::json toJson(const RunFigures& f) {
           {"rms_error_m", f.rmsError},  {"final_error_m", f.finalError}};
 }
 
+void plotRuns(const std::vector<RunFigures>& runs, int vertices, const DynamicsBenchOptions& o) {
+    PlotSpec spec;
+    const bool cpu = o.chartTime == "cpu";
+    spec.title = "Hanging cloth, " + std::to_string(vertices) + " vertices: trajectory error against " +
+                 (cpu ? "process CPU time" : "wall time");
+    spec.xLabel = cpu ? "process CPU time [s]" : "wall time [s]";
+    spec.yLabel = "RMS vertex position error over time [m]";
+    spec.logX = spec.logY = true;
+    std::vector<std::string> labels;
+    for (const RunFigures& f : runs)
+      if (std::find(labels.begin(), labels.end(), f.label) == labels.end()) labels.push_back(f.label);
+    for (const std::string& label : labels) {
+      std::vector<double> x, y;
+      for (const RunFigures& f : runs)
+        if (f.label == label && f.completed && f.rmsError > 0.0) {
+          x.push_back(std::max(cpu ? f.cpu : f.wall, 1e-6));
+          y.push_back(f.rmsError);
+        }
+      if (!x.empty()) spec.series.emplace_back(label, x, y, "linespoints", "", label.find("page") != std::string::npos ? 2 : 1);
+    }
+    plotPng(spec, o.png);
+    std::printf("wrote %s\n", o.png.c_str());
+  }
+
+/// Redraws the chart from an earlier --json.
+int replot(const DynamicsBenchOptions& o) {
+  if (o.png.empty()) throw InputError("--replot: needs --png");
+  std::ifstream in(o.replot);
+  if (!in) throw InputError(o.replot + ": cannot be read");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw InputError(o.replot + ": not JSON (" + std::string(e.what()) + ")");
+  }
+  if (!j.contains("runs") || !j["runs"].is_array() || !j.contains("mesh"))
+    throw InputError(o.replot + ": /runs or /mesh missing: not a 'bench dynamics' JSON file");
+  if (j["runs"].size() > 4096) throw InputError(o.replot + ": /runs: more than 4096 runs");
+  std::vector<RunFigures> runs;
+  std::size_t i = 0;
+  for (const nlohmann::json& r : j["runs"]) {
+    RunFigures f;
+    try {
+      f.integrator = r.at("integrator").get<std::string>();
+      f.policy = r.at("policy").get<std::string>();
+      f.eta = r.at("eta").get<double>();
+      f.completed = r.at("completed").get<bool>();
+      f.wall = r.at("wall_seconds").get<double>();
+      f.cpu = r.at("process_cpu_seconds").get<double>();
+      f.rmsError = r.at("rms_error_m").get<double>();
+    } catch (const std::exception& e) {
+      throw InputError(o.replot + ": /runs/" + std::to_string(i) + ": " + e.what());
+    }
+    f.label = seriesLabel(f);
+    runs.push_back(std::move(f));
+    ++i;
+  }
+  int vertices = 0;
+  try {
+    vertices = j.at("mesh").at("vertices").get<int>();
+  } catch (const std::exception& e) {
+    throw InputError(o.replot + ": /mesh/vertices: " + e.what());
+  }
+  plotRuns(runs, vertices, o);
+  return kOk;
+}
+
 int runDynamicsBench(const DynamicsBenchOptions& o) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  if (!o.replot.empty()) return replot(o);
   if (o.threads > 0) omp_set_num_threads(o.threads);
   // Inputs.
   std::vector<double> dts;
@@ -248,27 +320,7 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
   for (const RunFigures& f : runs) rows.push_back(toJson(f));
   out["runs"] = rows;
 
-  if (!o.png.empty()) {
-    PlotSpec spec;
-    spec.title = "Hanging cloth, " + std::to_string(problem.mesh.numVertices()) + " vertices: trajectory error against wall time";
-    spec.xLabel = "wall time [s]";
-    spec.yLabel = "RMS vertex position error over time [m]";
-    spec.logX = spec.logY = true;
-    std::vector<std::string> labels;
-    for (const RunFigures& f : runs)
-      if (std::find(labels.begin(), labels.end(), f.label) == labels.end()) labels.push_back(f.label);
-    for (const std::string& label : labels) {
-      std::vector<double> x, y;
-      for (const RunFigures& f : runs)
-        if (f.label == label && f.completed && f.rmsError > 0.0) {
-          x.push_back(std::max(f.wall, 1e-6));
-          y.push_back(f.rmsError);
-        }
-      if (!x.empty()) spec.series.emplace_back(label, x, y, "linespoints", "", label.find("page") != std::string::npos ? 2 : 1);
-    }
-    plotPng(spec, o.png);
-    std::printf("wrote %s\n", o.png.c_str());
-  }
+  if (!o.png.empty()) plotRuns(runs, problem.mesh.numVertices(), o);
   if (!o.json.empty()) {
     writeFileAtomically(o.json, out.dump(2) + "\n");
     std::printf("wrote %s\n", o.json.c_str());
@@ -298,7 +350,10 @@ const RegisterSubcommand reg("bench dynamics", [](CLI::App& app, int& exitCode) 
   cmd->add_option("--ordering", opts->ordering, "CHOLMOD fill-reducing ordering: auto | amd | metis | nesdis")
       ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
   cmd->add_option("--json", opts->json, "Write the figures as JSON");
-  cmd->add_option("--png", opts->png, "Write the error-against-wall-time chart (PNG)");
+  cmd->add_option("--png", opts->png, "Write the error-against-time chart (PNG)");
+  cmd->add_option("--replot", opts->replot, "Only redraw --png from the JSON of an earlier run");
+  cmd->add_option("--chart-time", opts->chartTime, "Time axis of the chart: wall | cpu (process CPU, steadier on a busy machine)")
+      ->check(CLI::IsMember({"wall", "cpu"}));
   cmd->callback([opts, &exitCode]() { exitCode = runDynamicsBench(*opts); });
 });
 

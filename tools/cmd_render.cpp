@@ -1,5 +1,7 @@
 // `jetshell render`: a shaded PNG of an output frame (.vtu), of the last frame of a series (.pvd), or of a run's
 // output directory.
+#include "core/input_file.h"
+#include "core/input_limits.h"
 #include "core/mesh.h"
 #include "tools/render/render_frames.h"
 #include "tools/subcommand.h"
@@ -14,11 +16,7 @@ namespace {
 
 /// The files of the last time step of a .pvd collection, as paths.
 std::vector<std::string> lastStepOf(const std::string& pvd) {
-  std::ifstream in(pvd);
-  if (!in) throw InputError(pvd + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string xml = text.str();
+  const std::string xml = readInputFile(pvd, inputLimits().maxJsonBytes, "frame collection");
   std::vector<std::pair<std::string, std::string>> entries;  // (timestep, file)
   for (std::size_t at = xml.find("<DataSet"); at != std::string::npos; at = xml.find("<DataSet", at + 1)) {
     const std::string tag = xml.substr(at, xml.find('>', at) - at);
@@ -76,8 +74,8 @@ const RegisterSubcommand reg("render", [](CLI::App& app, int& exitCode) {
                   "(e.g. volumes.vtu) are drawn in grey")
       ->required();
   cmd->add_option("--png", args->png, "Output PNG file")->required();
-  cmd->add_option("--width", args->options.width, "Image width in pixels")->capture_default_str();
-  cmd->add_option("--height", args->options.height, "Image height in pixels")->capture_default_str();
+  cmd->add_option("--width", args->options.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--height", args->options.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--azimuth", args->options.azimuthDegrees, "Camera angle around the up axis, degrees")->capture_default_str();
   cmd->add_option("--elevation", args->options.elevationDegrees, "Camera angle above the horizon, degrees")->capture_default_str();
   cmd->add_option("--up", args->up, "Up axis")->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z"}))->capture_default_str();

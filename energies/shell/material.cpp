@@ -23,13 +23,13 @@ ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double E, double nu, doub
   require(std::isfinite(nu) && nu > -1.0 && nu < 0.5, w, "poissonRatio", nu, "must lie in (-1, 0.5)");
   require(std::isfinite(rho0) && rho0 >= 0, w, "density", rho0, "must be finite and >= 0");
   require(std::isfinite(h) && h > 0, w, "thickness", h, "must be finite and > 0");
+  const ShellMaterialValues<double> v = shellMaterialFrom3dIsotropic(E, nu, rho0, h);
   ShellMaterialParams m;
-  const double d = 1.0 - nu * nu;
-  m.membraneLambda = h * E * nu / d;
-  m.membraneMu = h * E / (2.0 * (1.0 + nu));
-  m.bendingAlpha = h * h * h * E * nu / (12.0 * d);
-  m.bendingBeta = h * h * h * E * (1.0 - nu) / (12.0 * d);
-  m.density = h * rho0;
+  m.membraneLambda = v.membraneLambda;
+  m.membraneMu = v.membraneMu;
+  m.bendingAlpha = v.bendingAlpha;
+  m.bendingBeta = v.bendingBeta;
+  m.density = v.density;
   return m;
 }
 

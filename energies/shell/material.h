@@ -15,6 +15,20 @@ struct ShellMaterialParams {
   double stiffnessDampingCoefficient = 0.0;  // s, β_R
 };
 
+/// The formulas of ShellMaterialParamsFrom3dIsotropic on any scalar type, unchecked: with Ceres Jets they give
+/// the derivatives of (λ, μ, α, β, ρ_A0) with respect to (E, ν, ρ0, h) that fitting needs.
+template <typename T>
+struct ShellMaterialValues {
+  T membraneLambda, membraneMu, bendingAlpha, bendingBeta, density;
+};
+template <typename T>
+ShellMaterialValues<T> shellMaterialFrom3dIsotropic(const T& E, const T& nu, const T& rho0, const T& h) {
+  const T d = T(1.0) - nu * nu;
+  const T h3 = h * h * h;
+  return {h * E * nu / d, h * E / (T(2.0) * (T(1.0) + nu)), h3 * E * nu / (T(12.0) * d),
+          h3 * E * (T(1.0) - nu) / (T(12.0) * d), h * rho0};
+}
+
 /// λ = hEν/(1−ν²), μ = hE/(2(1+ν)), α = h³Eν/(12(1−ν²)), β = h³E(1−ν)/(12(1−ν²)), ρ_A0 = hρ0.
 /// Throws InputError for E <= 0, ν outside (−1, 0.5), ρ0 < 0, h <= 0 or non-finite values.
 ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double youngsModulus, double poissonRatio,

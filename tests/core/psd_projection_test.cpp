@@ -72,3 +72,17 @@ TEST_CASE("psd projection: names parse and print") {
   CHECK_THROWS_WITH(psdProjectionFromString("Clamp"), Catch::Contains("'Clamp'"));
   CHECK_THROWS_AS(psdProjectionFromString(""), InputError);
 }
+
+TEST_CASE("psd projection: a block with NaN is not diagonally dominant and stays non-finite") {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Identity() * 4.0;
+  H(0, 1) = H(1, 0) = std::nan("");
+  CHECK_FALSE(isDiagonallyDominant(H));
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = std::nan("");
+  CHECK_FALSE(isDiagonallyDominant(D));
+  for (PsdProjection mode : {PsdProjection::Clamp, PsdProjection::Abs}) {
+    Eigen::Matrix3d P = H;
+    projectPsd<3>(P, mode);
+    CHECK_FALSE(P.allFinite());
+  }
+}

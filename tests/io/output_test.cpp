@@ -69,7 +69,7 @@ TEST_CASE("output: broken .vtu files are named") {
   const std::string path = scratch("broken.vtu").string();
   writeFileAtomically(path, "<VTKFile type=\"PolyData\"></VTKFile>");
   CHECK_THROWS_WITH(readVtu(path), path + ": not a VTK XML UnstructuredGrid (.vtu) file");
-  CHECK_THROWS_WITH(readVtu(scratch("none.vtu").string()), scratch("none.vtu").string() + ": cannot open");
+  CHECK_THROWS_WITH(readVtu(scratch("none.vtu").string()), scratch("none.vtu").string() + ": cannot open frame file");
 }
 
 TEST_CASE("output: the .pvd series lists every frame with its time") {

@@ -1,5 +1,8 @@
 #include "tools/output/vtu.h"
 
+#include "core/input_file.h"
+#include "core/input_limits.h"
+
 #include "tools/output/atomic_file.h"
 
 #include <algorithm>
@@ -92,11 +95,7 @@ std::vector<double> numbers(const std::string& text, const std::string& path, co
 }  // namespace
 
 VtuFrame readVtu(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string xml = buffer.str();
+  const std::string xml = readInputFile(path, inputLimits().maxObjBytes, "frame file");
   if (xml.find("type=\"UnstructuredGrid\"") == std::string::npos)
     throw InputError(path + ": not a VTK XML UnstructuredGrid (.vtu) file");
   if (xml.find("<AppendedData") != std::string::npos)

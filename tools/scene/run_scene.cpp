@@ -49,7 +49,25 @@ bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
          a.stiffnessDampingCoefficient == b.stiffnessDampingCoefficient;
 }
 
-ShellProblem makeProblem(const Scene& scene, const SceneModel& model) {
+std::string format(const char* fmt, double a) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, fmt, a);
+  return buffer;
+}
+
+/// The up axis for pictures: against gravity, else +z.
+Eigen::Vector3d upAxis(const Scene& scene) {
+  return scene.gravity.norm() > 0 ? Eigen::Vector3d(-scene.gravity.normalized()) : Eigen::Vector3d::UnitZ();
+}
+
+struct ProbeHistory {
+  std::vector<double> abscissa;
+  std::vector<std::vector<double>> u;  // per probe × component: 3 series each
+};
+
+}  // namespace
+
+ShellProblem makeShellProblem(const Scene& scene, const SceneModel& model) {
   // The solver's ShellSystem takes one material and one gravity flag; stacked actors must agree on both.
   for (std::size_t a = 1; a < scene.shells.size(); ++a) {
     if (!sameMaterial(scene.shells[a].material, scene.shells[0].material))
@@ -77,7 +95,7 @@ ShellProblem makeProblem(const Scene& scene, const SceneModel& model) {
   return p;
 }
 
-NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
+NewtonOptions newtonOptionsFor(const SolverSettings& s, int defaultIterations) {
   NewtonOptions n;
   n.maxIterations = s.maxIterations.value_or(defaultIterations);
   if (s.residualTolerance) n.residualTolerance = *s.residualTolerance;
@@ -90,24 +108,6 @@ NewtonOptions newtonOptions(const SolverSettings& s, int defaultIterations) {
   n.bendingHessian = s.bendingHessian == "gaussNewton" ? BendingHessian::GaussNewton : BendingHessian::Exact;
   return n;
 }
-
-std::string format(const char* fmt, double a) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, a);
-  return buffer;
-}
-
-/// The up axis for pictures: against gravity, else +z.
-Eigen::Vector3d upAxis(const Scene& scene) {
-  return scene.gravity.norm() > 0 ? Eigen::Vector3d(-scene.gravity.normalized()) : Eigen::Vector3d::UnitZ();
-}
-
-struct ProbeHistory {
-  std::vector<double> abscissa;
-  std::vector<std::vector<double>> u;  // per probe × component: 3 series each
-};
-
-}  // namespace
 
 RunResult runScene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -126,7 +126,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   const AnalysisKind kind = type == AnalysisType::Static    ? AnalysisKind::Statics
                             : type == AnalysisType::Dynamic ? AnalysisKind::Dynamics
                                                             : AnalysisKind::DynamicRelaxation;
-  const ShellProblem problem = makeProblem(scene, model);
+  const ShellProblem problem = makeShellProblem(scene, model);
   ShellSystem system(problem, kind);
   Objective& objective = system.objective();
   RunOutput output(options.outputDirectory, scene, model, options.scenePath);
@@ -204,7 +204,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   if (type == AnalysisType::Static) {
     LoadSteppingOptions o;
     o.initialIncrement = o.maxIncrement = 1.0 / scene.analysis.loadSteps;
-    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
     const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
       const int step = s.step + 1;
       output.record({step, s.loadFactor, s.loadFactor, &s.x, nullptr});
@@ -231,7 +231,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     DynamicsOptions o;
     o.integrator = scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
     o.timeStep = scene.analysis.timeStep;
-    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
     o.acceptIterationCap = scene.solver.acceptIterationCap;
     DynamicsSolver solver(system, o);
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
@@ -332,7 +332,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     o.massDamping = scene.analysis.massDamping;
     o.maxSteps = scene.analysis.maxSteps;
     o.residualTolerance = scene.analysis.tolerance;
-    o.newton = newtonOptions(scene.solver, o.newton.maxIterations);
+    o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
     double firstResidual = -1.0;
     const RelaxationResult r = relaxToStatic(system, x, o, [&](const StepReport& s, double staticResidual) {
       addSolves(s);

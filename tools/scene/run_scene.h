@@ -3,7 +3,10 @@
 #pragma once
 
 #include "tools/output/run_output.h"
+#include "solvers/newton.h"
+#include "solvers/shell_system.h"
 #include "tools/scene/scene.h"
+#include "tools/scene/scene_model.h"
 
 #include <iosfwd>
 #include <string>
@@ -35,6 +38,12 @@ struct RunResult {
   std::vector<std::string> notes;     // unsupported features, picture problems
   std::vector<std::string> warnings;  // doubts about the result (inverted faces); also in summary.json
 };
+
+/// The solver's problem for a resolved scene. Throws InputError when shell actors differ in material or gravity
+/// flag (the solver takes one of each per scene).
+ShellProblem makeShellProblem(const Scene& scene, const SceneModel& model);
+/// Newton options from a scene's solver settings (defaultIterations when the scene sets none).
+NewtonOptions newtonOptionsFor(const SolverSettings& settings, int defaultIterations);
 
 /// Runs the scene. Throws InputError for scenes the solver cannot take yet (see SCENES.md: shell actors with
 /// different materials or gravity flags), for static problems with an unbalanced rigid-body mode

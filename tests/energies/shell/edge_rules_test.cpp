@@ -98,3 +98,20 @@ TEST_CASE("edge rules: every rule on every boundary edge passes the derivative c
     }
   }
 }
+
+TEST_CASE("bending: a zero-area face gives a non-finite energy on the value path as on the derivative paths") {
+  // The value path used to normalize with Eigen's normalized(), which leaves a zero vector finite, while the
+  // derivative paths divide by |c| = 0: the same configuration was finite or NaN depending on the request.
+  const CheckMesh m = makeCheckMeshes().front();
+  Eigen::VectorXd x = flatten(m.mesh.V);
+  x.segment<3>(3 * m.mesh.F(0, 2)) = x.segment<3>(3 * m.mesh.F(0, 0));  // face 0 collapses to a segment
+  BendingTerm term(m.mesh, m.topology, m.reference, 0.3, 0.7);
+  for (DerivativePath path : {DerivativePath::AutoDiff, DerivativePath::Analytic}) {
+    EvalOptions o;
+    o.path = path;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+    CHECK_FALSE(std::isfinite(term.evaluate(x, EvalRequest{}, o)));
+    const double e = term.evaluate(x, EvalRequest{&g, nullptr, -1}, o);
+    CHECK_FALSE((std::isfinite(e) && g.allFinite()));
+  }
+}

@@ -1,0 +1,133 @@
+#include "tools/fit/fit_optimizer.h"
+
+#include "core/mesh_generators.h"
+#include "energies/shell/shell_terms.h"
+#include "../../solvers/parameterized_springs.h"
+
+#include <catch2/catch.hpp>
+
+#include <memory>
+
+using namespace jetshell;
+
+namespace {
+
+/// The spring net of tests/solvers/adjoint_test.cpp as a fit problem: parameters (k, c) of the springs, the
+/// z displacement of every interior vertex observed at load factors 0.5 and 1.
+struct SpringFit {
+  TriMesh mesh = makeRectangleGrid(1.0, 1.0, 4, 4);
+  std::shared_ptr<testing::ParameterizedSprings> springs;
+  std::shared_ptr<NodalForceTerm> loads;
+  std::unique_ptr<Objective> objective;
+  std::unique_ptr<StaticFitProblem> problem;
+  std::vector<int> interior;
+
+  explicit SpringFit(const Eigen::Vector2d& truth) {
+    springs = std::make_shared<testing::ParameterizedSprings>(mesh, 1.0, 1.0, 0.9);
+    objective = std::make_unique<Objective>(mesh.numVertices());
+    objective->addTerm(springs);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * mesh.numVertices());
+    PrescribedPositions fixed;
+    for (int v = 0; v < mesh.numVertices(); ++v) {
+      const double x = mesh.V(v, 0), y = mesh.V(v, 1);
+      if (x == 0.0 || y == 0.0 || x == 1.0 || y == 1.0) {
+        fixed.fixVertex(v, mesh.V.row(v).transpose());
+      } else {
+        f[3 * v + 2] = 0.05 * (1.0 + x + 2.0 * y);
+        interior.push_back(v);
+      }
+    }
+    loads = makeNodalForceTerm(f);
+    objective->addTerm(loads);
+    objective->setPrescribed(fixed);
+    ParameterMapping mapping;
+    mapping.numParameters = 2;
+    mapping.termParameters = {{"springs", "k"}, {"springs", "c"}};
+    mapping.map = [](const Eigen::VectorXd& q, Eigen::VectorXd& v, Eigen::MatrixXd* J) {
+      v = q;
+      if (J) *J = Eigen::MatrixXd::Identity(2, 2);
+    };
+    LoadSteppingOptions o;
+    o.newton.residualTolerance = 1e-12;
+    o.newton.decrementTolerance = 1e-30;
+    // Synthetic observations: the equilibria with the true parameters.
+    std::vector<ObservedCoordinate> observed;
+    for (int level = 0; level < 2; ++level)
+      for (int v : interior) observed.push_back({level, 3 * v + 2, 0.0, 1.0, 0});
+    problem = std::make_unique<StaticFitProblem>(*objective, loads.get(), flatten(mesh.V), mapping,
+                                                 std::vector<double>{0.5, 1.0}, observed, o);
+    const FitEvaluation e = problem->evaluate(truth, FitDerivatives::None);
+    REQUIRE(e.ok);
+    for (ObservedCoordinate& c : observed) c.target = e.equilibria[static_cast<std::size_t>(c.level)][c.dof];
+    problem = std::make_unique<StaticFitProblem>(*objective, loads.get(), flatten(mesh.V), mapping,
+                                                 std::vector<double>{0.5, 1.0}, observed, o);
+  }
+};
+
+std::vector<FitVariable> variables() {
+  return {{"k", 0.8, 0.1, 10.0, true}, {"c", 60.0, 1.0, 1000.0, true}};
+}
+
+}  // namespace
+
+TEST_CASE("fit: adjoint gradient equals the forward-sensitivity Jᵀr and central differences", "[fit]") {
+  SpringFit fit(Eigen::Vector2d(1.3, 40.0));
+  const Eigen::Vector2d q(0.9, 55.0);
+  const FitEvaluation g = fit.problem->evaluate(q, FitDerivatives::Gradient);
+  const FitEvaluation j = fit.problem->evaluate(q, FitDerivatives::Jacobian);
+  REQUIRE(g.ok);
+  REQUIRE(j.ok);
+  CHECK((g.gradient - j.gradient).norm() <= 1e-9 * g.gradient.norm());
+  // Two levels: one factorization and one solve each for the adjoint gradient.
+  CHECK(fit.problem->counters().sensitivityFactorizations == 4);
+  CHECK(fit.problem->counters().sensitivitySolves == 2 + 4);
+  for (int i = 0; i < 2; ++i) {
+    const double h = 1e-4 * q[i];
+    Eigen::Vector2d qp = q, qm = q;
+    qp[i] += h;
+    qm[i] -= h;
+    const double fd = (fit.problem->evaluate(qp, FitDerivatives::None).misfit -
+                       fit.problem->evaluate(qm, FitDerivatives::None).misfit) / (2.0 * h);
+    CHECK(std::abs(fd - g.gradient[i]) <= 1e-6 * std::abs(fd));
+  }
+}
+
+TEST_CASE("fit: every algorithm recovers known parameters from synthetic observations", "[fit]") {
+  const Eigen::Vector2d truth(1.3, 40.0);
+  for (FitAlgorithm a : {FitAlgorithm::LevenbergMarquardt, FitAlgorithm::Lbfgs, FitAlgorithm::Mma,
+                         FitAlgorithm::Bobyqa, FitAlgorithm::NelderMead}) {
+    SpringFit fit(truth);
+    FitOptions o;
+    o.algorithm = a;
+    o.maxEvaluations = 400;
+    o.parameterTolerance = 1e-10;
+    o.misfitTolerance = 0.0;
+    const FitResult r = runFit(*fit.problem, variables(), o);
+    INFO(toString(a) << ": " << r.termination << " " << r.message << " after " << r.counters.evaluations
+                     << " evaluations; q = " << r.q.transpose());
+    CHECK(r.success);
+    CHECK(std::abs(r.q[0] / truth[0] - 1.0) <= 1e-6);
+    CHECK(std::abs(r.q[1] / truth[1] - 1.0) <= 1e-6);
+    CHECK(r.history.size() == static_cast<std::size_t>(r.counters.evaluations));
+    if (a == FitAlgorithm::Lbfgs || a == FitAlgorithm::Mma) {
+      // The adjoint: one extra factorization and one solve per observed level per evaluation.
+      CHECK(r.counters.sensitivitySolves == 2 * r.counters.gradientEvaluations);
+    }
+  }
+}
+
+TEST_CASE("fit: uncertainty from the Gauss–Newton approximation", "[fit]") {
+  // y = a + b t with known noise: the covariance of linear least squares.
+  Eigen::MatrixXd J(4, 2);
+  J << 1, 0, 1, 1, 1, 2, 1, 3;
+  const Eigen::Vector4d r(0.1, -0.2, 0.2, -0.1);
+  const FitUncertainty u = gaussNewtonUncertainty(J, r);
+  REQUIRE(u.available);
+  const Eigen::Matrix2d C = (J.transpose() * J).inverse() * (r.squaredNorm() / 2.0);
+  CHECK(u.standardDeviation[0] == Approx(std::sqrt(C(0, 0))));
+  CHECK(u.standardDeviation[1] == Approx(std::sqrt(C(1, 1))));
+  CHECK(u.correlation(0, 1) == Approx(C(0, 1) / std::sqrt(C(0, 0) * C(1, 1))));
+  Eigen::MatrixXd singular(3, 2);
+  singular << 1, 2, 1, 2, 1, 2;
+  CHECK_FALSE(gaussNewtonUncertainty(singular, Eigen::Vector3d(0.1, 0.2, 0.3)).available);
+}

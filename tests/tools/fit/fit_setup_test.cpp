@@ -1,0 +1,61 @@
+#include "tools/fit/fit_setup.h"
+
+#include "tools/fit/fit_report.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+using namespace jetshell;
+
+namespace {
+
+std::string example(const std::string& name) { return std::string(JETSHELL_SOURCE_DIR) + "/examples/" + name; }
+
+}  // namespace
+
+TEST_CASE("fit: the adjoint gradient of a shell fit matches central differences of whole solves", "[fit]") {
+  FitSetup setup(loadFitFile(example("fit_synthetic_plate.json")));
+  StaticFitProblem& p = setup.problem();
+  Eigen::VectorXd q(4);
+  q << 200.0, 500.0, 3e-5, 5e-5;
+  const FitEvaluation g = p.evaluate(q, FitDerivatives::Gradient);
+  REQUIRE(g.ok);
+  const FitEvaluation j = p.evaluate(q, FitDerivatives::Jacobian);
+  REQUIRE(j.ok);
+  CHECK((g.gradient - j.gradient).norm() <= 1e-8 * g.gradient.norm());
+  for (int i = 0; i < 4; ++i) {
+    const double h = 1e-4 * q[i];
+    Eigen::VectorXd qp = q, qm = q;
+    qp[i] += h;
+    qm[i] -= h;
+    const FitEvaluation fp = p.evaluate(qp, FitDerivatives::None), fm = p.evaluate(qm, FitDerivatives::None);
+    REQUIRE(fp.ok);
+    REQUIRE(fm.ok);
+    const double fd = (fp.misfit - fm.misfit) / (2.0 * h);
+    INFO("parameter " << i << ": adjoint " << g.gradient[i] << ", central difference " << fd);
+    CHECK(std::abs(fd - g.gradient[i]) <= 1e-6 * std::abs(fd));
+  }
+}
+
+TEST_CASE("fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta of the synthetic plate to 1e-6", "[fit]") {
+  const FitFile file = loadFitFile(example("fit_synthetic_plate.json"));
+  FitSetup setup(file);
+  const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
+  INFO(r.termination << " " << r.message << ", " << r.counters.evaluations << " evaluations, q = " << r.q.transpose());
+  REQUIRE(r.success);
+  const double truth[4] = {300.0, 400.0, 2e-5, 7e-5};
+  for (int i = 0; i < 4; ++i) CHECK(std::abs(r.q[i] / truth[i] - 1.0) <= 1e-6);
+  REQUIRE(r.uncertainty.available);
+  CHECK(r.uncertainty.correlation.diagonal().isApproxToConstant(1.0, 1e-12));
+
+  FitReportInputs in{&setup.problem(), &r, setup.groupLabels(), "fit_synthetic_plate.json", file.description};
+  const nlohmann::json j = fitReportJson(in);
+  CHECK(j["parameters"].size() == 4);
+  CHECK(j["history"].size() == r.history.size());
+  CHECK(j["cost"]["full_solves"] == r.counters.fullSolves);
+  const std::string dir = (std::filesystem::temp_directory_path() / "jetshell_fit_report_test").string();
+  std::vector<std::string> notes;
+  const std::vector<std::string> files = writeFitReport(in, dir, false, notes);
+  CHECK(std::filesystem::exists(dir + "/fit.json"));
+}

@@ -1,0 +1,69 @@
+#include "tools/fit/fit_setup.h"
+
+#include "tools/scene/run_scene.h"
+
+#include <algorithm>
+
+namespace jetshell {
+
+FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(file.scene)) {
+  system_ = std::make_unique<ShellSystem>(makeShellProblem(file_.scene, model_), AnalysisKind::Statics);
+  std::vector<std::string> names, labels;
+  for (const FitParameterSpec& p : file_.parameters) {
+    names.push_back(p.name);
+    labels.push_back(p.where + "/name");
+  }
+  ParameterMapping mapping = materialMapping(file_.material, names, labels, system_->objective());
+
+  std::vector<double> levels;
+  for (const ObservationSpec& o : file_.observations) levels.insert(levels.end(), o.levels.begin(), o.levels.end());
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  auto levelIndex = [&](double l) {
+    return static_cast<int>(std::lower_bound(levels.begin(), levels.end(), l) - levels.begin());
+  };
+  auto probeVertex = [&](const std::string& name) {
+    for (const ResolvedProbe& p : model_.probes)
+      if (p.name == name) return p.vertex;
+    throw InputError("fit: probe '" + name + "' not resolved");
+  };
+  const char* axes = "xyz";
+  std::vector<ObservedCoordinate> observed;
+  for (std::size_t g = 0; g < file_.observations.size(); ++g) {
+    const ObservationSpec& o = file_.observations[g];
+    const int group = static_cast<int>(g);
+    std::string label = o.where;
+    if (o.kind == ObservationSpec::Kind::Shape) {
+      label += " shape of " + o.actor;
+      const int a = file_.scene.shellIndex(o.actor, o.where + "/actor");
+      const ActorBlock& b = model_.actors[static_cast<std::size_t>(a)];
+      const double w = o.weight / (3.0 * b.numVertices);
+      for (int v = 0; v < b.numVertices; ++v)
+        for (int c = 0; c < 3; ++c)
+          observed.push_back({levelIndex(o.levels[0]), 3 * (b.firstVertex + v) + c, o.targetPositions(v, c), w, group});
+    } else {
+      const int vertex = probeVertex(o.probe);
+      label += std::string(o.kind == ObservationSpec::Kind::Curve ? " curve of probe " : " probe ") + o.probe + " ";
+      for (int c : o.components) label += axes[c];
+      for (std::size_t k = 0; k < o.levels.size(); ++k)
+        for (int c : o.components) {
+          const int dof = 3 * vertex + c;
+          observed.push_back({levelIndex(o.levels[k]), dof, model_.world.V(vertex, c) + o.displacements[k][c], o.weight, group});
+        }
+    }
+    labels_.push_back(label);
+  }
+  LoadSteppingOptions steps;
+  steps.initialIncrement = steps.maxIncrement = 1.0 / file_.scene.analysis.loadSteps;
+  steps.newton = newtonOptionsFor(file_.scene.solver, steps.newton.maxIterations);
+  problem_ = std::make_unique<StaticFitProblem>(system_->objective(), system_->nodalForces.get(), system_->restPositions(),
+                                                std::move(mapping), levels, std::move(observed), steps);
+}
+
+std::vector<FitVariable> FitSetup::variables() const {
+  std::vector<FitVariable> v;
+  for (const FitParameterSpec& p : file_.parameters) v.push_back(p.variable);
+  return v;
+}
+
+}  // namespace jetshell

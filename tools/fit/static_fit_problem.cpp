@@ -1,0 +1,128 @@
+#include "tools/fit/static_fit_problem.h"
+
+#include "core/mesh.h"
+#include "solvers/adjoint.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace jetshell {
+
+StaticFitProblem::StaticFitProblem(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd rest,
+                                   ParameterMapping mapping, std::vector<double> levels,
+                                   std::vector<ObservedCoordinate> observed, LoadSteppingOptions options)
+    : objective_(objective),
+      loads_(loads),
+      rest_(std::move(rest)),
+      mapping_(std::move(mapping)),
+      levels_(std::move(levels)),
+      observed_(std::move(observed)),
+      options_(options),
+      sensitivity_(std::make_unique<EquilibriumSensitivity>(objective)) {
+  if (rest_.size() != objective_.numDofs()) throw InputError("fit: the rest state has the wrong size");
+  if (mapping_.numParameters < 1 || !mapping_.map) throw InputError("fit: no parameter to fit");
+  if (levels_.empty()) throw InputError("fit: no observed load level");
+  for (std::size_t k = 0; k < levels_.size(); ++k) {
+    if (!std::isfinite(levels_[k])) throw InputError("fit: a load level is not finite");
+    if (k > 0 && !(levels_[k] > levels_[k - 1])) throw InputError("fit: load levels must increase");
+  }
+  if (observed_.empty()) throw InputError("fit: no observation");
+  for (const ObservedCoordinate& o : observed_) {
+    if (o.level < 0 || o.level >= static_cast<int>(levels_.size())) throw InputError("fit: observation level out of range");
+    if (o.dof < 0 || o.dof >= objective_.numDofs()) throw InputError("fit: observed dof out of range");
+    if (!(o.weight >= 0.0) || !std::isfinite(o.weight) || !std::isfinite(o.target))
+      throw InputError("fit: observation weights must be finite and >= 0, targets finite");
+  }
+}
+
+StaticFitProblem::~StaticFitProblem() = default;
+
+FitEvaluation StaticFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivatives derivatives) {
+  FitEvaluation out;
+  const int Q = numParameters();
+  if (q.size() != Q || !q.allFinite()) {
+    out.message = "parameters not finite or of the wrong count";
+    return out;
+  }
+  ++counters_.evaluations;
+  Eigen::VectorXd values;
+  Eigen::MatrixXd dvdq;
+  mapping_.map(q, values, derivatives == FitDerivatives::None ? nullptr : &dvdq);
+  for (std::size_t t = 0; t < mapping_.termParameters.size(); ++t)
+    setTermParameterValue(objective_, mapping_.termParameters[t], values[static_cast<Eigen::Index>(t)]);
+
+  const int M = numResiduals();
+  out.residuals.resize(M);
+  if (derivatives == FitDerivatives::Jacobian) out.jacobian = Eigen::MatrixXd::Zero(M, Q);
+  if (derivatives != FitDerivatives::None) out.gradient = Eigen::VectorXd::Zero(Q);
+  if (derivatives == FitDerivatives::Gradient) ++counters_.gradientEvaluations;
+  if (derivatives == FitDerivatives::Jacobian) ++counters_.jacobianEvaluations;
+
+  Eigen::VectorXd x = rest_;
+  for (std::size_t k = 0; k < levels_.size(); ++k) {
+    LoadSteppingOptions o = options_;
+    o.targetLoadFactor = levels_[k];
+    if (k > 0) o.initialIncrement = o.maxIncrement = std::max(o.minIncrement, levels_[k]);  // direct jump first
+    StaticsResult r = solveStatics(objective_, loads_, x, o);
+    ++counters_.fullSolves;
+    counters_.newtonIterations += r.newtonIterations;
+    for (const LoadStepResult& s : r.steps) counters_.newtonFactorizations += s.summary.numericFactorizations;
+    if (!r.completed) {
+      std::ostringstream m;
+      m << "the static solve to load factor " << levels_[k] << " failed: " << r.message;
+      out.message = m.str();
+      return out;
+    }
+    out.equilibria.push_back(x);
+  }
+  for (int i = 0; i < M; ++i) {
+    const ObservedCoordinate& o = observed_[static_cast<std::size_t>(i)];
+    out.residuals[i] = std::sqrt(o.weight) * (out.equilibria[static_cast<std::size_t>(o.level)][o.dof] - o.target);
+  }
+  out.misfit = 0.5 * out.residuals.squaredNorm();
+  if (!std::isfinite(out.misfit)) {
+    out.message = "non-finite misfit";
+    return out;
+  }
+
+  if (derivatives != FitDerivatives::None) {
+    for (std::size_t k = 0; k < levels_.size(); ++k) {
+      const Eigen::VectorXd& xk = out.equilibria[k];
+      if (loads_) loads_->setLoadFactor(levels_[k]);
+      const int factorizationsBefore = sensitivity_->factorizations(), solvesBefore = sensitivity_->solves();
+      if (!sensitivity_->factor(xk)) {
+        std::ostringstream m;
+        m << "derivatives at load factor " << levels_[k] << ": " << sensitivity_->message();
+        out.message = m.str();
+        return out;
+      }
+      // ∂g/∂q = ∂g/∂v · dv/dq: Q columns, whatever the number of term parameters.
+      const Eigen::MatrixXd mixed = sensitivity_->mixedDerivatives(xk, mapping_.termParameters) * dvdq;
+      if (derivatives == FitDerivatives::Gradient) {
+        Eigen::VectorXd dfdx = Eigen::VectorXd::Zero(xk.size());
+        for (int i = 0; i < M; ++i) {
+          const ObservedCoordinate& o = observed_[static_cast<std::size_t>(i)];
+          if (o.level == static_cast<int>(k)) dfdx[o.dof] += std::sqrt(o.weight) * out.residuals[i];
+        }
+        out.gradient += adjointGradient(*sensitivity_, dfdx, mixed);
+      } else {
+        const Eigen::MatrixXd S = forwardSensitivities(*sensitivity_, mixed);
+        for (int i = 0; i < M; ++i) {
+          const ObservedCoordinate& o = observed_[static_cast<std::size_t>(i)];
+          if (o.level == static_cast<int>(k)) out.jacobian.row(i) = std::sqrt(o.weight) * S.row(o.dof);
+        }
+      }
+      counters_.sensitivityFactorizations += sensitivity_->factorizations() - factorizationsBefore;
+      counters_.sensitivitySolves += sensitivity_->solves() - solvesBefore;
+    }
+    if (derivatives == FitDerivatives::Jacobian) out.gradient = out.jacobian.transpose() * out.residuals;
+    if (!out.gradient.allFinite()) {
+      out.message = "non-finite derivatives";
+      return out;
+    }
+  }
+  out.ok = true;
+  return out;
+}
+
+}  // namespace jetshell
