@@ -120,6 +120,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     xTrial = x + alpha * d;
     LineSearchPoint p;
     p.energy = obj.evaluate(xTrial, wantGradient ? &gTrial : nullptr, false, projected);
+    if (!std::isfinite(p.energy) || (wantGradient && !gTrial.allFinite())) ++s.nonFiniteTrials;
     ++s.energyEvaluations;
     if (wantGradient) {
       ++s.gradientEvaluations;

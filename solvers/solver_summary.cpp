@@ -77,6 +77,7 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                       {"regularizations", m.regularizations},
                       {"exact_hessian_steps", m.exactHessianSteps},
                       {"projection_fallbacks", m.projectionFallbacks},
+                      {"non_finite_trials", m.nonFiniteTrials},
                       {"energy_evaluations", m.energyEvaluations},
                       {"gradient_evaluations", m.gradientEvaluations},
                       {"hessian_evaluations", m.hessianEvaluations}};

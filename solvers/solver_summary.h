@@ -64,6 +64,7 @@ struct SolverSummary {
   int regularizations = 0;   // diagonal-shift retries during this minimization
   int exactHessianSteps = 0;     // Newton steps taken with the unprojected Hessian
   int projectionFallbacks = 0;   // unprojected Hessians found indefinite and reassembled projected
+  int nonFiniteTrials = 0;       // line-search trial points rejected for a non-finite energy or gradient
   int energyEvaluations = 0, gradientEvaluations = 0, hessianEvaluations = 0;
   std::vector<IterationRecord> trace;
 

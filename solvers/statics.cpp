@@ -98,6 +98,8 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     SolverSummary summary = newton.minimize(trial);
     result.newtonIterations += summary.iterations;
     if (!summary.converged()) {
+      summary.trace.clear();
+      result.failedSolves.push_back(summary);
       ++cuts;
       ++result.totalCuts;
       increment = 0.5 * std::abs(next - lambda);

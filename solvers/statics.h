@@ -74,6 +74,7 @@ struct StaticsResult {
   std::vector<LoadStepResult> steps;
   int totalCuts = 0;
   int newtonIterations = 0;
+  std::vector<SolverSummary> failedSolves;  // the attempts that were cut (without their traces)
   std::vector<std::string> activeTerms;
   std::string message;
 };

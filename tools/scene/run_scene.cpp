@@ -9,6 +9,7 @@
 #include "tools/output/progress.h"
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
+#include "tools/scene/safeguard_report.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_problem.h"
 #include "tools/scene/support_check.h"
@@ -186,6 +187,12 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
 
   std::string termination;
   bool converged = false;
+  SafeguardReport safeguards;
+  const bool moveOn = scene.solver.acceptIterationCap && type != AnalysisType::Static;
+  auto addSolves = [&](const StepReport& s) {
+    for (const SolverSummary& solve : s.solves)
+      safeguards.add(solve, solve.converged() || (moveOn && solve.reason == TerminationReason::IterationCap));
+  };
   Eigen::VectorXd lastVelocity;  // dynamics: the final frame carries it like the others
   if (type == AnalysisType::Static) {
     LoadSteppingOptions o;
@@ -221,6 +228,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     if (!r.steps.empty()) recordResidualClaim(summary.extra, r.steps.back().summary);
     summary.extra["final_load_factor_reached"] = r.loadFactor;
     summary.extra["load_step_cuts"] = r.totalCuts;
+    for (const SolverSummary& f : r.failedSolves) safeguards.add(f, false);
+    for (const LoadStepResult& step : r.steps) safeguards.add(step.summary, true);
   } else if (type == AnalysisType::Dynamic) {
     DynamicsOptions o;
     o.integrator = scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
@@ -230,7 +239,10 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     DynamicsSolver solver(system, o);
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
     const double duration = scene.analysis.duration;
-    int previousIterations = 0, previousCuts = 0, previousUnconverged = 0;  // before the checkpoint resumed from
+    int previousIterations = 0, previousCuts = 0;  // before the checkpoint resumed from
+    int unconvergedSteps = 0;  // accepted at the iteration cap (the scene's acceptIterationCap)
+    double worstRatio = 0.0;   // the largest final residual / tolerance over the steps
+    SolverSummary lastSolve;
     if (options.resume) {
       try {
         const nlohmann::json& c = checkpoint.at("solver");
@@ -247,7 +259,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         lastVelocity = snap.v;
         previousIterations = checkpoint.at("newton_iterations").get<int>();
         previousCuts = checkpoint.at("cuts").get<int>();
-        previousUnconverged = checkpoint.value("steps_at_iteration_cap", 0);
+        unconvergedSteps = checkpoint.at("steps_at_iteration_cap").get<int>();
+        worstRatio = checkpoint.at("worst_residual_over_tolerance").get<double>();
+        safeguards.restore(checkpoint.at("safeguards"));
       } catch (const nlohmann::json::exception& e) {
         throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
       }
@@ -255,9 +269,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                    std::to_string(solver.stepCount()) + ", t = " + format("%.4f", solver.time()) + " s");
     }
     int doneIterations = 0, doneCuts = 0;
-    int unconvergedSteps = 0;  // accepted at the iteration cap (the scene's acceptIterationCap)
-    double worstRatio = 0.0;   // the largest final residual / tolerance over the steps
-    SolverSummary lastSolve;
     auto writeCheckpointNow = [&](const DynamicsSolver& d) {
       const DynamicsSolver::Snapshot snap = d.snapshot();
       writeCheckpoint(options.outputDirectory,
@@ -270,7 +281,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                                    {"history_valid", snap.historyValid}}},
                        {"newton_iterations", previousIterations + doneIterations},
                        {"cuts", previousCuts + doneCuts},
-                       {"steps_at_iteration_cap", previousUnconverged + unconvergedSteps},
+                       {"steps_at_iteration_cap", unconvergedSteps},
+                       {"worst_residual_over_tolerance", worstRatio},
+                       {"safeguards", safeguards.state()},
                        {"history", {{"abscissa", history.abscissa}, {"u", history.u}}},
                        {"output", output.state()}});
     };
@@ -279,6 +292,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     const double remaining = static_cast<double>(std::max(0, totalSteps - solver.stepCount())) * o.timeStep;
     if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(solver.time() + o.timeStep));
     const DynamicsResult r = simulate(solver, remaining, [&](const StepReport& s, DynamicsSolver& d) {
+      addSolves(s);
       if (!s.solves.empty()) {
         lastSolve = s.solves.back();
         lastSolve.trace.clear();
@@ -307,7 +321,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     summary.steps = solver.stepCount();
     summary.newtonIterations = previousIterations + r.newtonIterations;
     // A step accepted at the iteration cap did not converge: the run says so (it moved on by the scene's choice).
-    unconvergedSteps += previousUnconverged;
     converged = r.completed && unconvergedSteps == 0;
     termination = !r.completed ? r.message : unconvergedSteps ? "completed_with_unconverged_steps" : "completed";
     x = solver.positions();
@@ -325,6 +338,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
     double firstResidual = -1.0;
     const RelaxationResult r = relaxToStatic(system, x, o, [&](const StepReport& s, double staticResidual) {
+      addSolves(s);
       output.record({s.step, s.time, 1.0, &x, nullptr});
       remember(s.time, x);
       if (firstResidual < 0) firstResidual = staticResidual;
@@ -348,6 +362,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     recordResidualClaim(summary.extra, r.staticResidual, r.residualThreshold, r.forceScale, r.forceScaleSource);
     summary.extra["pseudo_time"] = r.pseudoTime;
   }
+  summary.extra["safeguards"] = safeguards.toJson(moveOn ? "move_on" : "cut_step");
+  // Ctrl-C during a step that then failed (every cut tried) still ends as an interruption.
+  if (interruptRequested()) result.interrupted = true;
   if (result.interrupted) termination = "interrupted";
   else if (result.stepLimitReached && !converged) termination = "step_limit";
   summary.converged = converged;

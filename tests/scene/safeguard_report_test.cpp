@@ -1,0 +1,82 @@
+#include "tools/scene/run_scene.h"
+#include "tools/scene/safeguard_report.h"
+#include "tools/scene/scene_json.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace jetshell;
+namespace fs = std::filesystem;
+
+TEST_CASE("safeguards: every kind of safeguard is counted by what fired", "[safeguards]") {
+  SafeguardReport r;
+  SolverSummary lineSearch;
+  lineSearch.reason = TerminationReason::LineSearchFailure;
+  lineSearch.nonFiniteTrials = 3;
+  r.add(lineSearch, false);  // cut and retried
+  SolverSummary regularized;
+  regularized.reason = TerminationReason::Converged;
+  regularized.regularizations = 2;
+  IterationRecord rec;
+  rec.shift = 1e-6;
+  regularized.trace.push_back(rec);
+  r.add(regularized, true);
+  SolverSummary capped;
+  capped.reason = TerminationReason::IterationCap;
+  r.add(capped, true);   // moved on
+  r.add(capped, false);  // cut
+  const nlohmann::json j = r.toJson("move_on");
+  CHECK(j["step_cuts"] == 2);
+  CHECK(j["step_cuts_by_reason"]["line_search_failure"] == 1);
+  CHECK(j["step_cuts_by_reason"]["iteration_cap"] == 1);
+  CHECK(j["non_finite_trials_rejected"] == 3);
+  CHECK(j["regularized_solves"] == 1);
+  CHECK(j["regularization_retries"] == 2);
+  CHECK(j["largest_shift"] == 1e-6);
+  CHECK(j["iteration_cap_outcome"] == "move_on");
+  CHECK(j["steps_accepted_at_iteration_cap"] == 1);
+  SafeguardReport copy;
+  copy.restore(r.state());
+  CHECK(copy.toJson("move_on") == j);
+}
+
+namespace {
+
+nlohmann::json runCloth(const nlohmann::json& solver, const std::string& name) {
+  nlohmann::json scene = nlohmann::json::parse(R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [{"type": "shell", "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 5, "ny": 5},
+                "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.0005, "volumeDensity": 300},
+                "colliderType": "None", "fixed": [{"select": [{"nearest": [0, 1, 0]}, {"nearest": [1, 1, 0]}]}]}],
+    "analysis": {"type": "dynamic", "timeStep": 0.1, "duration": 0.3},
+    "outputs": {"png": false, "plots": false}})");
+  scene["solver"] = solver;
+  RunOptions o;
+  o.outputDirectory = (fs::temp_directory_path() / "jetshell_safeguard_tests" / name).string();
+  fs::remove_all(o.outputDirectory);
+  o.pictures = false;
+  runScene(sceneFromJson(scene, "."), o);
+  std::ifstream in(fs::path(o.outputDirectory) / "summary.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  return nlohmann::json::parse(text.str())["safeguards"];
+}
+
+}  // namespace
+
+TEST_CASE("safeguards: summary.json states the cuts and the iteration-cap outcome a run chose", "[safeguards]") {
+  // Two Newton iterations per step are too few at 0.1 s: by default the step is cut and retried ...
+  const nlohmann::json cut = runCloth({{"maxIterations", 2}, {"threads", 1}}, "cut");
+  CHECK(cut["iteration_cap_outcome"] == "cut_step");
+  CHECK(cut["step_cuts"].get<int>() > 0);
+  CHECK(cut["step_cuts_by_reason"]["iteration_cap"].get<int>() > 0);
+  CHECK(cut["steps_accepted_at_iteration_cap"] == 0);
+  // ... or, as the page's engine does, the last iterate is taken and the run moves on.
+  const nlohmann::json moveOn = runCloth({{"maxIterations", 2}, {"acceptIterationCap", true}, {"threads", 1}}, "move_on");
+  CHECK(moveOn["iteration_cap_outcome"] == "move_on");
+  CHECK(moveOn["step_cuts"] == 0);
+  CHECK(moveOn["steps_accepted_at_iteration_cap"].get<int>() > 0);
+}
