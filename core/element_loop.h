@@ -63,8 +63,9 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
         errors.run([&] {
           for (int e = color[i].begin; e < color[i].end; ++e) body(e);
         });
-      errors.rethrow();
     }
+    // After the region: an exception must never leave an OpenMP region (that terminates the program).
+    errors.rethrow();
   } else {
 #pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
     for (int e = 0; e < ne; ++e) {

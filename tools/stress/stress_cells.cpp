@@ -57,6 +57,19 @@ json cantilever(const json& material, double tip, const json& analysis, const js
                gravity);
 }
 
+/// A cloth 0.1 m above a floor plane (z = 0), falling under `g` (m/s²) into it, with point-cloud self-contact.
+json clothOnFloor(double g, double radius, int n, const json& analysis) {
+  json cloth = shell(rectangle(1.0, 1.0, n, n), plate(1e5, 0.25, 0.002), json::array(), json::array());
+  cloth["colliderType"] = "PointCloud";
+  cloth["pointCloudCollider"] = {{"radius", radius}, {"selfContact", true}};
+  cloth["worldFromLocalTransform"] = {{"translation", {0.0, 0.0, 0.1}}};
+  const json floor = {{"type", "plane"}, {"name", "floor"}, {"point", {0.0, 0.0, 0.0}}, {"normal", {0.0, 0.0, 1.0}},
+                      {"contact", {{"penaltyStiffness", 1e6}}}};
+  json s = scene(cloth, analysis, {0.0, 0.0, -g});
+  s["actors"].push_back(floor);
+  return s;
+}
+
 /// A cloth pinned at its two top corners.
 json hangingCloth(const json& shape, const json& analysis, json solver = json::object()) {
   const json pins = {{{"select", {{"nearest", {0.0, 1.0, 0.0}}}}}, {{"select", {{"nearest", {1.0, 1.0, 0.0}}}}}};
@@ -208,6 +221,10 @@ std::vector<StressCell> stressCells(bool q) {
                   {{"select", {{"group", "right"}}}, {"rotation", {{"axis", {1.0, 0.0, 0.0}}, {"center", {1.0, 0.1, 0.0}}, {"degrees", 720.0}}}}},
                   json::array()),
             staticSteps(4), {0.0, 0.0, 0.0}));
+  add(c, q, true, "contact/fast_impact_plane", "cloth hitting a floor plane at about 6 m/s (200 m/s^2 gravity), 60 Hz",
+      clothOnFloor(200.0, 0.02, 8, dynamic(1.0 / 60.0, 8)));
+  add(c, q, false, "contact/thin_layer_self_contact", "cloth with 5 mm point radius falling flat onto the floor, 60 Hz",
+      clothOnFloor(9.81, 0.005, 10, dynamic(1.0 / 60.0, 12)));
   add(c, q, false, "extreme/gravity_1e6", "cantilever under 1e6 m/s^2 gravity",
       cantilever(plate(1e6, 0.3, 0.01), 0.0, staticSteps(4), {0.0, 0.0, -1e6}));
   add(c, q, false, "extreme/displacement_1e3", "clamped sheet with its far edge moved by 1 km",
