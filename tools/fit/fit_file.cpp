@@ -1,5 +1,7 @@
 #include "tools/fit/fit_file.h"
 
+#include "core/input_file.h"
+
 #include "core/mesh_io.h"
 #include "tools/scene/checks.h"
 #include "tools/scene/json_reader.h"
@@ -21,15 +23,8 @@ using json::Value;
 constexpr std::uintmax_t kMaxFileBytes = 64u << 20;
 
 std::string readText(const std::string& path, const std::string& what) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path + ": cannot open " + what);
-  if (size > kMaxFileBytes) throw InputError(path + ": " + what + " larger than 64 MiB");
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open " + what);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  // Regular files only (a FIFO or /dev/zero is an input error, not a hang), bounded in size.
+  return readInputFile(path, static_cast<std::int64_t>(kMaxFileBytes), what);
 }
 
 std::string resolve(const std::string& base, const std::string& path) {
