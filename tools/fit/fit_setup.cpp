@@ -1,6 +1,7 @@
 #include "tools/fit/fit_setup.h"
 
 #include "tools/scene/run_scene.h"
+#include "tools/scene/scene_edge_rules.h"
 #include "tools/scene/scene_problem.h"
 
 #include <algorithm>
@@ -8,7 +9,9 @@
 namespace jetshell {
 
 FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(file.scene)) {
-  system_ = std::make_unique<ShellSystem>(shellProblemFromScene(file_.scene, model_), AnalysisKind::Statics);
+  const ShellProblem problem = shellProblemFromScene(file_.scene, model_);
+  system_ = std::make_unique<ShellSystem>(problem, AnalysisKind::Statics);
+  addSceneEdgeRules(file_.scene, problem, *system_);  // the same boundary rules as `jetshell run`
   std::vector<std::string> names, labels;
   for (const FitParameterSpec& p : file_.parameters) {
     names.push_back(p.name);
