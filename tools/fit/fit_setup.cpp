@@ -57,9 +57,11 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
     }
     labels_.push_back(label);
   }
+  // The statics path of `jetshell run`: increments up to 1 / loadSteps, the first a quarter of that.
   LoadSteppingOptions steps;
-  steps.initialIncrement = steps.maxIncrement = 1.0 / file_.scene.analysis.loadSteps;
-  steps.newton = newtonOptionsFor(file_.scene.solver, steps.newton.maxIterations);
+  steps.maxIncrement = 1.0 / file_.scene.analysis.loadSteps;
+  steps.initialIncrement = 0.25 * steps.maxIncrement;
+  steps.newton = newtonOptionsFor(file_.scene.solver, steps.newton.maxIterations, /*statics=*/true);
   problem_ = std::make_unique<StaticFitProblem>(system_->objective(), system_->nodalForces.get(), system_->restPositions(),
                                                 std::move(mapping), levels, std::move(observed), steps);
 }
