@@ -12,6 +12,25 @@ using namespace jetshell;
 
 namespace {
 
+/// The fit parameters are the springs' (k, c) themselves.
+ParameterMapping springMapping() {
+  ParameterMapping mapping;
+  mapping.numParameters = 2;
+  mapping.termParameters = {{"springs", "k"}, {"springs", "c"}};
+  mapping.map = [](const Eigen::VectorXd& q, Eigen::VectorXd& v, Eigen::MatrixXd* J) {
+    v = q;
+    if (J) *J = Eigen::MatrixXd::Identity(2, 2);
+  };
+  return mapping;
+}
+
+LoadSteppingOptions tightSteps() {
+  LoadSteppingOptions o;
+  o.newton.residualTolerance = 1e-12;
+  o.newton.decrementTolerance = 1e-30;
+  return o;
+}
+
 /// The spring net of tests/solvers/adjoint_test.cpp as a fit problem: parameters (k, c) of the springs, the
 /// z displacement of every interior vertex observed at load factors 0.5 and 1.
 struct SpringFit {
@@ -40,16 +59,8 @@ struct SpringFit {
     loads = makeNodalForceTerm(f);
     objective->addTerm(loads);
     objective->setPrescribed(fixed);
-    ParameterMapping mapping;
-    mapping.numParameters = 2;
-    mapping.termParameters = {{"springs", "k"}, {"springs", "c"}};
-    mapping.map = [](const Eigen::VectorXd& q, Eigen::VectorXd& v, Eigen::MatrixXd* J) {
-      v = q;
-      if (J) *J = Eigen::MatrixXd::Identity(2, 2);
-    };
-    LoadSteppingOptions o;
-    o.newton.residualTolerance = 1e-12;
-    o.newton.decrementTolerance = 1e-30;
+    const ParameterMapping mapping = springMapping();
+    const LoadSteppingOptions o = tightSteps();
     // Synthetic observations: the equilibria with the true parameters.
     std::vector<ObservedCoordinate> observed;
     for (int level = 0; level < 2; ++level)
@@ -66,6 +77,23 @@ struct SpringFit {
 
 std::vector<FitVariable> variables() {
   return {{"k", 0.8, 0.1, 10.0, true}, {"c", 60.0, 1.0, 1000.0, true}};
+}
+
+/// Fits (k, c) with algorithm a from (0.8, 60), stopping on the parameter step only; checks that it recovered
+/// the truth to 1e-6.
+FitResult recover(SpringFit& fit, const Eigen::Vector2d& truth, FitAlgorithm a) {
+  FitOptions o;
+  o.algorithm = a;
+  o.maxEvaluations = 400;
+  o.parameterTolerance = 1e-10;
+  o.misfitTolerance = 0.0;
+  FitResult r = runFit(*fit.problem, variables(), o);
+  INFO(toString(a) << ": " << r.termination << " " << r.message << " after " << r.counters.evaluations
+                   << " evaluations; q = " << r.q.transpose());
+  CHECK(r.success);
+  CHECK(std::abs(r.q[0] / truth[0] - 1.0) <= 1e-6);
+  CHECK(std::abs(r.q[1] / truth[1] - 1.0) <= 1e-6);
+  return r;
 }
 
 }  // namespace
@@ -97,17 +125,7 @@ TEST_CASE("fit: every algorithm recovers known parameters from synthetic observa
   for (FitAlgorithm a : {FitAlgorithm::LevenbergMarquardt, FitAlgorithm::Lbfgs, FitAlgorithm::Mma,
                          FitAlgorithm::Bobyqa, FitAlgorithm::NelderMead}) {
     SpringFit fit(truth);
-    FitOptions o;
-    o.algorithm = a;
-    o.maxEvaluations = 400;
-    o.parameterTolerance = 1e-10;
-    o.misfitTolerance = 0.0;
-    const FitResult r = runFit(*fit.problem, variables(), o);
-    INFO(toString(a) << ": " << r.termination << " " << r.message << " after " << r.counters.evaluations
-                     << " evaluations; q = " << r.q.transpose());
-    CHECK(r.success);
-    CHECK(std::abs(r.q[0] / truth[0] - 1.0) <= 1e-6);
-    CHECK(std::abs(r.q[1] / truth[1] - 1.0) <= 1e-6);
+    const FitResult r = recover(fit, truth, a);
     CHECK(r.history.size() == static_cast<std::size_t>(r.counters.evaluations));
     if (a == FitAlgorithm::Lbfgs || a == FitAlgorithm::Mma) {
       // The adjoint: one extra factorization and one solve per observed level per evaluation.
@@ -123,18 +141,8 @@ TEST_CASE("fit: the gradient-based NLopt methods do not depend on the misfit's u
   const Eigen::Vector2d truth(1.3, 40.0);
   for (FitAlgorithm a : {FitAlgorithm::Lbfgs, FitAlgorithm::Mma}) {
     SpringFit fit(truth, 1e-12);
-    FitOptions o;
-    o.algorithm = a;
-    o.maxEvaluations = 400;
-    o.parameterTolerance = 1e-10;
-    o.misfitTolerance = 0.0;
-    const FitResult r = runFit(*fit.problem, variables(), o);
-    INFO(toString(a) << ": " << r.termination << " " << r.message << " after " << r.counters.evaluations
-                     << " evaluations; q = " << r.q.transpose());
-    CHECK(r.success);
+    const FitResult r = recover(fit, truth, a);
     CHECK(r.counters.evaluations > 3);
-    CHECK(std::abs(r.q[0] / truth[0] - 1.0) <= 1e-6);
-    CHECK(std::abs(r.q[1] / truth[1] - 1.0) <= 1e-6);
   }
 }
 
@@ -143,16 +151,8 @@ TEST_CASE("fit problem: one load path lands on every observed level, level 0 inc
   SpringFit fit(Eigen::Vector2d(1.3, 40.0));
   const Eigen::Vector2d q(0.9, 55.0);
   const int dof = 3 * fit.interior[0] + 2;
-  LoadSteppingOptions o;
-  o.newton.residualTolerance = 1e-12;
-  o.newton.decrementTolerance = 1e-30;
-  ParameterMapping mapping;
-  mapping.numParameters = 2;
-  mapping.termParameters = {{"springs", "k"}, {"springs", "c"}};
-  mapping.map = [](const Eigen::VectorXd& p, Eigen::VectorXd& v, Eigen::MatrixXd* J) {
-    v = p;
-    if (J) *J = Eigen::MatrixXd::Identity(2, 2);
-  };
+  const LoadSteppingOptions o = tightSteps();
+  const ParameterMapping mapping = springMapping();
   auto solve = [&](const std::vector<double>& levels) {
     std::vector<ObservedCoordinate> observed;
     for (int k = 0; k < static_cast<int>(levels.size()); ++k) observed.push_back({k, dof, 0.0, 1.0, 0});
