@@ -59,6 +59,12 @@ struct NewtonOptions {
   double absoluteResidualTolerance = 0.0;  // [N]; 0: off (presets that state one; the larger tolerance holds)
   double relativeResidualTolerance = 0.0;  // × the solve's initial residual; 0: off (the page's preset)
   LinearSolverOptions linear;
+  /// Inexact Newton with an iterative linear solver: CG stops at the Eisenstat–Walker forcing term (their
+  /// choice 2, γ = 0.9, exponent 2, with their safeguard) η_k = 0.9 (‖g_k‖/‖g_{k−1}‖)², clamped to
+  /// [linear.cgRelativeTolerance, maxForcingTerm], starting at maxForcingTerm: loose while far from the solution,
+  /// tight near it. Convergence is still judged on the true gradient (the tests above), never on CG's residual.
+  bool adaptiveLinearTolerance = false;
+  double maxForcingTerm = 0.1;
 };
 
 /// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
