@@ -44,15 +44,6 @@ void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
   if (!s.convergenceTest.empty()) extra["convergence_test"] = s.convergenceTest;
 }
 
-/// How the time steps' linear solves went: symbolic analyses against numeric factorizations, and the Hessian
-/// pattern's re-declarations (moving contacts) against the new patterns they needed.
-nlohmann::json linearSolveCounts(const Objective& objective, int analyses, int factorizations) {
-  return {{"symbolic_analyses", analyses},
-          {"numeric_factorizations", factorizations},
-          {"pattern_redeclarations", objective.patternRebuilds()},
-          {"pattern_growths", objective.patternGrowths()}};
-}
-
 std::string format(const char* fmt, double a) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, fmt, a);
@@ -198,13 +189,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   bool converged = false;
   SafeguardReport safeguards;
   const bool moveOn = scene.solver.acceptIterationCap && type != AnalysisType::Static;
-  int symbolicAnalyses = 0, numericFactorizations = 0;  // time steps' linear solves, this session
   auto addSolves = [&](const StepReport& s) {
-    for (const SolverSummary& solve : s.solves) {
+    for (const SolverSummary& solve : s.solves)
       safeguards.add(solve, solve.converged() || (moveOn && solve.reason == TerminationReason::IterationCap));
-      symbolicAnalyses += solve.symbolicAnalyses;
-      numericFactorizations += solve.numericFactorizations;
-    }
   };
   Eigen::VectorXd lastVelocity;  // dynamics: the final frame carries it like the others
   if (type == AnalysisType::Static) {
@@ -342,7 +329,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     summary.extra["worst_residual_over_tolerance"] = worstRatio;
     summary.extra["final_time"] = solver.time();
     summary.extra["step_cuts"] = previousCuts + r.cuts;
-    summary.extra["linear_solves"] = linearSolveCounts(objective, symbolicAnalyses, numericFactorizations);
   } else {
     RelaxationOptions o;
     o.timeStep = scene.analysis.timeStep;
@@ -375,7 +361,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     termination = r.converged ? "converged" : r.message;
     recordResidualClaim(summary.extra, r.staticResidual, r.residualThreshold, r.forceScale, r.forceScaleSource);
     summary.extra["pseudo_time"] = r.pseudoTime;
-    summary.extra["linear_solves"] = linearSolveCounts(objective, symbolicAnalyses, numericFactorizations);
   }
   summary.extra["safeguards"] = safeguards.toJson(moveOn ? "move_on" : "cut_step");
   // Ctrl-C during a step that then failed (every cut tried) still ends as an interruption.
