@@ -7,6 +7,7 @@
 // --demos adds the two demos of FITTING.md: the cloth overhang (fitted flexural rigidity against the self-weight
 // elastica and ASTM D1388's G = w (l/2)³) and the slit annular plate's effective E against Sze's curves.
 #include "tools/fit/fit_setup.h"
+#include "tools/output/atomic_file.h"
 #include "tools/subcommand.h"
 #include "validation/self_weight_elastica.h"
 
@@ -146,7 +147,7 @@ int runSynthetic(const Args& a, nlohmann::json& out) {
     if (reached < 0) ++failures;
     std::printf("| %s | %d | %s | %s | %d | %d | %d | %d | %.2g | %.2f | %.2f | %.3e | %.1e |\n", name.c_str(),
                 k.evaluations, reached > 0 ? std::to_string(reached).c_str() : "not reached",
-                reached > 0 ? std::to_string(reached * levels).c_str() : "-", k.newtonIterations,
+                reached > 0 ? std::to_string(reached * k.fullSolves / std::max(1, k.evaluations)).c_str() : "-", k.newtonIterations,
                 k.newtonFactorizations, k.sensitivityFactorizations, k.sensitivitySolves, perGradient, r.wallSeconds,
                 cpu, r.misfit, error);
     rows.push_back({{"algorithm", name},
@@ -198,11 +199,7 @@ int run(const Args& a) {
     j["slit_plate"] = runDemo("fit_sze_slit_plate.json", slitPlateComparison);
   }
   std::printf("load average at end: %s\n", loadAverage().c_str());
-  if (!a.json.empty()) {
-    std::ofstream out(a.json);
-    if (!out) throw InputError("--json: cannot write '" + a.json + "'");
-    out << j.dump(2) << "\n";
-  }
+  if (!a.json.empty()) writeFileAtomically(a.json, j.dump(2) + "\n");
   return code;
 }
 

@@ -92,7 +92,7 @@ std::shared_ptr<BoundaryRuleTerm> makeBoundaryRuleTerm(const TriMesh& mesh, cons
   }
   if (elements->empty()) return nullptr;
   return std::make_shared<BoundaryRuleTerm>("boundary_rules", std::move(table), mesh.numVertices(),
-                                            BoundaryRuleEnergy{elements, alpha, beta}, /*zeroAtRest=*/true,
+                                            BoundaryRuleEnergy{elements, {{alpha, beta}}}, /*zeroAtRest=*/true,
                                             /*rigidInvariant=*/false);
 }
 

@@ -34,6 +34,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,7 +60,11 @@ struct BoundaryRuleEnergy {
     bool boundary[3];
   };
   std::shared_ptr<const std::vector<Element>> elements;
-  double alpha = 0.0, beta = 0.0;
+  /// The bending moduli (α, β) as differentiable parameters (energies/element_energy_term.h): a fit that
+  /// changes the bending term's moduli changes these too (tools/fit/material_mapping.h).
+  static constexpr int kParameters = 2;
+  static constexpr std::array<const char*, 2> kParameterNames{{"alpha", "beta"}};
+  std::array<double, 2> parameters{{0.0, 0.0}};
 
   template <typename T>
   static V3<T> neighbourNormal(const T* x, const V3<T>* p, int i) {
@@ -123,17 +128,19 @@ struct BoundaryRuleEnergy {
 
   /// G(u, v) = α tr(Pu) tr(Pv) + β tr(PuPv) (W_b(κ) = ½ G(κ, κ)).
   template <typename T>
-  static T bilinear(const T u[3], const T v[3], const double P[3], double alpha, double beta) {
+  static T bilinear(const T u[3], const T v[3], const double P[3], const T& alpha, const T& beta) {
     T w[3];
     for (int k = 0; k < 3; ++k) w[k] = u[k] + v[k];
     const T half = constant<T>(0.5);
-    return constant<T>(alpha) * trace(P, u) * trace(P, v) +
-           constant<T>(beta) * half * (traceOfSquare(P, w) - traceOfSquare(P, u) - traceOfSquare(P, v));
+    return alpha * trace(P, u) * trace(P, v) +
+           beta * half * (traceOfSquare(P, w) - traceOfSquare(P, u) - traceOfSquare(P, v));
   }
 
   template <typename T>
-  T operator()(const T* x, int e) const {
+  T operator()(const T* x, const T* moduli, int e) const {
     const Element& el = (*elements)[static_cast<std::size_t>(e)];
+    const T& alpha = moduli[0];
+    const T& beta = moduli[1];
     T bRuled[3], bBuiltIn[3], db[3][3];
     const int m = forms(x, el, bRuled, bBuiltIn, db);
     T ruledEnergy = bendingDensity(bRuled, el.Brule, el.Ainv, alpha, beta);

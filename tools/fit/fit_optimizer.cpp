@@ -74,6 +74,11 @@ struct Run {
   bool haveBest = false;
   std::string failure;  // the first failed evaluation's message
   nlopt_opt opt = nullptr;
+  /// NLopt sees f / misfitScale, the misfit relative to the first evaluation's (0: not set yet). Both NLopt
+  /// methods with gradients carry absolute constants tuned for f = O(1): Luksan's L-BFGS stops with "success"
+  /// once every gradient component is below 1e-8, and MMA keeps its penalty ρ ≥ 1e-5, so on a raw misfit of
+  /// 1e-9 (displacements in metres) L-BFGS stopped at its first point and MMA crept in steps of ~1e-4.
+  double misfitScale = 0.0;
 
   /// Evaluates at z; returns the evaluation (misfit +inf when it failed).
   FitEvaluation at(const Eigen::VectorXd& z, FitDerivatives d) {
@@ -113,11 +118,12 @@ double nloptObjective(unsigned n, const double* zp, double* grad, void* data) {
     if (grad) std::fill(grad, grad + n, 0.0);
     return std::numeric_limits<double>::max();
   }
+  if (run.misfitScale == 0.0) run.misfitScale = e.misfit > 0.0 ? e.misfit : 1.0;
   if (grad) {
-    const Eigen::VectorXd g = run.gradientZ(e.gradient, run.scaling.q(z));
+    const Eigen::VectorXd g = run.gradientZ(e.gradient, run.scaling.q(z)) / run.misfitScale;
     std::copy(g.data(), g.data() + n, grad);
   }
-  return e.misfit;
+  return e.misfit / run.misfitScale;
 }
 
 void runNlopt(Run& run, const Eigen::VectorXd& z0, const Eigen::VectorXd& lower, const Eigen::VectorXd& upper) {

@@ -1,6 +1,7 @@
 #include "tools/fit/fit_setup.h"
 
 #include "tools/scene/run_scene.h"
+#include "tools/scene/scene_edge_rules.h"
 #include "tools/scene/scene_problem.h"
 
 #include <algorithm>
@@ -8,7 +9,9 @@
 namespace jetshell {
 
 FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(file.scene)) {
-  system_ = std::make_unique<ShellSystem>(shellProblemFromScene(file_.scene, model_), AnalysisKind::Statics);
+  const ShellProblem problem = shellProblemFromScene(file_.scene, model_);
+  system_ = std::make_unique<ShellSystem>(problem, AnalysisKind::Statics);
+  addSceneEdgeRules(file_.scene, problem, *system_);  // the same boundary rules as `jetshell run`
   std::vector<std::string> names, labels;
   for (const FitParameterSpec& p : file_.parameters) {
     names.push_back(p.name);
@@ -54,9 +57,11 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
     }
     labels_.push_back(label);
   }
+  // The statics path of `jetshell run`: increments up to 1 / loadSteps, the first a quarter of that.
   LoadSteppingOptions steps;
-  steps.initialIncrement = steps.maxIncrement = 1.0 / file_.scene.analysis.loadSteps;
-  steps.newton = newtonOptionsFor(file_.scene.solver, steps.newton.maxIterations);
+  steps.maxIncrement = 1.0 / file_.scene.analysis.loadSteps;
+  steps.initialIncrement = 0.25 * steps.maxIncrement;
+  steps.newton = newtonOptionsFor(file_.scene.solver, steps.newton.maxIterations, /*statics=*/true);
   problem_ = std::make_unique<StaticFitProblem>(system_->objective(), system_->nodalForces.get(), system_->restPositions(),
                                                 std::move(mapping), levels, std::move(observed), steps);
 }

@@ -1,5 +1,5 @@
 // A fit file turned into a StaticFitProblem: the scene resolved (tools/scene/scene_model.h), its static shell
-// system, the material mapping of the fitted parameters, and every observation as observed coordinates at
+// system with the scene's edge rules (tools/scene/scene_edge_rules.h, as `jetshell run` builds it), the material mapping of the fitted parameters, and every observation as observed coordinates at
 // the distinct load levels.
 //
 //   probe:  one coordinate per listed component, weight w

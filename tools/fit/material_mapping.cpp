@@ -14,10 +14,14 @@ using Jet = ceres::Jet<double, kMaxFitParameters>;
 
 const std::vector<std::string> kIsotropic = {"youngsModulus", "poissonRatio", "thickness", "volumeDensity"};
 const std::vector<std::string> kShell = {"membraneLambda", "membraneMu", "bendingAlpha", "bendingBeta", "density"};
-/// Output k of the material formulas sets this term parameter.
-const std::array<TermParameter, 5> kTargets = {TermParameter{"membrane", "lambda"}, TermParameter{"membrane", "mu"},
-                                                TermParameter{"bending", "alpha"}, TermParameter{"bending", "beta"},
-                                                TermParameter{"gravity", "density"}};
+/// Output k of the material formulas sets these term parameters (those whose term is active): the bending
+/// moduli live in the bending term and in the boundary-rule correction of a scene's edge rules.
+const std::array<std::vector<TermParameter>, 5> kTargets = {
+    std::vector<TermParameter>{{"membrane", "lambda"}},
+    std::vector<TermParameter>{{"membrane", "mu"}},
+    std::vector<TermParameter>{{"bending", "alpha"}, {"boundary_rules", "alpha"}},
+    std::vector<TermParameter>{{"bending", "beta"}, {"boundary_rules", "beta"}},
+    std::vector<TermParameter>{{"gravity", "density"}}};
 
 /// The five shell outputs as Jets, with the fitted inputs seeded (input k of `names` → derivative slot k).
 std::array<Jet, 5> outputs(const MaterialBase& base, const std::vector<std::string>& names, const Eigen::VectorXd& q) {
@@ -81,34 +85,35 @@ ParameterMapping materialMapping(const MaterialBase& base, const std::vector<std
         names.begin() + static_cast<std::ptrdiff_t>(k))
       throw InputError(labels[k] + " = \"" + names[k] + "\": fitted twice");
   }
-  // The outputs whose term is active and that some fitted name reaches.
+  // The term parameters whose term is active and whose output some fitted name reaches (output index each).
   std::vector<int> used;
+  ParameterMapping m;
   std::vector<char> effective(names.size(), 0);
   for (int o = 0; o < 5; ++o) {
-    const TermParameter& t = kTargets[static_cast<std::size_t>(o)];
-    const EnergyTermPtr term = objective.term(t.term);
-    if (!term) continue;
-    bool reached = false;
-    for (std::size_t k = 0; k < names.size(); ++k)
-      if (dependsOn(base, o, names[k])) {
-        reached = true;
-        effective[k] = 1;
-      }
-    if (!reached) continue;
-    const std::vector<std::string> have = term->parameterNames();
-    if (std::find(have.begin(), have.end(), t.name) == have.end())
-      throw InputError("fit: term '" + t.term + "' does not expose the parameter '" + t.name +
-                       "' (it cannot be differentiated with respect to it yet)");
-    used.push_back(o);
+    for (const TermParameter& t : kTargets[static_cast<std::size_t>(o)]) {
+      const EnergyTermPtr term = objective.term(t.term);
+      if (!term) continue;
+      bool reached = false;
+      for (std::size_t k = 0; k < names.size(); ++k)
+        if (dependsOn(base, o, names[k])) {
+          reached = true;
+          effective[k] = 1;
+        }
+      if (!reached) continue;
+      const std::vector<std::string> have = term->parameterNames();
+      if (std::find(have.begin(), have.end(), t.name) == have.end())
+        throw InputError("fit: term '" + t.term + "' does not expose the parameter '" + t.name +
+                         "' (it cannot be differentiated with respect to it yet)");
+      used.push_back(o);
+      m.termParameters.push_back(t);
+    }
   }
   for (std::size_t k = 0; k < names.size(); ++k)
     if (!effective[k])
       throw InputError(labels[k] + " = \"" + names[k] + "\": has no effect on this static problem (the terms it "
                        "sets are not active)");
 
-  ParameterMapping m;
   m.numParameters = static_cast<int>(names.size());
-  for (int o : used) m.termParameters.push_back(kTargets[static_cast<std::size_t>(o)]);
   m.map = [base, names, used](const Eigen::VectorXd& q, Eigen::VectorXd& values, Eigen::MatrixXd* jacobian) {
     const std::array<Jet, 5> out = outputs(base, names, q);
     const int Q = static_cast<int>(names.size());

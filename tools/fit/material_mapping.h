@@ -8,7 +8,9 @@
 //   α                bending.alpha         E, ν, h                        bendingAlpha
 //   β                bending.beta          E, ν, h                        bendingBeta
 //   ρ_A0             gravity.density       h, ρ0                          density
-// An output is set only when its term is active (a scene without gravity has no density to fit through).
+// α and β also set boundary_rules.alpha/beta when a scene's edge rules add that correction term
+// (tools/scene/scene_edge_rules.h). An output is set only when its term is active (a scene without gravity has no
+// density to fit through).
 //
 // Inputs: the base material (the values not fitted), the fitted names in order, the objective (active terms).
 // Outputs: a ParameterMapping (tools/fit/static_fit_problem.h).

@@ -58,22 +58,49 @@ FitEvaluation StaticFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivative
   if (derivatives == FitDerivatives::Gradient) ++counters_.gradientEvaluations;
   if (derivatives == FitDerivatives::Jacobian) ++counters_.jacobianEvaluations;
 
+  // One load path through every observed level (solvers/statics.h lands on each): level 0, when observed (gravity
+  // or prescribed positions alone), is one solve at λ = 0 from the rest state; the path continues from there.
   Eigen::VectorXd x = rest_;
-  for (std::size_t k = 0; k < levels_.size(); ++k) {
-    LoadSteppingOptions o = options_;
-    o.targetLoadFactor = levels_[k];
-    if (k > 0) o.initialIncrement = o.maxIncrement = std::max(o.minIncrement, levels_[k]);  // direct jump first
-    StaticsResult r = solveStatics(objective_, loads_, x, o);
+  out.equilibria.assign(levels_.size(), Eigen::VectorXd());
+  auto count = [&](const StaticsResult& r) {
     ++counters_.fullSolves;
     counters_.newtonIterations += r.newtonIterations;
     for (const LoadStepResult& s : r.steps) counters_.newtonFactorizations += s.summary.numericFactorizations;
-    if (!r.completed) {
-      std::ostringstream m;
-      m << "the static solve to load factor " << levels_[k] << " failed: " << r.message;
-      out.message = m.str();
+    for (const SolverSummary& s : r.failedSolves) counters_.newtonFactorizations += s.numericFactorizations;
+  };
+  auto failed = [&](const StaticsResult& r, double level) {
+    std::ostringstream m;
+    m << "the static solve to load factor " << level << " failed: " << r.message;
+    out.message = m.str();
+    return out;
+  };
+  std::size_t first = 0;
+  if (levels_[0] == 0.0) {
+    LoadSteppingOptions o = options_;
+    o.startLoadFactor = o.targetLoadFactor = 0.0;
+    o.levels.clear();
+    const StaticsResult r = solveStatics(objective_, loads_, x, o);
+    count(r);
+    if (!r.completed) return failed(r, 0.0);
+    out.equilibria[0] = x;
+    first = 1;
+  }
+  if (first < levels_.size()) {
+    LoadSteppingOptions o = options_;
+    o.startLoadFactor = 0.0;
+    o.targetLoadFactor = levels_.back();
+    o.levels.assign(levels_.begin() + static_cast<std::ptrdiff_t>(first), levels_.end());
+    std::size_t next = first;
+    const StaticsResult r = solveStatics(objective_, loads_, x, o, [&](const LoadStepResult& s) {
+      if (s.atLevel && next < levels_.size()) out.equilibria[next++] = s.x;
+      return true;
+    });
+    count(r);
+    if (!r.completed) return failed(r, levels_.back());
+    if (next != levels_.size()) {
+      out.message = "the load path did not stop on every observed level";
       return out;
     }
-    out.equilibria.push_back(x);
   }
   for (int i = 0; i < M; ++i) {
     const ObservedCoordinate& o = observed_[static_cast<std::size_t>(i)];

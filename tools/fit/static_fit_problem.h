@@ -4,10 +4,10 @@
 //   residual i:  r_i = √w_i (x*_{ℓ(i)}[dof_i] − target_i),   misfit f = ½ Σ r_i²
 //   gradient:    adjoint, one linear solve per observed level (solvers/adjoint.h)
 //   Jacobian:    forward sensitivities, Q solves per observed level (Gauss–Newton / Levenberg–Marquardt)
-// Each evaluation solves from the rest state: level 1 by load stepping, each next level from the previous
-// equilibrium (first a direct jump to it, then, if that fails, cut increments). The cost is counted
-// (full solves, Newton iterations and factorizations, sensitivity factorizations and solves): deterministic
-// figures for the benchmark.
+// Each evaluation solves from the rest state along one load path, the statics path of `jetshell run`
+// (solveStatics, solvers/statics.h: adaptive increments, polynomial predictor, landing on every observed level;
+// an observed level 0 is one solve at λ = 0 first). The cost is counted (load paths, Newton iterations and
+// factorizations, sensitivity factorizations and solves): deterministic figures for the benchmark.
 //
 // Inputs: an objective (finalized or not) and its load term, a parameter mapping q (Q) → term parameter values
 // with their Jacobian, observed coordinates. Outputs: FitEvaluation.
@@ -57,7 +57,7 @@ struct FitEvaluation {
 /// Deterministic cost counts, accumulated over evaluations.
 struct FitCounters {
   int evaluations = 0;            // forward evaluations (each solves every level)
-  int fullSolves = 0;             // load-stepping solves (one per level per evaluation)
+  int fullSolves = 0;             // load paths from the rest state (one per evaluation; two with level 0)
   int newtonIterations = 0;
   int newtonFactorizations = 0;   // numeric Cholesky factorizations inside Newton
   int sensitivityFactorizations = 0;  // exact-Hessian factorizations for derivatives

@@ -11,9 +11,9 @@
 #include "tools/render/render_frames.h"
 #include "tools/scene/safeguard_report.h"
 #include "tools/scene/scene_model.h"
+#include "tools/scene/scene_edge_rules.h"
 #include "tools/scene/scene_problem.h"
 #include "tools/scene/support_check.h"
-#include "validation/boundary_rule_term.h"
 
 #include <omp.h>
 
@@ -77,25 +77,6 @@ NewtonOptions newtonOptionsFor(const SolverSettings& s, int defaultIterations, b
   return n;
 }
 
-/// The scene's boundary-edge rules: the clamp rule is the bending term's own (energies/shell/edge_rules.h); the
-/// moment-free free edge and symmetry planes are a correction term on the faces they change
-/// (validation/boundary_rule_term.h).
-static void addEdgeRules(const Scene& scene, const ShellProblem& problem, ShellSystem& system) {
-  if (!system.bending) return;
-  const EdgeRule clamp = edgeRuleFromString(scene.edgeRules.clamp);
-  if (!problem.clampedVertices.empty()) system.bending->setEdgeRule(problem.clampedVertices, clamp);
-  validation::BoundaryRules rules;
-  rules.clampRule = rules.builtInClampRule = validation::toBoundaryRule(clamp);
-  rules.freeRule = validation::parseBoundaryRule(scene.edgeRules.free);
-  for (const EdgeRuleSettings::SymmetryPlane& p : scene.edgeRules.symmetryPlanes)
-    rules.symmetryPlanes.push_back({p.point, p.normal});
-  rules.planeTolerance = 1e-6;
-  const ShellMaterialParams& m = system.material();
-  if (auto term = validation::makeBoundaryRuleTerm(system.mesh(), system.topology(), system.reference(), m.bendingAlpha,
-                                                   m.bendingBeta, problem.clampedVertices, rules))
-    system.objective().addTerm(term);
-}
-
 RunResult runScene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const SceneModel model = buildSceneModel(scene);
@@ -115,7 +96,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                                                             : AnalysisKind::DynamicRelaxation;
   const ShellProblem problem = shellProblemFromScene(scene, model);
   ShellSystem system(problem, kind);
-  addEdgeRules(scene, problem, system);
+  addSceneEdgeRules(scene, problem, system);
   Objective& objective = system.objective();
   RunOutput output(options.outputDirectory, scene, model, options.scenePath);
   RunSummary& summary = result.summary;

@@ -1,6 +1,7 @@
 #include "tools/fit/fit_setup.h"
 
 #include "tools/fit/fit_report.h"
+#include "validation/self_weight_elastica.h"
 
 #include <catch2/catch.hpp>
 
@@ -58,4 +59,18 @@ TEST_CASE("fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta of the synt
   std::vector<std::string> notes;
   const std::vector<std::string> files = writeFitReport(in, dir, false, notes);
   CHECK(std::filesystem::exists(dir + "/fit.json"));
+}
+
+TEST_CASE("fit: the cloth overhang's fitted flexural rigidity matches the self-weight elastica's", "[fit]") {
+  // examples/fit_cloth_overhang.json: a 50 mm strip whose tip chord drops 41.5°; D = β per width (α = 0).
+  const FitFile file = loadFitFile(example("fit_cloth_overhang.json"));
+  FitSetup setup(file);
+  const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
+  INFO(r.termination << " " << r.message << ", q = " << r.q.transpose());
+  REQUIRE(r.success);
+  const double pi = 3.14159265358979323846;
+  const double elastica = validation::rigidityForChordAngle(0.05, file.material.shell.density * 9.81, 41.5 * pi / 180.0);
+  // Measured −0.011% on the example's 40 × 4 mesh with the mirrored clamp (18.6% with the reference-normal
+  // clamp, FITTING.md); the target is 1%.
+  CHECK(std::abs(r.q[0] / elastica - 1.0) < 2e-4);
 }
