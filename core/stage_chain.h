@@ -213,32 +213,46 @@ class StageChain {
     return numNodes_ - 1;
   }
 
-  /// H += Zᵀ (Σ_k w̄_k ∇²y_k) Z on the node's support.
+  /// H += Zᵀ (Σ_k w̄_k ∇²y_k) Z on the node's support (plain loops over fixed-capacity arrays).
   void curvature(const Node& node, Hessian& H) const {
-    constexpr int N = kMaxStageInputs;
     const int n = node.numInputs;
     bool any = false;
     for (int k = 0; k < node.outputs; ++k) any = any || (node.adjoint[k] != 0.0 && node.hessian[k] != nullptr);
     if (!any) return;
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, N, N> C = Eigen::MatrixXd::Zero(n, n);
+    double C[kMaxStageInputs * kMaxStageInputs] = {};  // column-major n×n
     for (int k = 0; k < node.outputs; ++k) {
-      if (node.adjoint[k] == 0.0 || node.hessian[k] == nullptr) continue;
-      C += node.adjoint[k] * Eigen::Map<const Eigen::MatrixXd>(node.hessian[k], n, n);
+      const double a = node.adjoint[k];
+      if (a == 0.0 || node.hessian[k] == nullptr) continue;
+      for (int i = 0; i < n * n; ++i) C[i] += a * node.hessian[k][i];
     }
     int cols[D];
     int m = 0;
     for (int v = 0; v < K; ++v)
       if (node.support >> v & 1u)
         for (int c = 0; c < 3; ++c) cols[m++] = 3 * v + c;
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, N, D> Z(n, m);
+    double Z[kMaxStageInputs * D];   // row q: input q's total Jacobian on the support columns
+    double CZ[kMaxStageInputs * D];  // row p: Σ_q C(p, q) Z(q, ·)
     for (int q = 0; q < n; ++q) {
       const double* Jin = nodes_[node.inputNode[q]].J + node.inputComponent[q] * D;
-      for (int c = 0; c < m; ++c) Z(q, c) = Jin[cols[c]];
+      for (int c = 0; c < m; ++c) Z[q * D + c] = Jin[cols[c]];
     }
-    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, N, D> CZ = C.lazyProduct(Z);
-    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, D, D> Hc = Z.transpose().lazyProduct(CZ);
+    for (int p = 0; p < n; ++p) {
+      double* row = CZ + p * D;
+      for (int c = 0; c < m; ++c) row[c] = 0.0;
+      for (int q = 0; q < n; ++q) {
+        const double cpq = C[p + n * q];
+        if (cpq == 0.0) continue;
+        const double* z = Z + q * D;
+        for (int c = 0; c < m; ++c) row[c] += cpq * z[c];
+      }
+    }
     for (int b = 0; b < m; ++b)
-      for (int a = 0; a < m; ++a) H(cols[a], cols[b]) += Hc(a, b);
+      for (int a = 0; a <= b; ++a) {
+        double h = 0.0;
+        for (int p = 0; p < n; ++p) h += Z[p * D + a] * CZ[p * D + b];
+        H(cols[a], cols[b]) += h;
+        if (a != b) H(cols[b], cols[a]) += h;
+      }
   }
 
   const double* xe_ = nullptr;
