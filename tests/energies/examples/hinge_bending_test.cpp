@@ -62,3 +62,29 @@ TEST_CASE("hinge bending: Gauss-Newton keeps only the energy stage's curvature",
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(HG);
   CHECK(eig.eigenvalues().minCoeff() >= -1e-12 * eig.eigenvalues().cwiseAbs().maxCoeff());
 }
+
+TEST_CASE("hinge bending: shared stage results give the same bits with 1 and 2 threads", "[stages]") {
+  // 1160 hinges: above the element loop's serial threshold, so two threads share the face-normal cache.
+  const TriMesh mesh = makeRectangleGrid(1.0, 1.0, 20, 20);
+  const Topology topology = buildTopology(mesh);
+  auto term = makeHingeBendingTerm(mesh, topology, 0.7);
+  Eigen::VectorXd x = flatten(mesh.V);
+  for (int v = 0; v < mesh.numVertices(); ++v) x[3 * v + 2] = 0.1 * std::sin(5.0 * x[3 * v]) * std::cos(3.0 * x[3 * v + 1]);
+  EvalOptions opt;
+  opt.path = DerivativePath::AutoDiff;
+  Eigen::VectorXd g1, g2;
+  double e1, e2;
+  Eigen::MatrixXd H1, H2;
+  {
+    jetshell::test::ScopedThreads one(1);
+    H1 = denseHessian(*term, x, opt, g1, e1);
+  }
+  {
+    jetshell::test::ScopedThreads two(2);
+    H2 = denseHessian(*term, x, opt, g2, e2);
+  }
+  REQUIRE(e1 > 0.0);
+  CHECK(e1 == e2);
+  CHECK(g1 == g2);
+  CHECK(H1 == H2);
+}
