@@ -18,6 +18,7 @@
 #pragma once
 
 #include "core/element_loop.h"
+#include "core/fixed_stencil_term.h"
 #include "core/stage_chain.h"
 #include "core/term.h"
 
@@ -31,24 +32,16 @@
 namespace jetshell {
 
 template <typename Definition>
-class StagedEnergyTerm : public EnergyTerm {
+class StagedEnergyTerm : public FixedStencilTerm {
  public:
   static constexpr int K = Definition::kVertices;
   static constexpr int M = 3 * K;
 
   StagedEnergyTerm(std::string name, StencilTable stencils, int numVertices, Definition definition,
                    bool zeroAtRest = true, bool rigidInvariant = true)
-      : name_(std::move(name)),
-        table_(std::move(stencils)),
-        schedule_(scheduleElements(table_, numVertices)),
-        definition_(std::move(definition)),
-        zeroAtRest_(zeroAtRest),
-        rigidInvariant_(rigidInvariant) {}
+      : FixedStencilTerm(std::move(name), std::move(stencils), numVertices, zeroAtRest, rigidInvariant),
+        definition_(std::move(definition)) {}
 
-  std::string name() const override { return name_; }
-  StencilTable stencils() const override { return table_; }
-  bool zeroAtRest() const override { return zeroAtRest_; }
-  bool rigidInvariant() const override { return rigidInvariant_; }
   Definition& definition() { return definition_; }
   const Definition& definition() const { return definition_; }
 
@@ -76,14 +69,9 @@ class StagedEnergyTerm : public EnergyTerm {
   }
 
  private:
-  std::string name_;
-  StencilTable table_;
-  ElementSchedule schedule_;
   Definition definition_;
-  bool zeroAtRest_, rigidInvariant_;
   std::uint64_t epoch_ = 0;
-  std::vector<std::unique_ptr<StageChain<K>>> chains_;
-  std::vector<double> elementEnergy_;
+  std::vector<std::unique_ptr<StageChain<K>>> chains_;  // one per thread, reused
 };
 
 }  // namespace jetshell
