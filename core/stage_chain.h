@@ -105,7 +105,7 @@ class StageChain {
         Node& node = nodes_[n];
         if (node.numInputs == 0) continue;  // a leaf
         if (n != root_ && !exact) break;
-        curvature(node, H);
+        node.curvature(*this, node, H);
         if (exact) {
           for (int i = 0; i < node.numInputs; ++i) {
             double s = 0.0;
@@ -131,6 +131,7 @@ class StageChain {
     std::uint32_t support = 0;             // bit v: depends on stencil vertex v
     double J[kMaxStageOutputs * D];        // total Jacobian, row k at J + k·D
     double adjoint[kMaxStageOutputs];
+    void (*curvature)(const StageChain&, const Node&, Hessian&) = nullptr;  // curvatureOf<numInputs>
   };
 
   void* allocate(std::size_t bytes) {
@@ -194,6 +195,7 @@ class StageChain {
     n.jacobian = d.jacobian.data();
     for (int k = 0; k < M; ++k) n.hessian[k] = order >= 2 ? d.hessians[k].data() : nullptr;
     n.support = support;
+    n.curvature = &curvatureOf<N>;
     if (context_.energyOrder > 0) {
       // J_k = Σ_i (∂y_k/∂z_i) J_input(i), on the support's columns only.
       for (int k = 0; k < M; ++k)
@@ -213,46 +215,24 @@ class StageChain {
     return numNodes_ - 1;
   }
 
-  /// H += Zᵀ (Σ_k w̄_k ∇²y_k) Z on the node's support (plain loops over fixed-capacity arrays).
-  void curvature(const Node& node, Hessian& H) const {
-    const int n = node.numInputs;
+  /// H += Zᵀ (Σ_k w̄_k ∇²y_k) Z for a node of N inputs, with fixed sizes (N × D) so that the products vectorize;
+  /// Z's rows are the inputs' total Jacobians, zero off their supports.
+  template <int N>
+  static void curvatureOf(const StageChain& chain, const Node& node, Hessian& H) {
+    Eigen::Matrix<double, N, N> C = Eigen::Matrix<double, N, N>::Zero();
     bool any = false;
-    for (int k = 0; k < node.outputs; ++k) any = any || (node.adjoint[k] != 0.0 && node.hessian[k] != nullptr);
-    if (!any) return;
-    double C[kMaxStageInputs * kMaxStageInputs] = {};  // column-major n×n
     for (int k = 0; k < node.outputs; ++k) {
-      const double a = node.adjoint[k];
-      if (a == 0.0 || node.hessian[k] == nullptr) continue;
-      for (int i = 0; i < n * n; ++i) C[i] += a * node.hessian[k][i];
+      if (node.adjoint[k] == 0.0 || node.hessian[k] == nullptr) continue;
+      C.noalias() += node.adjoint[k] * Eigen::Map<const Eigen::Matrix<double, N, N>>(node.hessian[k]);
+      any = true;
     }
-    int cols[D];
-    int m = 0;
-    for (int v = 0; v < K; ++v)
-      if (node.support >> v & 1u)
-        for (int c = 0; c < 3; ++c) cols[m++] = 3 * v + c;
-    double Z[kMaxStageInputs * D];   // row q: input q's total Jacobian on the support columns
-    double CZ[kMaxStageInputs * D];  // row p: Σ_q C(p, q) Z(q, ·)
-    for (int q = 0; q < n; ++q) {
-      const double* Jin = nodes_[node.inputNode[q]].J + node.inputComponent[q] * D;
-      for (int c = 0; c < m; ++c) Z[q * D + c] = Jin[cols[c]];
-    }
-    for (int p = 0; p < n; ++p) {
-      double* row = CZ + p * D;
-      for (int c = 0; c < m; ++c) row[c] = 0.0;
-      for (int q = 0; q < n; ++q) {
-        const double cpq = C[p + n * q];
-        if (cpq == 0.0) continue;
-        const double* z = Z + q * D;
-        for (int c = 0; c < m; ++c) row[c] += cpq * z[c];
-      }
-    }
-    for (int b = 0; b < m; ++b)
-      for (int a = 0; a <= b; ++a) {
-        double h = 0.0;
-        for (int p = 0; p < n; ++p) h += Z[p * D + a] * CZ[p * D + b];
-        H(cols[a], cols[b]) += h;
-        if (a != b) H(cols[b], cols[a]) += h;
-      }
+    if (!any) return;
+    Eigen::Matrix<double, N, D> Z;
+    for (int q = 0; q < N; ++q)
+      Z.row(q) = Eigen::Map<const Eigen::Matrix<double, 1, D>>(chain.nodes_[node.inputNode[q]].J +
+                                                               node.inputComponent[q] * D);
+    const Eigen::Matrix<double, N, D> CZ = C.lazyProduct(Z);
+    H.noalias() += Z.transpose().lazyProduct(CZ);
   }
 
   const double* xe_ = nullptr;
