@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -65,6 +66,17 @@ std::vector<StudyRun> studyRuns(bool quick, bool large) {
   add("anisotropic", "slit annular plate, angular refinement", "slit-annular-plate",
       quick ? std::vector<Resolution>{{2, 64}, {4, 128}} : std::vector<Resolution>{{2, 64}, {4, 128}, {8, 256}},
       "", none);
+
+  // 1b. The slit plate's observed order without the reference: successive differences of the computed path
+  // under uniform refinement (both counts doubled), uniform rings and rings graded towards the free edges.
+  {
+    std::vector<Resolution> meshes = quick ? std::vector<Resolution>{{2, 16}, {4, 32}, {8, 64}}
+                                           : std::vector<Resolution>{{2, 16}, {4, 32}, {8, 64}, {16, 128}};
+    if (large) meshes.push_back({32, 256});
+    add("self-convergence", "slit annular plate, uniform rings", "slit-annular-plate", meshes, "", none);
+    for (Resolution& m : meshes) m.grading = MeshGrading::Cosine;
+    add("self-convergence", "slit annular plate, cosine rings", "slit-annular-plate", meshes, "cosine rings", none);
+  }
 
   // 2. Clamped edges: the two other models on the same meshes.
   for (ClampKind k : {ClampKind::Normal, ClampKind::TwoRow}) {
@@ -150,6 +162,53 @@ std::string order(const Done* previous, const Done& d, bool finalError) {
   return fixed(std::log(e0 / e1) / std::log(h0 / h1), 2);
 }
 
+/// The largest |q_a − q_b| / |q_ref| over every level and quantity of two runs of one benchmark; at one row
+/// (row ≥ 0) or over all (row = −1). NaN when a run is incomplete.
+double pathDifference(const BenchmarkResult& a, const BenchmarkResult& b, int row) {
+  if (!a.completed || !b.completed || a.rows.size() != b.rows.size()) return std::nan("");
+  double d = 0.0;
+  for (std::size_t i = 0; i < a.rows.size(); ++i) {
+    if (row >= 0 && static_cast<int>(i) != row) continue;
+    for (std::size_t q = 0; q < a.rows[i].computed.size(); ++q)
+      d = std::max(d, std::abs(a.rows[i].computed[q] - b.rows[i].computed[q]) / std::abs(a.rows[i].reference[q]));
+  }
+  return d;
+}
+
+/// Self-convergence: for each series of the self-convergence group (each mesh doubles both counts), the
+/// differences between successive meshes and the observed order log2(d_k / d_{k+1}), which needs no reference.
+void printSelfConvergence(const std::vector<Done>& done) {
+  std::vector<const Done*> runs;
+  for (const Done& d : done)
+    if (d.run.group == "self-convergence") runs.push_back(&d);
+  if (runs.size() < 3) return;
+  std::cout << "\n### self-convergence (differences between successive meshes, relative to the reference values)\n\n"
+            << "| series | meshes | max difference % (all levels) | order | difference at λ=0.025 % | order | "
+               "difference at λ=1 % | order |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
+  auto ord = [](double d0, double d1) {
+    return d0 > 0.0 && d1 > 0.0 && std::isfinite(d0) && std::isfinite(d1) ? fixed(std::log2(d0 / d1), 2)
+                                                                           : std::string();
+  };
+  for (std::size_t k = 0; k + 1 < runs.size(); ++k) {
+    const Done& a = *runs[k];
+    const Done& b = *runs[k + 1];
+    if (a.run.series != b.run.series) continue;
+    const int last = static_cast<int>(a.result.rows.size()) - 1;
+    const double d[3] = {pathDifference(a.result, b.result, -1), pathDifference(a.result, b.result, 0),
+                         pathDifference(a.result, b.result, last)};
+    std::string o[3];
+    if (k > 0 && runs[k - 1]->run.series == a.run.series) {
+      const BenchmarkResult& p = runs[k - 1]->result;
+      const double e[3] = {pathDifference(p, a.result, -1), pathDifference(p, a.result, 0),
+                           pathDifference(p, a.result, last)};
+      for (int i = 0; i < 3; ++i) o[i] = ord(e[i], d[i]);
+    }
+    std::cout << "| " << a.run.series << " | " << a.result.resolution.n1 << "x" << a.result.resolution.n2 << " → "
+              << b.result.resolution.n1 << "x" << b.result.resolution.n2 << " | " << percent(d[0]) << " | " << o[0]
+              << " | " << percent(d[1]) << " | " << o[1] << " | " << percent(d[2]) << " | " << o[2] << " |\n";
+  }
+}
+
 int runStudy(bool quick, bool large, const std::string& jsonPath, const std::string& chartPath, const std::string& only) {
   std::vector<Done> done;
   nlohmann::json all = nlohmann::json::array();
@@ -157,7 +216,8 @@ int runStudy(bool quick, bool large, const std::string& jsonPath, const std::str
     if (!only.empty() && run.group != only) continue;
     const Benchmark& b = findBenchmark(run.benchmark);
     BenchmarkRunOptions o;
-    o.resolution = run.mesh;
+    o.resolution = run.mesh;  // with the run's grading (uniform unless the run says otherwise)
+    o.defaultGrading = false;
     run.tweak(o);
     BenchmarkResult r = runBenchmark(b, o);
     std::cerr << run.group << " | " << run.series << " | " << r.resolution.n1 << "x" << r.resolution.n2 << " "
@@ -194,6 +254,8 @@ int runStudy(bool quick, bool large, const std::string& jsonPath, const std::str
     previous = &d;
   }
 
+  printSelfConvergence(done);
+
   if (!chartPath.empty()) {
     std::vector<ErrorTimePoint> points;
     for (const Done& d : done)
@@ -229,7 +291,7 @@ const RegisterSubcommand reg("bench_accuracy", [](CLI::App& app, int& exitCode) 
   cmd->add_flag("--large", a->large, "Also the fine slit-ring meshes that reach 1% (several minutes each)");
   cmd->add_option("--json", a->json, "Write every run to this JSON file");
   cmd->add_option("--chart", a->chart, "Error-versus-time PNG (default validation-output/error_vs_time.png; '' for none)");
-  cmd->add_option("--only", a->only, "Run one group: convergence, anisotropic, clamps, diagonals, knobs, relaxation, one-percent");
+  cmd->add_option("--only", a->only, "Run one group: convergence, self-convergence, anisotropic, clamps, diagonals, knobs, relaxation, one-percent");
   cmd->callback([a, &exitCode] {
     if (!a->chart.empty()) {
       const std::string dir = a->chart.substr(0, a->chart.find_last_of('/'));

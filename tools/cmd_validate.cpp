@@ -34,6 +34,7 @@ struct ValidateArgs {
   std::string mesh;
   std::string clamp = "mirrored";
   std::string diagonals = "uniform";
+  std::string grading;
   std::string freeEdge = "second_order_free";
   std::string solver;
   std::string projection = "none";
@@ -72,6 +73,10 @@ BenchmarkRunOptions runOptions(const ValidateArgs& a) {
   if (!a.mesh.empty()) o.resolution = parseMesh(a.mesh);
   o.clamp = parseClampKind(a.clamp);
   o.diagonals = quadDiagonalsFromString(a.diagonals);
+  if (!a.grading.empty()) {
+    o.defaultGrading = false;
+    o.resolution.grading = parseMeshGrading(a.grading);
+  }
   o.freeRule = parseBoundaryRule(a.freeEdge);
   if (o.freeRule != BoundaryRule::PageFree && o.freeRule != BoundaryRule::SecondOrderFree)
     throw InputError("--free-edge: '" + a.freeEdge + "' is not one of: page_free, second_order_free");
@@ -102,7 +107,7 @@ int runValidate(const ValidateArgs& a) {
   if (a.list) {
     for (const Benchmark& b : allBenchmarks())
       std::cout << b.name << ": " << b.title << " (default mesh " << b.defaultResolution.n1 << "x"
-                << b.defaultResolution.n2 << ", " << b.resolutionMeaning << ")\n";
+                << b.defaultResolution.n2 << " " << toString(b.defaultResolution.grading) << ", " << b.resolutionMeaning << ")\n";
     return kOk;
   }
   std::vector<const Benchmark*> selected;
@@ -156,6 +161,8 @@ const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--mesh", a->mesh, "Resolution N1xN2 instead of the benchmark's default (see --list)");
   cmd->add_option("--clamp", a->clamp, "Clamped edges: mirrored (default), normal, two-row");
   cmd->add_option("--diagonals", a->diagonals, "Quad split: uniform (default) or alternating");
+  cmd->add_option("--grading", a->grading,
+                  "Spacing of the rings between free edges: uniform or cosine (default: the benchmark's, see --list)");
   cmd->add_option("--free-edge", a->freeEdge, "Free edges' rule: second_order_free (default: no moment across the edge) or page_free");
   cmd->add_option("--solver", a->solver, "load-stepping or dynamic-relaxation (default: the benchmark's)");
   cmd->add_option("--projection", a->projection, "Newton's per-element PSD projection: none (default) or clamp");

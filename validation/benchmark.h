@@ -38,9 +38,19 @@ enum class SolverKind {
 };
 const char* toString(SolverKind k);
 
-/// A mesh resolution: two counts whose meaning each benchmark states (nx × ny elements, or radial × angular).
+/// How the n1 rows of nodes are spaced across the width between the free edges (the slit plate's radial
+/// direction; the other benchmarks ignore it). Cosine: x_k = ½(1 − cos(π k/n1)), fine at both free edges, where
+/// the bent plate's boundary layers sit (VALIDATION.md, "Why the slit plate converged at first order").
+enum class MeshGrading { Uniform, Cosine };
+const char* toString(MeshGrading g);
+/// "uniform" | "cosine"; InputError naming --grading otherwise.
+MeshGrading parseMeshGrading(const std::string& s);
+
+/// A mesh resolution: two counts whose meaning each benchmark states (nx × ny elements, or radial × angular),
+/// and the spacing of the n1 rows.
 struct Resolution {
   int n1 = 0, n2 = 0;
+  MeshGrading grading = MeshGrading::Uniform;
 };
 
 /// A displacement read from the solution: sign × (x − X) of component `component`, averaged over `vertices`.
@@ -73,7 +83,7 @@ struct Benchmark {
   std::string resolutionMeaning;  // what n1 and n2 count
   ReferenceTable reference;
   ErrorMeasure errorMeasure = ErrorMeasure::PerQuantity;
-  Resolution defaultResolution;  // what `validate` runs without --mesh: the best error for about a second or two
+  Resolution defaultResolution;  // (with its grading) what `validate` runs without --mesh: the best error for about a second or two
                                  // of CPU (VALIDATION.md); the meshes that reach 1% are listed there
   SolverKind defaultSolver = SolverKind::LoadStepping;  // dynamic relaxation compares λ = 1 only
   std::function<BenchmarkCase(const Resolution&, ClampKind, QuadDiagonals)> build;
@@ -93,6 +103,7 @@ NewtonOptions benchmarkNewtonOptions();
 /// The knobs that trade time for accuracy or robustness.
 struct BenchmarkRunOptions {
   Resolution resolution;  // n1 = 0: the benchmark's default
+  bool defaultGrading = true;  // take the benchmark's default grading instead of resolution.grading
   ClampKind clamp = ClampKind::Mirrored;
   BoundaryRule freeRule = BoundaryRule::SecondOrderFree;  // free edges carry no moment (VALIDATION.md: 2-3x closer
                                                  // than the spec's page_free on the slit plate)

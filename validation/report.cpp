@@ -30,7 +30,8 @@ const char* toString(ErrorMeasure m) {
 std::string formatSummary(const Benchmark& b, const BenchmarkResult& r) {
   std::ostringstream s;
   s << b.title << "\n"
-    << "  mesh " << r.resolution.n1 << " x " << r.resolution.n2 << " (" << b.resolutionMeaning << "), "
+    << "  mesh " << r.resolution.n1 << " x " << r.resolution.n2 << " " << toString(r.resolution.grading) << " ("
+    << b.resolutionMeaning << "), "
     << r.vertices << " vertices, " << r.faces << " faces; clamp " << toString(r.clamp) << ", diagonals "
     << toString(r.diagonals) << ", " << toString(r.solver) << "\n"
     << "  " << format("%.3f", r.wallSeconds) << " s wall, " << format("%.3f", r.cpuSeconds) << " s CPU, "
@@ -71,6 +72,7 @@ nlohmann::json toJson(const Benchmark& b, const BenchmarkResult& r) {
           {"faces", r.faces},
           {"mesh", {r.resolution.n1, r.resolution.n2}},
           {"mesh_meaning", b.resolutionMeaning},
+          {"grading", toString(r.resolution.grading)},
           {"clamp", toString(r.clamp)},
           {"diagonals", toString(r.diagonals)},
           {"solver", toString(r.solver)},

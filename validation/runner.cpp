@@ -73,6 +73,7 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
   BenchmarkResult r;
   r.name = b.name;
   r.resolution = o.resolution.n1 > 0 ? o.resolution : b.defaultResolution;
+  r.resolution.grading = o.defaultGrading ? b.defaultResolution.grading : o.resolution.grading;
   r.clamp = o.clamp;
   r.diagonals = o.diagonals;
   r.solver = o.useDefaultSolver ? b.defaultSolver : o.solver;
@@ -133,7 +134,19 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
     Eigen::VectorXd x = X;
     int row = 0;
     const StaticsResult sr = solveStatics(system, x, so, [&](const LoadStepResult& s) {
-      if (o.log != nullptr) *o.log << "  lambda -> " << s.loadFactor << ": " << s.summary.briefReport() << "\n";
+      if (o.log != nullptr) {
+        *o.log << "  lambda -> " << s.loadFactor << ": " << s.summary.briefReport();
+        if (s.atLevel) {
+          // The energy split at each level: a membrane share that falls slowly under refinement is locking.
+          Eigen::VectorXd xs = s.x;
+          system.objective().evaluate(xs, nullptr, false, EvalOptions{});
+          const std::vector<std::string> names = system.objective().activeTermNames();
+          const std::vector<double>& e = system.objective().termEnergies();
+          *o.log << "; energies";
+          for (std::size_t k = 0; k < names.size() && k < e.size(); ++k) *o.log << " " << names[k] << " " << e[k];
+        }
+        *o.log << "\n";
+      }
       if (s.atLevel && row < b.reference.rows()) compare(b, row++, read(s.x), r);
       return true;
     }, hooks);

@@ -114,6 +114,17 @@ TEST_CASE("run: actors with different materials each get their own elastic terms
   const std::vector<std::string>& terms = r.summary.activeTerms;
   CHECK(std::find(terms.begin(), terms.end(), "membrane/a") != terms.end());
   CHECK(std::find(terms.begin(), terms.end(), "membrane/b") != terms.end());
+  // summary.json has one entry per actor, in scene order, over that actor's own vertices.
+  const nlohmann::json actors = readJson(fs::path(o.outputDirectory) / "summary.json").at("actors");
+  REQUIRE(actors.size() == 2);
+  CHECK(actors[0]["name"] == "a");
+  CHECK(actors[1]["name"] == "b");
+  CHECK(actors[0]["vertices"] == 9);
+  CHECK(actors[1]["faces"] == 8);
+  CHECK(actors[0]["max_displacement"].get<double>() < 1e-9);  // no load: both stay at rest
+  CHECK(actors[1]["bounding_box"]["min"][0].get<double>() == Approx(2.0));
+  CHECK(actors[1]["bounding_box"]["max"][0].get<double>() == Approx(3.0));
+  CHECK(actors[0]["bounding_box"]["max"][0].get<double>() == Approx(1.0));
 }
 
 namespace {

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 namespace jetshell {
@@ -78,6 +79,8 @@ void RunOutput::record(const StepState& s, bool forceFrame) {
     rows_.push_back(std::move(row));
   }
   lastRecordedStep_ = s.step;
+  lastPositions_ = x;
+  if (s.velocity) lastVelocities_ = *s.velocity;
   const int stride = scene_.outputs.frameStride;
   if ((forceFrame || s.step % stride == 0) && s.step != lastFrameStep_) {
     writeFrame(s);
@@ -188,6 +191,31 @@ void RunOutput::restore(const nlohmann::json& j) {
     probesCsv_.reopen((fs::path(directory_) / "probes.csv").string(), j.at("probes_bytes").get<std::uint64_t>(), "");
 }
 
+nlohmann::json RunOutput::actorSummaries() const {
+  nlohmann::json actors = nlohmann::json::array();
+  for (std::size_t a = 0; a < model_.actors.size(); ++a) {
+    const ActorBlock& block = model_.actors[a];
+    nlohmann::json entry = {{"name", scene_.shells[a].name}, {"layer", scene_.shells[a].layer},
+                            {"vertices", block.numVertices}, {"faces", block.numFaces}};
+    if (lastPositions_.size() == 3 * model_.world.numVertices() && block.numVertices > 0) {
+      double maxDisplacement = 0.0, maxSpeed = 0.0;
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      for (int v = block.firstVertex; v < block.firstVertex + block.numVertices; ++v) {
+        const Eigen::Vector3d xv = lastPositions_.segment<3>(3 * v);
+        maxDisplacement = std::max(maxDisplacement, (xv - model_.world.V.row(v).transpose()).norm());
+        if (lastVelocities_.size() == lastPositions_.size()) maxSpeed = std::max(maxSpeed, lastVelocities_.segment<3>(3 * v).norm());
+        lo = lo.cwiseMin(xv);
+        hi = hi.cwiseMax(xv);
+      }
+      entry["max_displacement"] = maxDisplacement;
+      if (lastVelocities_.size() == lastPositions_.size()) entry["max_speed"] = maxSpeed;
+      entry["bounding_box"] = {{"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}};
+    }
+    actors.push_back(std::move(entry));
+  }
+  return actors;
+}
+
 void RunOutput::finish(const RunSummary& summary) {
   namespace fs = std::filesystem;
   if (scene_.outputs.probesCsv && !model_.probes.empty()) writeProbes();
@@ -208,8 +236,11 @@ void RunOutput::finish(const RunSummary& summary) {
   j["probes"] = probes;
   nlohmann::json picked = nlohmann::json::object();  // which vertex each probe reads, and where it sits at rest
   for (const ResolvedProbe& p : model_.probes)
-    picked[p.name] = {{"vertex", p.vertex}, {"reference_position", {p.reference.x(), p.reference.y(), p.reference.z()}}};
+    picked[p.name] = {{"vertex", p.vertex},
+                      {"actor", scene_.shells[static_cast<std::size_t>(p.actor)].name},
+                      {"reference_position", {p.reference.x(), p.reference.y(), p.reference.z()}}};
   j["probe_vertices"] = picked;
+  j["actors"] = actorSummaries();
   if (!rows_.empty()) {
     j["final_time"] = rows_.back().time;
     j["final_load_factor"] = rows_.back().loadFactor;

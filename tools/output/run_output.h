@@ -4,7 +4,8 @@
 //   volumes.vtu                           the rigid volume actors (part 1 of the series), when the scene has any
 //   obj/frame_NNNNN.obj                   optional OBJ per frame
 //   probes.csv                            probe displacements per step
-//   summary.json                          the run's outcome (see RunSummary)
+//   summary.json                          the run's outcome (see RunSummary), with one entry per shell actor
+//                                         (name, layer, size, largest displacement and speed, bounding box)
 #pragma once
 
 #include "tools/output/append_file.h"
@@ -70,6 +71,9 @@ class RunOutput {
   void writeFrame(const StepState& state);
   void writeProbes();
   std::string probeRows(std::size_t from) const;
+  /// One entry per shell actor: name, layer, vertex and face counts, and from the last recorded state the
+  /// largest displacement from the reference, the largest speed (dynamics) and the bounding box.
+  nlohmann::json actorSummaries() const;
 
   std::string directory_;
   std::string scenePath_;
@@ -88,6 +92,7 @@ class RunOutput {
     std::vector<double> u;  // 3 per probe
   };
   std::vector<ProbeRow> rows_;
+  Eigen::VectorXd lastPositions_, lastVelocities_;  // the last recorded state, for the per-actor summary
 };
 
 }  // namespace jetshell
