@@ -3,6 +3,8 @@
 #include "core/mesh.h"
 
 #include <algorithm>
+#include <iterator>
+#include <limits>
 #include <stdexcept>
 
 namespace jetshell {
@@ -86,13 +88,20 @@ void HessianAssembler::clearStencils() {
   finalized_ = false;
 }
 
+void HessianAssembler::setGrowOnly(bool growOnly, double pruneFraction) {
+  if (!(pruneFraction >= 0.0)) throw std::invalid_argument("pruneFraction must be >= 0");
+  growOnly_ = growOnly;
+  pruneFraction_ = pruneFraction;
+}
+
 void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedDof) {
   const int n = numVertices;
   const int ndof = 3 * n;
-  fixedDof_ = fixedDof.empty() ? std::vector<char>(static_cast<std::size_t>(ndof), 0) : fixedDof;
-  if (static_cast<int>(fixedDof_.size()) != ndof) throw std::invalid_argument("fixedDof has the wrong size");
+  std::vector<char> fixed = fixedDof.empty() ? std::vector<char>(static_cast<std::size_t>(ndof), 0) : fixedDof;
+  if (static_cast<int>(fixed.size()) != ndof) throw std::invalid_argument("fixedDof has the wrong size");
 
-  // Vertex-block adjacency: for column vertex j, the row vertices i <= j it couples with (sorted, unique).
+  // Vertex-block adjacency of the declared stencils: for column vertex j, the row vertices i <= j it couples
+  // with (sorted, unique).
   std::vector<std::vector<int>> rowsOf(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j) rowsOf[j].push_back(j);
   for (const Slot& s : slots_) {
@@ -108,18 +117,62 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
       }
     }
   }
-  std::vector<int> vertStart(static_cast<std::size_t>(n) + 1, 0);
+  std::int64_t used = 0;
   for (int j = 0; j < n; ++j) {
     auto& r = rowsOf[j];
     std::sort(r.begin(), r.end());
     r.erase(std::unique(r.begin(), r.end()), r.end());
-    r.shrink_to_fit();
+    used += static_cast<std::int64_t>(r.size());
   }
+  usedPairs_ = used;
 
+  // Grow-only: keep the old pattern when the new stencils fit in it; otherwise take the union, unless the union
+  // would carry too many stale pairs (then the exact pattern: a pruning reset).
+  const bool canKeep = growOnly_ && patternBuilds_ > 0 && static_cast<int>(rows_.size()) == n && fixed == fixedDof_;
+  bool newPattern = true;
+  if (canKeep) {
+    std::vector<std::vector<int>> merged(static_cast<std::size_t>(n));
+    std::int64_t mergedPairs = 0;
+    bool grew = false;
+    for (int j = 0; j < n; ++j) {
+      const auto& a = rows_[j];
+      const auto& b = rowsOf[j];
+      auto& m = merged[j];
+      m.reserve(a.size() + b.size());
+      std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(m));
+      grew = grew || m.size() != a.size();
+      mergedPairs += static_cast<std::int64_t>(m.size());
+    }
+    if (!grew) {
+      newPattern = false;
+    } else if (static_cast<double>(mergedPairs - used) <= pruneFraction_ * static_cast<double>(used)) {
+      rowsOf = std::move(merged);
+    }
+  }
+  fixedDof_ = std::move(fixed);
+  if (newPattern) {
+    for (auto& r : rowsOf) r.shrink_to_fit();
+    rows_ = std::move(rowsOf);
+    buildMatrix(n);
+    ++patternBuilds_;
+    ++patternVersion_;
+  } else {
+    ++patternReuses_;
+  }
+  patternPairs_ = 0;
+  for (const auto& r : rows_) patternPairs_ += static_cast<std::int64_t>(r.size());
+  buildScatter();
+  finalized_ = true;
+  setZero();
+}
+
+void HessianAssembler::buildMatrix(int numVertices) {
+  const int n = numVertices;
+  const int ndof = 3 * n;
   // CSC upper triangle: column 3j+c holds rows 3i..3i+2 of each i < j, then rows 3j..3j+c.
   std::vector<std::int64_t> outer(static_cast<std::size_t>(ndof) + 1, 0);
   for (int j = 0; j < n; ++j) {
-    const std::int64_t offDiag = 3 * (static_cast<std::int64_t>(rowsOf[j].size()) - 1);
+    const std::int64_t offDiag = 3 * (static_cast<std::int64_t>(rows_[j].size()) - 1);
     for (int c = 0; c < 3; ++c) outer[3 * j + c + 1] = offDiag + c + 1;
   }
   for (int d = 0; d < ndof; ++d) outer[d + 1] += outer[d];
@@ -134,7 +187,7 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
   for (int j = 0; j < n; ++j) {
     for (int c = 0; c < 3; ++c) {
       int p = outerPtr[3 * j + c];
-      for (int i : rowsOf[j]) {
+      for (int i : rows_[j]) {
         const int rmax = i == j ? c : 2;
         for (int r = 0; r <= rmax; ++r) innerPtr[p++] = 3 * i + r;
       }
@@ -142,10 +195,13 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
   }
   diagonalIndex_.resize(static_cast<std::size_t>(ndof));
   for (int d = 0; d < ndof; ++d) diagonalIndex_[d] = outerPtr[d + 1] - 1;
+}
 
+void HessianAssembler::buildScatter() {
+  const int* outerPtr = matrix_.outerIndexPtr();
   auto valueIndex = [&](int vi, int ci, int vj, int cj) -> std::int32_t {
     // Entry (3vi+ci, 3vj+cj) with 3vi+ci <= 3vj+cj.
-    const auto& r = rowsOf[vj];
+    const auto& r = rows_[vj];
     const int k = static_cast<int>(std::lower_bound(r.begin(), r.end(), vi) - r.begin());
     return outerPtr[3 * vj + cj] + 3 * k + ci;
   };
@@ -177,9 +233,6 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
       }
     }
   }
-  finalized_ = true;
-  ++patternVersion_;
-  setZero();
 }
 
 void HessianAssembler::setZero() {

@@ -7,6 +7,12 @@
 // (core/element_loop.h), so every entry is summed in the same order whatever the thread count (same bits).
 // Fixed (eliminated) dofs scatter into a discarded slot and get 1 on the diagonal: their rows and columns are
 // identity, so a Newton step never moves them.
+// Patterns that follow moving contacts (clearStencils, addStencils, finalize again) can be grow-only
+// (setGrowOnly): the matrix pattern is then the union of every pattern declared since the last reset, so the
+// entries of pairs no stencil touches any more stay as stored zeros, and when the new stencils fit in the kept
+// pattern only the scatter tables are rebuilt: patternVersion() stays and a linear solver keeps its symbolic
+// analysis. The pattern is reset to the exact one (pruned) when it has to grow and would otherwise carry more
+// stale vertex pairs than `pruneFraction` × the pairs in use.
 #pragma once
 
 #include "core/stencil.h"
@@ -26,8 +32,18 @@ class HessianAssembler {
   void finalize(int numVertices, const std::vector<char>& fixedDof = {});
   bool finalized() const { return finalized_; }
   /// Forgets every slot so that stencils can be declared anew (a pattern that follows moving contacts); the
-  /// next finalize() bumps patternVersion() as usual.
+  /// next finalize() bumps patternVersion() when it builds a new pattern (always, unless grow-only).
   void clearStencils();
+  /// Grow-only patterns (see the file comment); pruneFraction >= 0. Off by default.
+  void setGrowOnly(bool growOnly, double pruneFraction = 0.25);
+  bool growOnly() const { return growOnly_; }
+  /// How often finalize() built a new matrix pattern (the first build included), and how often a re-declared
+  /// set of stencils fitted in the kept pattern (no new pattern).
+  int patternBuilds() const { return patternBuilds_; }
+  int patternReuses() const { return patternReuses_; }
+  /// Vertex pairs (upper triangle, diagonal included) in the matrix pattern and in the declared stencils.
+  std::int64_t patternPairs() const { return patternPairs_; }
+  std::int64_t usedPairs() const { return usedPairs_; }
 
   /// Zeroes the values (pattern kept). Fixed dofs get their unit diagonal.
   void setZero();
@@ -42,7 +58,8 @@ class HessianAssembler {
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
   Eigen::SparseMatrix<double>& matrix() { return matrix_; }
   const std::vector<char>& fixedDof() const { return fixedDof_; }
-  /// Bumped every finalize(): linear solvers redo their symbolic analysis only when it changes.
+  /// Bumped whenever finalize() builds a new matrix pattern: linear solvers redo their symbolic analysis only
+  /// when it changes.
   std::uint64_t patternVersion() const { return patternVersion_; }
   /// Bytes held by scatter tables and the matrix (for memory reports).
   std::size_t memoryBytes() const;
@@ -52,12 +69,22 @@ class HessianAssembler {
     StencilTable table;
     std::vector<std::int32_t> scatter;  // per element: (3K)(3K+1)/2 value indices; -1 discard; <= -2 doubled
   };
+  /// Builds the matrix pattern from rows (per column vertex, the sorted row vertices <= it).
+  void buildMatrix(int numVertices);
+  /// Fills every slot's scatter table against rows_.
+  void buildScatter();
+
   std::vector<Slot> slots_;
+  std::vector<std::vector<int>> rows_;  // the matrix pattern's vertex pairs: per column vertex j, rows i <= j
   std::vector<char> fixedDof_;
   Eigen::SparseMatrix<double> matrix_;
   std::vector<std::int32_t> diagonalIndex_;
   bool finalized_ = false;
   std::uint64_t patternVersion_ = 0;
+  bool growOnly_ = false;
+  double pruneFraction_ = 0.25;
+  int patternBuilds_ = 0, patternReuses_ = 0;
+  std::int64_t patternPairs_ = 0, usedPairs_ = 0;
 };
 
 /// Greedy colouring of elements so that no two elements of one colour share a vertex.

@@ -97,6 +97,14 @@ class LinearSolver {
   /// Symbolic analyses done so far (one per distinct pattern when all goes well).
   int symbolicAnalyses() const { return analyses_; }
 
+  /// Iterative solvers: the relative residual of the next solves instead of options.cgRelativeTolerance (an
+  /// inexact Newton method's forcing term, solvers/newton.h); 0 restores the options' value. Direct solvers
+  /// ignore it.
+  void setRelativeTolerance(double tolerance) { relativeTolerance_ = tolerance > 0.0 ? tolerance : 0.0; }
+  double relativeTolerance() const {
+    return relativeTolerance_ > 0.0 ? relativeTolerance_ : options_.cgRelativeTolerance;
+  }
+
  protected:
   explicit LinearSolver(const LinearSolverOptions& options) : options_(options) {}
   const LinearSolverOptions& options() const { return options_; }
@@ -113,6 +121,7 @@ class LinearSolver {
   std::uint64_t analyzedVersion_ = 0;
   bool analyzed_ = false;
   int analyses_ = 0;
+  double relativeTolerance_ = 0.0;
 };
 
 /// The solver for `numDofs` unknowns that `options` asks for (Auto resolved here).

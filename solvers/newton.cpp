@@ -70,6 +70,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   Eigen::VectorXd g, d, b, xTrial, gTrial;
   double E = 0.0;
   double r = 0.0;
+  double forcing = 0.0, previousGradientNorm = -1.0;  // Eisenstat–Walker state (adaptiveLinearTolerance)
   enum class Have { Nothing, Gradient, Hessian } have = Have::Nothing;
   bool tryExact = false;     // the last step's full-step model agreed: try the unprojected Hessian
   int exactCooldown = 0;     // iterations to wait before the next try, growing with each fallback
@@ -98,6 +99,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     s.finalEnergy = E;
     s.finalResidual = r;
     s.symbolicAnalyses = linear_->symbolicAnalyses() - analysesBefore;
+    linear_->setRelativeTolerance(0.0);
     s.totalSeconds = total.seconds();
     return s;
   };
@@ -206,6 +208,21 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     // Newton direction. An unprojected Hessian gets no regularization: if it is indefinite, the projected one
     // is the better fix.
     b = -g;
+    if (o.adaptiveLinearTolerance) {
+      const double gNorm = b.norm();
+      const double floorTolerance = o.linear.cgRelativeTolerance, ceiling = std::max(o.maxForcingTerm, floorTolerance);
+      if (previousGradientNorm <= 0.0) {
+        forcing = ceiling;
+      } else {
+        const double ratio = gNorm / previousGradientNorm;
+        double eta = 0.9 * ratio * ratio;
+        const double safeguard = 0.9 * forcing * forcing;  // do not tighten faster than the last term allows
+        if (safeguard > 0.1) eta = std::max(eta, safeguard);
+        forcing = std::clamp(eta, floorTolerance, ceiling);
+      }
+      previousGradientNorm = gNorm;
+      linear_->setRelativeTolerance(forcing);
+    }
     LinearSolveReport lin = linear_->solve(obj.assembler(), b, d, haveExact ? 0 : -1);
     if (!lin.success && haveExact) {
       // Each fallback costs an assembly and a factorization: back off (2, 4, 8, ... iterations) where the

@@ -200,7 +200,7 @@ class PcgSolver : public LinearSolver {
     precondition(r, z);
     p = z;
     double rz = r.dot(z);
-    const double target = options().cgRelativeTolerance * bNorm;
+    const double target = relativeTolerance() * bNorm;
     for (int k = 1; k <= maxIterations; ++k) {
       Ap.noalias() = H.selfadjointView<Eigen::Upper>() * p;
       Ap += shift * p;
@@ -220,7 +220,7 @@ class PcgSolver : public LinearSolver {
       rz = rzNew;
     }
     std::ostringstream s;
-    s << "CG did not reach relative residual " << options().cgRelativeTolerance << " in " << maxIterations
+    s << "CG did not reach relative residual " << relativeTolerance() << " in " << maxIterations
       << " iterations";
     report.message = s.str();
     return Attempt::Failed;

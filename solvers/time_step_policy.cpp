@@ -43,6 +43,7 @@ void applyTimeStepPolicy(TimeStepPolicy policy, DynamicsOptions& o) {
         n.linear.type = LinearSolverType::PCG;
         n.linear.preconditioner = Preconditioner::OneRingCholesky;
         n.linear.cgRelativeTolerance = 1e-6;
+        n.adaptiveLinearTolerance = true;
       }
       o.acceptIterationCap = false;
       o.extrapolatedStart = true;

@@ -7,7 +7,9 @@
 //  - jetshell:  the time-discretization stopping rule (solvers/dynamics.h): stop once the Newton error
 //               estimate is below η = jetshellUpdateTolerance of ‖x − x̃‖ (the step's local-truncation-error
 //               scale), or at the static residual test; Armijo line search; start from the extrapolated trajectory; a step that
-//               does not converge in 20 iterations is cut (halved), never accepted unconverged.
+//               does not converge in 20 iterations is cut (halved), never accepted unconverged. With the
+//               linear solver on auto: CG preconditioned by the one-ring factor, stopped at Eisenstat–Walker
+//               forcing terms (NewtonOptions::adaptiveLinearTolerance).
 //  - reference: tight static convergence (residual 1e-10 × force scale, up to 200 iterations), for reference
 //               trajectories.
 #pragma once

@@ -2,7 +2,9 @@
 // of 60 Hz steps. Prints steps per second, Newton iterations per step, and where a step's time goes: the
 // point-cloud broad phase, the contact terms (their evaluation plus stencil updates and pattern rebuilds), the
 // other terms, the linear solves (factorization + solve) and the rest (line-search bookkeeping, the Newton
-// loop, the stepping). Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
+// loop, the stepping), the symbolic analyses against the numeric factorizations. `--pattern both` runs the scene
+// twice, with the Hessian pattern rebuilt exactly to the contacts and then grow-only, and prints their ratio.
+// Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "tools/scene/scene_json.h"
@@ -14,6 +16,7 @@
 #include <omp.h>
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -27,32 +30,38 @@ struct ContactBenchOptions {
   std::string scene = "examples/tshirt_on_plane.json";
   int steps = 60;
   int threads = 0;
+  std::string pattern = "grow";  // grow | exact | both
   std::string json;
 };
 
-int runContactBench(const ContactBenchOptions& o) {
-  std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-  const Scene scene = loadSceneFile(o.scene);
-  if (scene.analysis.type != AnalysisType::Dynamic) throw InputError(o.scene + ": bench contact needs a dynamic scene");
-  const SceneModel model = buildSceneModel(scene);
+double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+/// One run of the scene with the Hessian pattern grow-only or exact (rebuilt to the current contacts).
+nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const ContactBenchOptions& o, bool growOnly,
+                       bool& failedRun) {
   ShellSystem system(shellProblemFromScene(scene, model), AnalysisKind::Dynamics);
+  Objective& objective = system.objective();
+  objective.setGrowOnlyPattern(growOnly);
   DynamicsOptions d;
   d.timeStep = scene.analysis.timeStep;
   d.newton.maxIterations = scene.solver.maxIterations.value_or(d.newton.maxIterations);
   if (scene.solver.residualTolerance) d.newton.residualTolerance = *scene.solver.residualTolerance;
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
-  Objective& objective = system.objective();
-  std::printf("jetshell bench contact: %s, %d vertices, %d faces, %d steps of %.4f s, %d threads\n", o.scene.c_str(),
-              model.numVertices(), model.world.numFaces(), o.steps, d.timeStep, omp_get_max_threads());
+  const char* label = growOnly ? "grow-only pattern" : "exact pattern";
+  std::printf("-- %s --\n", label);
   const auto start = std::chrono::steady_clock::now();
-  int iterations = 0, failed = 0;
+  const double cpuStart = cpuSeconds();
+  int iterations = 0, failed = 0, analyses = 0, factorizations = 0;
   double linear = 0.0;
   for (int s = 0; s < o.steps; ++s) {
     const StepReport r = solver.step();
     iterations += r.newtonIterations;
     linear += r.factorizationSeconds + r.solveSeconds;
+    for (const SolverSummary& solve : r.solves) {
+      analyses += solve.symbolicAnalyses;
+      factorizations += solve.numericFactorizations;
+    }
     if (!r.success) {
       ++failed;
       std::printf("step %d failed: %s\n", s + 1, r.message.c_str());
@@ -60,6 +69,7 @@ int runContactBench(const ContactBenchOptions& o) {
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double cpu = cpuSeconds() - cpuStart;
   const int steps = solver.stepCount();
   const std::vector<std::string> names = objective.activeTermNames();
   const std::vector<std::string> contactNames = system.contact.termNames();
@@ -70,25 +80,64 @@ int runContactBench(const ContactBenchOptions& o) {
   const double broad = system.contact.broadPhaseSeconds();
   const double rest = wall - contactTerms - otherTerms - linear;
   auto pct = [&](double t) { return 100.0 * t / wall; };
-  std::printf("%d steps in %.2f s: %.2f steps/s, %.2f Newton iterations/step, %d pattern rebuilds\n", steps, wall,
-              steps / wall, steps ? static_cast<double>(iterations) / steps : 0.0, objective.patternRebuilds());
+  const double perStep = steps ? static_cast<double>(iterations) / steps : 0.0;
+  std::printf("%d steps in %.2f s wall (%.2f s CPU): %.3f steps/s, %.2f Newton iterations/step\n", steps, wall, cpu,
+              steps / wall, perStep);
+  std::printf("pattern: %d re-declarations, %d new patterns; linear solver: %d symbolic analyses, %d numeric "
+              "factorizations\n",
+              objective.patternRebuilds(), objective.patternGrowths(), analyses, factorizations);
   std::printf("time split: broad phase %.1f%% (within contact), contact terms %.1f%%, other terms %.1f%%, "
               "linear solve %.1f%%, rest %.1f%%\n",
               pct(broad), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
   std::printf("contact detection + assembly: %.1f%% of a step (target <= 30%%)\n", pct(contactTerms));
-  nlohmann::json out = {{"scene", o.scene},
-                        {"vertices", model.numVertices()},
-                        {"steps", steps},
-                        {"threads", omp_get_max_threads()},
-                        {"wall_seconds", wall},
-                        {"steps_per_second", steps / wall},
-                        {"newton_iterations_per_step", steps ? static_cast<double>(iterations) / steps : 0.0},
-                        {"pattern_rebuilds", objective.patternRebuilds()},
-                        {"seconds", {{"broad_phase", broad},
-                                     {"contact_terms", contactTerms},
-                                     {"other_terms", otherTerms},
-                                     {"linear_solve", linear},
-                                     {"rest", rest}}}};
+  failedRun = failed > 0;
+  return {{"pattern", growOnly ? "grow" : "exact"},
+          {"steps", steps},
+          {"wall_seconds", wall},
+          {"cpu_seconds", cpu},
+          {"steps_per_second", steps / wall},
+          {"steps_per_cpu_second", cpu > 0.0 ? steps / cpu : 0.0},
+          {"newton_iterations_per_step", perStep},
+          {"pattern_rebuilds", objective.patternRebuilds()},
+          {"pattern_growths", objective.patternGrowths()},
+          {"symbolic_analyses", analyses},
+          {"numeric_factorizations", factorizations},
+          {"seconds", {{"broad_phase", broad},
+                       {"contact_terms", contactTerms},
+                       {"other_terms", otherTerms},
+                       {"linear_solve", linear},
+                       {"rest", rest}}}};
+}
+
+int runContactBench(const ContactBenchOptions& o) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+  const Scene scene = loadSceneFile(o.scene);
+  if (scene.analysis.type != AnalysisType::Dynamic) throw InputError(o.scene + ": bench contact needs a dynamic scene");
+  const SceneModel model = buildSceneModel(scene);
+  std::printf("jetshell bench contact: %s, %d vertices, %d faces, %d steps of %.4f s, %d threads\n", o.scene.c_str(),
+              model.numVertices(), model.world.numFaces(), o.steps, scene.analysis.timeStep, omp_get_max_threads());
+  std::vector<bool> variants;  // grow-only?
+  if (o.pattern != "grow") variants.push_back(false);
+  if (o.pattern != "exact") variants.push_back(true);
+  nlohmann::json runs = nlohmann::json::array();
+  bool failed = false;
+  for (bool growOnly : variants) {
+    bool f = false;
+    runs.push_back(runOnce(scene, model, o, growOnly, f));
+    failed = failed || f;
+  }
+  nlohmann::json out = runs.back();
+  out["scene"] = o.scene;
+  out["vertices"] = model.numVertices();
+  out["threads"] = omp_get_max_threads();
+  if (runs.size() == 2) {
+    const double wallRatio = runs[0]["wall_seconds"].get<double>() / runs[1]["wall_seconds"].get<double>();
+    const double cpuRatio = runs[0]["cpu_seconds"].get<double>() / runs[1]["cpu_seconds"].get<double>();
+    std::printf("grow-only against exact pattern: %.2fx the steps/s (wall), %.2fx (CPU)\n", wallRatio, cpuRatio);
+    out["runs"] = runs;
+    out["speedup_grow_over_exact"] = {{"wall", wallRatio}, {"cpu", cpuRatio}};
+  }
   if (!o.json.empty()) {
     std::ofstream(o.json) << out.dump(2) << "\n";
     std::printf("wrote %s\n", o.json.c_str());
@@ -103,6 +152,10 @@ const RegisterSubcommand reg("bench contact", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--scene", opts->scene, "A dynamic scene file (default: examples/tshirt_on_plane.json)");
   cmd->add_option("--steps", opts->steps, "Time steps")->check(CLI::Range(1, 100000));
   cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OpenMP's)")->check(CLI::Range(1, 256));
+  cmd->add_option("--pattern", opts->pattern,
+                  "Hessian pattern: grow (grow-only, the default), exact (rebuilt to the current contacts), or both "
+                  "(exact, then grow, and their ratio)")
+      ->check(CLI::IsMember({"grow", "exact", "both"}));
   cmd->add_option("--json", opts->json, "Write the figures as JSON");
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

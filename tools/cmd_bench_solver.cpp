@@ -43,6 +43,7 @@ struct SolverBenchOptions {
   int blasThreads = 1;
   bool orderings = false;
   double cgTolerance = LinearSolverOptions{}.cgRelativeTolerance;
+  double maxForcing = -1.0;  // < 0: the policy's; 0: fixed CG tolerance; > 0: Eisenstat–Walker up to this
   std::string lineSearch = "armijo";
   std::string projection = "clamp";
   double massDamping = 0.0;
@@ -190,6 +191,11 @@ int runSolverBench(const SolverBenchOptions& o) {
   d.timeStep = o.dt;
   d.newton = newtonOptions(o, problem.mesh);
   applyTimeStepPolicy(timeStepPolicyFromString(o.policy), d);
+  if (o.maxForcing == 0.0) d.newton.adaptiveLinearTolerance = false;
+  if (o.maxForcing > 0.0) {
+    d.newton.adaptiveLinearTolerance = true;
+    d.newton.maxForcingTerm = o.maxForcing;
+  }
   DynamicsSolver solver(dynamics, d);
   std::printf("dynamics (%s, dt = %.5g s, %d steps, policy %s), active terms: %s\n", o.integrator.c_str(), o.dt,
               o.steps, o.policy.c_str(),
@@ -317,6 +323,10 @@ const RegisterSubcommand reg("bench solver", [](CLI::App& app, int& exitCode) {
                 "Only compare the fill-reducing orderings (nnz(L), flops, times) on the first step's Hessian");
   cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-forcing", opts->maxForcing,
+                  "PCG in dynamics: 0 = fixed --cg-tolerance; > 0 = Eisenstat-Walker forcing terms up to this value "
+                  "(default: the policy's)")
+      ->check(CLI::Range(0.0, 0.9));
   cmd->add_option("--line-search", opts->lineSearch, "none | armijo | residual | wolfe")
       ->check(CLI::IsMember({"none", "armijo", "residual", "wolfe"}));
   cmd->add_option("--projection", opts->projection, "none | clamp | abs")

@@ -200,3 +200,84 @@ TEST_CASE("assembly: colouring separates elements that share a vertex") {
   }
   for (int count : seen) CHECK(count == 1);
 }
+
+TEST_CASE("assembly: a grow-only pattern keeps its version while re-declared pairs fit, and grows or prunes "
+          "otherwise") {
+  // Six vertices: a fixed base element (0,1,2) and moving "contact" pairs.
+  const int n = 6;
+  const StencilTable base{3, {0, 1, 2}};
+  auto pairs = [](std::vector<int> ids) { return StencilTable{2, std::move(ids)}; };
+  auto declare = [&](HessianAssembler& A, const StencilTable& contact) {
+    A.clearStencils();
+    const int slotBase = A.addStencils(base);
+    const int slotContact = A.addStencils(contact);
+    A.finalize(n);
+    return std::pair<int, int>{slotBase, slotContact};
+  };
+  // Assembles unit element blocks and compares with the dense sum over the declared elements.
+  auto checkValues = [&](HessianAssembler& A, std::pair<int, int> slots, const StencilTable& contact) {
+    A.setZero();
+    const Eigen::MatrixXd hb = Eigen::MatrixXd::Constant(9, 9, 1.0) + Eigen::MatrixXd::Identity(9, 9);
+    const Eigen::MatrixXd hc = Eigen::MatrixXd::Constant(6, 6, 0.5) + Eigen::MatrixXd::Identity(6, 6);
+    A.addElementHessian(slots.first, 0, hb.data());
+    for (int e = 0; e < contact.size(); ++e) A.addElementHessian(slots.second, e, hc.data());
+    Eigen::MatrixXd expected = referenceAssembly(base, {hb}, n);
+    expected += referenceAssembly(contact, std::vector<Eigen::MatrixXd>(contact.size(), hc), n);
+    CHECK((mirrored(A.matrix()) - expected).cwiseAbs().maxCoeff() == 0.0);
+  };
+
+  HessianAssembler A;
+  A.setGrowOnly(true, 1.0);
+  const StencilTable c1 = pairs({3, 4});
+  auto slots = declare(A, c1);
+  const std::uint64_t v1 = A.patternVersion();
+  const Eigen::Index nnz1 = A.matrix().nonZeros();
+  CHECK(A.patternBuilds() == 1);
+  checkValues(A, slots, c1);
+
+  // The pair leaves contact: the pattern is kept (its entries are stored zeros), no new version.
+  const StencilTable none = pairs({});
+  slots = declare(A, none);
+  CHECK(A.patternVersion() == v1);
+  CHECK(A.matrix().nonZeros() == nnz1);
+  CHECK(A.patternReuses() == 1);
+  CHECK(A.patternPairs() > A.usedPairs());
+  checkValues(A, slots, none);
+
+  // It comes back, in the other order: still the same pattern.
+  const StencilTable c1r = pairs({4, 3});
+  slots = declare(A, c1r);
+  CHECK(A.patternVersion() == v1);
+  checkValues(A, slots, c1r);
+
+  // A new pair: the pattern grows to the union (both pairs stored).
+  const StencilTable c2 = pairs({0, 5});
+  slots = declare(A, c2);
+  CHECK(A.patternVersion() > v1);
+  CHECK(A.patternBuilds() == 2);
+  CHECK(A.matrix().nonZeros() > nnz1);
+  checkValues(A, slots, c2);
+  const std::uint64_t v2 = A.patternVersion();
+  slots = declare(A, c1);
+  CHECK(A.patternVersion() == v2);
+  checkValues(A, slots, c1);
+
+  // With no slack for stale pairs, growth prunes to the exact pattern.
+  HessianAssembler B;
+  B.setGrowOnly(true, 0.0);
+  declare(B, c1);
+  declare(B, none);  // kept: no growth, so no pruning either
+  CHECK(B.patternBuilds() == 1);
+  slots = declare(B, c2);
+  CHECK(B.patternBuilds() == 2);
+  CHECK(B.patternPairs() == B.usedPairs());
+  checkValues(B, slots, c2);
+
+  // Off (the default): every finalize builds the exact pattern.
+  HessianAssembler C;
+  declare(C, c1);
+  const std::uint64_t c1Version = C.patternVersion();
+  declare(C, c1);
+  CHECK(C.patternVersion() > c1Version);
+  CHECK(C.patternPairs() == C.usedPairs());
+}

@@ -111,3 +111,29 @@ TEST_CASE("newton: a non-finite start ends with the non-finite reason and leaves
   x[5] = 0.0;
   CHECK((x.head(5) - before.head(5)).norm() == 0.0);
 }
+
+TEST_CASE("newton: inexact Newton (Eisenstat-Walker CG tolerances) converges to the same equilibrium with fewer "
+          "CG iterations") {
+  ShellSystem system(testing::cantileverPlate(6, 2, 0.01), AnalysisKind::Statics);
+  const Eigen::VectorXd reference = solvedCantilever(system);
+  const double tip = (reference - system.restPositions()).lpNorm<Eigen::Infinity>();
+  int cgIterations[2] = {0, 0};
+  for (bool adaptive : {false, true}) {
+    NewtonOptions o;
+    o.maxIterations = 200;
+    o.linear.type = LinearSolverType::PCG;
+    o.linear.preconditioner = Preconditioner::BlockJacobi;
+    o.linear.cgRelativeTolerance = 1e-10;
+    o.adaptiveLinearTolerance = adaptive;
+    NewtonSolver newton(system.objective(), o);
+    Eigen::VectorXd x = system.restPositions();
+    const SolverSummary s = newton.minimize(x);
+    INFO((adaptive ? "adaptive\n" : "fixed\n") << s.fullReport());
+    REQUIRE(s.converged());
+    CHECK(s.finalResidual <= s.residualThreshold);  // judged on the true gradient, not on CG's residual
+    CHECK((x - reference).lpNorm<Eigen::Infinity>() < 1e-4 * tip);
+    CHECK(newton.linearSolver().relativeTolerance() == o.linear.cgRelativeTolerance);  // restored after the solve
+    for (const IterationRecord& rec : s.trace) cgIterations[adaptive ? 1 : 0] += rec.cgIterations;
+  }
+  CHECK(cgIterations[1] < cgIterations[0]);
+}
