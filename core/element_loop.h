@@ -23,11 +23,12 @@ namespace jetshell {
 inline constexpr int kParallelMinElements = 512;
 
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
-/// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
+/// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width. colouredValues: a value-only
+/// loop also follows the colours (kernels that share per-entity caches between stencils, core/stage_cache.h).
 template <int K, typename Kernel>
 double runElementLoop(const StencilTable& table, const ElementSchedule& schedule,
                       const Eigen::VectorXd& /*x*/, const EvalRequest& request, PsdProjection projection,
-                      std::vector<double>& elementEnergy, Kernel&& kernel) {
+                      std::vector<double>& elementEnergy, Kernel&& kernel, bool colouredValues = false) {
   constexpr int M = 3 * K;
   const int ne = table.size();
   elementEnergy.resize(static_cast<std::size_t>(ne));
@@ -51,7 +52,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
     }
   };
   ParallelErrors errors;
-  if (wantG || wantH) {
+  if (wantG || wantH || colouredValues) {
     // One parallel region for all colours: a colour ends at the worksharing loop's barrier, without a team
     // start-up and join per colour (half the synchronization points, each of which costs a scheduling delay
     // when the other core is busy). Small meshes run serially: thread start-up costs more than their elements.

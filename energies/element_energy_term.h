@@ -22,6 +22,7 @@
 
 #include "core/assembly.h"
 #include "core/element_loop.h"
+#include "core/fixed_stencil_term.h"
 #include "core/parameter_derivatives.h"
 #include "core/scalar.h"
 #include "core/term.h"
@@ -42,7 +43,7 @@ struct FunctorParameterCount<Functor, std::void_t<decltype(Functor::kParameters)
     : std::integral_constant<int, Functor::kParameters> {};
 
 template <typename Functor>
-class ElementEnergyTerm : public EnergyTerm {
+class ElementEnergyTerm : public FixedStencilTerm {
  public:
   static constexpr int K = Functor::kVertices;
   static constexpr int M = 3 * K;
@@ -50,17 +51,9 @@ class ElementEnergyTerm : public EnergyTerm {
 
   ElementEnergyTerm(std::string name, StencilTable stencils, int numVertices, Functor functor,
                     bool zeroAtRest = true, bool rigidInvariant = true)
-      : name_(std::move(name)),
-        table_(std::move(stencils)),
-        schedule_(scheduleElements(table_, numVertices)),
-        functor_(std::move(functor)),
-        zeroAtRest_(zeroAtRest),
-        rigidInvariant_(rigidInvariant) {}
+      : FixedStencilTerm(std::move(name), std::move(stencils), numVertices, zeroAtRest, rigidInvariant),
+        functor_(std::move(functor)) {}
 
-  std::string name() const override { return name_; }
-  StencilTable stencils() const override { return table_; }
-  bool zeroAtRest() const override { return zeroAtRest_; }
-  bool rigidInvariant() const override { return rigidInvariant_; }
   const Functor& functor() const { return functor_; }
   Functor& functor() { return functor_; }
 
@@ -140,12 +133,7 @@ class ElementEnergyTerm : public EnergyTerm {
     return energy(static_cast<const double*>(xe), e);
   }
 
-  std::string name_;
-  StencilTable table_;
-  ElementSchedule schedule_;
   Functor functor_;
-  bool zeroAtRest_, rigidInvariant_;
-  std::vector<double> elementEnergy_;
 };
 
 }  // namespace jetshell

@@ -38,7 +38,7 @@ TEST_CASE("conformance: the registry holds the built-in terms and the example, e
   for (const char* required :
        {"membrane", "bending", "bending_gauss_newton", "bending_clamped", "bending_mirrored_clamp", "bending_nested_jet",
         "gravity", "nodal_forces", "inertia", "mass_damping", "membrane_damping", "bending_damping", "end_moment",
-        "seam_spring"})
+        "seam_spring", "hinge_bending"})
     CHECK(names.count(required) == 1);
   CHECK(findRegisteredTerm("membrane") == &termRegistry().front());
   CHECK(findRegisteredTerm("no_such_term") == nullptr);
@@ -117,6 +117,7 @@ TEST_CASE("conformance: symmetric Hessian, AD equal to analytic, agreement with 
     for (const CheckMesh& m : meshes()) {
       const EnergyTermPtr term = buildTerm(entry, m);
       for (ConfigurationKind kind : kConfigurationKinds) {
+        if (entry.singularAtFold && kind == ConfigurationKind::Fold) continue;
         const CheckConfiguration c = makeCheckConfiguration(m, kind, 1000 + static_cast<int>(kind));
         INFO(entry.name << ": " << c.description);
         const DerivativeCheckResult r = checkDerivatives(*term, c.x, options);
@@ -130,7 +131,7 @@ TEST_CASE("conformance: symmetric Hessian, AD equal to analytic, agreement with 
         ++checked;
       }
     }
-    CHECK(checked == 10);
+    CHECK(checked == (entry.singularAtFold ? 8 : 10));
   }
 }
 

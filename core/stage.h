@@ -1,0 +1,124 @@
+// A stage: one small templated function of a staged energy, and its local derivatives.
+//
+// A stage maps N inputs to M outputs (N <= kMaxStageInputs, M <= kMaxStageOutputs) and is written once, for any
+// scalar type T (double, Ceres Jets of any nesting depth):
+//   struct FaceNormal {
+//     static constexpr int kInputs = 6, kOutputs = 3;
+//     template <typename T> void operator()(const T* z, T* y, int entity) const;   // entity: whose stage
+//   };
+// Output of evaluateStage(): StageDerivatives<N, M> = value y (M), Jacobian ∂y/∂z (M×N) and, at order 2, the
+// Hessian ∇²y_k (N×N) of each output. They come from Ceres Jets of size N (Jet<double,N> for order 1,
+// Jet<Jet<double,N>,N> for order 2), so their cost depends on the stage's inputs only, never on a stencil.
+//
+// Optional analytic twin, detected at compile time: a stage that also declares
+//     void derivatives(const double* z, int entity, int order, StageDerivatives<N, M>& d) const;
+// is evaluated by it on DerivativePath::Analytic; stageTwinDiscrepancy() measures it against the Jets (the
+// conformance tests call it), so a twin is an optimisation that is always checked, never a second truth.
+#pragma once
+
+#include "core/scalar.h"
+#include "core/term.h"
+
+#include <Eigen/Core>
+#include <ceres/jet.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace jetshell {
+
+inline constexpr int kMaxStageInputs = 12;
+inline constexpr int kMaxStageOutputs = 4;
+
+/// Local derivatives of one stage at one input z. Column-major, fixed size: no allocation.
+template <int N, int M>
+struct StageDerivatives {
+  static_assert(N >= 1 && N <= kMaxStageInputs && M >= 1 && M <= kMaxStageOutputs, "stage size out of range");
+  Eigen::Matrix<double, M, 1> value;
+  Eigen::Matrix<double, M, N> jacobian;                // ∂y_k/∂z_i at (k, i)
+  std::array<Eigen::Matrix<double, N, N>, M> hessians;  // ∇²y_k (symmetric); filled at order 2 only
+};
+
+template <typename S>
+using StageDerivativesOf = StageDerivatives<S::kInputs, S::kOutputs>;
+
+/// True when stage S declares an analytic twin `derivatives(z, entity, order, d)`.
+template <typename S, typename = void>
+struct HasStageTwin : std::false_type {};
+template <typename S>
+struct HasStageTwin<S, std::void_t<decltype(std::declval<const S&>().derivatives(
+                           static_cast<const double*>(nullptr), 0, 0, std::declval<StageDerivativesOf<S>&>()))>>
+    : std::true_type {};
+
+/// Value (order 0), + Jacobian (order 1), + Hessians (order 2) of stage s at z, from Ceres Jets.
+template <typename S>
+void stageDerivativesFromJets(const S& s, const double* z, int entity, int order, StageDerivativesOf<S>& d) {
+  constexpr int N = S::kInputs, M = S::kOutputs;
+  if (order <= 0) {
+    double y[M];
+    s(z, y, entity);
+    for (int k = 0; k < M; ++k) d.value[k] = y[k];
+  } else if (order == 1) {
+    using J1 = ceres::Jet<double, N>;
+    J1 zj[N], y[M];
+    for (int i = 0; i < N; ++i) zj[i] = J1(z[i], i);
+    s(static_cast<const J1*>(zj), y, entity);
+    for (int k = 0; k < M; ++k) {
+      d.value[k] = y[k].a;
+      d.jacobian.row(k) = y[k].v.transpose();
+    }
+  } else {
+    using J1 = ceres::Jet<double, N>;
+    using J2 = ceres::Jet<J1, N>;
+    J2 zj[N], y[M];
+    for (int i = 0; i < N; ++i) {
+      zj[i] = J2(J1(z[i], i));
+      zj[i].v[i] = J1(1.0);
+    }
+    s(static_cast<const J2*>(zj), y, entity);
+    for (int k = 0; k < M; ++k) {
+      d.value[k] = y[k].a.a;
+      for (int i = 0; i < N; ++i) {
+        d.jacobian(k, i) = y[k].a.v[i];
+        for (int j = i; j < N; ++j) d.hessians[k](i, j) = d.hessians[k](j, i) = 0.5 * (y[k].v[i].v[j] + y[k].v[j].v[i]);
+      }
+    }
+  }
+}
+
+/// The stage's derivatives up to `order` on `path`: the analytic twin when there is one and path is
+/// Analytic, the Jets otherwise.
+template <typename S>
+void evaluateStage(const S& s, const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<S>& d) {
+  if constexpr (HasStageTwin<S>::value) {
+    if (path == DerivativePath::Analytic) {
+      s.derivatives(z, entity, order, d);
+      return;
+    }
+  }
+  stageDerivativesFromJets(s, z, entity, order, d);
+}
+
+/// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
+/// relative to the largest Jet entry of its kind, floor 1). 0 for a stage without a twin.
+template <typename S>
+double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
+  if constexpr (!HasStageTwin<S>::value) {
+    return 0.0;
+  } else {
+    StageDerivativesOf<S> jets, twin;
+    stageDerivativesFromJets(s, z, entity, 2, jets);
+    s.derivatives(z, entity, 2, twin);
+    auto rel = [](const auto& a, const auto& b) {
+      return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+    };
+    double worst = std::max(rel(twin.value, jets.value), rel(twin.jacobian, jets.jacobian));
+    for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, rel(twin.hessians[k], jets.hessians[k]));
+    return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+  }
+}
+
+}  // namespace jetshell

@@ -1,0 +1,71 @@
+// Example: a term on stages with no derivatives written: discrete-shells hinge bending (Grinspun et al. 2003)
+// with the tan-based angle function of Tamstorf and Grinspun 2013,
+//   E = Σ_hinges k · 3ℓ̄²/(Ā_A + Ā_B) · (2 tan(θ/2) − 2 tan(θ̄/2))²,
+// θ the signed dihedral angle across an interior edge, tan(θ/2) = ((n_A × n_B)·ê) / (1 + n_A·n_B).
+// Three stages, written once for any scalar type: the unit normal of a face (6 → 3, cached per face and shared
+// by the face's three hinges), tan(θ/2) (9 → 1) and the energy (1 → 1). The framework (core/staged_term.h) differentiates
+// each with Jets of its own size and chains them; the term below is the whole user-side code (≤ 40 lines).
+// makeHingeBendingNestedJet builds the same energy as one 12-dof nested-Jet element (the naive reference for
+// `jetshell bench elements --term hinge` and the checks).
+#pragma once
+
+#include "core/mesh.h"
+#include "core/staged_term.h"
+#include "core/term.h"
+#include "core/topology.h"
+
+#include <array>
+#include <vector>
+
+namespace jetshell {
+
+// ---- the user's term: stages and how they connect -------------------------------------------------------
+/// Unit normal of a face from its edge vectors e0 = x1 − x0, e1 = x2 − x0 (the face's own vertex order).
+struct HingeFaceNormal {
+  static constexpr int kInputs = 6, kOutputs = 3;
+  template <typename T> void operator()(const T* z, T* n, int /*face*/) const {
+    const V3<T> c = cross(load3(z), load3(z + 3));
+    const T inv = constant<T>(1.0) / norm(c);
+    for (int k = 0; k < 3; ++k) n[k] = inv * c[k];
+  }
+};
+struct HingeTanHalf {  // tan(θ/2) of the hinge from the two face normals and the edge vector
+  static constexpr int kInputs = 9, kOutputs = 1;
+  template <typename T> void operator()(const T* z, T* t, int /*hinge*/) const {
+    const V3<T> nA = load3(z), nB = load3(z + 3), e = load3(z + 6);
+    t[0] = dot(cross(nA, nB), e) / (norm(e) * (constant<T>(1.0) + dot(nA, nB)));
+  }
+};
+/// The energy: a square of tan(θ/2), so the Gauss–Newton model (this stage's curvature only) is PSD.
+struct HingeEnergyDensity {
+  static constexpr int kInputs = 1, kOutputs = 1;
+  std::vector<double> weight, restTan;  // per hinge: k·3ℓ̄²/(Ā_A + Ā_B), tan(θ̄/2)
+  template <typename T> void operator()(const T* t, T* energy, int hinge) const {
+    const T d = constant<T>(2.0) * (t[0] - constant<T>(restTan[hinge]));
+    energy[0] = constant<T>(weight[hinge]) * d * d;
+  }
+};
+struct HingeBendingEnergy {
+  static constexpr int kVertices = 4;  // the edge (0, 1), the opposite vertices of face A (2) and face B (3)
+  StageCache<HingeFaceNormal> normals;                      // per face
+  HingeEnergyDensity density;
+  std::vector<std::array<int, 2>> faces;                    // per hinge: faces A and B
+  std::vector<std::array<std::array<int, 3>, 2>> corners;  // per hinge and face: its vertices in stencil numbering
+  void operator()(StageChain<4>& c, int h) {
+    int n[2];
+    for (int s = 0; s < 2; ++s) {
+      const auto& v = corners[h][s];
+      n[s] = c.stage(normals, faces[h][s], {c.difference(v[0], v[1]), c.difference(v[0], v[2])});
+    }
+    c.energy(density, h, {c.stage(HingeTanHalf(), h, {n[0], n[1], c.difference(0, 1)})});
+  }
+};
+// ----------------------------------------------------------------------------------------------------------
+
+/// Hinge bending with stiffness k on every interior edge of the mesh, rest angles from the mesh's positions.
+EnergyTermPtr makeHingeBendingTerm(const TriMesh& mesh, const Topology& topology, double stiffness);
+
+/// The same energy as one 12-dof element differentiated with nested Jets (the naive reference).
+EnergyTermPtr makeHingeBendingNestedJet(const TriMesh& mesh, const Topology& topology, double stiffness);
+
+}  // namespace jetshell

@@ -1,0 +1,60 @@
+#include "core/stage.h"
+
+#include <catch2/catch.hpp>
+
+using namespace jetshell;
+
+namespace {
+
+/// y = (z0 z1², sin z0) with no twin.
+struct Plain {
+  static constexpr int kInputs = 2, kOutputs = 2;
+  template <typename T>
+  void operator()(const T* z, T* y, int) const {
+    using std::sin;
+    y[0] = z[0] * z[1] * z[1];
+    y[1] = sin(z[0]);
+  }
+};
+
+/// The same with an analytic twin, optionally wrong by `error` in one Hessian entry.
+struct Twinned : Plain {
+  double error = 0.0;
+  void derivatives(const double* z, int, int order, StageDerivatives<2, 2>& d) const {
+    d.value << z[0] * z[1] * z[1], std::sin(z[0]);
+    d.jacobian << z[1] * z[1], 2.0 * z[0] * z[1], std::cos(z[0]), 0.0;
+    if (order < 2) return;
+    d.hessians[0] << 0.0, 2.0 * z[1], 2.0 * z[1], 2.0 * z[0] + error;
+    d.hessians[1] << -std::sin(z[0]), 0.0, 0.0, 0.0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("stage: Jets give value, Jacobian and Hessians of a stage", "[stages]") {
+  const double z[2] = {0.7, -1.3};
+  StageDerivatives<2, 2> d;
+  stageDerivativesFromJets(Plain(), z, 0, 2, d);
+  CHECK(d.value[0] == Approx(0.7 * 1.69));
+  CHECK(d.jacobian(0, 1) == Approx(2.0 * 0.7 * -1.3));
+  CHECK(d.jacobian(1, 0) == Approx(std::cos(0.7)));
+  CHECK(d.hessians[0](1, 1) == Approx(1.4));
+  CHECK(d.hessians[0](0, 1) == Approx(-2.6));
+  CHECK(d.hessians[1](0, 0) == Approx(-std::sin(0.7)));
+}
+
+TEST_CASE("stage: an analytic twin is detected, used on the analytic path only, and checked against the Jets",
+          "[stages]") {
+  STATIC_REQUIRE_FALSE(HasStageTwin<Plain>::value);
+  STATIC_REQUIRE(HasStageTwin<Twinned>::value);
+  const double z[2] = {0.7, -1.3};
+  Twinned good, bad;
+  bad.error = 1e-3;
+  CHECK(stageTwinDiscrepancy(good, z, 0) <= 1e-15);
+  CHECK(stageTwinDiscrepancy(bad, z, 0) >= 1e-4);
+  StageDerivatives<2, 2> jets, twin;
+  evaluateStage(bad, z, 0, 2, DerivativePath::AutoDiff, jets);
+  evaluateStage(bad, z, 0, 2, DerivativePath::Analytic, twin);
+  CHECK(jets.hessians[0](1, 1) == Approx(1.4));
+  CHECK(twin.hessians[0](1, 1) == Approx(1.4 + 1e-3));
+}
