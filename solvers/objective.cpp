@@ -12,7 +12,6 @@ namespace jetshell {
 Objective::Objective(int numVertices) : numVertices_(numVertices), numFree_(3 * numVertices) {
   if (numVertices <= 0) throw InputError("objective: numVertices must be > 0");
   fixedDof_.assign(3 * static_cast<std::size_t>(numVertices), 0);
-  assembler_.setGrowOnly(true);
 }
 
 void Objective::addTerm(EnergyTermPtr term, TermRole role) {

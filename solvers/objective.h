@@ -8,10 +8,12 @@
 // terms (inertia, mass and stiffness damping, contact damping and friction) exist only inside a time step. The
 // static residual of a dynamic system is the gradient of its Potential terms.
 // Terms whose stencils follow the configuration (contact pairs) are brought up to date before every evaluation
-// (EnergyTerm::updateStencils); the pattern is re-declared when one of them changed. The pattern only grows
-// (HessianAssembler::setGrowOnly): pairs that leave contact stay as stored zeros, so while the contacts stay
-// within the pairs seen before, the matrix pattern and its version stay and the linear solver reuses its
-// symbolic analysis (only the numeric factorization is redone).
+// (EnergyTerm::updateStencils); the pattern is re-declared when one of them changed, exactly to the current
+// stencils by default. setGrowOnlyPattern(true) keeps the union instead (HessianAssembler::setGrowOnly): pairs
+// that leave contact stay as stored zeros, so while the contacts stay within the pairs seen before, the matrix
+// pattern and its version stay and the linear solver reuses its symbolic analysis. It is off by default: on the
+// T-shirt's first 20 steps new pairs appear on almost every iteration, and the stored zeros' fill made it 0.94x
+// the speed of exact patterns (BENCHMARKS.md, Contact).
 // Two optional hooks serve contact: step-start hooks (a time integrator calls beginStep before each step, so
 // lagged quantities such as friction's normal forces are taken at the step start) and step bounds (the
 // largest fraction α ≤ 1 of a Newton direction d that is safe to take from x; a Newton solver scales d by
@@ -115,7 +117,7 @@ class Objective {
   /// Of these, how many built a new matrix pattern (grew it, or pruned it): each costs the linear solver a new
   /// symbolic analysis. The others fitted in the kept pattern.
   int patternGrowths() const { return assembler_.patternBuilds() > 0 ? assembler_.patternBuilds() - 1 : 0; }
-  /// Grow-only pattern (default on; see the file comment). Off: every re-declaration builds the exact pattern.
+  /// Grow-only pattern (default off; see the file comment). Off: every re-declaration builds the exact pattern.
   void setGrowOnlyPattern(bool on) { assembler_.setGrowOnly(on); }
   /// Wall seconds spent in each term's evaluate() (activeTermNames() order) and in updating stencils and
   /// rebuilding the pattern, since construction: the benchmarks' time split.
