@@ -199,14 +199,16 @@ int runBench(const BenchOptions& o) {
   };
   const double an1 = find("shell", "analytic", "exact", 1), ad1 = find("shell", "ad", "exact", 1);
   std::printf("\nSummary (value + gradient + Hessian, membrane + bending, exact Hessian):\n");
-  std::printf("  analytic, 1 thread: %.0f ns/face (target <= 1500)\n", an1);
-  std::printf("  AD / analytic, 1 thread: %.2f (target <= 2)\n", ad1 / an1);
+  std::printf("  analytic, 1 thread: %.0f ns/face (target <= 1000 on the stage framework)\n", an1);
+  std::printf("  AD / analytic, 1 thread: %.2f (target <= 1.2)\n", ad1 / an1);
   if (threadCounts.size() > 1) {
     const double anN = find("shell", "analytic", "exact", maxThreads);
     std::printf("  speed-up %d threads vs 1 (analytic): %.2fx (target >= 1.8)\n", maxThreads, an1 / anN);
   }
-  std::printf("  Gauss-Newton bending / exact bending, analytic, 1 thread: %.2f\n",
-              find("bending", "analytic", "gauss_newton", 1) / find("bending", "analytic", "exact", 1));
+  // Only when --term ran the bending term on its own (a ratio of absent rows would print nan).
+  const double gnBending = find("bending", "analytic", "gauss_newton", 1), exactBending = find("bending", "analytic", "exact", 1);
+  if (std::isfinite(gnBending) && std::isfinite(exactBending))
+    std::printf("  Gauss-Newton bending / exact bending, analytic, 1 thread: %.2f\n", gnBending / exactBending);
   std::printf("  peak resident memory: %.0f MB (target <= 300)\n", peakRssMb());
 
   if (!o.json.empty()) {
