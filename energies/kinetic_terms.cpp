@@ -47,6 +47,14 @@ void DiagonalQuadraticTerm::evaluateParameterDerivatives(const Eigen::VectorXd& 
                                 out);
 }
 
+Eigen::MatrixXd DiagonalQuadraticTerm::centreCrossDerivatives(const Eigen::MatrixXd& S) const {
+  if (S.rows() != centre_.size()) throw InputError(name_ + ": centre directions have the wrong size");
+  Eigen::MatrixXd out(S.rows(), S.cols());
+  const double c = effectiveCoefficient();
+  for (Eigen::Index v = 0; v < mass_.size(); ++v) out.middleRows<3>(3 * v) = (-c * mass_[v]) * S.middleRows<3>(3 * v);
+  return out;
+}
+
 void DiagonalQuadraticTerm::setCentre(const Eigen::VectorXd& centre, double coefficient) {
   if (centre.size() != centre_.size()) throw InputError(name_ + ": centre has the wrong size");
   if (!(std::isfinite(coefficient) && coefficient >= 0.0))

@@ -44,6 +44,9 @@ class DiagonalQuadraticTerm : public EnergyTerm {
   void setParameterValues(const std::vector<double>& values) override;
   void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
 
+  /// (∂²E/∂x∂y) S = −c (q/q₀) M S: how the gradient moves when the centre y moves along the columns of S
+  /// (3N × P). The energy is quadratic in x − y, so this is exact (tested against differences of gradients).
+  Eigen::MatrixXd centreCrossDerivatives(const Eigen::MatrixXd& S) const;
   /// Sets the centre y (size 3N) and the coefficient c (>= 0).
   void setCentre(const Eigen::VectorXd& centre, double coefficient);
   const Eigen::VectorXd& centre() const { return centre_; }

@@ -70,20 +70,23 @@ EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Ve
 }
 
 double NodalForceTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions&) {
-  if (request.gradient) *request.gradient -= scale_ * forces_;
-  return -scale_ * forces_.dot(x);
+  const double s = scale_ * magnitude_;
+  if (request.gradient) *request.gradient -= s * forces_;
+  return -s * forces_.dot(x);
 }
 
 void NodalForceTerm::setParameterValues(const std::vector<double>& values) {
   validateParameterValues(name(), parameterNames(), values);
   scale_ = values[0];
+  magnitude_ = values[1];
 }
 
 void NodalForceTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
-  resetParameterDerivatives(out, x.size(), 1);
-  addParameterDerivatives<1, 1>(vertexStencils(static_cast<int>(x.size() / 3)), x, &scale_,
-                                [&](const auto* xv, const auto* p, int v) {
-                                  return linearLoad(xv, p[0], forces_.data() + 3 * v);
+  resetParameterDerivatives(out, x.size(), 2);
+  const double p[2] = {scale_, magnitude_};
+  addParameterDerivatives<1, 2>(vertexStencils(static_cast<int>(x.size() / 3)), x, p,
+                                [&](const auto* xv, const auto* q, int v) {
+                                  return linearLoad(xv, q[0] * q[1], forces_.data() + 3 * v);
                                 },
                                 out);
 }

@@ -170,6 +170,7 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   const Eigen::VectorXd v = bdf2 ? Eigen::VectorXd((3.0 * x - 4.0 * x_ + xPrev_) / (2.0 * h))
                                  : Eigen::VectorXd((x - x_) / h);
   if (!v.allFinite()) return false;
+  if (observer_) observer_({h, bdf2, &x_, &v_, &xPrev_, &vPrev_, &x, &report.solves.back(), movedOn});
   x_ = x;
   v_ = v;
   t_ += h;

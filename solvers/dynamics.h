@@ -60,6 +60,22 @@ struct DynamicsOptions {
   double updateTolerance = 0.1;
 };
 
+/// One accepted Newton solve of a step (a whole step, or a part of a cut one), seen before the state moves on:
+/// the terms still hold this solve's centres, origins and coefficients. Time-step sensitivities
+/// (solvers/time_step_sensitivity.h) are carried forward from here.
+struct SubstepView {
+  double timeStep = 0.0;  // h of this solve
+  bool bdf2 = false;      // BDF2 (else backward Euler)
+  const Eigen::VectorXd* xStart = nullptr;   // x_n
+  const Eigen::VectorXd* vStart = nullptr;   // v_n
+  const Eigen::VectorXd* xPrev = nullptr;    // x_{n−1} (BDF2 history; meaningful when bdf2)
+  const Eigen::VectorXd* vPrev = nullptr;    // v_{n−1}
+  const Eigen::VectorXd* x = nullptr;        // x_{n+1}, the accepted iterate
+  const SolverSummary* solve = nullptr;
+  bool movedOn = false;  // accepted at the iteration cap without convergence (acceptIterationCap)
+};
+using SubstepObserver = std::function<void(const SubstepView&)>;
+
 /// What one call to DynamicsSolver::step() did.
 struct StepReport {
   int step = 0;           // number of completed steps after this one
@@ -109,6 +125,9 @@ class DynamicsSolver {
 
   const DynamicsOptions& options() const { return options_; }
   NewtonSolver& newton() { return newton_; }
+  /// Called after every accepted solve (SubstepView); empty: none. A step that fails after an accepted part
+  /// restores the state and reports failure (the observer has then seen parts of a step that did not happen).
+  void setSubstepObserver(SubstepObserver observer) { observer_ = std::move(observer); }
   ShellSystem& system() { return system_; }
 
  private:
@@ -126,6 +145,7 @@ class DynamicsSolver {
   Eigen::VectorXd xPrev_, vPrev_;
   double historyStep_ = 0.0;
   bool historyValid_ = false;
+  SubstepObserver observer_;
 };
 
 struct DynamicsResult {

@@ -12,6 +12,7 @@
 #include "energies/shell/bending_term.h"
 
 #include "core/element_loop.h"
+#include "core/origin_derivatives.h"
 #include "core/parameter_derivatives.h"
 #include "energies/shell/analytic_stages.h"
 #include "energies/element_energy_term.h"
@@ -135,23 +136,21 @@ void BendingTerm::makeStiffnessDamping(double betaR) {
 }
 
 std::vector<std::string> BendingTerm::parameterNames() const {
-  if (dampingReference_ > 0.0) return {"beta_R"};
+  if (dampingReference_ > 0.0) return {"beta_R", "alpha", "beta"};
   return {"alpha", "beta"};
 }
 
 std::vector<double> BendingTerm::parameterValues() const {
-  if (dampingReference_ > 0.0) return {dampingValue_};
+  if (dampingReference_ > 0.0) return {dampingValue_, alpha_, beta_};
   return {alpha_, beta_};
 }
 
 void BendingTerm::setParameterValues(const std::vector<double>& values) {
   validateParameterValues(name_, parameterNames(), values);
-  if (dampingReference_ > 0.0) {
-    dampingValue_ = values[0];
-  } else {
-    alpha_ = values[0];
-    beta_ = values[1];
-  }
+  const std::size_t k = dampingReference_ > 0.0 ? 1 : 0;
+  if (k == 1) dampingValue_ = values[0];
+  alpha_ = values[k];
+  beta_ = values[k + 1];
 }
 
 StencilEdges BendingTerm::stencilEdges(int f) const {
@@ -178,16 +177,38 @@ void BendingTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, Paramet
     const double* B = ref_.secondFundamentalForm[f].data();
     const double* P = ref_.inverseMetric[f].data();
     if (dampingReference_ > 0.0)
-      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * bendingDensity(b, B, P, alpha_, beta_);
+      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * bendingDensity(b, B, P, p[1], p[2]);
     return constant<T>(scale_ * ref_.area[f]) * bendingDensity(b, B, P, p[0], p[1]);
   };
   const std::vector<double> p = parameterValues();
   resetParameterDerivatives(out, x.size(), static_cast<int>(p.size()));
   if (dampingReference_ > 0.0) {
-    addParameterDerivatives<6, 1>(table_, x, p.data(), energy, out);
+    addParameterDerivatives<6, 3>(table_, x, p.data(), energy, out);
   } else {
     addParameterDerivatives<6, 2>(table_, x, p.data(), energy, out);
   }
+}
+
+Eigen::MatrixXd BendingTerm::originCrossDerivatives(const Eigen::VectorXd& x, const Eigen::MatrixXd& S) const {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(x.size(), S.cols());
+  if (!originMoved_ || S.cols() == 0) return out;
+  const int nf = static_cast<int>(F_.rows());
+  std::vector<StencilEdges> edges(static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f) edges[f] = stencilEdges(f);
+  // scale · area · W_b(κ) with κ = b(y) − b(x) (the origin's curvature is b(y), the same stencil and edge
+  // rules): passed as b(x) − b(y) against a zero origin.
+  const double zero[3] = {0.0, 0.0, 0.0};
+  const double s = energyScale();
+  auto energy = [&](const auto* xe, const auto* ye, int f) {
+    using T = std::remove_const_t<std::remove_pointer_t<decltype(xe)>>;
+    T bx[3], by[3];
+    stencilSecondFundamentalForm(xe, edges[f], bx);
+    stencilSecondFundamentalForm(ye, edges[f], by);
+    const T d[3] = {bx[0] - by[0], bx[1] - by[1], bx[2] - by[2]};
+    return constant<T>(s * ref_.area[f]) * bendingDensity(d, zero, ref_.inverseMetric[f].data(), alpha_, beta_);
+  };
+  addOriginCrossDerivatives<6>(table_, x, origin_, S, energy, out);
+  return out;
 }
 
 void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale) {
@@ -201,6 +222,7 @@ void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scal
     const Vec3& n2 = edges_[topo_.faceEdges(f, 2)].nbar;
     ref_.secondFundamentalForm[f] = {2.0 * (n1 - n0).dot(e0), -2.0 * n0.dot(e1), 2.0 * (n2 - n0).dot(e1)};
   }
+  origin_ = xOrigin;
   scale_ = scale;
   originMoved_ = true;
 }

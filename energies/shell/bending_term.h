@@ -31,8 +31,9 @@ class BendingTerm : public EnergyTerm {
   bool rigidInvariant() const override { return ruledEdges_ == 0; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
 
-  /// Parameters: "alpha", "beta" (α, β of W_b); a stiffness-damping term (makeStiffnessDamping) has "beta_R"
-  /// instead. Derivatives from duals seeded on them over the whole stencil (core/parameter_derivatives.h).
+  /// Parameters: "alpha", "beta" (α, β of W_b); a stiffness-damping term (makeStiffnessDamping) has "beta_R",
+  /// "alpha", "beta" (its energy is β_R-scaled W_b with these moduli).
+  /// Derivatives from duals seeded on them over the whole stencil (core/parameter_derivatives.h).
   std::vector<std::string> parameterNames() const override;
   std::vector<double> parameterValues() const override;
   void setParameterValues(const std::vector<double>& values) override;
@@ -54,6 +55,9 @@ class BendingTerm : public EnergyTerm {
   /// this is the stiffness-damping potential Δt·β_R·W_b(κ̇), κ̇ = (κ(x) − κ(x_prev))/Δt.
   void setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale);
   void setName(std::string name) { name_ = std::move(name); }
+  /// (∂²E/∂x∂y) S at x, y the curvature origin last given to setCurvatureOrigin (zero before): how the gradient
+  /// moves when the origin moves along the columns of S (3N × P, P ≤ 8). From duals (core/origin_derivatives.h).
+  Eigen::MatrixXd originCrossDerivatives(const Eigen::VectorXd& x, const Eigen::MatrixXd& S) const;
   /// Makes this the stiffness-damping term: its parameter becomes β_R (value betaR > 0), and the energy
   /// scales with β_R / betaR relative to the scale given to setCurvatureOrigin.
   void makeStiffnessDamping(double betaR);
@@ -98,6 +102,7 @@ class BendingTerm : public EnergyTerm {
   double dampingReference_ = 0.0;  // > 0: a stiffness-damping term with parameter β_R (this value at scale_)
   double dampingValue_ = 0.0;
   bool originMoved_ = false;
+  Eigen::VectorXd origin_;  // the positions the curvature origin was taken from
   StencilTable table_;
   ElementSchedule schedule_;
   std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k

@@ -3,6 +3,7 @@
 #include "energies/shell/membrane_term.h"
 
 #include "core/element_loop.h"
+#include "core/origin_derivatives.h"
 #include "core/parameter_derivatives.h"
 #include "energies/shell/analytic_stages.h"
 #include "energies/shell/shell_geometry.h"
@@ -32,6 +33,7 @@ void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale)
     const Eigen::Vector3d e0 = xOrigin.segment<3>(3 * ids[1]) - x0, e1 = xOrigin.segment<3>(3 * ids[2]) - x0;
     ref_.metric[f] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
   }
+  origin_ = xOrigin;
   scale_ = scale;
   originMoved_ = true;
 }
@@ -89,23 +91,21 @@ void MembraneTerm::makeStiffnessDamping(double betaR) {
 }
 
 std::vector<std::string> MembraneTerm::parameterNames() const {
-  if (dampingReference_ > 0.0) return {"beta_R"};
+  if (dampingReference_ > 0.0) return {"beta_R", "lambda", "mu"};
   return {"lambda", "mu"};
 }
 
 std::vector<double> MembraneTerm::parameterValues() const {
-  if (dampingReference_ > 0.0) return {dampingValue_};
+  if (dampingReference_ > 0.0) return {dampingValue_, lambda_, mu_};
   return {lambda_, mu_};
 }
 
 void MembraneTerm::setParameterValues(const std::vector<double>& values) {
   validateParameterValues(name_, parameterNames(), values);
-  if (dampingReference_ > 0.0) {
-    dampingValue_ = values[0];
-  } else {
-    lambda_ = values[0];
-    mu_ = values[1];
-  }
+  const std::size_t k = dampingReference_ > 0.0 ? 1 : 0;
+  if (k == 1) dampingValue_ = values[0];
+  lambda_ = values[k];
+  mu_ = values[k + 1];
 }
 
 void MembraneTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
@@ -119,16 +119,34 @@ void MembraneTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, Parame
     const double* A = ref_.metric[f].data();
     const double* P = ref_.inverseMetric[f].data();
     if (dampingReference_ > 0.0)
-      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * membraneDensity(a, A, P, lambda_, mu_);
+      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * membraneDensity(a, A, P, p[1], p[2]);
     return constant<T>(scale_ * ref_.area[f]) * membraneDensity(a, A, P, p[0], p[1]);
   };
   const std::vector<double> p = parameterValues();
   resetParameterDerivatives(out, x.size(), static_cast<int>(p.size()));
   if (dampingReference_ > 0.0) {
-    addParameterDerivatives<3, 1>(table_, x, p.data(), energy, out);
+    addParameterDerivatives<3, 3>(table_, x, p.data(), energy, out);
   } else {
     addParameterDerivatives<3, 2>(table_, x, p.data(), energy, out);
   }
+}
+
+Eigen::MatrixXd MembraneTerm::originCrossDerivatives(const Eigen::VectorXd& x, const Eigen::MatrixXd& S) const {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(x.size(), S.cols());
+  if (!originMoved_ || S.cols() == 0) return out;
+  // scale · area · W_m(ε) with ε = ½(a(x) − a(y)): the metric difference is passed as a with a zero origin.
+  const double zero[3] = {0.0, 0.0, 0.0};
+  const double s = energyScale();
+  auto energy = [&](const auto* xe, const auto* ye, int f) {
+    using T = std::remove_const_t<std::remove_pointer_t<decltype(xe)>>;
+    T a[3], b[3];
+    metric(load3(xe + 3) - load3(xe), load3(xe + 6) - load3(xe), a);
+    metric(load3(ye + 3) - load3(ye), load3(ye + 6) - load3(ye), b);
+    const T d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+    return constant<T>(s * ref_.area[f]) * membraneDensity(d, zero, ref_.inverseMetric[f].data(), lambda_, mu_);
+  };
+  addOriginCrossDerivatives<3>(table_, x, origin_, S, energy, out);
+  return out;
 }
 
 EnergyTermPtr makeMembraneTerm(const TriMesh& mesh, const ShellReference& reference, double lambda, double mu) {

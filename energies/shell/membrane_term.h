@@ -22,8 +22,9 @@ class MembraneTerm : public EnergyTerm {
   bool zeroAtRest() const override { return !originMoved_; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
 
-  /// Parameters: "lambda", "mu" (λ, μ of W_m); a stiffness-damping term (makeStiffnessDamping) has "beta_R"
-  /// instead. Derivatives from duals seeded on them (core/parameter_derivatives.h).
+  /// Parameters: "lambda", "mu" (λ, μ of W_m); a stiffness-damping term (makeStiffnessDamping) has "beta_R",
+  /// "lambda", "mu" (its energy is β_R-scaled W_m with these moduli).
+  /// Derivatives from duals seeded on them (core/parameter_derivatives.h).
   std::vector<std::string> parameterNames() const override;
   std::vector<double> parameterValues() const override;
   void setParameterValues(const std::vector<double>& values) override;
@@ -33,6 +34,9 @@ class MembraneTerm : public EnergyTerm {
   /// xOrigin = x_prev this is the stiffness-damping potential Δt·β_R·W_m(ε̇), ε̇ = (ε(x) − ε(x_prev))/Δt.
   void setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale);
   void setName(std::string name) { name_ = std::move(name); }
+  /// (∂²E/∂x∂y) S at x, y the strain origin last given to setStrainOrigin (zero before): how the gradient moves
+  /// when the origin moves along the columns of S (3N × P, P ≤ 8). From duals (core/origin_derivatives.h).
+  Eigen::MatrixXd originCrossDerivatives(const Eigen::VectorXd& x, const Eigen::MatrixXd& S) const;
   /// Makes this the stiffness-damping term: its parameter becomes β_R (value betaR > 0), and the energy
   /// scales with β_R / betaR relative to the scale given to setStrainOrigin.
   void makeStiffnessDamping(double betaR);
@@ -51,6 +55,7 @@ class MembraneTerm : public EnergyTerm {
   double dampingValue_ = 0.0;
   double energyScale() const { return dampingReference_ > 0.0 ? scale_ * dampingValue_ / dampingReference_ : scale_; }
   bool originMoved_ = false;
+  Eigen::VectorXd origin_;  // the positions the strain origin was taken from
   std::vector<double> elementEnergy_;
 };
 

@@ -47,7 +47,8 @@ Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference,
 EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity,
                               double density = 1.0);
 
-/// External nodal forces: −λ·Σ f·x. forces has size 3N; λ is the load factor, the parameter "load_factor".
+/// External nodal forces: −s·λ·Σ f·x. forces has size 3N; λ is the load factor (the parameter "load_factor", which
+/// load stepping and time ramps drive), s a magnitude scale (the parameter "scale", 1 unless a fit changes it).
 class NodalForceTerm;
 std::shared_ptr<NodalForceTerm> makeNodalForceTerm(const Eigen::VectorXd& forces);
 
@@ -61,8 +62,8 @@ class NodalForceTerm : public EnergyTerm {
   bool rigidInvariant() const override { return false; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
   void setLoadFactor(double s) { scale_ = s; }
-  std::vector<std::string> parameterNames() const override { return {"load_factor"}; }
-  std::vector<double> parameterValues() const override { return {scale_}; }
+  std::vector<std::string> parameterNames() const override { return {"load_factor", "scale"}; }
+  std::vector<double> parameterValues() const override { return {scale_, magnitude_}; }
   void setParameterValues(const std::vector<double>& values) override;
   void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
   double loadFactor() const { return scale_; }
@@ -70,7 +71,8 @@ class NodalForceTerm : public EnergyTerm {
 
  private:
   Eigen::VectorXd forces_;
-  double scale_ = 1.0;
+  double scale_ = 1.0;      // λ
+  double magnitude_ = 1.0;  // s
 };
 
 }  // namespace jetshell
