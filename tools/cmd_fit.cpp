@@ -35,7 +35,7 @@ const RegisterSubcommand reg("fit", [](CLI::App& app, int& exitCode) {
     if (args->checkOnly) {
       std::cout << args->fit << ": ok (" << file.parameters.size() << " parameter(s), " << file.observations.size()
                 << " observation(s), " << setup.problem().numResiduals() << " observed coordinates at "
-                << setup.problem().levels().size() << " load level(s))\n";
+                << setup.problem().levels().size() << " " << setup.problem().levelName() << "(s))\n";
       exitCode = kOk;
       return;
     }

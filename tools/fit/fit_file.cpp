@@ -82,6 +82,35 @@ double loadFactor(const Value& v) {
   return l;
 }
 
+/// A dynamic observation's time: a step time k·timeStep with 1 ≤ k ≤ the run's steps; returned snapped.
+double stepTime(const Value& v, const Scene& scene) {
+  const double t = v.number();
+  const double h = scene.analysis.timeStep;
+  if (!std::isfinite(t)) check::fail(v.pointer(), t, "must be finite");
+  const double k = std::round(t / h);
+  const double steps = std::ceil(scene.analysis.duration / h - 1e-9);
+  if (std::abs(t / h - k) > 1e-6) {
+    std::ostringstream m;
+    m << v.pointer() << " = " << t << ": not a step time (the scene's timeStep is " << h << " s: the nearest are "
+      << std::floor(t / h) * h << " and " << (std::floor(t / h) + 1.0) * h << ")";
+    throw InputError(m.str());
+  }
+  if (k < 1.0) check::fail(v.pointer(), t, "must be a step time after the start (>= timeStep)");
+  if (k > steps) {
+    std::ostringstream m;
+    m << v.pointer() << " = " << t << ": beyond the end of the run (the scene's duration is " << scene.analysis.duration
+      << " s)";
+    throw InputError(m.str());
+  }
+  return k * h;
+}
+
+/// The level of a probe or shape observation: "loadFactor" in a static scene, "time" in a dynamic one.
+double observationLevel(const Object& o, const Scene& scene) {
+  if (scene.analysis.type == AnalysisType::Dynamic) return stepTime(o.at("time"), scene);
+  return loadFactor(o.at("loadFactor"));
+}
+
 double weight(const Object& o) {
   const double w = o.number("weight", 1.0);
   check::nonNegative(w, o.member("weight"));
@@ -104,7 +133,7 @@ ObservationSpec readProbeObservation(const Object& o, const Scene& scene) {
   ObservationSpec s;
   s.kind = ObservationSpec::Kind::Probe;
   s.probe = findProbe(scene, o.at("probe")).name;
-  s.levels = {loadFactor(o.at("loadFactor"))};
+  s.levels = {observationLevel(o, scene)};
   s.weight = weight(o);
   const Value d = o.at("displacement");
   if (d.isArray()) {
@@ -130,7 +159,7 @@ ObservationSpec readShapeObservation(const Object& o, const Scene& scene, const 
   const Value actor = o.at("actor");
   s.actor = actor.string();
   const int a = scene.shellIndex(s.actor, actor.pointer());
-  s.levels = {loadFactor(o.at("loadFactor"))};
+  s.levels = {observationLevel(o, scene)};
   s.weight = weight(o);
   const std::string path = resolve(base, o.at("obj").string());
   TriMesh target;
@@ -226,9 +255,11 @@ FitFile fitFromJson(const nlohmann::json& document, const std::string& base, con
   } else {
     sceneValue.typeError("a scene file path or an inline scene object");
   }
-  if (f.scene.analysis.type != AnalysisType::Static)
+  if (f.scene.analysis.type == AnalysisType::DynamicRelaxation)
     throw InputError("/scene: the analysis is " + std::string(toString(f.scene.analysis.type)) +
-                     "; fitting supports static analyses (observations at load levels; see FITTING.md)");
+                     "; fitting supports static analyses (observations at load factors) and dynamic ones "
+                     "(observations at times; see FITTING.md)");
+  const bool dynamic = f.scene.analysis.type == AnalysisType::Dynamic;
 
   // Parameters.
   const std::vector<Value> params = o.at("parameters").array();
@@ -290,23 +321,29 @@ FitFile fitFromJson(const nlohmann::json& document, const std::string& base, con
   std::set<double> levels;
   for (const Value& v : obs) {
     if (!v.isObject()) v.typeError("an object (an observation)");
-    if (v.raw().contains("time"))
-      throw InputError(v.pointer() + "/time: observations at times need a dynamic fit, which is not supported yet "
-                                     "(static scenes, observations at load factors; see FITTING.md)");
+    if (!dynamic && v.raw().contains("time"))
+      throw InputError(v.pointer() + "/time: observations at times need a dynamic scene (this one is static: "
+                                     "observe at a \"loadFactor\")");
+    if (dynamic && v.raw().contains("loadFactor"))
+      throw InputError(v.pointer() + "/loadFactor: the scene is dynamic: observe at a \"time\" (a step time)");
     const std::string type = Object(v).choice("type", {"probe", "shape", "curve"}, "");
     if (type.empty()) throw InputError(v.pointer() + "/type: missing (required: probe, shape or curve)");
+    if (dynamic && type == "curve")
+      throw InputError(v.pointer() + "/type: curve observations (load–displacement tables) need a static scene");
+    const std::string level = dynamic ? "time" : "loadFactor";
     ObservationSpec s;
     if (type == "probe") {
-      s = readProbeObservation(v.object({"type", "probe", "loadFactor", "displacement", "component", "weight"}, "a probe observation"), f.scene);
+      s = readProbeObservation(v.object({"type", "probe", level, "displacement", "component", "weight"}, "a probe observation"), f.scene);
     } else if (type == "shape") {
-      s = readShapeObservation(v.object({"type", "actor", "loadFactor", "obj", "weight"}, "a shape observation"), f.scene, base);
+      s = readShapeObservation(v.object({"type", "actor", level, "obj", "weight"}, "a shape observation"), f.scene, base);
     } else {
       s = readCurveObservation(v.object({"type", "probe", "component", "csv", "loadColumn", "displacementColumn", "displacementScale", "weight"}, "a curve observation"), f.scene, base);
     }
     s.where = v.pointer();
     levels.insert(s.levels.begin(), s.levels.end());
     if (static_cast<int>(levels.size()) > kMaxFitLevels)
-      throw InputError(v.pointer() + ": more than " + std::to_string(kMaxFitLevels) + " distinct load levels in all");
+      throw InputError(v.pointer() + ": more than " + std::to_string(kMaxFitLevels) + " distinct " +
+                       (dynamic ? "times" : "load levels") + " in all");
     f.observations.push_back(std::move(s));
   }
 

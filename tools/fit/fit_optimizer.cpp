@@ -65,7 +65,7 @@ Scaling makeScaling(const std::vector<FitVariable>& vars) {
 
 /// Shared state of one run: evaluation with history and best-so-far bookkeeping.
 struct Run {
-  StaticFitProblem* problem = nullptr;
+  FitProblem* problem = nullptr;
   Scaling scaling;
   FitOptions options;
   FitResult* result = nullptr;
@@ -90,6 +90,10 @@ struct Run {
     rec.ok = e.ok;
     rec.misfit = e.ok ? e.misfit : std::numeric_limits<double>::infinity();
     if (e.ok && d != FitDerivatives::None) rec.gradientNorm = e.gradient.norm();
+    if (e.ok && d != FitDerivatives::None && !e.derivativesExact) {
+      rec.exactGradient = false;
+      ++result->inexactDerivativeEvaluations;
+    }
     if (e.ok && (!haveBest || e.misfit < best.misfit)) {
       best = e;
       bestQ = q;
@@ -292,7 +296,7 @@ FitUncertainty gaussNewtonUncertainty(const Eigen::MatrixXd& J, const Eigen::Vec
   return u;
 }
 
-FitResult runFit(StaticFitProblem& problem, const std::vector<FitVariable>& variables, const FitOptions& options) {
+FitResult runFit(FitProblem& problem, const std::vector<FitVariable>& variables, const FitOptions& options) {
   const Timer timer;
   if (static_cast<int>(variables.size()) != problem.numParameters())
     throw InputError("fit: " + std::to_string(variables.size()) + " variables for " +
@@ -328,6 +332,8 @@ FitResult runFit(StaticFitProblem& problem, const std::vector<FitVariable>& vari
   r.counters.sensitivitySolves -= before.sensitivitySolves;
   r.counters.gradientEvaluations -= before.gradientEvaluations;
   r.counters.jacobianEvaluations -= before.jacobianEvaluations;
+  r.counters.timeSteps -= before.timeSteps;
+  r.counters.inexactDerivativeSolves -= before.inexactDerivativeSolves;
   if (!run.haveBest) {
     r.success = false;
     if (r.message.empty()) r.message = "no evaluation succeeded: " + run.failure;
@@ -344,6 +350,7 @@ FitResult runFit(StaticFitProblem& problem, const std::vector<FitVariable>& vari
   } else {
     const FitEvaluation e = problem.evaluate(r.q, FitDerivatives::Jacobian);
     if (e.ok) r.jacobian = e.jacobian;
+    if (e.ok && !e.derivativesExact) ++r.inexactDerivativeEvaluations;
   }
   if (r.jacobian.size() > 0) r.uncertainty = gaussNewtonUncertainty(r.jacobian, r.residuals);
   else r.uncertainty.message = "the Jacobian at the fitted values could not be computed";

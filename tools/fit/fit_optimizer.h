@@ -6,12 +6,12 @@
 // value|, or the bound width when it is 0), so every z is O(1) and one tolerance serves all: the parameter
 // tolerance is an absolute step in z (for log-scale parameters, a relative change of q).
 //
-// Inputs: a StaticFitProblem, the parameters' initial values, bounds and scales, FitOptions.
+// Inputs: a FitProblem (static or dynamic), the parameters' initial values, bounds and scales, FitOptions.
 // Outputs: FitResult (best values, history of every evaluation, NLopt's or the loop's termination reason,
 // cost counters, uncertainty).
 #pragma once
 
-#include "tools/fit/static_fit_problem.h"
+#include "tools/fit/fit_problem.h"
 
 #include <Eigen/Core>
 
@@ -47,6 +47,7 @@ struct FitRecord {
   double misfit = 0.0;
   double gradientNorm = -1.0;  // ‖df/dq‖ (physical units), -1 when not computed
   bool ok = true;              // the solve succeeded
+  bool exactGradient = true;   // false: derivatives computed through unconverged solves (FitEvaluation)
   bool best = false;           // the best so far when it was made
 };
 
@@ -73,12 +74,15 @@ struct FitResult {
   std::vector<FitRecord> history;
   FitCounters counters;        // of the optimization (the final Jacobian for the uncertainty is not included)
   FitUncertainty uncertainty;
+  /// Evaluations whose derivatives went through solves accepted short of convergence (dynamic steps at the
+  /// iteration cap): their gradients and Jacobians are approximate. 0: every derivative was exact.
+  int inexactDerivativeEvaluations = 0;
   double wallSeconds = 0.0;
 };
 
 /// Runs the fit. Throws InputError for invalid variables (bounds not finite or not ordered, initial value out
 /// of bounds, a log-scale bound <= 0) or options.
-FitResult runFit(StaticFitProblem& problem, const std::vector<FitVariable>& variables, const FitOptions& options);
+FitResult runFit(FitProblem& problem, const std::vector<FitVariable>& variables, const FitOptions& options);
 
 /// The Gauss–Newton covariance s²(JᵀJ)⁻¹ as standard deviations and correlations (J: M × Q, r: M).
 FitUncertainty gaussNewtonUncertainty(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residuals);

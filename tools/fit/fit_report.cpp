@@ -91,7 +91,16 @@ nlohmann::json fitReportJson(const FitReportInputs& in) {
                {"gradient_evaluations", k.gradientEvaluations},
                {"jacobian_evaluations", k.jacobianEvaluations},
                {"sensitivity_factorizations", k.sensitivityFactorizations},
-               {"sensitivity_solves", k.sensitivitySolves}};
+               {"sensitivity_solves", k.sensitivitySolves},
+               {"time_steps", k.timeSteps},
+               {"inexact_derivative_solves", k.inexactDerivativeSolves}};
+  // Whether the gradients and Jacobians were those of the computed states (FitEvaluation::derivativesExact).
+  j["gradient_status"] =
+      r.inexactDerivativeEvaluations == 0
+          ? "exact"
+          : "approximate: " + std::to_string(r.inexactDerivativeEvaluations) +
+                " evaluation(s) differentiated through time steps accepted at the Newton iteration cap "
+                "(acceptIterationCap); their gradients are not those of the computed trajectory";
   nlohmann::json history = nlohmann::json::array();
   for (const FitRecord& h : r.history) {
     nlohmann::json e;
@@ -99,12 +108,14 @@ nlohmann::json fitReportJson(const FitReportInputs& in) {
     e["ok"] = h.ok;
     e["misfit"] = number(h.misfit);
     e["gradient_norm"] = h.gradientNorm >= 0.0 ? number(h.gradientNorm) : nlohmann::json(nullptr);
+    if (h.gradientNorm >= 0.0) e["gradient_exact"] = h.exactGradient;
     std::vector<double> q(h.q.data(), h.q.data() + h.q.size());
     e["parameters"] = q;
     history.push_back(e);
   }
   j["history"] = history;
   j["levels"] = in.problem->levels();
+  j["level_kind"] = in.problem->levelName();
   nlohmann::json groups = nlohmann::json::array();
   const Displacements d = displacements(in);
   for (std::size_t g = 0; g < in.groupLabels.size(); ++g) {
@@ -180,7 +191,7 @@ std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::st
     // Load–displacement curves of the observations that span several levels.
     PlotSpec c;
     c.title = "Load-displacement: observed (points) and fitted (lines)";
-    c.xLabel = "load factor";
+    c.xLabel = in.problem->levelName() == "time" ? "time [s]" : in.problem->levelName();
     c.yLabel = "displacement [m]";
     for (std::size_t g = 0; g < in.groupLabels.size(); ++g) {
       std::map<int, std::map<int, std::pair<double, double>>> byDof;  // dof → level → (observed, fitted)
@@ -217,6 +228,9 @@ std::string fitSummaryText(const FitReportInputs& in) {
   s << "  misfit " << format(r.misfit) << " after " << r.counters.evaluations << " evaluations (" << r.counters.fullSolves
     << " full solves, " << r.counters.newtonIterations << " Newton iterations, " << r.counters.sensitivitySolves
     << " sensitivity solves)\n";
+  if (r.inexactDerivativeEvaluations > 0)
+    s << "  note: " << r.inexactDerivativeEvaluations << " evaluation(s) differentiated through time steps accepted at "
+      << "the iteration cap: their gradients are approximate\n";
   for (std::size_t i = 0; i < r.variables.size() && r.q.size() > 0; ++i) {
     s << "  " << r.variables[i].label << " = " << format(r.q[static_cast<Eigen::Index>(i)]);
     if (r.uncertainty.available) s << " ± " << format(r.uncertainty.standardDeviation[static_cast<Eigen::Index>(i)]);

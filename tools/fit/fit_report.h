@@ -17,7 +17,7 @@
 namespace jetshell {
 
 struct FitReportInputs {
-  const StaticFitProblem* problem = nullptr;
+  const FitProblem* problem = nullptr;
   const FitResult* result = nullptr;
   std::vector<std::string> groupLabels;  // one per observation group
   std::string fitFile;                   // recorded, may be empty

@@ -5,12 +5,14 @@
 #include "tools/scene/scene_problem.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace jetshell {
 
 FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(file.scene)) {
   const ShellProblem problem = shellProblemFromScene(file_.scene, model_);
-  system_ = std::make_unique<ShellSystem>(problem, AnalysisKind::Statics);
+  const bool dynamic = file_.scene.analysis.type == AnalysisType::Dynamic;
+  system_ = std::make_unique<ShellSystem>(problem, dynamic ? AnalysisKind::Dynamics : AnalysisKind::Statics);
   addSceneEdgeRules(file_.scene, problem, *system_);  // the same boundary rules as `jetshell run`
   std::vector<std::string> names, labels;
   for (const FitParameterSpec& p : file_.parameters) {
@@ -56,6 +58,24 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
         }
     }
     labels_.push_back(label);
+  }
+  if (dynamic) {
+    // The dynamic path of `jetshell run`, with Newton run to the scene's residual tolerance in every step (the
+    // time-discretization stopping rule, which ends Newton early by design, is off: the trajectory is then a
+    // smooth function of the parameters and its sensitivities are exact).
+    DynamicsOptions o;
+    o.integrator = file_.scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
+    o.timeStep = file_.scene.analysis.timeStep;
+    o.newton = newtonOptionsFor(file_.scene.solver, o.newton.maxIterations);
+    o.acceptIterationCap = file_.scene.solver.acceptIterationCap;
+    o.updateTolerance = 0.0;
+    std::vector<int> steps;
+    for (double t : levels) steps.push_back(static_cast<int>(std::lround(t / o.timeStep)));
+    const SceneModel* model = &model_;
+    problem_ = std::make_unique<DynamicFitProblem>(*system_, std::move(mapping), o,
+                                                   [model](double t) { return model->loadFactorAtTime(t); }, steps,
+                                                   std::move(observed));
+    return;
   }
   // The statics path of `jetshell run`: increments up to 1 / loadSteps, the first a quarter of that.
   LoadSteppingOptions steps;

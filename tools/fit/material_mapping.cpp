@@ -14,44 +14,77 @@ using Jet = ceres::Jet<double, kMaxFitParameters>;
 
 const std::vector<std::string> kIsotropic = {"youngsModulus", "poissonRatio", "thickness", "volumeDensity"};
 const std::vector<std::string> kShell = {"membraneLambda", "membraneMu", "bendingAlpha", "bendingBeta", "density"};
-/// Output k of the material formulas sets these term parameters (those whose term is active): the bending
-/// moduli live in the bending term and in the boundary-rule correction of a scene's edge rules.
-const std::array<std::vector<TermParameter>, 5> kTargets = {
-    std::vector<TermParameter>{{"membrane", "lambda"}},
-    std::vector<TermParameter>{{"membrane", "mu"}},
-    std::vector<TermParameter>{{"bending", "alpha"}, {"boundary_rules", "alpha"}},
-    std::vector<TermParameter>{{"bending", "beta"}, {"boundary_rules", "beta"}},
-    std::vector<TermParameter>{{"gravity", "density"}}};
+/// Fittable with either base: the damping coefficients and the load scales.
+const std::vector<std::string> kCommon = {"massDampingCoefficient", "stiffnessDampingCoefficient", "gravityScale",
+                                          "loadScale"};
+constexpr int kOutputs = 9;
+/// Output k of the formulas sets these term parameters (those whose term is active): the elastic moduli live in
+/// the elastic terms, the boundary-rule correction of a scene's edge rules and the stiffness-damping terms.
+const std::array<std::vector<TermParameter>, kOutputs> kTargets = {
+    std::vector<TermParameter>{{"membrane", "lambda"}, {"membrane_damping", "lambda"}},
+    std::vector<TermParameter>{{"membrane", "mu"}, {"membrane_damping", "mu"}},
+    std::vector<TermParameter>{{"bending", "alpha"}, {"boundary_rules", "alpha"}, {"bending_damping", "alpha"}},
+    std::vector<TermParameter>{{"bending", "beta"}, {"boundary_rules", "beta"}, {"bending_damping", "beta"}},
+    std::vector<TermParameter>{{"gravity", "density"}},
+    std::vector<TermParameter>{{"inertia", "density"}},
+    std::vector<TermParameter>{{"mass_damping", "alpha_R"}},
+    std::vector<TermParameter>{{"membrane_damping", "beta_R"}, {"bending_damping", "beta_R"}},
+    std::vector<TermParameter>{{"nodal_forces", "scale"}}};
 
-/// The five shell outputs as Jets, with the fitted inputs seeded (input k of `names` → derivative slot k).
-std::array<Jet, 5> outputs(const MaterialBase& base, const std::vector<std::string>& names, const Eigen::VectorXd& q) {
+/// The outputs as Jets, with the fitted inputs seeded (input k of `names` → derivative slot k):
+///   0-3 λ, μ, α, β; 4 ρ_A0 · gravityScale (gravity: its weight); 5 ρ_A0 (inertia);
+///   6 α_R ρ_A0 / ρ_A0(base) (mass damping: its masses were lumped at the base density); 7 β_R; 8 loadScale.
+std::array<Jet, kOutputs> outputs(const MaterialBase& base, const std::vector<std::string>& names,
+                                  const Eigen::VectorXd& q) {
   auto input = [&](const std::string& name, double baseValue) {
     const auto it = std::find(names.begin(), names.end(), name);
     if (it == names.end()) return Jet(baseValue);
     const int k = static_cast<int>(it - names.begin());
     return Jet(q[k], k);
   };
+  std::array<Jet, 5> shell;
   if (base.isotropic) {
     const ShellMaterialValues<Jet> m =
         shellMaterialFrom3dIsotropic(input("youngsModulus", base.youngsModulus), input("poissonRatio", base.poissonRatio),
                                      input("volumeDensity", base.volumeDensity), input("thickness", base.thickness));
-    return {m.membraneLambda, m.membraneMu, m.bendingAlpha, m.bendingBeta, m.density};
+    shell = {m.membraneLambda, m.membraneMu, m.bendingAlpha, m.bendingBeta, m.density};
+  } else {
+    const ShellMaterialParams& s = base.shell;
+    shell = {input("membraneLambda", s.membraneLambda), input("membraneMu", s.membraneMu),
+             input("bendingAlpha", s.bendingAlpha), input("bendingBeta", s.bendingBeta), input("density", s.density)};
   }
-  const ShellMaterialParams& s = base.shell;
-  return {input("membraneLambda", s.membraneLambda), input("membraneMu", s.membraneMu),
-          input("bendingAlpha", s.bendingAlpha), input("bendingBeta", s.bendingBeta), input("density", s.density)};
+  const Jet& rho = shell[4];
+  const double rhoBase = base.shell.density > 0.0 ? base.shell.density : 1.0;
+  return {shell[0], shell[1], shell[2], shell[3],
+          rho * input("gravityScale", 1.0),
+          rho,
+          input("massDampingCoefficient", base.shell.massDampingCoefficient) * rho / rhoBase,
+          input("stiffnessDampingCoefficient", base.shell.stiffnessDampingCoefficient),
+          input("loadScale", 1.0)};
 }
 
 /// Structural dependence of output k on a fitted name.
 bool dependsOn(const MaterialBase& base, int output, const std::string& name) {
-  if (!base.isotropic) return kShell[static_cast<std::size_t>(output)] == name;
-  if (output == 4) return name == "thickness" || name == "volumeDensity";
-  return name != "volumeDensity";
+  const bool density = base.isotropic ? (name == "thickness" || name == "volumeDensity") : name == "density";
+  switch (output) {
+    case 4: return density || name == "gravityScale";
+    case 5: return density;
+    case 6: return density || name == "massDampingCoefficient";
+    case 7: return name == "stiffnessDampingCoefficient";
+    case 8: return name == "loadScale";
+    default:
+      if (!base.isotropic) return kShell[static_cast<std::size_t>(output)] == name;
+      return name == "youngsModulus" || name == "poissonRatio" || name == "thickness";
+  }
 }
 
 }  // namespace
 
-std::vector<std::string> fittableMaterialNames(const MaterialBase& base) { return base.isotropic ? kIsotropic : kShell; }
+std::vector<std::string> fittableMaterialNames(const MaterialBase& base) {
+  std::vector<std::string> names = base.isotropic ? kIsotropic : kShell;
+  names.insert(names.end(), kCommon.begin(), kCommon.end());
+  return names;
+}
 
 double materialBaseValue(const MaterialBase& base, const std::string& name) {
   if (name == "youngsModulus") return base.youngsModulus;
@@ -63,6 +96,9 @@ double materialBaseValue(const MaterialBase& base, const std::string& name) {
   if (name == "bendingAlpha") return base.shell.bendingAlpha;
   if (name == "bendingBeta") return base.shell.bendingBeta;
   if (name == "density") return base.shell.density;
+  if (name == "massDampingCoefficient") return base.shell.massDampingCoefficient;
+  if (name == "stiffnessDampingCoefficient") return base.shell.stiffnessDampingCoefficient;
+  if (name == "gravityScale" || name == "loadScale") return 1.0;
   throw InputError("no material parameter named '" + name + "'");
 }
 
@@ -89,7 +125,7 @@ ParameterMapping materialMapping(const MaterialBase& base, const std::vector<std
   std::vector<int> used;
   ParameterMapping m;
   std::vector<char> effective(names.size(), 0);
-  for (int o = 0; o < 5; ++o) {
+  for (int o = 0; o < kOutputs; ++o) {
     for (const TermParameter& t : kTargets[static_cast<std::size_t>(o)]) {
       const EnergyTermPtr term = objective.term(t.term);
       if (!term) continue;
@@ -110,12 +146,13 @@ ParameterMapping materialMapping(const MaterialBase& base, const std::vector<std
   }
   for (std::size_t k = 0; k < names.size(); ++k)
     if (!effective[k])
-      throw InputError(labels[k] + " = \"" + names[k] + "\": has no effect on this static problem (the terms it "
-                       "sets are not active)");
+      throw InputError(labels[k] + " = \"" + names[k] + "\": has no effect on this problem (the terms it sets are "
+                       "not active: no gravity, no load, no inertia or damping in a static scene, or a coefficient "
+                       "that is 0 in the scene)");
 
   m.numParameters = static_cast<int>(names.size());
   m.map = [base, names, used](const Eigen::VectorXd& q, Eigen::VectorXd& values, Eigen::MatrixXd* jacobian) {
-    const std::array<Jet, 5> out = outputs(base, names, q);
+    const std::array<Jet, kOutputs> out = outputs(base, names, q);
     const int Q = static_cast<int>(names.size());
     values.resize(static_cast<Eigen::Index>(used.size()));
     if (jacobian) jacobian->resize(static_cast<Eigen::Index>(used.size()), Q);

@@ -129,8 +129,13 @@ TEST_CASE("fit file: bad fields give one-line errors naming the JSON pointer", "
   CHECK_THAT(errorOf(j), Catch::StartsWith("/scene/actors/0/material/poissonRatio"));
 
   j = fitJson();
-  j["scene"]["analysis"] = nlohmann::json::parse(R"({ "type": "dynamic", "timeStep": 0.01, "duration": 1 })");
+  j["scene"]["analysis"] = nlohmann::json::parse(R"({ "type": "dynamicRelaxation", "timeStep": 0.01 })");
   CHECK_THAT(errorOf(j), Catch::StartsWith("/scene") && Catch::Contains("static"));
+
+  j = fitJson();
+  j["observations"][0].erase("loadFactor");
+  j["observations"][0]["time"] = 0.1;
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time") && Catch::Contains("dynamic scene"));
 
   j = fitJson();
   j["parameters"] = nlohmann::json::array();
@@ -180,4 +185,55 @@ TEST_CASE("fit file: every example fit file (examples/fit_*.json) reads", "[fit]
     ++count;
   }
   CHECK(count >= 3);
+}
+
+TEST_CASE("fit file: a dynamic scene's observations are at step times; bad times and new fields name their pointer",
+          "[fit]") {
+  auto dynamic = [] {
+    nlohmann::json j = fitJson();
+    j["scene"]["analysis"] = nlohmann::json::parse(R"({ "type": "dynamic", "timeStep": 0.01, "duration": 0.1 })");
+    j["observations"][0].erase("loadFactor");
+    j["observations"][0]["time"] = 0.05;
+    return j;
+  };
+  const FitFile f = fitFromJson(dynamic(), directory().string(), "fit.json");
+  REQUIRE(f.observations.size() == 1);
+  CHECK(f.observations[0].levels == std::vector<double>{5 * 0.01});
+
+  nlohmann::json j = dynamic();
+  j["observations"][0]["time"] = 0.0500000001;  // within round-off of a step time: snapped
+  CHECK(fitFromJson(j, directory().string(), "fit.json").observations[0].levels[0] == 5 * 0.01);
+
+  j = dynamic();
+  j["observations"][0]["time"] = 0.055;
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time = 0.055: not a step time"));
+  j["observations"][0]["time"] = 0.11;
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time = 0.11: beyond the end"));
+  j["observations"][0]["time"] = 0.0;
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time"));
+  j["observations"][0]["time"] = -0.01;
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time"));
+  j["observations"][0]["time"] = "soon";
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time"));
+
+  j = dynamic();
+  j["observations"][0].erase("time");
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0") && Catch::Contains("time"));
+  j["observations"][0]["loadFactor"] = 1.0;
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/loadFactor") && Catch::Contains("dynamic"));
+
+  j = dynamic();
+  j["observations"][0] = nlohmann::json::parse(R"({ "type": "curve", "probe": "tip", "component": "z", "csv": "c.csv" })");
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/type") && Catch::Contains("static"));
+
+  j = dynamic();
+  j["parameters"][0] = nlohmann::json::parse(
+      R"({ "actor": "strip", "name": "massDampingCoefficient", "initial": 1, "lower": -1, "upper": 10 })");
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/lower"));
+  j["parameters"][0]["name"] = "massDamping";
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/name") && Catch::Contains("massDampingCoefficient"));
+  j["parameters"][0] = nlohmann::json::parse(
+      R"({ "actor": "strip", "name": "gravityScale", "lower": 0.5, "upper": 2 })");
+  const FitFile g = fitFromJson(j, directory().string(), "fit.json");
+  CHECK(g.parameters[0].variable.initial == 1.0);
 }

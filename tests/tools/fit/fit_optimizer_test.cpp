@@ -1,4 +1,5 @@
 #include "tools/fit/fit_optimizer.h"
+#include "tools/fit/static_fit_problem.h"
 
 #include "core/mesh_generators.h"
 #include "energies/shell/shell_terms.h"

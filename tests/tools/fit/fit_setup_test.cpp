@@ -17,7 +17,7 @@ std::string example(const std::string& name) { return std::string(JETSHELL_SOURC
 
 TEST_CASE("fit: the adjoint gradient of a shell fit matches central differences of whole solves", "[fit]") {
   FitSetup setup(loadFitFile(example("fit_synthetic_plate.json")));
-  StaticFitProblem& p = setup.problem();
+  FitProblem& p = setup.problem();
   Eigen::VectorXd q(4);
   q << 200.0, 500.0, 3e-5, 5e-5;
   const FitEvaluation g = p.evaluate(q, FitDerivatives::Gradient);

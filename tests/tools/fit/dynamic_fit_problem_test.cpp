@@ -1,0 +1,157 @@
+#include "tools/fit/dynamic_fit_problem.h"
+
+#include "tools/fit/fit_report.h"
+#include "tools/fit/fit_setup.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <sstream>
+
+using namespace jetshell;
+
+namespace {
+
+std::string example(const std::string& name) { return std::string(JETSHELL_SOURCE_DIR) + "/examples/" + name; }
+
+/// The swinging strip example with its parameters replaced (names, initial values; bounds a factor 100 either
+/// side) and the scene changed.
+FitFile swingingStrip(const std::vector<std::pair<std::string, double>>& parameters,
+                      const std::function<void(nlohmann::json&)>& editScene = {}) {
+  std::ifstream in(example("fit_swinging_strip.json"));
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, true, true);
+  j["parameters"] = nlohmann::json::array();
+  for (const auto& [name, initial] : parameters)
+    j["parameters"].push_back({{"actor", "strip"}, {"name", name}, {"initial", initial},
+                               {"lower", initial / 100.0}, {"upper", initial * 100.0}, {"logScale", true}});
+  if (editScene) editScene(j["scene"]);
+  // Only the observations within the (possibly shortened) run.
+  nlohmann::json kept = nlohmann::json::array();
+  for (const nlohmann::json& o : j["observations"])
+    if (o["time"].get<double>() <= j["scene"]["analysis"]["duration"].get<double>() + 1e-12) kept.push_back(o);
+  j["observations"] = kept;
+  return fitFromJson(j, std::string(JETSHELL_SOURCE_DIR) + "/examples", "fit_swinging_strip.json");
+}
+
+/// Central differences of the misfit of whole dynamic runs against the forward-sensitivity gradient.
+void checkGradient(FitProblem& p, const Eigen::VectorXd& q) {
+  const FitEvaluation g = p.evaluate(q, FitDerivatives::Gradient);
+  REQUIRE(g.ok);
+  CHECK(g.derivativesExact);
+  const FitEvaluation j = p.evaluate(q, FitDerivatives::Jacobian);
+  REQUIRE(j.ok);
+  CHECK((j.jacobian.transpose() * j.residuals - g.gradient).norm() <= 1e-12 * g.gradient.norm());
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    const double h = 1e-5 * q[i];
+    Eigen::VectorXd qp = q, qm = q;
+    qp[i] += h;
+    qm[i] -= h;
+    const FitEvaluation fp = p.evaluate(qp, FitDerivatives::None), fm = p.evaluate(qm, FitDerivatives::None);
+    REQUIRE(fp.ok);
+    REQUIRE(fm.ok);
+    const double fd = (fp.misfit - fm.misfit) / (2.0 * h);
+    INFO("parameter " << i << ": forward sensitivities " << g.gradient[i] << ", central difference " << fd);
+    REQUIRE(std::abs(fd) > 0.0);
+    CHECK(std::abs(fd - g.gradient[i]) <= 1e-6 * std::abs(fd));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("dynamic fit: the example's observations are the forward model's at the scene's values", "[fit][dynamic]") {
+  FitSetup setup(loadFitFile(example("fit_swinging_strip.json")));
+  FitProblem& p = setup.problem();
+  REQUIRE(p.levelName() == "time");
+  Eigen::VectorXd truth(2);
+  truth << 0.8, 0.2;
+  const FitEvaluation e = p.evaluate(truth, FitDerivatives::None);
+  REQUIRE(e.ok);
+  CHECK(e.residuals.lpNorm<Eigen::Infinity>() <= 1e-12);
+}
+
+TEST_CASE("dynamic fit: the forward-sensitivity gradient of a BDF2 run matches central differences of whole runs",
+          "[fit][dynamic]") {
+  FitSetup setup(loadFitFile(example("fit_swinging_strip.json")));
+  Eigen::VectorXd q(2);
+  q << 1.3, 0.27;
+  checkGradient(setup.problem(), q);
+}
+
+TEST_CASE("dynamic fit: gradients through backward Euler with stiffness damping, gravity and bending scales",
+          "[fit][dynamic]") {
+  FitSetup setup(swingingStrip({{"stiffnessDampingCoefficient", 0.002}, {"gravityScale", 1.1}, {"bendingBeta", 4e-5}},
+                               [](nlohmann::json& scene) {
+                                 scene["analysis"]["integrator"] = "backwardEuler";
+                                 scene["analysis"]["duration"] = 0.05;
+                                 scene["actors"][0]["material"]["stiffnessDampingCoefficient"] = 0.001;
+                               }));
+  Eigen::VectorXd q(3);
+  q << 0.002, 1.1, 4e-5;
+  checkGradient(setup.problem(), q);
+}
+
+TEST_CASE("dynamic fit: gradients with respect to a load scale under a load ramp", "[fit][dynamic]") {
+  FitSetup setup(swingingStrip({{"loadScale", 1.5}, {"density", 0.25}}, [](nlohmann::json& scene) {
+    scene["analysis"]["duration"] = 0.05;
+    scene["analysis"]["loadRampTime"] = 0.02;
+    scene["actors"][0]["loads"] = nlohmann::json::parse(
+        R"([{ "select": { "group": "right" }, "force": [0, 1e-4, -2e-4], "distribution": "edgeLength" }])");
+  }));
+  Eigen::VectorXd q(2);
+  q << 1.5, 0.25;
+  checkGradient(setup.problem(), q);
+}
+
+TEST_CASE("dynamic fit: Levenberg-Marquardt recovers the mass damping and density of the swinging strip to 1e-6",
+          "[fit][dynamic]") {
+  const FitFile file = loadFitFile(example("fit_swinging_strip.json"));
+  FitSetup setup(file);
+  const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
+  INFO(r.termination << " " << r.message << ", " << r.counters.evaluations << " evaluations, q = " << r.q.transpose());
+  REQUIRE(r.success);
+  CHECK(std::abs(r.q[0] / 0.8 - 1.0) <= 1e-6);
+  CHECK(std::abs(r.q[1] / 0.2 - 1.0) <= 1e-6);
+  CHECK(r.inexactDerivativeEvaluations == 0);
+  FitReportInputs in{&setup.problem(), &r, setup.groupLabels(), "fit_swinging_strip.json", file.description};
+  const nlohmann::json j = fitReportJson(in);
+  CHECK(j["gradient_status"] == "exact");
+  CHECK(j["level_kind"] == "time");
+  CHECK(j["cost"]["time_steps"] == r.counters.timeSteps);
+}
+
+TEST_CASE("dynamic fit: derivatives through steps accepted at the iteration cap are reported as approximate",
+          "[fit][dynamic]") {
+  // The page's preset: a few Newton iterations per step, moving on unconverged.
+  const FitFile file = swingingStrip({{"massDampingCoefficient", 2.0}}, [](nlohmann::json& scene) {
+    scene["solver"]["maxIterations"] = 2;
+    scene["solver"]["acceptIterationCap"] = true;
+    scene["analysis"]["duration"] = 0.03;
+  });
+  FitSetup setup(file);
+  Eigen::VectorXd q(1);
+  q << 2.0;
+  const FitEvaluation e = setup.problem().evaluate(q, FitDerivatives::Gradient);
+  REQUIRE(e.ok);
+  CHECK_FALSE(e.derivativesExact);
+  CHECK(setup.problem().counters().inexactDerivativeSolves > 0);
+  FitOptions o = file.options;
+  o.maxEvaluations = 2;
+  const FitResult r = runFit(setup.problem(), setup.variables(), o);
+  CHECK(r.inexactDerivativeEvaluations > 0);
+  FitReportInputs in{&setup.problem(), &r, setup.groupLabels(), "", ""};
+  CHECK_THAT(fitReportJson(in)["gradient_status"].get<std::string>(), Catch::StartsWith("approximate"));
+}
+
+TEST_CASE("dynamic fit: a parameter with no term to set in the scene is rejected with its pointer", "[fit][dynamic]") {
+  // No stiffness damping in the example's scene (β_R = 0 builds no damping term).
+  CHECK_THROWS_WITH(FitSetup(swingingStrip({{"stiffnessDampingCoefficient", 0.01}})),
+                    Catch::StartsWith("/parameters/0/name") && Catch::Contains("no effect"));
+  // No applied load to scale.
+  CHECK_THROWS_WITH(FitSetup(swingingStrip({{"loadScale", 1.0}})),
+                    Catch::StartsWith("/parameters/0/name") && Catch::Contains("no effect"));
+}
