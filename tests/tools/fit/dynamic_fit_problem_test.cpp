@@ -2,6 +2,7 @@
 
 #include "tools/fit/fit_report.h"
 #include "tools/fit/fit_setup.h"
+#include "../../solvers/test_problems.h"
 
 #include <catch2/catch.hpp>
 
@@ -64,6 +65,7 @@ void checkGradient(FitProblem& p, const Eigen::VectorXd& q) {
 }  // namespace
 
 TEST_CASE("dynamic fit: the example's observations are the forward model's at the scene's values", "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
   FitSetup setup(loadFitFile(example("fit_swinging_strip.json")));
   FitProblem& p = setup.problem();
   REQUIRE(p.levelName() == "time");
@@ -76,6 +78,7 @@ TEST_CASE("dynamic fit: the example's observations are the forward model's at th
 
 TEST_CASE("dynamic fit: the forward-sensitivity gradient of a BDF2 run matches central differences of whole runs",
           "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
   FitSetup setup(loadFitFile(example("fit_swinging_strip.json")));
   Eigen::VectorXd q(2);
   q << 1.3, 0.27;
@@ -84,6 +87,7 @@ TEST_CASE("dynamic fit: the forward-sensitivity gradient of a BDF2 run matches c
 
 TEST_CASE("dynamic fit: gradients through backward Euler with stiffness damping, gravity and bending scales",
           "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
   FitSetup setup(swingingStrip({{"stiffnessDampingCoefficient", 0.002}, {"gravityScale", 1.1}, {"bendingBeta", 4e-5}},
                                [](nlohmann::json& scene) {
                                  scene["analysis"]["integrator"] = "backwardEuler";
@@ -96,6 +100,7 @@ TEST_CASE("dynamic fit: gradients through backward Euler with stiffness damping,
 }
 
 TEST_CASE("dynamic fit: gradients with respect to a load scale under a load ramp", "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
   FitSetup setup(swingingStrip({{"loadScale", 1.5}, {"density", 0.25}}, [](nlohmann::json& scene) {
     scene["analysis"]["duration"] = 0.05;
     scene["analysis"]["loadRampTime"] = 0.02;
@@ -109,6 +114,7 @@ TEST_CASE("dynamic fit: gradients with respect to a load scale under a load ramp
 
 TEST_CASE("dynamic fit: Levenberg-Marquardt recovers the mass damping and density of the swinging strip to 1e-6",
           "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
   const FitFile file = loadFitFile(example("fit_swinging_strip.json"));
   FitSetup setup(file);
   const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
@@ -126,6 +132,7 @@ TEST_CASE("dynamic fit: Levenberg-Marquardt recovers the mass damping and densit
 
 TEST_CASE("dynamic fit: derivatives through steps accepted at the iteration cap are reported as approximate",
           "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
   // The page's preset: a few Newton iterations per step, moving on unconverged.
   const FitFile file = swingingStrip({{"massDampingCoefficient", 2.0}}, [](nlohmann::json& scene) {
     scene["solver"]["maxIterations"] = 2;
@@ -148,6 +155,7 @@ TEST_CASE("dynamic fit: derivatives through steps accepted at the iteration cap 
 }
 
 TEST_CASE("dynamic fit: a parameter with no term to set in the scene is rejected with its pointer", "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
   // No stiffness damping in the example's scene (β_R = 0 builds no damping term).
   CHECK_THROWS_WITH(FitSetup(swingingStrip({{"stiffnessDampingCoefficient", 0.01}})),
                     Catch::StartsWith("/parameters/0/name") && Catch::Contains("no effect"));

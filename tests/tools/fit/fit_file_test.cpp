@@ -187,7 +187,7 @@ TEST_CASE("fit file: every example fit file (examples/fit_*.json) reads", "[fit]
   CHECK(count >= 3);
 }
 
-TEST_CASE("fit file: a dynamic scene's observations are at step times; bad times and new fields name their pointer",
+TEST_CASE("fit file: a dynamic scene's observations are at step times, bad times and new fields name their pointer",
           "[fit]") {
   auto dynamic = [] {
     nlohmann::json j = fitJson();
