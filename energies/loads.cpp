@@ -69,26 +69,67 @@ EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Ve
   return std::make_shared<GravityTerm>(vertexMass, gravity, density);
 }
 
+Eigen::VectorXd NodalForceTerm::forces() const {
+  Eigen::VectorXd f = forces_;
+  for (std::size_t k = 0; k < parts_.size(); ++k) f += partScales_[k] * parts_[k];
+  return f;
+}
+
 double NodalForceTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions&) {
   const double s = scale_ * magnitude_;
-  if (request.gradient) *request.gradient -= s * forces_;
-  return -s * forces_.dot(x);
+  if (parts_.empty()) {
+    if (request.gradient) *request.gradient -= s * forces_;
+    return -s * forces_.dot(x);
+  }
+  const Eigen::VectorXd f = forces();
+  if (request.gradient) *request.gradient -= s * f;
+  return -s * f.dot(x);
+}
+
+std::vector<std::string> NodalForceTerm::parameterNames() const {
+  std::vector<std::string> names = {"load_factor", "scale"};
+  for (const std::string& n : partNames_) names.push_back("scale/" + n);
+  return names;
+}
+
+std::vector<double> NodalForceTerm::parameterValues() const {
+  std::vector<double> values = {scale_, magnitude_};
+  values.insert(values.end(), partScales_.begin(), partScales_.end());
+  return values;
 }
 
 void NodalForceTerm::setParameterValues(const std::vector<double>& values) {
   validateParameterValues(name(), parameterNames(), values);
   scale_ = values[0];
   magnitude_ = values[1];
+  for (std::size_t k = 0; k < partScales_.size(); ++k) partScales_[k] = values[2 + k];
 }
 
 void NodalForceTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
-  resetParameterDerivatives(out, x.size(), 2);
-  const double p[2] = {scale_, magnitude_};
-  addParameterDerivatives<1, 2>(vertexStencils(static_cast<int>(x.size() / 3)), x, p,
-                                [&](const auto* xv, const auto* q, int v) {
-                                  return linearLoad(xv, q[0] * q[1], forces_.data() + 3 * v);
-                                },
-                                out);
+  // E = −λ s F·x with F = f + Σ s_k f_k: linear in every parameter, so the derivatives are these products.
+  const int P = 2 + static_cast<int>(parts_.size());
+  resetParameterDerivatives(out, x.size(), P);
+  const Eigen::VectorXd F = forces();
+  out.energy[0] = -magnitude_ * F.dot(x);
+  out.energy[1] = -scale_ * F.dot(x);
+  out.mixed.col(0) = -magnitude_ * F;
+  out.mixed.col(1) = -scale_ * F;
+  for (std::size_t k = 0; k < parts_.size(); ++k) {
+    const Eigen::Index c = static_cast<Eigen::Index>(2 + k);
+    out.energy[c] = -scale_ * magnitude_ * parts_[k].dot(x);
+    out.mixed.col(c) = -scale_ * magnitude_ * parts_[k];
+  }
+}
+
+void NodalForceTerm::addNamedPart(const std::string& name, const Eigen::VectorXd& part) {
+  if (part.size() != forces_.size()) throw InputError("nodal_forces: the part '" + name + "' has the wrong size");
+  if (!part.allFinite()) throw InputError("nodal_forces: the part '" + name + "' is not finite");
+  for (const std::string& n : partNames_)
+    if (n == name) throw InputError("nodal_forces: the part '" + name + "' is split off twice");
+  forces_ -= part;
+  partNames_.push_back(name);
+  parts_.push_back(part);
+  partScales_.push_back(1.0);
 }
 
 StiffnessDampingTerms makeStiffnessDampingTerms(const TriMesh& mesh, const Topology& topology,

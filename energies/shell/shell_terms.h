@@ -47,8 +47,10 @@ Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference,
 EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity,
                               double density = 1.0);
 
-/// External nodal forces: −s·λ·Σ f·x. forces has size 3N; λ is the load factor (the parameter "load_factor", which
-/// load stepping and time ramps drive), s a magnitude scale (the parameter "scale", 1 unless a fit changes it).
+/// External nodal forces: −λ·s·(f + Σ_k s_k f_k)·x. forces has size 3N; λ is the load factor (the parameter
+/// "load_factor", which load stepping and time ramps drive), s a magnitude scale (the parameter "scale", 1 unless a
+/// fit changes it), and s_k the scale of a named part f_k of the loads (parameters "scale/<name>", 1 until changed;
+/// see addNamedPart). The energy is linear in each parameter: its parameter derivatives are exact formulas.
 class NodalForceTerm;
 std::shared_ptr<NodalForceTerm> makeNodalForceTerm(const Eigen::VectorXd& forces);
 
@@ -62,17 +64,25 @@ class NodalForceTerm : public EnergyTerm {
   bool rigidInvariant() const override { return false; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
   void setLoadFactor(double s) { scale_ = s; }
-  std::vector<std::string> parameterNames() const override { return {"load_factor", "scale"}; }
-  std::vector<double> parameterValues() const override { return {scale_, magnitude_}; }
+  std::vector<std::string> parameterNames() const override;
+  std::vector<double> parameterValues() const override;
   void setParameterValues(const std::vector<double>& values) override;
   void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
   double loadFactor() const { return scale_; }
-  const Eigen::VectorXd& forces() const { return forces_; }
+  /// f + Σ s_k f_k (at load factor 1 and scale 1).
+  Eigen::VectorXd forces() const;
+  /// Splits the named part `part` (3N, a load of the scene's) off the forces: its scale s_k becomes the
+  /// parameter "scale/<name>". The total is unchanged while s_k = 1. Throws InputError for a repeated name or a
+  /// part of the wrong size.
+  void addNamedPart(const std::string& name, const Eigen::VectorXd& part);
 
  private:
-  Eigen::VectorXd forces_;
+  Eigen::VectorXd forces_;  // f: the loads not split off
   double scale_ = 1.0;      // λ
   double magnitude_ = 1.0;  // s
+  std::vector<std::string> partNames_;
+  std::vector<Eigen::VectorXd> parts_;  // f_k
+  std::vector<double> partScales_;      // s_k
 };
 
 }  // namespace jetshell

@@ -269,7 +269,7 @@ FitFile fitFromJson(const nlohmann::json& document, const std::string& base, con
                      std::to_string(kMaxFitParameters));
   int actorIndex = -1;
   for (const Value& p : params) {
-    const Object po = p.object({"actor", "name", "initial", "lower", "upper", "logScale"}, "a fit parameter");
+    const Object po = p.object({"actor", "name", "load", "initial", "lower", "upper", "logScale"}, "a fit parameter");
     FitParameterSpec s;
     s.where = p.pointer();
     const Value actor = po.at("actor");
@@ -292,10 +292,26 @@ FitFile fitFromJson(const nlohmann::json& document, const std::string& base, con
                        "' (its material is given " + (f.material.isotropic ? "as E, nu, thickness, volumeDensity" : "by shell parameters") +
                        "; fittable: " + list + ")" + (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
     }
+    if (po.has("load")) {
+      if (s.name != "loadScale")
+        throw InputError(po.member("load") + ": only with \"name\": \"loadScale\" (the scale of one named load)");
+      const Value load = po.at("load");
+      s.load = load.string();
+      std::vector<std::string> loadNames;
+      for (const LoadCondition& l : f.scene.loads)
+        if (!l.name.empty()) loadNames.push_back(l.name);
+      if (std::find(loadNames.begin(), loadNames.end(), s.load) == loadNames.end()) {
+        const std::string hint = json::closest(s.load, loadNames);
+        throw InputError(load.pointer() + " = \"" + s.load + "\": the scene has no load of that name (loads are " +
+                         "named by their \"name\" key)" + (hint.empty() ? "" : " (did you mean \"" + hint + "\"?)"));
+      }
+    }
     for (const FitParameterSpec& q : f.parameters)
-      if (q.name == s.name) throw InputError(po.member("name") + " = \"" + s.name + "\": fitted twice");
+      if (q.name == s.name && q.load == s.load)
+        throw InputError(po.member("name") + " = \"" + s.name + "\": fitted twice" +
+                         (s.load.empty() ? "" : " (load \"" + s.load + "\")"));
     FitVariable& v = s.variable;
-    v.label = s.actor + "." + s.name;
+    v.label = s.actor + "." + s.name + (s.load.empty() ? "" : "/" + s.load);
     v.initial = po.number("initial", materialBaseValue(f.material, s.name));
     check::finite(v.initial, po.member("initial"));
     v.lower = po.at("lower").number();

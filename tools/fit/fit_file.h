@@ -26,6 +26,7 @@ constexpr int kMaxFitLevels = 200;          // distinct load levels over all obs
 struct FitParameterSpec {
   std::string actor;  // shell actor name
   std::string name;   // youngsModulus, ... (tools/fit/material_mapping.h)
+  std::string load;   // loadScale only: the named load it scales (empty: all the scene's applied loads)
   FitVariable variable;
   std::string where;  // JSON pointer
 };

@@ -8,6 +8,17 @@
 #include <cmath>
 
 namespace jetshell {
+namespace {
+
+/// The nodal forces (at λ = 1) of the scene's load named `name` alone.
+Eigen::VectorXd loadForces(const Scene& scene, const std::string& name) {
+  Scene only = scene;
+  for (LoadCondition& l : only.loads)
+    if (l.name != name) l.force.setZero();
+  return buildSceneModel(only).appliedForces;
+}
+
+}  // namespace
 
 FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(file.scene)) {
   const ShellProblem problem = shellProblemFromScene(file_.scene, model_);
@@ -16,8 +27,10 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
   addSceneEdgeRules(file_.scene, problem, *system_);  // the same boundary rules as `jetshell run`
   std::vector<std::string> names, labels;
   for (const FitParameterSpec& p : file_.parameters) {
-    names.push_back(p.name);
-    labels.push_back(p.where + "/name");
+    names.push_back(p.load.empty() ? p.name : namedLoadScale(p.load));
+    labels.push_back(p.where + (p.load.empty() ? "/name" : "/load"));
+    // A named load's scale: its nodal forces become a part of the load term with a parameter of its own.
+    if (!p.load.empty() && system_->nodalForces) system_->nodalForces->addNamedPart(p.load, loadForces(file_.scene, p.load));
   }
   ParameterMapping mapping = materialMapping(file_.material, names, labels, system_->objective());
 

@@ -86,7 +86,18 @@ std::vector<std::string> fittableMaterialNames(const MaterialBase& base) {
   return names;
 }
 
+std::string namedLoadScale(const std::string& load) { return "loadScale/" + load; }
+
+namespace {
+/// The load name of a named load scale, or "".
+std::string namedLoad(const std::string& name) {
+  const std::string prefix = "loadScale/";
+  return name.rfind(prefix, 0) == 0 ? name.substr(prefix.size()) : std::string();
+}
+}  // namespace
+
 double materialBaseValue(const MaterialBase& base, const std::string& name) {
+  if (!namedLoad(name).empty()) return 1.0;
   if (name == "youngsModulus") return base.youngsModulus;
   if (name == "poissonRatio") return base.poissonRatio;
   if (name == "thickness") return base.thickness;
@@ -110,7 +121,7 @@ ParameterMapping materialMapping(const MaterialBase& base, const std::vector<std
                      " material parameters can be fitted at once");
   const std::vector<std::string> fittable = fittableMaterialNames(base);
   for (std::size_t k = 0; k < names.size(); ++k) {
-    if (std::find(fittable.begin(), fittable.end(), names[k]) == fittable.end()) {
+    if (namedLoad(names[k]).empty() && std::find(fittable.begin(), fittable.end(), names[k]) == fittable.end()) {
       std::string list;
       for (const std::string& f : fittable) list += (list.empty() ? "" : ", ") + f;
       throw InputError(labels[k] + " = \"" + names[k] + "\": not fittable for this actor's material, which is given " +
@@ -144,6 +155,18 @@ ParameterMapping materialMapping(const MaterialBase& base, const std::vector<std
       m.termParameters.push_back(t);
     }
   }
+  // Named load scales: one term parameter each, value q_k (the dependence is the identity).
+  std::vector<std::pair<int, int>> namedRows;  // (row in values, fitted index)
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string load = namedLoad(names[k]);
+    if (load.empty()) continue;
+    const EnergyTermPtr term = objective.term("nodal_forces");
+    const std::vector<std::string> have = term ? term->parameterNames() : std::vector<std::string>{};
+    if (std::find(have.begin(), have.end(), "scale/" + load) == have.end()) continue;  // no load to scale
+    effective[k] = 1;
+    namedRows.emplace_back(static_cast<int>(m.termParameters.size()), static_cast<int>(k));
+    m.termParameters.push_back({"nodal_forces", "scale/" + load});
+  }
   for (std::size_t k = 0; k < names.size(); ++k)
     if (!effective[k])
       throw InputError(labels[k] + " = \"" + names[k] + "\": has no effect on this problem (the terms it sets are "
@@ -151,11 +174,17 @@ ParameterMapping materialMapping(const MaterialBase& base, const std::vector<std
                        "that is 0 in the scene)");
 
   m.numParameters = static_cast<int>(names.size());
-  m.map = [base, names, used](const Eigen::VectorXd& q, Eigen::VectorXd& values, Eigen::MatrixXd* jacobian) {
+  const std::size_t rows = m.termParameters.size();
+  m.map = [base, names, used, namedRows, rows](const Eigen::VectorXd& q, Eigen::VectorXd& values,
+                                               Eigen::MatrixXd* jacobian) {
     const std::array<Jet, kOutputs> out = outputs(base, names, q);
     const int Q = static_cast<int>(names.size());
-    values.resize(static_cast<Eigen::Index>(used.size()));
-    if (jacobian) jacobian->resize(static_cast<Eigen::Index>(used.size()), Q);
+    values.resize(static_cast<Eigen::Index>(rows));
+    if (jacobian) jacobian->setZero(static_cast<Eigen::Index>(rows), Q);
+    for (const auto& [row, k] : namedRows) {
+      values[row] = q[k];
+      if (jacobian) (*jacobian)(row, k) = 1.0;
+    }
     for (std::size_t i = 0; i < used.size(); ++i) {
       const Jet& v = out[static_cast<std::size_t>(used[i])];
       values[static_cast<Eigen::Index>(i)] = v.a;

@@ -43,6 +43,10 @@ struct MaterialBase {
 /// massDampingCoefficient, stiffnessDampingCoefficient, gravityScale, loadScale.
 std::vector<std::string> fittableMaterialNames(const MaterialBase& base);
 
+/// The name under which materialMapping takes the scale of the named load `load` ("loadScale/<load>"): it sets
+/// the load term's parameter "scale/<load>" (NodalForceTerm::addNamedPart), exactly linearly.
+std::string namedLoadScale(const std::string& load);
+
 /// The current value of a fittable name in the base.
 double materialBaseValue(const MaterialBase& base, const std::string& name);
 

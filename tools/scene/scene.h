@@ -48,6 +48,7 @@ struct LoadCondition {
   VertexSelection select;
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N
   Distribution distribution = Distribution::Uniform;
+  std::string name;  // optional, unique among loads: a fit can scale this load alone (FITTING.md, loadScale)
   std::string where;
 };
 

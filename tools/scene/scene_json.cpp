@@ -301,10 +301,15 @@ void readFixed(const Value& v, int actor, Scene& scene) {
 }
 
 void readLoad(const Value& v, int actor, Scene& scene) {
-  const Object o = v.object({"select", "force", "distribution"}, "a load");
+  const Object o = v.object({"name", "select", "force", "distribution"}, "a load");
   LoadCondition l;
   l.actor = actor;
   l.where = v.pointer();
+  l.name = o.string("name", "");
+  if (o.has("name") && l.name.empty()) throw InputError(o.member("name") + ": must not be empty");
+  for (const LoadCondition& q : scene.loads)
+    if (!l.name.empty() && q.name == l.name)
+      throw InputError(o.member("name") + " = \"" + l.name + "\": duplicate load name");
   l.select = readSelection(o.at("select"));
   l.force = o.at("force").vec3();
   const std::string d = o.choice("distribution", {"uniform", "edgeLength", "area", "perVertex"}, "uniform");

@@ -112,6 +112,36 @@ TEST_CASE("dynamic fit: gradients with respect to a load scale under a load ramp
   checkGradient(setup.problem(), q);
 }
 
+TEST_CASE("dynamic fit: gradients with respect to the scale of one named load among others", "[fit][dynamic]") {
+  testing::SingleThread single;  // tens of elements: threads only add barriers
+  nlohmann::json loads = nlohmann::json::parse(R"([
+      { "select": { "group": "right" }, "force": [0, 0, -2e-4], "distribution": "edgeLength" },
+      { "name": "pull", "select": { "group": "right" }, "force": [1e-3, 1e-4, 0], "distribution": "edgeLength" }])");
+  FitFile file = swingingStrip({{"loadScale", 1.5}}, [&](nlohmann::json& scene) {
+    scene["analysis"]["duration"] = 0.04;
+    scene["actors"][0]["loads"] = loads;
+  });
+  file.parameters[0].load = "pull";
+  FitSetup setup(file);
+  Eigen::VectorXd q(1);
+  q << 1.5;
+  checkGradient(setup.problem(), q);
+  // At scale 1 the split leaves the loads as they were: the same run as with no fitted load.
+  FitFile plain = swingingStrip({{"density", 0.2}}, [&](nlohmann::json& scene) {
+    scene["analysis"]["duration"] = 0.04;
+    scene["actors"][0]["loads"] = loads;
+  });
+  FitSetup reference(plain);
+  Eigen::VectorXd one(1), rho(1);
+  one << 1.0;
+  rho << 0.2;
+  const FitEvaluation a = setup.problem().evaluate(one, FitDerivatives::None);
+  const FitEvaluation b = reference.problem().evaluate(rho, FitDerivatives::None);
+  REQUIRE(a.ok);
+  REQUIRE(b.ok);
+  CHECK((a.residuals - b.residuals).norm() <= 1e-12 * (1.0 + b.residuals.norm()));
+}
+
 TEST_CASE("dynamic fit: Levenberg-Marquardt recovers the mass damping and density of the swinging strip to 1e-6",
           "[fit][dynamic]") {
   testing::SingleThread single;  // tens of elements: threads only add barriers

@@ -236,4 +236,20 @@ TEST_CASE("fit file: a dynamic scene's observations are at step times, bad times
       R"({ "actor": "strip", "name": "gravityScale", "lower": 0.5, "upper": 2 })");
   const FitFile g = fitFromJson(j, directory().string(), "fit.json");
   CHECK(g.parameters[0].variable.initial == 1.0);
+
+  // The scale of one named load.
+  j = dynamic();
+  j["scene"]["actors"][0]["loads"][0]["name"] = "push";
+  j["parameters"][0] = nlohmann::json::parse(
+      R"({ "actor": "strip", "name": "loadScale", "load": "push", "lower": 0.5, "upper": 2 })");
+  CHECK(fitFromJson(j, directory().string(), "fit.json").parameters[0].load == "push");
+  j["parameters"][0]["load"] = "puhs";
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/load") && Catch::Contains("did you mean \"push\""));
+  j["parameters"][0]["load"] = "push";
+  j["parameters"][0]["name"] = "gravityScale";
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/load") && Catch::Contains("loadScale"));
+  j = dynamic();
+  j["scene"]["actors"][0]["loads"][0]["name"] = "push";
+  j["scene"]["actors"][0]["loads"].push_back(j["scene"]["actors"][0]["loads"][0]);
+  CHECK_THAT(errorOf(j), Catch::StartsWith("/scene/actors/0/loads/1/name") && Catch::Contains("duplicate"));
 }
