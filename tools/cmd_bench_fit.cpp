@@ -7,7 +7,7 @@
 // --demos adds the two demos of FITTING.md: the cloth overhang (fitted flexural rigidity against the self-weight
 // elastica and ASTM D1388's G = w (l/2)³) and the slit annular plate's effective E against Sze's curves.
 // --dynamic adds the same comparison on a dynamic recovery (examples/fit_swinging_strip.json: mass damping and
-// density of a swinging strip from tip positions at ten times; each evaluation is one run of 20 time steps, the
+// density of a swinging strip from tip positions at eight times; each evaluation is one run of 16 time steps, the
 // derivatives forward sensitivities carried through them).
 #include "tools/fit/fit_setup.h"
 #include "tools/output/atomic_file.h"

@@ -26,13 +26,7 @@ DynamicFitProblem::DynamicFitProblem(ShellSystem& system, ParameterMapping mappi
     if (k > 0 && !(steps_[k] > steps_[k - 1])) throw InputError("fit: observed steps must increase");
     times_.push_back(steps_[k] * options_.timeStep);
   }
-  if (observed_.empty()) throw InputError("fit: no observation");
-  for (const ObservedCoordinate& o : observed_) {
-    if (o.level < 0 || o.level >= static_cast<int>(steps_.size())) throw InputError("fit: observation level out of range");
-    if (o.dof < 0 || o.dof >= system_.objective().numDofs()) throw InputError("fit: observed dof out of range");
-    if (!(o.weight >= 0.0) || !std::isfinite(o.weight) || !std::isfinite(o.target))
-      throw InputError("fit: observation weights must be finite and >= 0, targets finite");
-  }
+  checkObserved(observed_, static_cast<int>(steps_.size()), system_.objective().numDofs());
 }
 
 DynamicFitProblem::~DynamicFitProblem() = default;
@@ -40,19 +34,9 @@ DynamicFitProblem::~DynamicFitProblem() = default;
 FitEvaluation DynamicFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivatives derivatives) {
   FitEvaluation out;
   const int Q = numParameters();
-  if (q.size() != Q || !q.allFinite()) {
-    out.message = "parameters not finite or of the wrong count";
-    return out;
-  }
-  ++counters_.evaluations;
   const bool wantDerivatives = derivatives != FitDerivatives::None;
-  Eigen::VectorXd values;
   Eigen::MatrixXd dvdq;
-  mapping_.map(q, values, wantDerivatives ? &dvdq : nullptr);
-  for (std::size_t t = 0; t < mapping_.termParameters.size(); ++t)
-    setTermParameterValue(system_.objective(), mapping_.termParameters[t], values[static_cast<Eigen::Index>(t)]);
-  if (derivatives == FitDerivatives::Gradient) ++counters_.gradientEvaluations;
-  if (derivatives == FitDerivatives::Jacobian) ++counters_.jacobianEvaluations;
+  if (!applyParameters(system_.objective(), mapping_, q, derivatives, out, dvdq)) return out;
 
   // One run from the rest state (the solver starts there, prescribed positions applied at t = 0).
   DynamicsSolver solver(system_, options_);
@@ -77,7 +61,6 @@ FitEvaluation DynamicFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivativ
   const int solvesBefore = wantDerivatives ? sensitivity_->solves() : 0;
 
   const int M = numResiduals();
-  out.residuals.resize(M);
   out.equilibria.assign(steps_.size(), Eigen::VectorXd());
   std::vector<Eigen::MatrixXd> observedSensitivities(wantDerivatives ? steps_.size() : 0);
   std::size_t next = 0;
@@ -103,15 +86,7 @@ FitEvaluation DynamicFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivativ
       ++next;
     }
   }
-  for (int i = 0; i < M; ++i) {
-    const ObservedCoordinate& o = observed_[static_cast<std::size_t>(i)];
-    out.residuals[i] = std::sqrt(o.weight) * (out.equilibria[static_cast<std::size_t>(o.level)][o.dof] - o.target);
-  }
-  out.misfit = 0.5 * out.residuals.squaredNorm();
-  if (!std::isfinite(out.misfit)) {
-    out.message = "non-finite misfit";
-    return out;
-  }
+  if (!computeResiduals(out)) return out;
   if (wantDerivatives) {
     Eigen::MatrixXd J(M, Q);
     for (int i = 0; i < M; ++i) {

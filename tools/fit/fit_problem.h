@@ -84,6 +84,16 @@ class FitProblem {
   void resetCounters() { counters_ = FitCounters{}; }
 
  protected:
+  /// Throws InputError for coordinates whose level or dof is out of range, or with a negative or non-finite
+  /// weight or target, or none at all.
+  static void checkObserved(const std::vector<ObservedCoordinate>& observed, int numLevels, int numDofs);
+  /// The start of an evaluation: checks q (else out.message, false), counts it, maps q to the term parameters
+  /// (with dv/dq into dvdq when derivatives are asked for) and sets them on the objective.
+  bool applyParameters(Objective& objective, const ParameterMapping& mapping, const Eigen::VectorXd& q,
+                       FitDerivatives derivatives, FitEvaluation& out, Eigen::MatrixXd& dvdq);
+  /// out.residuals and out.misfit from out.equilibria; false (out.message) for a non-finite misfit.
+  bool computeResiduals(FitEvaluation& out) const;
+
   FitCounters counters_;
 };
 

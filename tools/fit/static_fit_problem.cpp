@@ -26,13 +26,7 @@ StaticFitProblem::StaticFitProblem(Objective& objective, NodalForceTerm* loads, 
     if (!std::isfinite(levels_[k])) throw InputError("fit: a load level is not finite");
     if (k > 0 && !(levels_[k] > levels_[k - 1])) throw InputError("fit: load levels must increase");
   }
-  if (observed_.empty()) throw InputError("fit: no observation");
-  for (const ObservedCoordinate& o : observed_) {
-    if (o.level < 0 || o.level >= static_cast<int>(levels_.size())) throw InputError("fit: observation level out of range");
-    if (o.dof < 0 || o.dof >= objective_.numDofs()) throw InputError("fit: observed dof out of range");
-    if (!(o.weight >= 0.0) || !std::isfinite(o.weight) || !std::isfinite(o.target))
-      throw InputError("fit: observation weights must be finite and >= 0, targets finite");
-  }
+  checkObserved(observed_, static_cast<int>(levels_.size()), objective_.numDofs());
 }
 
 StaticFitProblem::~StaticFitProblem() = default;
@@ -40,23 +34,12 @@ StaticFitProblem::~StaticFitProblem() = default;
 FitEvaluation StaticFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivatives derivatives) {
   FitEvaluation out;
   const int Q = numParameters();
-  if (q.size() != Q || !q.allFinite()) {
-    out.message = "parameters not finite or of the wrong count";
-    return out;
-  }
-  ++counters_.evaluations;
-  Eigen::VectorXd values;
   Eigen::MatrixXd dvdq;
-  mapping_.map(q, values, derivatives == FitDerivatives::None ? nullptr : &dvdq);
-  for (std::size_t t = 0; t < mapping_.termParameters.size(); ++t)
-    setTermParameterValue(objective_, mapping_.termParameters[t], values[static_cast<Eigen::Index>(t)]);
+  if (!applyParameters(objective_, mapping_, q, derivatives, out, dvdq)) return out;
 
   const int M = numResiduals();
-  out.residuals.resize(M);
   if (derivatives == FitDerivatives::Jacobian) out.jacobian = Eigen::MatrixXd::Zero(M, Q);
   if (derivatives != FitDerivatives::None) out.gradient = Eigen::VectorXd::Zero(Q);
-  if (derivatives == FitDerivatives::Gradient) ++counters_.gradientEvaluations;
-  if (derivatives == FitDerivatives::Jacobian) ++counters_.jacobianEvaluations;
 
   // One load path through every observed level (solvers/statics.h lands on each): level 0, when observed (gravity
   // or prescribed positions alone), is one solve at λ = 0 from the rest state; the path continues from there.
@@ -102,15 +85,7 @@ FitEvaluation StaticFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivative
       return out;
     }
   }
-  for (int i = 0; i < M; ++i) {
-    const ObservedCoordinate& o = observed_[static_cast<std::size_t>(i)];
-    out.residuals[i] = std::sqrt(o.weight) * (out.equilibria[static_cast<std::size_t>(o.level)][o.dof] - o.target);
-  }
-  out.misfit = 0.5 * out.residuals.squaredNorm();
-  if (!std::isfinite(out.misfit)) {
-    out.message = "non-finite misfit";
-    return out;
-  }
+  if (!computeResiduals(out)) return out;
 
   if (derivatives != FitDerivatives::None) {
     for (std::size_t k = 0; k < levels_.size(); ++k) {

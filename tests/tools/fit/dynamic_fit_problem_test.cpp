@@ -73,7 +73,10 @@ TEST_CASE("dynamic fit: the example's observations are the forward model's at th
   truth << 0.8, 0.2;
   const FitEvaluation e = p.evaluate(truth, FitDerivatives::None);
   REQUIRE(e.ok);
-  CHECK(e.residuals.lpNorm<Eigen::Infinity>() <= 1e-12);
+  // The example gives 13 digits; Newton's steps converge to 1e-11 x the force scale, and runs whose Newton
+  // iterations take other paths (another linear solver) agree to ~1e-11 m over these 16 steps.
+  INFO("largest residual at the truth: " << e.residuals.lpNorm<Eigen::Infinity>() << " m");
+  CHECK(e.residuals.lpNorm<Eigen::Infinity>() <= 1e-9);
 }
 
 TEST_CASE("dynamic fit: the forward-sensitivity gradient of a BDF2 run matches central differences of whole runs",
