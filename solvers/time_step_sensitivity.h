@@ -15,7 +15,9 @@
 //
 // Exactness: S is the derivative of the computed trajectory when every step's Newton solve reached its
 // minimizer; a solve accepted at the iteration cap (acceptIterationCap) is not one, and is counted
-// (inexactSolves()), as is any solve whose final residual is above its tolerance. The error of a converged
+// (inexactSolves()), as is any solve whose final residual is above its tolerance and any solve the
+// time-discretization rule ended (DynamicsOptions::updateTolerance > 0: Newton stops at a fraction of the step's
+// truncation error, by design). The error of a converged
 // solve is of the order of its residual tolerance.
 //
 // Inputs: a ShellSystem built for dynamics, the term parameters and d(term values)/dq (T × Q), the solver's
@@ -57,7 +59,8 @@ class TimeStepSensitivity {
 
   const Eigen::MatrixXd& positions() const { return sx_; }   // dx/dq, 3N × Q
   const Eigen::MatrixXd& velocities() const { return sv_; }  // dv/dq
-  /// Solves accepted unconverged (iteration cap) or above their residual tolerance since reset().
+  /// Solves accepted unconverged (iteration cap, above their residual tolerance, or ended by the time-step rule)
+  /// since reset().
   int inexactSolves() const { return inexact_; }
   int factorizations() const { return factor_.factorizations(); }
   int solves() const { return factor_.solves(); }

@@ -134,6 +134,31 @@ TEST_CASE("time-step sensitivities: solves accepted at the iteration cap are cou
   CHECK(sensitivity.inexactSolves() == 2);
 }
 
+TEST_CASE("time-step sensitivities: solves ended by the time-discretization rule are counted as inexact",
+          "[sensitivity][dynamics]") {
+  testing::SingleThread single;
+  ShellSystem system(dampedCantilever(), AnalysisKind::Dynamics);
+  DynamicsOptions o;
+  o.timeStep = 0.01;
+  o.updateTolerance = 0.5;  // a loose rule: Newton stops long before the residual tolerance
+  o.newton.residualTolerance = 1e-13;
+  DynamicsSolver solver(system, o);
+  TimeStepSensitivity sensitivity(system);
+  sensitivity.reset({{"inertia", "density"}}, Eigen::MatrixXd::Ones(1, 1));
+  int ruleStops = 0;
+  solver.setSubstepObserver([&](const SubstepView& v) {
+    if (v.solve->convergenceTest == "iterate") ++ruleStops;
+    REQUIRE(sensitivity.advance(v));
+  });
+  for (int k = 0; k < 3; ++k) {
+    sensitivity.beginStep();
+    REQUIRE(solver.step().success);
+    sensitivity.endStep();
+  }
+  REQUIRE(ruleStops > 0);
+  CHECK(sensitivity.inexactSolves() == ruleStops);
+}
+
 TEST_CASE("time-step sensitivities: a static system is refused", "[sensitivity][dynamics]") {
   ShellSystem system(dampedCantilever(), AnalysisKind::Statics);
   CHECK_THROWS_WITH(TimeStepSensitivity(system), Catch::Contains("not built for dynamics"));
