@@ -43,6 +43,15 @@ std::vector<Group> groups() {
           {{"nodal_forces", "scale"}, {4}}};
 }
 
+/// `steps` time steps with the sensitivities carried along (the solver's observer advances them per solve).
+void advance(DynamicsSolver& solver, TimeStepSensitivity& sensitivity, int steps) {
+  for (int k = 0; k < steps; ++k) {
+    sensitivity.beginStep();
+    REQUIRE(solver.step().success);
+    sensitivity.endStep();
+  }
+}
+
 struct Run {
   Eigen::VectorXd x;
   Eigen::MatrixXd S;
@@ -72,11 +81,7 @@ Run run(const Eigen::VectorXd& q, TimeIntegrator integrator, int steps, bool sen
   sensitivity.reset(parameters, dvdq);
   if (sensitivities)
     solver.setSubstepObserver([&](const SubstepView& v) { REQUIRE(sensitivity.advance(v)); });
-  for (int k = 0; k < steps; ++k) {
-    sensitivity.beginStep();
-    REQUIRE(solver.step().success);
-    sensitivity.endStep();
-  }
+  advance(solver, sensitivity, steps);
   return {solver.positions(), sensitivity.positions(), sensitivity.inexactSolves()};
 }
 
@@ -126,11 +131,7 @@ TEST_CASE("time-step sensitivities: solves accepted at the iteration cap are cou
   TimeStepSensitivity sensitivity(system);
   sensitivity.reset({{"inertia", "density"}}, Eigen::MatrixXd::Ones(1, 1));
   solver.setSubstepObserver([&](const SubstepView& v) { REQUIRE(sensitivity.advance(v)); });
-  for (int k = 0; k < 2; ++k) {
-    sensitivity.beginStep();
-    REQUIRE(solver.step().success);
-    sensitivity.endStep();
-  }
+  advance(solver, sensitivity, 2);
   CHECK(sensitivity.inexactSolves() == 2);
 }
 
@@ -150,11 +151,7 @@ TEST_CASE("time-step sensitivities: solves ended by the time-discretization rule
     if (v.solve->convergenceTest == "iterate") ++ruleStops;
     REQUIRE(sensitivity.advance(v));
   });
-  for (int k = 0; k < 3; ++k) {
-    sensitivity.beginStep();
-    REQUIRE(solver.step().success);
-    sensitivity.endStep();
-  }
+  advance(solver, sensitivity, 3);
   REQUIRE(ruleStops > 0);
   CHECK(sensitivity.inexactSolves() == ruleStops);
 }
