@@ -22,7 +22,7 @@ void Objective::addTerm(EnergyTermPtr term, TermRole role) {
   const StencilTable table = term->stencils();
   const int slot = table.width > 0 ? assembler_.addStencils(table) : -1;
   const std::uint64_t version = term->stencilVersion();
-  terms_.push_back({std::move(term), role, slot, version, 3 * table.width});
+  terms_.push_back({std::move(term), role, slot, 3 * table.width, version});
   termEnergies_.push_back(0.0);
   termSeconds_.push_back(0.0);
 }

@@ -4,6 +4,7 @@
 #include "core/topology.h"
 #include "solvers/dynamics.h"
 #include "tools/scene/generated_shapes.h"
+#include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_problem.h"
@@ -44,7 +45,7 @@ TEST_CASE("tshirt: falls on the plane, stays above it and out of itself, and com
   REQUIRE(system.contact.pointCloud.state);
   DynamicsOptions o;
   o.timeStep = scene.analysis.timeStep;
-  o.newton.maxIterations = scene.solver.maxIterations.value_or(4);
+  o.newton = newtonOptionsFor(scene.solver, 4);  // what `jetshell run` uses for the scene
   o.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, o);
   double peak = 0.0, closest = 1.0, lowest = 1.0;
