@@ -150,6 +150,11 @@ struct BenchmarkResult {
   double finalRelError = 0.0;  // over the quantities at λ = 1
 };
 
+/// The case's boundary rules on the system: the bending term's mirrored_clamp edge rule on the clamped edges
+/// (with ClampKind::Mirrored), and options.freeRule on every other boundary edge (validation/boundary_rule_term.h;
+/// on an edge whose nodes are fixed but not clamped, the moment-free rule is a hinge).
+void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const BenchmarkRunOptions& options);
+
 /// Runs one benchmark: builds its case, solves every tabulated level (or λ = 1 only) and compares.
 BenchmarkResult runBenchmark(const Benchmark& benchmark, const BenchmarkRunOptions& options);
 
