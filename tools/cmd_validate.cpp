@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -50,6 +51,7 @@ struct ValidateArgs {
   double load = RoofOptions{}.load;
   double maxDeflection = RoofOptions{}.maxDeflection;
   double pathIncrement = RoofOptions{}.increment;
+  double pathMaxIncrement = RoofOptions{}.maxIncrement;
   double loadScaling = RoofOptions{}.loadScaling;
 };
 
@@ -66,6 +68,7 @@ bool runRoof(const ValidateArgs& a, nlohmann::json& out) {
   o.load = a.load;
   o.maxDeflection = a.maxDeflection;
   o.increment = a.pathIncrement;
+  o.maxIncrement = std::max(a.pathIncrement, a.pathMaxIncrement);
   o.loadScaling = a.loadScaling;
   o.residualTolerance = a.residualTolerance;
   if (a.log) o.log = &std::cerr;
@@ -233,6 +236,9 @@ const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--path-increment", a->pathIncrement,
                   "hinged-cylindrical-roof: first and largest increment (lambda for arc length, a fraction of "
                   "--max-deflection for displacement control)")
+      ->check(CLI::Range(1e-4, 1.0));
+  cmd->add_option("--path-max-increment", a->pathMaxIncrement,
+                  "hinged-cylindrical-roof: largest increment, in the units of --path-increment")
       ->check(CLI::Range(1e-4, 1.0));
   cmd->add_option("--load-scaling", a->loadScaling, "hinged-cylindrical-roof: arc length's psi (0 cylindrical, 1 spherical)")
       ->check(CLI::Range(0.0, 1e6));

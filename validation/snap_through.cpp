@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <ostream>
@@ -167,24 +168,39 @@ RoofResult runHingedRoof(const RoofOptions& o) {
   const std::vector<RoofLimit>& a = r.arc.limits;
   const std::vector<RoofLimit>& d = r.displacement.limits;
   r.bothLimitsPassed = r.arc.completed && a.size() >= 2 && a[0].maximum && !a[1].maximum;
+  // Displacement control follows w; where the arc-length path turns back in w (a snap-back) the two controls
+  // can meet different equilibria at the same w, so the comparison stops at the first such turn.
+  std::size_t single = r.arc.deflection.size();
+  for (std::size_t i = 1; i < r.arc.deflection.size(); ++i)
+    if (r.arc.deflection[i] < r.arc.deflection[i - 1]) {
+      single = i - 1;  // and not the point at the turn, where w is stationary (displacement control is singular)
+      break;
+    }
+  r.singleValuedPoints = static_cast<int>(single) - 1;
   const double inf = std::numeric_limits<double>::infinity();
-  if (a.size() >= 2 && d.size() >= 2 && d[0].maximum && !d[1].maximum) {
+  r.limitLoadDifference = r.limitDeflectionDifference = r.curveDifference = inf;
+  if (!d.empty() && d[0].maximum) {
     const double pmax = std::abs(d[0].load);
-    for (int k = 0; k < 2; ++k) {
+    r.limitLoadDifference = r.limitDeflectionDifference = 0.0;
+    int matched = 0;
+    for (std::size_t k = 0; k < a.size() && k < d.size(); ++k) {
+      if (static_cast<std::size_t>(a[k].step) + 1 >= single) break;
       r.limitLoadDifference = std::max(r.limitLoadDifference, std::abs(a[k].load - d[k].load) / pmax);
       r.limitDeflectionDifference =
           std::max(r.limitDeflectionDifference, std::abs(a[k].deflection - d[k].deflection) / std::abs(d[k].deflection));
+      ++matched;
     }
+    r.comparedLimits = matched;
+    if (matched == 0) r.limitLoadDifference = r.limitDeflectionDifference = inf;
     int compared = 0;
-    for (std::size_t i = 1; i < r.arc.load.size(); ++i) {
+    r.curveDifference = 0.0;
+    for (std::size_t i = 1; i < single; ++i) {
       const double pd = loadAt(r.displacement, r.arc.deflection[i]);
       if (!std::isfinite(pd)) continue;
       r.curveDifference = std::max(r.curveDifference, std::abs(r.arc.load[i] - pd) / pmax);
       ++compared;
     }
     r.comparedPoints = compared;
-  } else {
-    r.limitLoadDifference = r.limitDeflectionDifference = r.curveDifference = inf;
   }
   return r;
 }
@@ -208,7 +224,9 @@ std::string formatRoof(const RoofResult& r) {
   s << "  both limit points passed by arc length: " << (r.bothLimitsPassed ? "yes" : "no") << "\n"
     << "  arc length vs displacement control: limit loads " << format("%.4f", 100.0 * r.limitLoadDifference)
     << "% of P_max, limit deflections " << format("%.4f", 100.0 * r.limitDeflectionDifference)
-    << "%; load at the same deflection (" << r.comparedPoints << " points) " << format("%.2e", 100.0 * r.curveDifference)
+    << "% (" << r.comparedLimits << " limit points before the path turns back in w, if it does: "
+    << r.singleValuedPoints << " of " << r.arc.pathPoints << " points)"
+    << "; load at the same deflection (" << r.comparedPoints << " points) " << format("%.2e", 100.0 * r.curveDifference)
     << "% of P_max\n";
   return s.str();
 }
@@ -226,6 +244,8 @@ nlohmann::json toJson(const RoofResult& r) {
           {"limit_deflection_difference", finiteOrNull(r.limitDeflectionDifference)},
           {"curve_difference", finiteOrNull(r.curveDifference)},
           {"compared_points", r.comparedPoints},
+          {"compared_limits", r.comparedLimits},
+          {"single_valued_points", r.singleValuedPoints},
           {"arc_length", toJson(r.arc)},
           {"displacement", toJson(r.displacement)}};
 }

@@ -63,8 +63,12 @@ struct RoofResult {
   int vertices = 0, faces = 0;
   RoofTrace arc, displacement;
   bool bothLimitsPassed = false;    // the arc-length trace found a maximum then a minimum and reached λ = 1
-  double limitLoadDifference = 0.0;        // max over the two limits |P_arc − P_disp| / |P_max(disp)|
-  double limitDeflectionDifference = 0.0;  // max over the two limits |w_arc − w_disp| / |w of that limit (disp)|
+  // Compared where the arc-length path is single-valued in w: its points before w first decreases (a
+  // snap-back, where displacement control meets other equilibria at the same w).
+  int singleValuedPoints = 0;
+  int comparedLimits = 0;                  // limit points of both traces within that part, matched in order
+  double limitLoadDifference = 0.0;        // max over them |P_arc − P_disp| / |P_max(disp)|
+  double limitDeflectionDifference = 0.0;  // max over them |w_arc − w_disp| / |w of that limit (disp)|
   int comparedPoints = 0;           // arc-length points whose deflection displacement control landed on
   double curveDifference = 0.0;     // max over the arc-length points of |P_arc(w) − P_disp(w)| / |P_max(disp)|
 };
