@@ -24,6 +24,10 @@ double freeDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::ve
   return s;
 }
 
+/// Arc length: a correction whose increment turns by more than 60° from the previous one is cut (a large step
+/// can land on another branch or cut a sharp turn of the path short; smaller steps follow it).
+constexpr double kMinCosine = 0.5;
+
 struct PathPoint {
   double p = 0.0;  // path parameter: arc length or τ
   double lambda = 0.0;
@@ -199,12 +203,15 @@ StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eig
     bool ok = pc.summary.converged();
     if (ok && arc && history.size() >= 2) {
       const Eigen::VectorXd du = trial - last.x, previous = last.x - history[1].x;
-      const double along = freeDot(du, previous, fixed) +
-                           loadWeight * (trialLambda - last.lambda) * (last.lambda - history[1].lambda);
-      if (along <= 0.0) {
+      const double dl = trialLambda - last.lambda, dlPrevious = last.lambda - history[1].lambda;
+      const double along = freeDot(du, previous, fixed) + loadWeight * dl * dlPrevious;
+      const double norms = std::sqrt((freeDot(du, du, fixed) + loadWeight * dl * dl) *
+                                     (freeDot(previous, previous, fixed) + loadWeight * dlPrevious * dlPrevious));
+      if (!(along >= kMinCosine * norms)) {
         ok = false;
         pc.summary.reason = TerminationReason::Stalled;
-        pc.summary.message = "the correction turned back along the path";
+        pc.summary.message = along <= 0.0 ? "the correction turned back along the path"
+                                          : "the correction turned more than 60 degrees from the last increment";
       }
     }
     if (!ok) {

@@ -9,7 +9,8 @@
 //  - predictor: the first step follows the start's tangent t = K⁻¹q; later steps extrapolate x and λ with the
 //    polynomial through the last max(1, predictorOrder) + 1 path points in the path parameter (arc length or τ);
 //  - arc length: the constraint radius is the predictor's distance from the last point, so the predictor lies on
-//    it; a correction that turns back against the previous increment is rejected and the step cut;
+//    it; a correction whose increment turns by more than 60° from the previous increment (or back along the
+//    path) is rejected and the step cut: a large step can jump to another branch or cut a sharp turn short;
 //  - a failed correction halves the increment (below minIncrement the run stops, keeping the last equilibrium);
 //    after a step that took k iterations the increment is scaled by √(easyIterations / k) within [½, growth];
 //  - requested levels: displacement control lands on each τ level as load control does on λ; arc length lands on
