@@ -70,6 +70,11 @@ std::shared_ptr<BoundaryRuleTerm> makeBoundaryRuleTerm(const TriMesh& mesh, cons
       any = any || el.rule[i] != el.builtIn[i];
     }
     if (!any) continue;
+    el.minimizedOnly = true;
+    for (int i = 0; i < 3; ++i)
+      if (el.boundary[i] && !((el.rule[i] == BoundaryRule::SecondOrderFree || el.rule[i] == BoundaryRule::PageFree) &&
+                              el.builtIn[i] == BoundaryRule::PageFree))
+        el.minimizedOnly = false;
     el.area = ref.area[f];
     for (int k = 0; k < 3; ++k) {
       el.B[k] = ref.secondFundamentalForm[f][k];

@@ -63,6 +63,9 @@ struct BoundaryRuleEnergy {
     BoundaryRule rule[3], builtIn[3];
     bool boundary[3];
     int slot[3];  // interior edge i: its neighbour's opposite vertex is stencil vertex 3 + slot[i]
+    /// Every changed edge is moment-free and BendingTerm leaves it free: at a = 0 both rules give the edge the
+    /// face's normal, so b_rule = b_bending (and B_rule = B) and the term is −½ area gᵀQ⁻¹g alone.
+    bool minimizedOnly;
   };
   std::shared_ptr<const std::vector<Element>> elements;
   /// The bending moduli (α, β) as differentiable parameters (energies/element_energy_term.h): a fit that
@@ -107,7 +110,9 @@ struct BoundaryRuleEnergy {
     for (int i = 0; i < 3; ++i) nb[i] = el.boundary[i] ? n : neighbourNormal(x, p, i, el.slot[i]);
     V3<T> ruled[3], builtIn[3];
     for (int i = 0; i < 3; ++i) {
-      if (el.boundary[i]) {
+      if (el.boundary[i] && el.minimizedOnly) {
+        ruled[i] = builtIn[i] = n;  // the mid-edge normal of n and a ghost n
+      } else if (el.boundary[i]) {
         ruled[i] = midEdgeNormal(n, ghost(el.rule[i], el, i, n, r));
         builtIn[i] = midEdgeNormal(n, ghost(el.builtIn[i], el, i, n, r));
       } else {
@@ -115,7 +120,10 @@ struct BoundaryRuleEnergy {
       }
     }
     secondFundamentalForm(e0, e1, ruled[0], ruled[1], ruled[2], bRuled);
-    secondFundamentalForm(e0, e1, builtIn[0], builtIn[1], builtIn[2], bBuiltIn);
+    if (el.minimizedOnly)
+      for (int k = 0; k < 3; ++k) bBuiltIn[k] = bRuled[k];
+    else
+      secondFundamentalForm(e0, e1, builtIn[0], builtIn[1], builtIn[2], bBuiltIn);
     int count = 0;
     const V3<T> zero{{constant<T>(0.0), constant<T>(0.0), constant<T>(0.0)}};
     for (int i = 0; i < 3; ++i) {
@@ -148,7 +156,8 @@ struct BoundaryRuleEnergy {
     const T& beta = moduli[1];
     T bRuled[3], bBuiltIn[3], db[3][3];
     const int m = forms(x, el, bRuled, bBuiltIn, db);
-    T ruledEnergy = bendingDensity(bRuled, el.Brule, el.Ainv, alpha, beta);
+    // minimizedOnly: W(b_rule) and W(b_bending) are the same and cancel.
+    T ruledEnergy = el.minimizedOnly ? constant<T>(0.0) : bendingDensity(bRuled, el.Brule, el.Ainv, alpha, beta);
     if (m > 0) {
       // min over a of W(κ0 − Σ a_j δb_j): W(κ0) − ½ gᵀ Q⁻¹ g, g_j = G(κ0, δb_j), Q_jk = G(δb_j, δb_k).
       T k0[3];
@@ -176,6 +185,7 @@ struct BoundaryRuleEnergy {
       for (int j = 0; j < m; ++j) reduction = reduction + g[j] * z[j];
       ruledEnergy = ruledEnergy - constant<T>(0.5) * reduction;
     }
+    if (el.minimizedOnly) return constant<T>(el.area) * ruledEnergy;
     return constant<T>(el.area) * (ruledEnergy - bendingDensity(bBuiltIn, el.B, el.Ainv, alpha, beta));
   }
 };
