@@ -12,15 +12,14 @@ namespace {
 
 double infNorm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
-/// The dot product over the free dofs.
+}  // namespace
+
 double freeDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::vector<char>& fixed) {
   double s = 0.0;
   for (Eigen::Index i = 0; i < a.size(); ++i)
     if (!fixed[static_cast<std::size_t>(i)]) s += a[i] * b[i];
   return s;
 }
-
-}  // namespace
 
 Eigen::VectorXd loadVector(Objective& objective, const LoadFactorHooks& hooks, const Eigen::VectorXd& x,
                            double lambda, const Eigen::VectorXd& g, const EvalOptions& evalOptions) {

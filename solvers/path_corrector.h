@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <vector>
 
 namespace jetshell {
 
@@ -47,6 +48,9 @@ struct PathCorrection {
 PathCorrection correctOnPath(Objective& objective, const LoadFactorHooks& hooks, IndefiniteFactor& factor,
                              Eigen::VectorXd& x, double& lambda, const PathConstraint& constraint,
                              const NewtonOptions& options);
+
+/// Σ a_i b_i over the free dofs (fixed[i] == 0): the metric of the arc length.
+double freeDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::vector<char>& fixed);
 
 /// The load vector q = −∂g/∂λ at (x, λ) (free dofs; fixed entries zero), from g at λ and at λ + h (h = 1e-6 ×
 /// max(1, |λ|)): exact for loads linear in λ. g is the gradient at (x, λ). Leaves the hooks at λ.

@@ -17,13 +17,6 @@ void check(bool ok, const char* field, double value, const char* rule) {
   throw InputError(s.str());
 }
 
-double freeDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::vector<char>& fixed) {
-  double s = 0.0;
-  for (Eigen::Index i = 0; i < a.size(); ++i)
-    if (!fixed[static_cast<std::size_t>(i)]) s += a[i] * b[i];
-  return s;
-}
-
 /// Arc length: a correction whose increment turns by more than 60° from the previous one is cut (a large step
 /// can land on another branch or cut a sharp turn of the path short; smaller steps follow it).
 constexpr double kMinCosine = 0.5;
@@ -59,13 +52,20 @@ const char* toString(PathControl c) {
   return "?";
 }
 
+double parabolaVertex(const double p[3], const double v[3]) {
+  const double f01 = (v[1] - v[0]) / (p[1] - p[0]), f12 = (v[2] - v[1]) / (p[2] - p[1]);
+  const double f012 = (f12 - f01) / (p[2] - p[0]);
+  if (!(std::abs(f012) > 0.0) || !std::isfinite(f012)) return p[1];
+  const double vertex = 0.5 * (p[0] + p[1]) - f01 / (2.0 * f012);
+  return vertex >= p[0] && vertex <= p[2] ? vertex : p[1];
+}
+
 double limitLoadFactor(const double p[3], const double l[3]) {
+  const double s = parabolaVertex(p, l);
+  if (s == p[1]) return l[1];
   const double f01 = (l[1] - l[0]) / (p[1] - p[0]), f12 = (l[2] - l[1]) / (p[2] - p[1]);
   const double f012 = (f12 - f01) / (p[2] - p[0]);
-  if (!(std::abs(f012) > 0.0) || !std::isfinite(f012)) return l[1];
-  const double vertex = 0.5 * (p[0] + p[1]) - f01 / (2.0 * f012);
-  if (!(vertex >= p[0] && vertex <= p[2])) return l[1];
-  return l[0] + f01 * (vertex - p[0]) + f012 * (vertex - p[0]) * (vertex - p[1]);
+  return l[0] + f01 * (s - p[0]) + f012 * (s - p[0]) * (s - p[1]);
 }
 
 StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,

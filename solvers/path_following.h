@@ -28,8 +28,11 @@ namespace jetshell {
 StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
                          const LoadSteppingOptions& options, const LoadStepCallback& callback);
 
-/// The turning point of λ(p) through three path points (p increasing): the parabola's vertex when it lies
-/// between the outer two, else the middle point's λ.
+/// The abscissa of the vertex of the parabola through three points (p increasing) when it lies between the
+/// outer two; otherwise (or for points on a line) the middle p.
+double parabolaVertex(const double p[3], const double v[3]);
+
+/// The turning point of λ(p) through three path points (p increasing): λ at parabolaVertex.
 double limitLoadFactor(const double p[3], const double lambda[3]);
 
 }  // namespace jetshell

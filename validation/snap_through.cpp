@@ -4,6 +4,7 @@
 #include "core/mesh.h"
 #include "core/mesh_generators.h"
 #include "energies/shell/material.h"
+#include "solvers/path_following.h"
 
 #include <algorithm>
 #include <chrono>
@@ -42,15 +43,6 @@ RoofCase roofCase(const RoofOptions& o) {
   p.nodalForces[3 * r.loadVertex + 2] = -o.load;
   r.c.probes = {Probe{{r.loadVertex}, 2, -1.0}};
   return r;
-}
-
-/// The vertex of the parabola through three points (p increasing), or the middle p when it has none there.
-double vertexOf(const double p[3], const double v[3]) {
-  const double f01 = (v[1] - v[0]) / (p[1] - p[0]), f12 = (v[2] - v[1]) / (p[2] - p[1]);
-  const double f012 = (f12 - f01) / (p[2] - p[0]);
-  if (!(std::abs(f012) > 0.0) || !std::isfinite(f012)) return p[1];
-  const double vertex = 0.5 * (p[0] + p[1]) - f01 / (2.0 * f012);
-  return vertex >= p[0] && vertex <= p[2] ? vertex : p[1];
 }
 
 /// The parabola through three points, at s.
@@ -115,7 +107,7 @@ RoofTrace trace(const RoofCase& rc, PathControl control, const RoofOptions& o, c
     const double p[3] = {t.parameter[i - 1], t.parameter[i], t.parameter[i + 1]};
     const double l[3] = {t.load[i - 1], t.load[i], t.load[i + 1]};
     const double w[3] = {t.deflection[i - 1], t.deflection[i], t.deflection[i + 1]};
-    const double s = vertexOf(p, l);
+    const double s = parabolaVertex(p, l);
     t.limits.push_back({before > 0.0, quadratic(p, l, s), quadratic(p, w, s), static_cast<int>(i)});
   }
   t.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
