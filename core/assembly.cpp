@@ -199,31 +199,44 @@ void HessianAssembler::buildMatrix(int numVertices) {
 
 void HessianAssembler::buildScatter() {
   const int* outerPtr = matrix_.outerIndexPtr();
-  auto valueIndex = [&](int vi, int ci, int vj, int cj) -> std::int32_t {
-    // Entry (3vi+ci, 3vj+cj) with 3vi+ci <= 3vj+cj.
-    const auto& r = rows_[vj];
-    const int k = static_cast<int>(std::lower_bound(r.begin(), r.end(), vi) - r.begin());
-    return outerPtr[3 * vj + cj] + 3 * k + ci;
-  };
-
   for (Slot& s : slots_) {
     const int w = s.table.width;
     const int m = 3 * w;
     const std::size_t perElement = static_cast<std::size_t>(m) * (m + 1) / 2;
-    s.scatter.assign(perElement * static_cast<std::size_t>(s.table.size()), -1);
-    for (int e = 0; e < s.table.size(); ++e) {
+    const int ne = s.table.size();
+    s.scatter.assign(perElement * static_cast<std::size_t>(ne), -1);
+    // One pattern search per vertex pair of an element (not per dof entry: a ninth of the searches), elements
+    // in parallel (each writes only its own table row).
+#pragma omp parallel if (ne >= 4096)
+    {
+    // rank[a * w + b]: for vertices ids[a] <= ids[b], the position of ids[a] among column ids[b]'s rows.
+    std::vector<int> rank(static_cast<std::size_t>(w) * w);
+#pragma omp for schedule(static)
+    for (int e = 0; e < ne; ++e) {
       const int* ids = s.table.element(e);
       std::int32_t* out = s.scatter.data() + perElement * static_cast<std::size_t>(e);
+      for (int b = 0; b < w; ++b) {
+        for (int a = 0; a < w; ++a) {
+          const int va = ids[a], vb = ids[b];
+          if (va < 0 || vb < 0 || va > vb) continue;
+          const auto& r = rows_[vb];
+          rank[a * w + b] = static_cast<int>(std::lower_bound(r.begin(), r.end(), va) - r.begin());
+        }
+      }
       std::size_t k = 0;
       for (int q = 0; q < m; ++q) {      // local column
         for (int p = 0; p <= q; ++p) {   // local row
-          const int vp = ids[p / 3], vq = ids[q / 3];
+          const int a = p / 3, b = q / 3;
+          const int vp = ids[a], vq = ids[b];
           std::int32_t idx = -1;
           if (vp >= 0 && vq >= 0) {
             int rowDof = 3 * vp + p % 3, colDof = 3 * vq + q % 3;
             if (!fixedDof_[rowDof] && !fixedDof_[colDof]) {
-              if (rowDof > colDof) std::swap(rowDof, colDof);
-              idx = valueIndex(rowDof / 3, rowDof % 3, colDof / 3, colDof % 3);
+              const bool swapped = rowDof > colDof;
+              if (swapped) std::swap(rowDof, colDof);
+              const int k2 = swapped ? rank[b * w + a] : rank[a * w + b];
+              // Entry (rowDof, colDof), rowDof <= colDof: column colDof, block of row vertex rowDof / 3.
+              idx = outerPtr[colDof] + 3 * k2 + rowDof % 3;
               // A repeated vertex maps an off-diagonal local entry onto a global diagonal: count it twice.
               if (p != q && rowDof == colDof) idx = -2 - idx;
             }
@@ -231,6 +244,7 @@ void HessianAssembler::buildScatter() {
           out[k++] = idx;
         }
       }
+    }
     }
   }
 }

@@ -27,6 +27,9 @@ struct EvalOptions {
   DerivativePath path = DerivativePath::Analytic;
   PsdProjection projection = PsdProjection::None;
   BendingHessian bendingHessian = BendingHessian::Exact;
+  /// With a projection: only element blocks of at most this many dofs are projected (0: every block). Read by
+  /// the Objective, which evaluates the terms with wider stencils unprojected.
+  int projectionMaxBlockDofs = 0;
 };
 
 /// What to compute. gradient and hessian may be null; the energy is always returned.

@@ -48,17 +48,26 @@ std::string statusMessage(const char* what, const cholmod_common& c) {
 namespace {
 
 /// Runs the enclosing scope with n OpenMP threads (the BLAS's, for OpenBLAS's OpenMP build).
+/// With n = 1 it also makes every parallel region inactive (max-active-levels 0): Debian's CHOLMOD 3 opens its
+/// own regions inside the supernodal factorization with a fixed num_threads(4), which on 2 cores with passive
+/// waiting put the factorization's threads to sleep and woke them per supernode. Measured on the 10k-vertex
+/// cloth's one-ring factor: 181 ms -> 44 ms per factorization (BENCHMARKS.md).
 class ScopedThreads {
  public:
-  explicit ScopedThreads(int n) : saved_(omp_get_max_threads()) {
+  explicit ScopedThreads(int n) : saved_(omp_get_max_threads()), savedLevels_(omp_get_max_active_levels()) {
     if (n > 0 && n != saved_) omp_set_num_threads(n);
+    if (n == 1) omp_set_max_active_levels(0);
   }
-  ~ScopedThreads() { omp_set_num_threads(saved_); }
+  ~ScopedThreads() {
+    omp_set_max_active_levels(savedLevels_);
+    omp_set_num_threads(saved_);
+  }
   ScopedThreads(const ScopedThreads&) = delete;
   ScopedThreads& operator=(const ScopedThreads&) = delete;
 
  private:
   int saved_;
+  int savedLevels_;
 };
 
 }  // namespace
@@ -105,6 +114,7 @@ CholmodFactor::Status CholmodFactor::analyze(const Eigen::SparseMatrix<double>& 
   if (impl_->factor != nullptr) cholmod_free_factor(&impl_->factor, c);
   factorized_ = false;
   cholmod_sparse A = view(upper);
+  const ScopedThreads threads(blasThreads_);
   impl_->factor = cholmod_analyze(&A, c);
   if (impl_->factor == nullptr) {
     message_ = statusMessage("cholmod_analyze", *c);

@@ -3,7 +3,8 @@
 // Inputs: the fill-reducing ordering (FillOrdering; Auto is CHOLMOD's default: AMD, then METIS when AMD's
 // fill is poor), the matrix. Outputs: the factor, its solves, and the analysis statistics (nnz(L) and the
 // flop count of one numeric factorization, deterministic for a given pattern and ordering).
-// Threads: factorizations and solves run with `blasThreads` OpenMP threads (default 1), restored afterwards.
+// Threads: analyses, factorizations and solves run with `blasThreads` OpenMP threads (default 1), restored
+// afterwards; with 1, CHOLMOD's own parallel regions are made inactive too (see ScopedThreads in the .cpp).
 // OpenBLAS's OpenMP build (scripts/install-deps.sh) follows omp_get_max_threads() per call; other BLAS builds
 // ignore it. Measured on the 2-core machine under load: the one-ring factor of the 2.6k-vertex cloth took
 // 12–15 ms with one thread and 59–78 ms with two (small supernodes: the threads mostly wait at BLAS barriers).

@@ -88,10 +88,10 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
     report.message.clear();
     const Attempt a = attempt(upper, analyze && k == 0, shift, b, x, report);
     if (analyze && k == 0 && a != Attempt::Fatal) {
-      report.symbolicAnalysis = true;
+      report.symbolicAnalysis = !report.analysisReused;
       analyzed_ = true;
       analyzedVersion_ = patternVersion;
-      ++analyses_;
+      if (report.symbolicAnalysis) ++analyses_;
     }
     if (a == Attempt::Ok && x.allFinite()) {
       report.success = true;

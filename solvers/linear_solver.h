@@ -63,6 +63,7 @@ struct LinearSolverOptions {
 struct LinearSolveReport {
   bool success = false;
   bool symbolicAnalysis = false;  // this solve (re)did the symbolic analysis
+  bool analysisReused = false;    // set by a solver whose factored pattern did not change with H's pattern
   int regularizations = 0;        // retries with a diagonal shift
   double shift = 0.0;             // the δ of the successful attempt (0 = none)
   int cgIterations = 0;

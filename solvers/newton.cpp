@@ -63,7 +63,10 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   s.linearSolver = linear_->name();
   const int analysesBefore = linear_->symbolicAnalyses();
   const EvalOptions projected{o.derivatives, o.projection, o.bendingHessian};
-  const EvalOptions exact{o.derivatives, PsdProjection::None, o.bendingHessian};
+  // The "exact" Hessian: unprojected, or with exactHessianFirst only the small blocks projected.
+  const EvalOptions exact = o.exactHessianFirst && o.exactFirstProjectedDofs > 0
+                                ? EvalOptions{o.derivatives, o.projection, o.bendingHessian, o.exactFirstProjectedDofs}
+                                : EvalOptions{o.derivatives, PsdProjection::None, o.bendingHessian};
   const bool adaptive = o.exactHessianNearSolution && o.projection != PsdProjection::None;
   Objective& obj = objective_;
 
@@ -138,7 +141,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   for (int k = 0;; ++k) {
     IterationRecord rec;
     rec.iteration = k;
-    const bool useExact = adaptive && tryExact && exactCooldown == 0;
+    const bool useExact = adaptive && (tryExact || o.exactHessianFirst) && exactCooldown == 0;
     if (exactCooldown > 0) --exactCooldown;
     if (have == Have::Nothing && iterateTest_ && k > 0) {
       // The iterate test may end the solve here: the gradient first, the Hessian only if it is needed.
@@ -224,7 +227,14 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       linear_->setRelativeTolerance(forcing);
     }
     LinearSolveReport lin = linear_->solve(obj.assembler(), b, d, haveExact ? 0 : -1);
-    if (!lin.success && haveExact) {
+    bool exactFailed = haveExact && !lin.success;
+    if (haveExact && lin.success) {
+      // CG can finish on an indefinite system without meeting negative curvature: a direction that does not
+      // descend means the same.
+      obj.zeroFixed(d);
+      exactFailed = !(g.dot(d) < 0.0);
+    }
+    if (exactFailed) {
       // Each fallback costs an assembly and a factorization: back off (2, 4, 8, ... iterations) where the
       // unprojected Hessian keeps being indefinite.
       ++s.projectionFallbacks;

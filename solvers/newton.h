@@ -48,6 +48,16 @@ struct NewtonOptions {
   int maxIterations = 50;
   PsdProjection projection = PsdProjection::Clamp;
   bool exactHessianNearSolution = true;  // see the file comment; no effect with projection None
+  /// Try a mostly unprojected Hessian at every iteration, not only near a solution: for time steps, whose
+  /// inertia usually makes the whole Hessian positive definite although single element blocks are not. Element
+  /// blocks of at most exactFirstProjectedDofs dofs are still projected (a 9×9 membrane or 6×6 contact block
+  /// costs an eighth of an 18×18 bending block's eigendecomposition, and those terms carry the large negative
+  /// curvature: compression, penalty repulsion); wider blocks are left as they are. Measured: projecting every
+  /// block was 80% of a 10k-cloth assembly (BENCHMARKS.md). An iteration whose system is indefinite (the
+  /// factorization or CG says so, or its direction does not descend) is redone with every block projected, with
+  /// the back-off of the file comment. Needs exactHessianNearSolution and a projection other than None.
+  bool exactHessianFirst = false;
+  int exactFirstProjectedDofs = 12;  // 0: no block projected first
   BendingHessian bendingHessian = BendingHessian::Exact;
   DerivativePath derivatives = DerivativePath::Analytic;
   LineSearchType lineSearch = LineSearchType::BacktrackingArmijo;

@@ -22,7 +22,7 @@ void Objective::addTerm(EnergyTermPtr term, TermRole role) {
   const StencilTable table = term->stencils();
   const int slot = table.width > 0 ? assembler_.addStencils(table) : -1;
   const std::uint64_t version = term->stencilVersion();
-  terms_.push_back({std::move(term), role, slot, version});
+  terms_.push_back({std::move(term), role, slot, version, 3 * table.width});
   termEnergies_.push_back(0.0);
   termSeconds_.push_back(0.0);
 }
@@ -63,7 +63,10 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
     }
     EvalRequest request{gradient, hessian && e.slot >= 0 ? &assembler_ : nullptr, e.slot};
     const auto termStart = Clock::now();
-    termEnergies_[i] = e.term->evaluate(x, request, options);
+    EvalOptions termOptions = options;
+    if (options.projectionMaxBlockDofs > 0 && e.blockDofs > options.projectionMaxBlockDofs)
+      termOptions.projection = PsdProjection::None;
+    termEnergies_[i] = e.term->evaluate(x, request, termOptions);
     termSeconds_[i] += std::chrono::duration<double>(Clock::now() - termStart).count();
     total += termEnergies_[i];
   }
@@ -76,6 +79,7 @@ void Objective::rebuildPattern() {
   for (Entry& e : terms_) {
     const StencilTable table = e.term->stencils();
     e.slot = table.width > 0 ? assembler_.addStencils(table) : -1;
+    e.blockDofs = 3 * table.width;
     e.stencilVersion = e.term->stencilVersion();
   }
   assembler_.finalize(numVertices_, fixedDof_);

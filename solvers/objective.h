@@ -129,6 +129,7 @@ class Objective {
     EnergyTermPtr term;
     TermRole role;
     int slot;  // assembler slot, -1 without a Hessian stencil
+    int blockDofs = 0;  // 3 × stencil width: the size of the term's element Hessian blocks
     std::uint64_t stencilVersion = 0;  // as declared to the assembler
   };
   /// Declares every term's stencils to a fresh pattern and finalizes it.

@@ -16,6 +16,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/OrderingMethods>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -153,9 +154,17 @@ class PcgSolver : public LinearSolver {
         if (!options().oneRing || options().oneRing->empty())
           throw std::invalid_argument("one_ring_cholesky preconditioner without the mesh's adjacency");
         options().oneRing->apply(H, oneRingMatrix_);
-        if ((analyze || !factor_.analyzed()) && factor_.analyze(oneRingMatrix_) != Status::Ok) {
-          report.message = factor_.message();
-          return false;
+        // The one-ring part's pattern is the mesh's: contact pairs between distant vertices change H's pattern
+        // but not this one, so the analysis is redone only when the filtered pattern itself changed.
+        const bool samePattern = factor_.analyzed() && sameSparsity(oneRingMatrix_, analyzedPattern_);
+        if (!samePattern) {
+          if (factor_.analyze(oneRingMatrix_) != Status::Ok) {
+            report.message = factor_.message();
+            return false;
+          }
+          analyzedPattern_ = oneRingMatrix_;
+        } else if (analyze) {
+          report.analysisReused = true;
         }
         ++report.numericFactorizations;
         if (factor_.factorize(oneRingMatrix_, shift) != Status::Ok) {
@@ -189,6 +198,14 @@ class PcgSolver : public LinearSolver {
         if (factor_.solve(r, z) != CholmodFactor::Status::Ok) z = r;
         return;
     }
+  }
+
+  static bool sameSparsity(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<double>& b) {
+    if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros()) return false;
+    const auto n = static_cast<std::size_t>(a.cols() + 1);
+    const auto nnz = static_cast<std::size_t>(a.nonZeros());
+    return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + n, b.outerIndexPtr()) &&
+           std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
   }
 
   Attempt iterate(const Eigen::SparseMatrix<double>& H, double shift, const Eigen::VectorXd& b, Eigen::VectorXd& x,
@@ -232,6 +249,7 @@ class PcgSolver : public LinearSolver {
   bool icAnalyzed_ = false;
   Eigen::SparseMatrix<double> shifted_;
   Eigen::SparseMatrix<double> oneRingMatrix_;
+  Eigen::SparseMatrix<double> analyzedPattern_;  // the one-ring matrix the factor was last analysed for
   CholmodFactor factor_;
 };
 

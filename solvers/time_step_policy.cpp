@@ -20,6 +20,20 @@ const char* toString(TimeStepPolicy p) {
   return "?";
 }
 
+void applyTimeStepLinearAlgebra(NewtonOptions& n) {
+  if (n.linear.type == LinearSolverType::Auto) {
+    // Inertia dominates a time step's Hessian: CG preconditioned by the one-ring factor (about a tenth of the
+    // full factor's flops) needs a handful of iterations (BENCHMARKS.md "Solver"). The one-ring pattern is the
+    // mesh's: contact pairs between distant vertices stay out of the factor, so it is analysed once per run.
+    n.linear.type = LinearSolverType::PCG;
+    n.linear.preconditioner = Preconditioner::OneRingCholesky;
+    n.linear.cgRelativeTolerance = 1e-6;
+    n.adaptiveLinearTolerance = true;
+  }
+  // Project element Hessians only where the whole system needs it (NewtonOptions::exactHessianFirst).
+  if (n.projection != PsdProjection::None) n.exactHessianFirst = true;
+}
+
 void applyTimeStepPolicy(TimeStepPolicy policy, DynamicsOptions& o) {
   NewtonOptions& n = o.newton;
   switch (policy) {
@@ -37,14 +51,7 @@ void applyTimeStepPolicy(TimeStepPolicy policy, DynamicsOptions& o) {
     case TimeStepPolicy::Jetshell:
       n.maxIterations = 20;
       n.lineSearch = LineSearchType::BacktrackingArmijo;
-      if (n.linear.type == LinearSolverType::Auto) {
-        // Inertia dominates a time step's Hessian: CG preconditioned by the one-ring factor (about a tenth
-        // of the full factor's flops) needs a handful of iterations (BENCHMARKS.md "Solver").
-        n.linear.type = LinearSolverType::PCG;
-        n.linear.preconditioner = Preconditioner::OneRingCholesky;
-        n.linear.cgRelativeTolerance = 1e-6;
-        n.adaptiveLinearTolerance = true;
-      }
+      applyTimeStepLinearAlgebra(n);
       o.acceptIterationCap = false;
       o.extrapolatedStart = true;
       o.updateTolerance = jetshellUpdateTolerance;

@@ -28,6 +28,11 @@ const char* toString(TimeStepPolicy p);
 /// η of the jetshell policy (chosen by `jetshell bench dynamics`, see BENCHMARKS.md "Dynamics").
 constexpr double jetshellUpdateTolerance = 0.1;
 
+/// The linear algebra of time steps, for every policy and for scenes: a linear solver left on auto becomes CG
+/// preconditioned by the one-ring factor with Eisenstat–Walker forcing terms, and a projected Hessian is tried
+/// unprojected first (NewtonOptions::exactHessianFirst). Fields set explicitly are kept.
+void applyTimeStepLinearAlgebra(NewtonOptions& newton);
+
 /// Sets the fields of `options` that the policy fixes.
 void applyTimeStepPolicy(TimeStepPolicy policy, DynamicsOptions& options);
 

@@ -4,9 +4,13 @@
 // other terms, the linear solves (factorization + solve) and the rest (line-search bookkeeping, the Newton
 // loop, the stepping), the symbolic analyses against the numeric factorizations. `--pattern both` runs the scene
 // twice, with the Hessian pattern rebuilt exactly to the contacts and then grow-only, and prints their ratio.
+// `--solver both` runs it with the scene's time-step linear algebra (solvers/time_step_policy.h: CG preconditioned
+// by the one-ring factor, element Hessians projected only where needed) and then with the direct solver
+// (CHOLMOD on the whole Hessian, every element block projected), and prints their ratio.
 // Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
+#include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_problem.h"
@@ -31,28 +35,39 @@ struct ContactBenchOptions {
   int steps = 60;
   int threads = 0;
   std::string pattern = "exact";  // grow | exact | both
+  std::string solver = "scene";   // scene | direct | both
   std::string json;
 };
 
 double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
-/// One run of the scene with the Hessian pattern grow-only or exact (rebuilt to the current contacts).
-nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const ContactBenchOptions& o, bool growOnly,
+struct Variant {
+  bool growOnly = false;  // the Hessian pattern grow-only, or exact (rebuilt to the current contacts)
+  bool direct = false;    // CHOLMOD on the whole Hessian with every block projected, or the scene's solver
+};
+
+/// One run of the scene in one variant.
+nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const ContactBenchOptions& o, Variant v,
                        bool& failedRun) {
+  const bool growOnly = v.growOnly;
   ShellSystem system(shellProblemFromScene(scene, model), AnalysisKind::Dynamics);
   Objective& objective = system.objective();
   objective.setGrowOnlyPattern(growOnly);
   DynamicsOptions d;
   d.timeStep = scene.analysis.timeStep;
-  d.newton.maxIterations = scene.solver.maxIterations.value_or(d.newton.maxIterations);
-  if (scene.solver.residualTolerance) d.newton.residualTolerance = *scene.solver.residualTolerance;
+  d.newton = newtonOptionsFor(scene.solver, d.newton.maxIterations);
+  if (v.direct) {
+    d.newton.linear.type = LinearSolverType::Cholmod;
+    d.newton.adaptiveLinearTolerance = false;
+    d.newton.exactHessianFirst = false;
+  }
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
-  const char* label = growOnly ? "grow-only pattern" : "exact pattern";
-  std::printf("-- %s --\n", label);
+  std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
+              v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
   const auto start = std::chrono::steady_clock::now();
   const double cpuStart = cpuSeconds();
-  int iterations = 0, failed = 0, analyses = 0, factorizations = 0;
+  int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0;
   double linear = 0.0;
   for (int s = 0; s < o.steps; ++s) {
     const StepReport r = solver.step();
@@ -61,6 +76,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     for (const SolverSummary& solve : r.solves) {
       analyses += solve.symbolicAnalyses;
       factorizations += solve.numericFactorizations;
+      exactSteps += solve.exactHessianSteps;
+      fallbacks += solve.projectionFallbacks;
     }
     if (!r.success) {
       ++failed;
@@ -86,12 +103,16 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("pattern: %d re-declarations, %d new patterns; linear solver: %d symbolic analyses, %d numeric "
               "factorizations\n",
               objective.patternRebuilds(), objective.patternGrowths(), analyses, factorizations);
+  std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one\n", exactSteps,
+              fallbacks);
   std::printf("time split: broad phase %.1f%% (within contact), contact terms %.1f%%, other terms %.1f%%, "
               "linear solve %.1f%%, rest %.1f%%\n",
               pct(broad), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
   std::printf("contact detection + assembly: %.1f%% of a step (target <= 30%%)\n", pct(contactTerms));
   failedRun = failed > 0;
   return {{"pattern", growOnly ? "grow" : "exact"},
+          {"solver", v.direct ? "direct" : "scene"},
+          {"linear_solver", toString(d.newton.linear.type)},
           {"steps", steps},
           {"wall_seconds", wall},
           {"cpu_seconds", cpu},
@@ -102,6 +123,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
           {"pattern_growths", objective.patternGrowths()},
           {"symbolic_analyses", analyses},
           {"numeric_factorizations", factorizations},
+          {"unprojected_hessian_steps", exactSteps},
+          {"projection_fallbacks", fallbacks},
           {"seconds", {{"broad_phase", broad},
                        {"contact_terms", contactTerms},
                        {"other_terms", otherTerms},
@@ -117,14 +140,19 @@ int runContactBench(const ContactBenchOptions& o) {
   const SceneModel model = buildSceneModel(scene);
   std::printf("jetshell bench contact: %s, %d vertices, %d faces, %d steps of %.4f s, %d threads\n", o.scene.c_str(),
               model.numVertices(), model.world.numFaces(), o.steps, scene.analysis.timeStep, omp_get_max_threads());
-  std::vector<bool> variants;  // grow-only?
-  if (o.pattern != "grow") variants.push_back(false);
-  if (o.pattern != "exact") variants.push_back(true);
+  if (o.pattern == "both" && o.solver == "both") throw InputError("bench contact: --pattern both and --solver both together");
+  std::vector<Variant> variants;
+  for (bool growOnly : {false, true}) {
+    if (o.pattern != (growOnly ? "exact" : "grow")) {
+      for (bool direct : {false, true})
+        if (o.solver != (direct ? "scene" : "direct")) variants.push_back({growOnly, direct});
+    }
+  }
   nlohmann::json runs = nlohmann::json::array();
   bool failed = false;
-  for (bool growOnly : variants) {
+  for (const Variant& v : variants) {
     bool f = false;
-    runs.push_back(runOnce(scene, model, o, growOnly, f));
+    runs.push_back(runOnce(scene, model, o, v, f));
     failed = failed || f;
   }
   nlohmann::json out = runs.back();
@@ -134,9 +162,13 @@ int runContactBench(const ContactBenchOptions& o) {
   if (runs.size() == 2) {
     const double wallRatio = runs[0]["wall_seconds"].get<double>() / runs[1]["wall_seconds"].get<double>();
     const double cpuRatio = runs[0]["cpu_seconds"].get<double>() / runs[1]["cpu_seconds"].get<double>();
-    std::printf("grow-only against exact pattern: %.2fx the steps/s (wall), %.2fx (CPU)\n", wallRatio, cpuRatio);
+    const bool patterns = o.pattern == "both";
+    std::printf("%s: %.2fx the steps/s (wall), %.2fx (CPU)\n",
+                patterns ? "grow-only against exact pattern" : "the scene's solver against the direct solver",
+                patterns ? wallRatio : 1.0 / wallRatio, patterns ? cpuRatio : 1.0 / cpuRatio);
     out["runs"] = runs;
-    out["speedup_grow_over_exact"] = {{"wall", wallRatio}, {"cpu", cpuRatio}};
+    if (patterns) out["speedup_grow_over_exact"] = {{"wall", wallRatio}, {"cpu", cpuRatio}};
+    else out["speedup_scene_over_direct"] = {{"wall", 1.0 / wallRatio}, {"cpu", 1.0 / cpuRatio}};
   }
   if (!o.json.empty()) {
     std::ofstream(o.json) << out.dump(2) << "\n";
@@ -156,6 +188,10 @@ const RegisterSubcommand reg("bench contact", [](CLI::App& app, int& exitCode) {
                   "Hessian pattern: exact (rebuilt to the current contacts, the default), grow (grow-only), or both "
                   "(exact, then grow, and their ratio)")
       ->check(CLI::IsMember({"grow", "exact", "both"}));
+  cmd->add_option("--solver", opts->solver,
+                  "Linear algebra: scene (the scene's time-step solver, the default), direct (CHOLMOD, every block "
+                  "projected), or both (scene, then direct, and their ratio)")
+      ->check(CLI::IsMember({"scene", "direct", "both"}));
   cmd->add_option("--json", opts->json, "Write the figures as JSON");
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <Eigen/Dense>
+#include <omp.h>
 
 using namespace jetshell;
 
@@ -147,4 +148,21 @@ TEST_CASE("linear solver: a Newton solve gives the same iterates with CHOLMOD an
   CHECK(se.linearSolver == "ldlt");
   CHECK(sc.iterations == se.iterations);
   CHECK((xc - xe).lpNorm<Eigen::Infinity>() <= 1e-9);
+}
+
+TEST_CASE("linear solver: CHOLMOD runs with its BLAS thread count and leaves OpenMP's settings as they were") {
+  System s;
+  const int threads = omp_get_max_threads(), levels = omp_get_max_active_levels();
+  for (int blasThreads : {1, 2}) {
+    LinearSolverOptions o;
+    o.type = LinearSolverType::Cholmod;
+    o.blasThreads = blasThreads;
+    auto solver = makeLinearSolver(o, s.shell.objective().numDofs());
+    Eigen::VectorXd x;
+    const Eigen::VectorXd b = -s.g;
+    REQUIRE(solver->solve(s.assembler(), b, x).success);
+    CHECK((dense(s.assembler().matrix()) * x - b).norm() <= 1e-8 * b.norm());
+    CHECK(omp_get_max_threads() == threads);
+    CHECK(omp_get_max_active_levels() == levels);
+  }
 }

@@ -84,3 +84,47 @@ TEST_CASE("one-ring pattern: CG preconditioned by the one-ring factor solves the
   auto missing = makeLinearSolver(o, static_cast<int>(b.size()));
   CHECK_THROWS(missing->solve(c.H(), 1, b, x));
 }
+
+TEST_CASE("one-ring pattern: a new Hessian pattern with the same one-ring part keeps the factor's analysis",
+          "[solvers]") {
+  testing::SingleThread single;
+  ClothHessian c;
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(c.H().rows(), -1.0, 1.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::PCG;
+  o.preconditioner = Preconditioner::OneRingCholesky;
+  o.cgRelativeTolerance = 1e-12;
+  o.oneRing = std::make_shared<OneRingFilter>(c.shell.mesh().F, c.shell.mesh().numVertices());
+  auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
+  Eigen::VectorXd x;
+  REQUIRE(solver->solve(c.H(), 1, b, x).success);
+  CHECK(solver->symbolicAnalyses() == 1);
+
+  // A contact pair between two distant vertices: H's pattern grows (a new pattern version), its one-ring part
+  // does not.
+  const int a = 0, far = c.shell.mesh().numVertices() - 1;
+  REQUIRE_FALSE(o.oneRing->adjacent(a, far));
+  Eigen::SparseMatrix<double> withPair = c.H();
+  for (int k = 0; k < 3; ++k) {
+    withPair.coeffRef(3 * a + k, 3 * far + k) += -1.0;
+    withPair.coeffRef(3 * a + k, 3 * a + k) += 1.0;
+    withPair.coeffRef(3 * far + k, 3 * far + k) += 1.0;
+  }
+  withPair.makeCompressed();
+  const Eigen::VectorXd reference = dense(withPair).ldlt().solve(b);
+  const LinearSolveReport r = solver->solve(withPair, 2, b, x);
+  REQUIRE(r.success);
+  CHECK_FALSE(r.symbolicAnalysis);
+  CHECK(solver->symbolicAnalyses() == 1);
+  CHECK((x - reference).norm() <= 1e-8 * reference.norm());
+
+  // A pattern whose one-ring part changes (one vertex fixed: identity rows) is analysed anew.
+  Eigen::SparseMatrix<double> fewer = c.H();
+  for (int k = 0; k < fewer.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(fewer, k); it; ++it)
+      if ((it.row() < 3 || it.col() < 3) && it.row() != it.col()) it.valueRef() = 0.0;
+  fewer.prune(0.0);
+  fewer.makeCompressed();
+  REQUIRE(solver->solve(fewer, 3, b, x).success);
+  CHECK(solver->symbolicAnalyses() == 2);
+}

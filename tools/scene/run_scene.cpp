@@ -4,6 +4,7 @@
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "solvers/statics.h"
+#include "solvers/time_step_policy.h"
 #include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
@@ -75,6 +76,12 @@ NewtonOptions newtonOptionsFor(const SolverSettings& s, int defaultIterations, b
                                             : psdProjectionFromString(s.psdProjection);
   n.derivatives = s.derivatives == "autodiff" ? DerivativePath::AutoDiff : DerivativePath::Analytic;
   n.bendingHessian = s.bendingHessian == "gaussNewton" ? BendingHessian::GaussNewton : BendingHessian::Exact;
+  if (!statics) {
+    // Time steps (dynamics and dynamic relaxation): the linear algebra of solvers/time_step_policy.h; an explicit
+    // psdProjection is applied at every iteration as asked.
+    applyTimeStepLinearAlgebra(n);
+    if (s.psdProjection != "auto") n.exactHessianFirst = false;
+  }
   return n;
 }
 
