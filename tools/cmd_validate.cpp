@@ -42,7 +42,7 @@ struct ValidateArgs {
   std::string projection = "none";
   double maxIncrement = 1.0;
   double initialIncrement = 0.005;
-  int predictor = 2;
+  int predictor = BenchmarkRunOptions{}.predictorOrder;
   double residualTolerance = NewtonOptions{}.residualTolerance;
   double maxError = 0.0;
   bool log = false;
@@ -219,7 +219,7 @@ const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--initial-increment", a->initialIncrement, "The first load-factor increment")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--predictor", a->predictor, "Order of the extrapolated start of each solve (0: last equilibrium)")
-      ->check(CLI::Range(0, 3));
+      ->check(CLI::Range(0, 5));
   cmd->add_option("--residual-tolerance", a->residualTolerance,
                   "Newton's residual tolerance (x the largest applied nodal force)")
       ->check(CLI::PositiveNumber);

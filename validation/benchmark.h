@@ -115,7 +115,7 @@ struct BenchmarkRunOptions {
   double initialIncrement = 0.005;  // the first increment: from the flat state the linear response to the full
                                    // first level overshoots by far (plate: 6 failed 50-iteration attempts)
   double minIncrement = 1e-4;
-  int predictorOrder = 2;        // start each Newton solve from the polynomial through this many + 1 past
+  int predictorOrder = 3;        // start each Newton solve from the polynomial through this many + 1 past
                                  // equilibria (0: from the last equilibrium)
   NewtonOptions newton = benchmarkNewtonOptions();  // tolerances
   double relaxationTimeStep = 1.0 / 30.0;
