@@ -49,7 +49,9 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
     e.term->updateStencils(x);
     changed = changed || e.term->stencilVersion() != e.stencilVersion;
   }
-  if (changed) rebuildPattern();
+  // Only a Hessian needs the pattern: value and gradient evaluations (line-search trials, iterate tests) leave it
+  // stale, and the next Hessian evaluation, which compares the versions again, rebuilds it once.
+  if (changed && hessian) rebuildPattern();
   stencilSeconds_ += std::chrono::duration<double>(Clock::now() - stencilStart).count();
   finalize();
   if (gradient != nullptr) gradient->setZero(numDofs());

@@ -8,8 +8,8 @@
 // terms (inertia, mass and stiffness damping, contact damping and friction) exist only inside a time step. The
 // static residual of a dynamic system is the gradient of its Potential terms.
 // Terms whose stencils follow the configuration (contact pairs) are brought up to date before every evaluation
-// (EnergyTerm::updateStencils); the pattern is re-declared when one of them changed, exactly to the current
-// stencils by default. setGrowOnlyPattern(true) keeps the union instead (HessianAssembler::setGrowOnly): pairs
+// (EnergyTerm::updateStencils); the pattern is re-declared, at the next evaluation that asks for a Hessian, when
+// one of them changed, exactly to the current stencils by default. setGrowOnlyPattern(true) keeps the union instead (HessianAssembler::setGrowOnly): pairs
 // that leave contact stay as stored zeros, so while the contacts stay within the pairs seen before, the matrix
 // pattern and its version stay and the linear solver reuses its symbolic analysis. It is off by default: on the
 // T-shirt's first 20 steps new pairs appear on almost every iteration, and the stored zeros' fill made it 0.94x

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace jetshell {
 namespace {
@@ -126,8 +127,19 @@ ContactParams PointCloudState::pairParams(int a, int b) const {
 bool PointCloudState::refresh(const Eigen::VectorXd& x) {
   const int n = numPoints();
   if (builtAt_.size() == 3 * n) {
+    // Pair distances change only by the samples' relative motion: measure each displacement from the centre t
+    // of their bounding box. |d_i − d_j| <= |d_i − t| + |d_j − t| <= skin, so no pair that was farther than
+    // D + skin at the build is closer than D now. A shirt falling as a whole keeps its list.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector3d d = x.segment<3>(3 * vertex_[i]) - builtAt_.segment<3>(3 * i);
+      lo = lo.cwiseMin(d);
+      hi = hi.cwiseMax(d);
+    }
+    const Eigen::Vector3d t = 0.5 * (lo + hi);
     double moved2 = 0.0;
-    for (int i = 0; i < n; ++i) moved2 = std::max(moved2, (x.segment<3>(3 * vertex_[i]) - builtAt_.segment<3>(3 * i)).squaredNorm());
+    for (int i = 0; i < n; ++i)
+      moved2 = std::max(moved2, (x.segment<3>(3 * vertex_[i]) - builtAt_.segment<3>(3 * i) - t).squaredNorm());
     if (moved2 <= 0.25 * skin_ * skin_) return false;
   }
   const auto start = std::chrono::steady_clock::now();

@@ -11,8 +11,8 @@
 // spec's 1.5 applied to r, every flat-rest neighbour between 1.5r and 2r apart would be in contact at rest
 // and the shell would push itself apart.)
 // Candidates come from the spatial hash (energies/contact/spatial_hash.h) with the search radius D + skin
-// and are rebuilt when a sample has moved more than skin/2 since the last build (so no pair closer than D is
-// ever missed); the terms' stencils then change and the objective rebuilds its pattern
+// and are rebuilt when a sample has moved more than skin/2 since the last build, relative to the samples' common
+// translation (so no pair closer than D is ever missed, and a cloth falling as a whole keeps its list); the terms' stencils then change and the objective rebuilds its pattern
 // (EnergyTerm::updateStencils). Friction runs over the same candidates, with zero normal force for the pairs not
 // in contact at the step start, so both terms change their pattern together.
 #pragma once
@@ -53,10 +53,11 @@ struct PointPairData {
 class PointCloudState {
  public:
   /// rest: the stacked rest positions (N × 3). skinFraction: skin = fraction × the largest contact distance.
-  PointCloudState(std::vector<PointCloudActor> actors, const Positions& rest, double skinFraction = 0.5);
+  PointCloudState(std::vector<PointCloudActor> actors, const Positions& rest, double skinFraction = 0.1);
 
   int numPoints() const { return static_cast<int>(vertex_.size()); }
-  /// Rebuilds the candidate pairs when a sample moved more than skin/2 since the last build (or never built).
+  /// Rebuilds the candidate pairs when a sample moved more than skin/2 since the last build, relative to the
+  /// centre of all samples' displacements (or never built).
   /// Returns true when it rebuilt.
   bool refresh(const Eigen::VectorXd& x);
   /// Lags the friction pairs (in contact at x_n) for a step of length h.

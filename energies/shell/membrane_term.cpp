@@ -9,6 +9,8 @@
 #include "energies/shell/shell_terms.h"
 #include "core/stage_derivatives.h"
 
+#include <cmath>
+
 namespace jetshell {
 
 MembraneTerm::MembraneTerm(const TriMesh& mesh, const ShellReference& ref, double lambda, double mu)
@@ -20,9 +22,14 @@ MembraneTerm::MembraneTerm(const TriMesh& mesh, const ShellReference& ref, doubl
 
 double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
   const bool ad = options.path == DerivativePath::AutoDiff;
-  return runElementLoop<3>(table_, schedule_, x, request, options.projection, elementEnergy_,
+  // Clamp on the analytic path: the element clamps its stress term itself (see the header), no 9×9 projection.
+  const bool clampStress = !ad && options.projection == PsdProjection::Clamp;
+  return runElementLoop<3>(table_, schedule_, x, request, clampStress ? PsdProjection::None : options.projection,
+                           elementEnergy_,
                            [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
-                               Eigen::Matrix<double, 9, 9>& H) { return element(x, f, ids, wantG, wantH, ad, g, H); });
+                               Eigen::Matrix<double, 9, 9>& H) {
+                             return element(x, f, ids, wantG, wantH, ad, clampStress, g, H);
+                           });
 }
 
 void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale) {
@@ -37,7 +44,7 @@ void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale)
 }
 
 double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
-                             Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const {
+                             bool clampStress, Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const {
     const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]), x1 = x.segment<3>(3 * ids[1]), x2 = x.segment<3>(3 * ids[2]);
     const Eigen::Vector3d e0 = x1 - x0, e1 = x2 - x0;
     const double a[3] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
@@ -66,10 +73,27 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
     g.head<3>() = -(g.segment<3>(3) + g.segment<3>(6));
     if (wantH) {
       Eigen::Matrix<double, 6, 6> He = Ja.transpose() * Waa * Ja;
-      He.topLeftCorner<3, 3>().diagonal().array() += 2.0 * w[0];
-      He.bottomRightCorner<3, 3>().diagonal().array() += 2.0 * w[2];
-      He.topRightCorner<3, 3>().diagonal().array() += w[1];
-      He.bottomLeftCorner<3, 3>().diagonal().array() += w[1];
+      // The stress term S ⊗ I₃, S = [[2w0, w1], [w1, 2w2]] = ∂²a/∂e² contracted with w.
+      double s00 = 2.0 * w[0], s01 = w[1], s11 = 2.0 * w[2];
+      if (clampStress) {
+        // S's eigenvalues, closed form; negative ones set to zero: S₊ = Σ max(σ_k, 0) v_k v_kᵀ.
+        const double mean = 0.5 * (s00 + s11), half = 0.5 * (s00 - s11);
+        const double radius = std::sqrt(half * half + s01 * s01);
+        const double hi = mean + radius, lo = mean - radius;
+        if (hi <= 0.0) {
+          s00 = s01 = s11 = 0.0;
+        } else if (lo < 0.0) {
+          // S₊ = hi · v vᵀ, v the eigenvector of hi: S − lo·I = (hi − lo) v vᵀ.
+          const double k = hi / (hi - lo);
+          s00 = k * (s00 - lo);
+          s01 = k * s01;
+          s11 = k * (s11 - lo);
+        }
+      }
+      He.topLeftCorner<3, 3>().diagonal().array() += s00;
+      He.bottomRightCorner<3, 3>().diagonal().array() += s11;
+      He.topRightCorner<3, 3>().diagonal().array() += s01;
+      He.bottomLeftCorner<3, 3>().diagonal().array() += s01;
       He *= area;
       // e0 = x1 − x0, e1 = x2 − x0: H_x = Lᵀ H_e L.
       H.block<6, 6>(3, 3) = He;

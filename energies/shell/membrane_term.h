@@ -1,6 +1,11 @@
 // Membrane term: Σ_f scale · area_f · W_m(ε_f), ε = ½(a − A_origin), traces with the reference A⁻¹.
 // Stages: x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the templated density,
 // differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
+// Clamp projection on the analytic path: the Hessian is Jᵀ W_aa J (positive semi-definite: the StVK density is
+// a convex quadratic in a) plus the stress term S ⊗ I₃ with S the 2×2 matrix of ∂W/∂a; only S can be
+// indefinite (compression), so its negative eigenvalues are clamped instead of eigendecomposing the 9×9 block
+// (the tension-field form of the projection; a fifth of the cost, and the exact Hessian wherever the face is
+// in tension). The AD path and the abs projection project the 9×9 block.
 #pragma once
 
 #include "core/mesh.h"
@@ -39,7 +44,7 @@ class MembraneTerm : public EnergyTerm {
 
  private:
   double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
-                 Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
+                 bool clampStress, Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
 
   std::string name_ = "membrane";
   StencilTable table_;

@@ -32,6 +32,13 @@ nlohmann::json readJson(const fs::path& path) {
   return nlohmann::json::parse(text.str());
 }
 
+std::string fileBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 }  // namespace
 
 TEST_CASE("run: every example runs its first steps and writes its outputs") {
@@ -127,14 +134,51 @@ TEST_CASE("run: actors with different materials each get their own elastic terms
   CHECK(actors[0]["bounding_box"]["max"][0].get<double>() == Approx(1.0));
 }
 
+TEST_CASE("run: several shell actors write one frame file per actor, each a named part of the series") {
+  const std::string text = R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [
+      {"type": "shell", "name": "a", "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 2, "ny": 2},
+       "fixed": [{"select": {"group": "left"}}]},
+      {"type": "shell", "name": "b & \"<c>\"", "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 3, "ny": 2},
+       "worldFromLocalTransform": {"translation": [2, 0, 0]}, "fixed": [{"select": {"group": "left"}}]},
+      {"type": "plane", "name": "floor", "point": [0, 0, -5], "normal": [0, 0, 1]}
+    ],
+    "analysis": {"type": "static", "loadSteps": 1}
+  })";
+  const Scene scene = sceneFromJson(json::parse(text, "two.json"), ".");
+  RunOptions o;
+  o.outputDirectory = freshDirectory("two_frames").string();
+  const RunResult r = runScene(scene, o);
+  REQUIRE(r.lastFrame.size() == 2);
+  const fs::path frames = fs::path(o.outputDirectory) / "frames";
+  // The last frame (load step 1), per actor: its own vertices, faces and displacements.
+  const VtuFrame a = readVtu((frames / "frame_00001_a0.vtu").string());
+  const VtuFrame b = readVtu((frames / "frame_00001_a1.vtu").string());
+  CHECK(a.points.rows() == 9);
+  CHECK(a.triangles.rows() == 8);
+  CHECK(b.points.rows() == 12);
+  CHECK(b.triangles.rows() == 12);
+  CHECK(b.triangles.maxCoeff() == 11);  // indices local to the actor's file
+  CHECK(b.points.col(0).minCoeff() == Approx(2.0));
+  REQUIRE(b.pointData.count("displacement") == 1);
+  CHECK(b.pointData.at("displacement").values.size() == 36);
+  double sag = 0.0;
+  for (std::size_t k = 2; k < 36; k += 3) sag = std::min(sag, b.pointData.at("displacement").values[k]);
+  CHECK(sag < 0.0);  // gravity bends the second actor too
+  CHECK_FALSE(fs::exists(frames / "frame_00001.vtu"));
+  // The series names each block after its actor (escaped), and the volumes come last.
+  const std::string pvd = fileBytes(fs::path(o.outputDirectory) / "frames.pvd");
+  CHECK(pvd.find("part=\"0\" name=\"a\" file=\"frames/frame_00001_a0.vtu\"") != std::string::npos);
+  CHECK(pvd.find("part=\"1\" name=\"b &amp; &quot;&lt;c&gt;&quot;\" file=\"frames/frame_00001_a1.vtu\"") !=
+        std::string::npos);
+  CHECK(pvd.find("part=\"2\" name=\"volumes\" file=\"volumes.vtu\"") != std::string::npos);
+  // The picture shows both actors.
+  CHECK(fs::exists(fs::path(o.outputDirectory) / "final.png"));
+}
+
 namespace {
 
-std::string fileBytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 /// Every file under dir (relative path → bytes); summary.json without its wall time.
 std::map<std::string, std::string> outputFiles(const fs::path& dir) {

@@ -94,26 +94,44 @@ void RunOutput::writeFrame(const StepState& s) {
   const Eigen::VectorXd& x = *s.x;
   const Positions X = unflatten(x);
   if (scene_.outputs.vtu) {
-    VtuFrame frame;
-    frame.points = X;
-    frame.triangles = model_.world.F;
-    VtuFrame::Array& u = frame.pointData["displacement"];
-    u.components = 3;
-    u.values.resize(static_cast<std::size_t>(x.size()));
-    for (Eigen::Index k = 0; k < x.size(); ++k) u.values[static_cast<std::size_t>(k)] = x[k] - model_.world.V.data()[k];
-    if (s.velocity) {
-      VtuFrame::Array& v = frame.pointData["velocity"];
-      v.components = 3;
-      v.values.assign(s.velocity->data(), s.velocity->data() + s.velocity->size());
+    // One file for a single actor; with several, one per actor (a block each in ParaView).
+    const std::size_t numActors = model_.actors.size();
+    const bool perActor = numActors > 1;
+    const std::string base = frameName(frames_, "vtu");
+    std::string entries;
+    lastFrame_.clear();
+    for (std::size_t a = 0; a < (perActor ? numActors : 1); ++a) {
+      const int v0 = perActor ? model_.actors[a].firstVertex : 0;
+      const int nv = perActor ? model_.actors[a].numVertices : static_cast<int>(X.rows());
+      const int f0 = perActor ? model_.actors[a].firstFace : 0;
+      const int nf = perActor ? model_.actors[a].numFaces : static_cast<int>(model_.world.F.rows());
+      VtuFrame frame;
+      frame.points = X.middleRows(v0, nv);
+      frame.triangles = model_.world.F.middleRows(f0, nf).array() - v0;
+      VtuFrame::Array& u = frame.pointData["displacement"];
+      u.components = 3;
+      u.values.resize(3 * static_cast<std::size_t>(nv));
+      for (int k = 0; k < 3 * nv; ++k)
+        u.values[static_cast<std::size_t>(k)] = x[3 * v0 + k] - model_.world.V(v0 + k / 3, k % 3);
+      if (s.velocity) {
+        VtuFrame::Array& v = frame.pointData["velocity"];
+        v.components = 3;
+        v.values.assign(s.velocity->data() + 3 * v0, s.velocity->data() + 3 * (v0 + nv));
+      }
+      VtuFrame::Array& actor = frame.cellData["actor"];
+      if (perActor) {
+        actor.values.assign(static_cast<std::size_t>(nf), static_cast<double>(a));
+      } else {
+        for (std::size_t b = 0; b < numActors; ++b)
+          actor.values.insert(actor.values.end(), static_cast<std::size_t>(model_.actors[b].numFaces), static_cast<double>(b));
+      }
+      const std::string name = perActor ? base.substr(0, base.size() - 4) + "_a" + std::to_string(a) + ".vtu" : base;
+      lastFrame_.push_back((fs::path(directory_) / "frames" / name).string());
+      writeFileAtomically(lastFrame_.back(), [&](std::ostream& out) { writeVtu(out, frame); });
+      entries += PvdSeries::entry(s.time, "frames/" + name, static_cast<int>(a), perActor ? scene_.shells[a].name : "");
     }
-    VtuFrame::Array& actor = frame.cellData["actor"];
-    for (std::size_t a = 0; a < model_.actors.size(); ++a)
-      actor.values.insert(actor.values.end(), static_cast<std::size_t>(model_.actors[a].numFaces), static_cast<double>(a));
-    const std::string name = frameName(frames_, "vtu");
-    lastFrame_ = (fs::path(directory_) / "frames" / name).string();
-    writeFileAtomically(lastFrame_, [&](std::ostream& out) { writeVtu(out, frame); });
-    std::string entries = PvdSeries::entry(s.time, "frames/" + name, 0);
-    if (!volumesFile_.empty()) entries += PvdSeries::entry(s.time, "volumes.vtu", 1);
+    if (!volumesFile_.empty())
+      entries += PvdSeries::entry(s.time, "volumes.vtu", perActor ? static_cast<int>(numActors) : 1, perActor ? "volumes" : "");
     if (!pvd_.isOpen()) pvd_.create((fs::path(directory_) / "frames.pvd").string(), PvdSeries::head(), PvdSeries::tail());
     pvd_.append(entries);
   }
@@ -158,13 +176,19 @@ std::map<std::string, Eigen::Vector3d> RunOutput::probeDisplacements() const {
   return out;
 }
 
+nlohmann::json RunOutput::lastFrameRelative() const {
+  nlohmann::json files = nlohmann::json::array();
+  for (const std::string& f : lastFrame_) files.push_back(std::filesystem::relative(f, directory_).string());
+  return files;
+}
+
 nlohmann::json RunOutput::state() const {
   nlohmann::json rows = nlohmann::json::array();
   for (const ProbeRow& r : rows_) rows.push_back({{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}});
   return {{"frames", frames_},
           {"last_recorded_step", lastRecordedStep_},
           {"last_frame_step", lastFrameStep_},
-          {"last_frame", lastFrame_.empty() ? "" : std::filesystem::relative(lastFrame_, directory_).string()},
+          {"last_frame", lastFrameRelative()},
           {"rows", rows},
           {"flushed_rows", flushedRows_},
           {"flushed_row_changed", flushedRowChanged_},
@@ -177,8 +201,10 @@ void RunOutput::restore(const nlohmann::json& j) {
   frames_ = j.at("frames").get<int>();
   lastRecordedStep_ = j.at("last_recorded_step").get<int>();
   lastFrameStep_ = j.at("last_frame_step").get<int>();
-  const std::string lastFrame = j.at("last_frame").get<std::string>();
-  lastFrame_ = lastFrame.empty() ? "" : (fs::path(directory_) / lastFrame).string();
+  lastFrame_.clear();
+  const nlohmann::json& last = j.at("last_frame");
+  if (!last.is_array()) throw InputError("checkpoint: last_frame must be a list of files");
+  for (const nlohmann::json& f : last) lastFrame_.push_back((fs::path(directory_) / f.get<std::string>()).string());
   rows_.clear();
   for (const nlohmann::json& r : j.at("rows"))
     rows_.push_back({r.at("step").get<int>(), r.at("time").get<double>(), r.at("load_factor").get<double>(),

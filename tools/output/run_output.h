@@ -1,7 +1,10 @@
 // Everything a run writes into its output directory, each file atomically (frames.pvd and probes.csv grow by
 // appends that leave them complete: tools/output/append_file.h):
-//   frames/frame_NNNNN.vtu + frames.pvd   VTK XML frames and their time series (ParaView)
-//   volumes.vtu                           the rigid volume actors (part 1 of the series), when the scene has any
+//   frames/frame_NNNNN.vtu + frames.pvd   VTK XML frames and their time series (ParaView); with several shell
+//                                         actors one file per actor and frame, frames/frame_NNNNN_aK.vtu (K the
+//                                         actor's index), each a part of the series named after its actor, so
+//                                         ParaView shows one block per actor
+//   volumes.vtu                           the rigid volume actors (the series' last part), when the scene has any
 //   obj/frame_NNNNN.obj                   optional OBJ per frame
 //   probes.csv                            probe displacements per step
 //   summary.json                          the run's outcome (see RunSummary), with one entry per shell actor
@@ -53,8 +56,8 @@ class RunOutput {
   void finish(const RunSummary& summary);
 
   const std::string& directory() const { return directory_; }
-  /// The most recent frame file, or "" when none was written.
-  const std::string& lastFrame() const { return lastFrame_; }
+  /// The most recent frame's files (one per shell actor with several actors), or none when none was written.
+  const std::vector<std::string>& lastFrame() const { return lastFrame_; }
   /// The volume actors' file, or "" when the scene has none.
   const std::string& volumesFile() const { return volumesFile_; }
   int framesWritten() const { return frames_; }
@@ -71,6 +74,8 @@ class RunOutput {
   void writeFrame(const StepState& state);
   void writeProbes();
   std::string probeRows(std::size_t from) const;
+  /// lastFrame_ relative to the output directory, as a JSON list (for checkpoints).
+  nlohmann::json lastFrameRelative() const;
   /// One entry per shell actor: name, layer, vertex and face counts, and from the last recorded state the
   /// largest displacement from the reference, the largest speed (dynamics) and the bounding box.
   nlohmann::json actorSummaries() const;
@@ -82,7 +87,8 @@ class RunOutput {
   AppendOnlyFile pvd_, probesCsv_;
   std::size_t flushedRows_ = 0;      // rows_ already in probes.csv
   bool flushedRowChanged_ = false;  // the last flushed row was recorded again with other values
-  std::string lastFrame_, volumesFile_;
+  std::vector<std::string> lastFrame_;
+  std::string volumesFile_;
   int frames_ = 0;
   int lastRecordedStep_ = -1;
   int lastFrameStep_ = -1;

@@ -166,9 +166,30 @@ std::string PvdSeries::head() {
          "  <Collection>\n";
 }
 
-std::string PvdSeries::entry(double time, const std::string& file, int part) {
-  return "    <DataSet timestep=\"" + formatDouble(time) + "\" group=\"\" part=\"" + std::to_string(part) + "\" file=\"" +
-         file + "\"/>\n";
+namespace {
+
+/// Text as an XML attribute value: the five special characters escaped.
+std::string xmlAttribute(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string PvdSeries::entry(double time, const std::string& file, int part, const std::string& name) {
+  return "    <DataSet timestep=\"" + formatDouble(time) + "\" group=\"\" part=\"" + std::to_string(part) + "\"" +
+         (name.empty() ? std::string() : " name=\"" + xmlAttribute(name) + "\"") + " file=\"" + xmlAttribute(file) +
+         "\"/>\n";
 }
 
 std::string PvdSeries::tail() { return "  </Collection>\n</VTKFile>\n"; }
@@ -176,7 +197,7 @@ std::string PvdSeries::tail() { return "  </Collection>\n</VTKFile>\n"; }
 void PvdSeries::write(const std::string& path) const {
   writeFileAtomically(path, [&](std::ostream& out) {
     out << head();
-    for (const Entry& e : entries_) out << entry(e.time, e.file, e.part);
+    for (const Entry& e : entries_) out << entry(e.time, e.file, e.part, e.name);
     out << tail();
   });
 }

@@ -39,7 +39,10 @@ VtuFrame readVtu(const std::string& path);
 /// A .pvd collection: one entry per (time, part, file). File names are relative to the .pvd's directory.
 class PvdSeries {
  public:
-  void add(double time, const std::string& file, int part = 0) { entries_.push_back({time, part, file}); }
+  /// name: the part's block name in ParaView (any text; escaped), or "" for none.
+  void add(double time, const std::string& file, int part = 0, const std::string& name = "") {
+    entries_.push_back({time, part, file, name});
+  }
   /// Rewrites the whole collection atomically (so it is valid after every frame).
   void write(const std::string& path) const;
   std::size_t size() const { return entries_.size(); }
@@ -47,7 +50,7 @@ class PvdSeries {
   /// The file's parts, for writers that append entries one by one (tools/output/append_file.h): the text before
   /// the first entry, one entry, and the closing text after the last.
   static std::string head();
-  static std::string entry(double time, const std::string& file, int part = 0);
+  static std::string entry(double time, const std::string& file, int part = 0, const std::string& name = "");
   static std::string tail();
 
  private:
@@ -55,6 +58,7 @@ class PvdSeries {
     double time;
     int part;
     std::string file;
+    std::string name;
   };
   std::vector<Entry> entries_;
 };

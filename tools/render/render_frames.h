@@ -9,8 +9,9 @@
 
 namespace jetshell {
 
-/// Renders the .vtu files into one PNG. The first file is coloured by the magnitude of its point array
-/// `colorBy` ("" or "none": flat two-sided colours); the others (e.g. volumes.vtu) are drawn in grey.
+/// Renders the .vtu files into one PNG. Every file with the point array `colorBy` (the first one must have it;
+/// each shell actor's frame does) is coloured by its magnitude on one shared scale ("" or "none": flat
+/// two-sided colours); the others (e.g. volumes.vtu) are drawn in grey.
 /// Returns a one-line description of the colour scale ("colour: |displacement| from 0 to 0.123 m") or "".
 /// Throws InputError for unreadable files or an unknown array name (listing the known ones).
 std::string renderVtuFiles(const std::vector<std::string>& vtuFiles, const std::string& colorBy,

@@ -398,7 +398,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     try {
       RenderOptions r;
       r.up = upAxis(scene);
-      std::vector<std::string> files = {result.lastFrame};
+      std::vector<std::string> files = result.lastFrame;
       if (!output.volumesFile().empty()) files.push_back(output.volumesFile());
       result.finalPng = (fs::path(options.outputDirectory) / "final.png").string();
       renderVtuFiles(files, "displacement", r, result.finalPng);

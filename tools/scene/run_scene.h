@@ -32,7 +32,7 @@ struct RunResult {
   RunSummary summary;
   bool interrupted = false;
   bool stepLimitReached = false;
-  std::string lastFrame;   // path of the last .vtu written, or ""
+  std::vector<std::string> lastFrame;  // the last frame's .vtu files (one per shell actor when several), or none
   std::string finalPng;    // or "" when not drawn
   std::string probesPng;   // or ""
   std::vector<std::string> notes;     // unsupported features, picture problems
