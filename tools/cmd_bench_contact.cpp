@@ -67,17 +67,20 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
   const auto start = std::chrono::steady_clock::now();
   const double cpuStart = cpuSeconds();
-  int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0;
+  int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0, cg = 0;
+  double factorSeconds = 0.0;
   double linear = 0.0;
   for (int s = 0; s < o.steps; ++s) {
     const StepReport r = solver.step();
     iterations += r.newtonIterations;
     linear += r.factorizationSeconds + r.solveSeconds;
+    factorSeconds += r.factorizationSeconds;
     for (const SolverSummary& solve : r.solves) {
       analyses += solve.symbolicAnalyses;
       factorizations += solve.numericFactorizations;
       exactSteps += solve.exactHessianSteps;
       fallbacks += solve.projectionFallbacks;
+      for (const IterationRecord& it : solve.trace) cg += it.cgIterations;
     }
     if (!r.success) {
       ++failed;
@@ -103,6 +106,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("pattern: %d re-declarations, %d new patterns; linear solver: %d symbolic analyses, %d numeric "
               "factorizations\n",
               objective.patternRebuilds(), objective.patternGrowths(), analyses, factorizations);
+  std::printf("linear solve: %.2f s factorization (or preconditioner), %.2f s solves, %d CG iterations\n",
+              factorSeconds, linear - factorSeconds, cg);
   std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one\n", exactSteps,
               fallbacks);
   std::printf("time split: broad phase %.1f%% (within contact), contact terms %.1f%%, other terms %.1f%%, "
@@ -124,6 +129,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
           {"symbolic_analyses", analyses},
           {"numeric_factorizations", factorizations},
           {"unprojected_hessian_steps", exactSteps},
+          {"cg_iterations", cg},
+          {"factorization_seconds", factorSeconds},
           {"projection_fallbacks", fallbacks},
           {"seconds", {{"broad_phase", broad},
                        {"contact_terms", contactTerms},
