@@ -1,6 +1,7 @@
 #include "solvers/statics.h"
 
 #include "core/mesh.h"
+#include "solvers/path_following.h"
 
 #include <algorithm>
 #include <cmath>
@@ -42,6 +43,22 @@ Eigen::VectorXd extrapolateEquilibria(const std::vector<std::pair<double, Eigen:
   return p;
 }
 
+std::vector<double> pathStops(double start, double target, const std::vector<double>& levels) {
+  const double direction = target >= start ? 1.0 : -1.0;
+  const double eps = 1e-12 * std::max({1.0, std::abs(target), std::abs(start)});
+  std::vector<double> stops;
+  for (double l : levels) {
+    check(std::isfinite(l) && direction * (l - start) > eps && direction * (target - l) >= -eps, "level", l,
+          "must lie after startLoadFactor and not beyond targetLoadFactor");
+    stops.push_back(l);
+  }
+  stops.push_back(target);
+  std::sort(stops.begin(), stops.end(), [&](double a, double b) { return direction * a < direction * b; });
+  stops.erase(std::unique(stops.begin(), stops.end(), [&](double a, double b) { return std::abs(a - b) <= eps; }),
+              stops.end());
+  return stops;
+}
+
 NewtonOptions staticNewtonOptions() {
   NewtonOptions o;
   o.projection = PsdProjection::None;
@@ -60,20 +77,10 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   check(o.levels.size() <= 1000000, "levels (count)", static_cast<double>(o.levels.size()), "must be <= 1e6");
   if (x.size() != objective.numDofs()) throw InputError("load stepping: x has the wrong size");
 
+  if (o.path.control != PathControl::Load) return followPath(objective, loads, x, o, callback);
   const double start = o.startLoadFactor, target = o.targetLoadFactor;
   const double direction = target >= start ? 1.0 : -1.0;
-  const double eps = 1e-12 * std::max({1.0, std::abs(target), std::abs(start)});
-  // The stops, in path order, ending with the target.
-  std::vector<double> stops;
-  for (double l : o.levels) {
-    check(std::isfinite(l) && direction * (l - start) > eps && direction * (target - l) >= -eps, "level", l,
-          "must lie after startLoadFactor and not beyond targetLoadFactor");
-    stops.push_back(l);
-  }
-  stops.push_back(target);
-  std::sort(stops.begin(), stops.end(), [&](double a, double b) { return direction * a < direction * b; });
-  stops.erase(std::unique(stops.begin(), stops.end(), [&](double a, double b) { return std::abs(a - b) <= eps; }),
-              stops.end());
+  const std::vector<double> stops = pathStops(start, target, o.levels);
 
   StaticsResult result;
   result.activeTerms = objective.activeTermNames();
@@ -122,7 +129,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     if (static_cast<int>(history.size()) > o.predictorOrder + 1) history.pop_back();
     LoadStepResult step;
     step.step = static_cast<int>(result.steps.size());
-    step.loadFactor = lambda;
+    step.loadFactor = step.pathParameter = lambda;
     step.atLevel = landing;
     if (landing) ++nextStop;
     step.x = x;

@@ -12,10 +12,12 @@
 // that fails (iteration cap, line-search or linear-solver failure, non-finite values) is cut: x returns to the
 // last equilibrium, the increment halves and it is retried; after each step the increment is scaled towards easyIterations
 // Newton iterations per step. Load control cannot pass a limit point: the increments are cut down to minIncrement and
-// the run stops there, keeping the last equilibrium; solvers/arc_length.h is the way across.
+// the run stops there, keeping the last equilibrium. Arc-length and displacement control (options.path,
+// solvers/path_control.h; the loop in solvers/path_following.h) pass limit points and report them.
 #pragma once
 
 #include "energies/shell/shell_terms.h"
+#include "solvers/path_control.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
 #include "solvers/solver_summary.h"
@@ -54,8 +56,15 @@ struct LoadSteppingOptions {
   double growth = 1.5;            // largest factor between successive increments
   int easyIterations = 6;         // the Newton iterations an increment aims at: after a step that took k,
                                   // Δλ ×= √(easyIterations / k), clamped to [½, growth]
-  int predictorOrder = 2;         // 0: start from the last equilibrium; k: the polynomial through k + 1 of them
+  int predictorOrder = 3;         // 0: start from the last equilibrium; k: the polynomial through k + 1 of them
+                                  // (Newton iterations over the validation set, orders 2 -> 3: slit plate 256 -> 187,
+                                  // page ring 274 -> 208, end shear 93 -> 66, end moment 165 -> 151; VALIDATION.md)
   NewtonOptions newton;
+  /// The control (solvers/path_control.h). Load: the above as stated. ArcLength: levels and the target are
+  /// load factors, landed on at every crossing, the path ends at the target; the increments are load-factor
+  /// increments turned into arc lengths by the start's tangent. Displacement: levels and increments are
+  /// fractions τ ∈ (0, 1] of path.displacement, the path ends at τ = 1 (targetLoadFactor is not used).
+  PathFollowingOptions path;
 };
 
 struct LoadStepResult {
@@ -65,6 +74,8 @@ struct LoadStepResult {
   Eigen::VectorXd x;        // the equilibrium (3N)
   SolverSummary summary;    // the Newton solve that reached it
   int cuts = 0;             // failed attempts before this step was accepted
+  double pathParameter = 0.0;  // arc length from the start (ArcLength), τ (Displacement) or λ (Load)
+  int negativePivots = -1;     // negative eigenvalues of the tangent stiffness there (path control; -1: unknown)
 };
 
 struct StaticsResult {
@@ -76,6 +87,7 @@ struct StaticsResult {
   int newtonIterations = 0;
   std::vector<SolverSummary> failedSolves;  // the attempts that were cut (without their traces)
   std::vector<std::string> activeTerms;
+  std::vector<LimitPoint> limitPoints;  // where λ turned (arc-length and displacement control), in path order
   std::string message;
 };
 
@@ -92,6 +104,10 @@ StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::V
 /// The same on a ShellSystem built for AnalysisKind::Statics (its nodal forces plus `extra` hooks).
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
                            const LoadStepCallback& callback = {}, const std::vector<LoadFactorHooks::Hook>& extra = {});
+
+/// The stops of a path in path order, ending with the target: the levels (validated: each must lie after
+/// start and not beyond target), sorted, without repeats. Throws InputError naming the bad level.
+std::vector<double> pathStops(double start, double target, const std::vector<double>& levels);
 
 /// The start of a Newton solve at λ: the Lagrange polynomial through the given (λ, x) pairs (newest first),
 /// extrapolated to λ; the newest x when there is only one.

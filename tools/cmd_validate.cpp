@@ -8,9 +8,11 @@
 #include "tools/validation/validation_plots.h"
 #include "validation/benchmark.h"
 #include "validation/report.h"
+#include "validation/snap_through.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -40,11 +42,47 @@ struct ValidateArgs {
   std::string projection = "none";
   double maxIncrement = 1.0;
   double initialIncrement = 0.005;
-  int predictor = 2;
+  int predictor = BenchmarkRunOptions{}.predictorOrder;
   double residualTolerance = NewtonOptions{}.residualTolerance;
   double maxError = 0.0;
   bool log = false;
+  // The snap-through benchmark (validation/snap_through.h).
+  double thickness = RoofOptions{}.thickness;
+  double load = RoofOptions{}.load;
+  double maxDeflection = RoofOptions{}.maxDeflection;
+  double pathIncrement = RoofOptions{}.increment;
+  double pathMaxIncrement = RoofOptions{}.maxIncrement;
+  double loadScaling = RoofOptions{}.loadScaling;
 };
+
+constexpr const char* kRoof = "hinged-cylindrical-roof";
+
+Resolution parseMesh(const std::string& s);
+
+/// The snap-through benchmark: arc length against displacement control on one mesh. Fails (exit 1) when arc
+/// length does not pass both limit points, or with --max-error when the two controls' limit loads differ by more.
+bool runRoof(const ValidateArgs& a, nlohmann::json& out) {
+  RoofOptions o;
+  if (!a.mesh.empty()) o.resolution = parseMesh(a.mesh);
+  o.thickness = a.thickness;
+  o.load = a.load;
+  o.maxDeflection = a.maxDeflection;
+  o.increment = a.pathIncrement;
+  o.maxIncrement = std::max(a.pathIncrement, a.pathMaxIncrement);
+  o.loadScaling = a.loadScaling;
+  o.residualTolerance = a.residualTolerance;
+  if (a.log) o.log = &std::cerr;
+  const RoofResult r = runHingedRoof(o);
+  std::cout << kRoof << ": " << formatRoof(r) << "\n";
+  out.push_back(toJson(r));
+  bool ok = r.bothLimitsPassed && r.displacement.completed;
+  if (a.maxError > 0.0 && !(r.limitLoadDifference <= a.maxError)) {
+    std::cout << kRoof << ": FAILED: limit loads differ by " << 100.0 * r.limitLoadDifference << "% > --max-error "
+              << 100.0 * a.maxError << "%\n\n";
+    ok = false;
+  }
+  return ok;
+}
 
 /// "N1xN2": two counts from 1 to 100000 whose grid stays within the vertex limit (no silent wrap-around).
 Resolution parseMesh(const std::string& s) {
@@ -108,13 +146,22 @@ int runValidate(const ValidateArgs& a) {
     for (const Benchmark& b : allBenchmarks())
       std::cout << b.name << ": " << b.title << " (default mesh " << b.defaultResolution.n1 << "x"
                 << b.defaultResolution.n2 << " " << toString(b.defaultResolution.grading) << ", " << b.resolutionMeaning << ")\n";
+    std::cout << kRoof << ": Hinged cylindrical roof snap-through (Sze et al. 2004), arc length against displacement "
+              << "control (default mesh " << RoofOptions{}.resolution.n1 << "x" << RoofOptions{}.resolution.n2
+              << ", quads across the arc x along the axis, both even)\n";
     return kOk;
   }
   std::vector<const Benchmark*> selected;
   if (a.all)
     for (const Benchmark& b : allBenchmarks()) selected.push_back(&b);
-  for (const std::string& n : a.names) selected.push_back(&findBenchmark(n));
-  if (selected.empty()) throw InputError("validate: name a benchmark, or --all, or --list");
+  bool roof = a.all;
+  for (const std::string& n : a.names) {
+    if (n == kRoof)
+      roof = true;
+    else
+      selected.push_back(&findBenchmark(n));
+  }
+  if (selected.empty() && !roof) throw InputError("validate: name a benchmark, or --all, or --list");
   const BenchmarkRunOptions options = runOptions(a);
   if (!a.noPlot) std::filesystem::create_directories(a.plots);
 
@@ -142,6 +189,7 @@ int runValidate(const ValidateArgs& a) {
     }
     out.push_back(std::move(j));
   }
+  if (roof && !runRoof(a, out)) ok = false;
   if (!a.json.empty()) {
     writeFileAtomically(a.json, out.dump(2) + "\n");
   }
@@ -171,13 +219,29 @@ const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--initial-increment", a->initialIncrement, "The first load-factor increment")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--predictor", a->predictor, "Order of the extrapolated start of each solve (0: last equilibrium)")
-      ->check(CLI::Range(0, 3));
+      ->check(CLI::Range(0, 5));
   cmd->add_option("--residual-tolerance", a->residualTolerance,
                   "Newton's residual tolerance (x the largest applied nodal force)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--max-error", a->maxError, "Fail (exit 1) when a benchmark's max relative error exceeds this")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--log", a->log, "One line per Newton solve on stderr");
+  cmd->add_option("--thickness", a->thickness, "hinged-cylindrical-roof: shell thickness (12.7 or 6.35 in Sze et al.)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--load", a->load, "hinged-cylindrical-roof: the point load P at lambda = 1 [N]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-deflection", a->maxDeflection,
+                  "hinged-cylindrical-roof: the load point's deflection that ends displacement control [mm]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--path-increment", a->pathIncrement,
+                  "hinged-cylindrical-roof: first and largest increment (lambda for arc length, a fraction of "
+                  "--max-deflection for displacement control)")
+      ->check(CLI::Range(1e-4, 1.0));
+  cmd->add_option("--path-max-increment", a->pathMaxIncrement,
+                  "hinged-cylindrical-roof: largest increment, in the units of --path-increment")
+      ->check(CLI::Range(1e-4, 1.0));
+  cmd->add_option("--load-scaling", a->loadScaling, "hinged-cylindrical-roof: arc length's psi (0 cylindrical, 1 spherical)")
+      ->check(CLI::Range(0.0, 1e6));
   cmd->callback([a, &exitCode] { exitCode = runValidate(*a); });
 });
 

@@ -115,7 +115,7 @@ struct BenchmarkRunOptions {
   double initialIncrement = 0.005;  // the first increment: from the flat state the linear response to the full
                                    // first level overshoots by far (plate: 6 failed 50-iteration attempts)
   double minIncrement = 1e-4;
-  int predictorOrder = 2;        // start each Newton solve from the polynomial through this many + 1 past
+  int predictorOrder = 3;        // start each Newton solve from the polynomial through this many + 1 past
                                  // equilibria (0: from the last equilibrium)
   NewtonOptions newton = benchmarkNewtonOptions();  // tolerances
   double relaxationTimeStep = 1.0 / 30.0;
@@ -149,6 +149,11 @@ struct BenchmarkResult {
   double maxRelError = 0.0;    // over all rows and quantities
   double finalRelError = 0.0;  // over the quantities at λ = 1
 };
+
+/// The case's boundary rules on the system: the bending term's mirrored_clamp edge rule on the clamped edges
+/// (with ClampKind::Mirrored), and options.freeRule on every other boundary edge (validation/boundary_rule_term.h;
+/// on an edge whose nodes are fixed but not clamped, the moment-free rule is a hinge).
+void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const BenchmarkRunOptions& options);
 
 /// Runs one benchmark: builds its case, solves every tabulated level (or λ = 1 only) and compares.
 BenchmarkResult runBenchmark(const Benchmark& benchmark, const BenchmarkRunOptions& options);

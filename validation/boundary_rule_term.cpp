@@ -39,7 +39,7 @@ std::shared_ptr<BoundaryRuleTerm> makeBoundaryRuleTerm(const TriMesh& mesh, cons
                                                        const BoundaryRules& rules) {
   auto elements = std::make_shared<std::vector<BoundaryRuleEnergy::Element>>();
   StencilTable table;
-  table.width = 6;
+  table.width = BoundaryRuleEnergy::kVertices;
   auto marked = [&](int v) { return v < static_cast<int>(clampedVertices.size()) && clampedVertices[v]; };
   const double size = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
   auto onPlane = [&](int v, const BoundaryRules::Plane& p) {
@@ -70,6 +70,11 @@ std::shared_ptr<BoundaryRuleTerm> makeBoundaryRuleTerm(const TriMesh& mesh, cons
       any = any || el.rule[i] != el.builtIn[i];
     }
     if (!any) continue;
+    el.minimizedOnly = true;
+    for (int i = 0; i < 3; ++i)
+      if (el.boundary[i] && !((el.rule[i] == BoundaryRule::SecondOrderFree || el.rule[i] == BoundaryRule::PageFree) &&
+                              el.builtIn[i] == BoundaryRule::PageFree))
+        el.minimizedOnly = false;
     el.area = ref.area[f];
     for (int k = 0; k < 3; ++k) {
       el.B[k] = ref.secondFundamentalForm[f][k];
@@ -80,9 +85,19 @@ std::shared_ptr<BoundaryRuleTerm> makeBoundaryRuleTerm(const TriMesh& mesh, cons
                                   .cross(Eigen::Vector3d(mesh.V.row(mesh.F(f, 2))) - x0)
                                   .normalized();
     for (int k = 0; k < 3; ++k) el.reference[k] = r[k];
-    double X[18] = {};
-    for (int k = 0; k < 6; ++k) {
-      const int v = topo.bendingStencil(f, k);
+    // The face's vertices, then the interior edges' opposite vertices (bendingStencil 3 + i), packed.
+    int ids[BoundaryRuleEnergy::kVertices] = {topo.bendingStencil(f, 0), topo.bendingStencil(f, 1),
+                                              topo.bendingStencil(f, 2), -1, -1};
+    int used = 0;
+    for (int i = 0; i < 3; ++i) {
+      el.slot[i] = -1;
+      if (el.boundary[i]) continue;
+      el.slot[i] = used;
+      ids[3 + used++] = topo.bendingStencil(f, 3 + i);
+    }
+    double X[3 * BoundaryRuleEnergy::kVertices] = {};
+    for (int k = 0; k < BoundaryRuleEnergy::kVertices; ++k) {
+      const int v = ids[k];
       table.ids.push_back(v);
       for (int c = 0; c < 3 && v >= 0; ++c) X[3 * k + c] = mesh.V(v, c);
     }

@@ -44,6 +44,8 @@ void compare(const Benchmark& b, int row, const std::vector<double>& computed, B
   r.rows.push_back(std::move(out));
 }
 
+}  // namespace
+
 /// The boundary rules: the bending term's mirrored_clamp edge rule on the clamped edges, and the moment-free
 /// free edge (validation/boundary_rule_term.h) on the free ones.
 void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const BenchmarkRunOptions& o) {
@@ -63,7 +65,6 @@ void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const Benchma
     system.objective().addTerm(term);
 }
 
-}  // namespace
 
 NewtonOptions benchmarkNewtonOptions() { return staticNewtonOptions(); }
 

@@ -233,3 +233,45 @@ TEST_CASE("newton: exact-Hessian-first falls back to the projected Hessian where
   CHECK(s.exactHessianSteps > 0);  // once the iterates leave the concave part, the exact Hessian is used
   CHECK((x.cwiseAbs().array() - 1.0).abs().maxCoeff() < 1e-6);
 }
+
+TEST_CASE("objective: a projection limited to small blocks projects the membrane's 9-dof blocks and leaves the "
+          "bending's 18-dof blocks as they are") {
+  ShellSystem system(testing::cantileverPlate(6, 2, 0.01), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  for (int v = 0; v < system.mesh().numVertices(); ++v) {
+    x[3 * v] *= 0.9;  // compressed, so membrane blocks are indefinite
+    x[3 * v + 2] += 0.05 * std::sin(4.0 * system.mesh().V(v, 0)) * system.mesh().V(v, 1);
+  }
+  // A fresh objective of the two elastic terms, as a user builds one (no prescribed dofs, no contact).
+  Objective obj(system.mesh().numVertices());
+  obj.addTerm(system.membrane);
+  obj.addTerm(system.bending);
+  auto dense = [&](const EvalOptions& o) {
+    Eigen::VectorXd g;
+    obj.evaluate(x, &g, true, o);
+    const Eigen::MatrixXd U(obj.assembler().matrix());
+    Eigen::MatrixXd full = U + U.transpose();
+    full.diagonal() -= U.diagonal();
+    return full;
+  };
+  EvalOptions none, all, small;
+  all.projection = small.projection = PsdProjection::Clamp;
+  small.projectionMaxBlockDofs = 12;
+  const Eigen::MatrixXd H = dense(none), Hall = dense(all), Hsmall = dense(small);
+  // The membrane alone, projected and not: the only difference the limited projection may make.
+  auto membraneOnly = [&](const EvalOptions& o) {
+    HessianAssembler a;
+    const int slot = a.addStencils(system.membrane->stencils());
+    a.finalize(system.mesh().numVertices());
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+    system.membrane->evaluate(x, {&g, &a, slot}, o);
+    const Eigen::MatrixXd U(a.matrix());
+    Eigen::MatrixXd full = U + U.transpose();
+    full.diagonal() -= U.diagonal();
+    return full;
+  };
+  const Eigen::MatrixXd membraneChange = membraneOnly(all) - membraneOnly(none);
+  REQUIRE(membraneChange.norm() > 1e-6 * H.norm());         // the membrane blocks were indefinite
+  REQUIRE((Hall - H - membraneChange).norm() > 1e-6 * H.norm());  // and so were some bending blocks
+  CHECK((Hsmall - H - membraneChange).norm() <= 1e-10 * H.norm());
+}

@@ -13,6 +13,7 @@
 #include "tools/scene/safeguard_report.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_edge_rules.h"
+#include "tools/scene/scene_path_control.h"
 #include "tools/scene/scene_problem.h"
 #include "tools/scene/support_check.h"
 
@@ -190,6 +191,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     o.initialIncrement = 0.25 * o.maxIncrement;
     for (int k = 1; k < scene.analysis.loadSteps; ++k) o.levels.push_back(static_cast<double>(k) / scene.analysis.loadSteps);
     o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations, true);
+    setPathControl(scene.analysis.pathControl, model, system, o.path);
     int level = 0;  // output frames: the requested levels; steps between them (after cuts) are logged only
     const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
       const int step = s.step + 1;
@@ -215,6 +217,17 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     if (!r.steps.empty()) x = r.steps.back().x;
     if (!r.steps.empty()) recordResidualClaim(summary.extra, r.steps.back().summary);
     summary.extra["final_load_factor_reached"] = r.loadFactor;
+    summary.extra["path_control"] = scene.analysis.pathControl.type;
+    if (o.path.control != PathControl::Load) {
+      nlohmann::json limits = nlohmann::json::array();
+      for (const LimitPoint& l : r.limitPoints) {
+        limits.push_back({{"load_step", l.step + 1}, {"load_factor", l.loadFactor},
+                          {"kind", l.maximum ? "maximum" : "minimum"}});
+        progress.log(std::string("limit point: the load factor ") + (l.maximum ? "turns down" : "turns back up") +
+                     " at lambda = " + format("%.6g", l.loadFactor) + " (load step " + std::to_string(l.step + 1) + ")");
+      }
+      summary.extra["limit_points"] = limits;
+    }
     summary.extra["load_step_cuts"] = r.totalCuts;
     for (const SolverSummary& f : r.failedSolves) safeguards.add(f, false);
     for (const LoadStepResult& step : r.steps) safeguards.add(step.summary, true);

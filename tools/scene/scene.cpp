@@ -4,6 +4,7 @@
 
 #include "core/input_limits.h"
 
+#include <cmath>
 #include <cstdint>
 
 #include <set>
@@ -116,6 +117,21 @@ void validate(const Scene& scene) {
   const AnalysisSettings& a = scene.analysis;
   if (a.type == AnalysisType::Static) check::atLeast(a.loadSteps, 1, "/analysis/loadSteps");
   if (a.type == AnalysisType::Static) check::atMost(a.loadSteps, limits.maxSteps, "/analysis/loadSteps");
+  if (a.type == AnalysisType::Static) {
+    const PathControlSettings& c = a.pathControl;
+    requireOneOf(c.type, {"load", "arcLength", "displacement"}, "/analysis/pathControl/type");
+    check::atLeast(c.maxSteps, 1, "/analysis/pathControl/maxSteps");
+    check::atMost(c.maxSteps, limits.maxSteps, "/analysis/pathControl/maxSteps");
+    check::nonNegative(c.loadScaling, "/analysis/pathControl/loadScaling");
+    if (c.type == "displacement") {
+      if (!probeNames.count(c.probe))
+        throw InputError("/analysis/pathControl/probe = \"" + c.probe + "\": no probe has this name");
+      if (c.component < 0 || c.component > 2)
+        check::fail("/analysis/pathControl/component", c.component, "must be 0, 1 or 2 (x, y, z)");
+      if (!std::isfinite(c.displacement) || c.displacement == 0.0)
+        check::fail("/analysis/pathControl/displacement", c.displacement, "must be finite and non-zero");
+    }
+  }
   if (a.type != AnalysisType::Static) {
     check::positive(a.timeStep, "/analysis/timeStep");
     check::nonNegative(a.loadRampTime, "/analysis/loadRampTime");

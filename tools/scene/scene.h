@@ -63,9 +63,20 @@ struct Probe {
 enum class AnalysisType { Static, Dynamic, DynamicRelaxation };
 enum class Integrator { BackwardEuler, BDF2 };
 
+/// Static analyses: how the path is followed (solvers/path_control.h; SCENES.md "Path following").
+struct PathControlSettings {
+  std::string type = "load";  // load | arcLength | displacement
+  int maxSteps = 1000;        // arcLength, displacement: path points before the run gives up
+  double loadScaling = 0.0;   // arcLength: ψ (0 cylindrical, 1 spherical)
+  std::string probe;          // displacement: the probe whose vertex is driven
+  int component = 2;          // displacement: 0, 1, 2 for x, y, z
+  double displacement = 0.0;  // displacement: that component's displacement at the last level [m]
+};
+
 struct AnalysisSettings {
   AnalysisType type = AnalysisType::Static;
-  int loadSteps = 10;                // static: λ = k / loadSteps, k = 1..loadSteps
+  int loadSteps = 10;                // static: λ = k / loadSteps, k = 1..loadSteps (displacement control: τ)
+  PathControlSettings pathControl;   // static
   double timeStep = 1.0 / 60.0;      // s, dynamic and dynamic relaxation
   double duration = 1.0;             // s, dynamic
   Integrator integrator = Integrator::BackwardEuler;

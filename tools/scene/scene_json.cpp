@@ -415,6 +415,34 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
   at(v.pointer(), [&] { scene.addVolumeActor(std::move(p)); });
 }
 
+PathControlSettings readPathControl(const Value& v, int maxSteps) {
+  if (!v.isObject()) v.typeError("an object (the path control)");
+  PathControlSettings c;
+  c.type = Object(v).choice("type", {"load", "arcLength", "displacement"}, "load");
+  if (c.type == "load") {
+    v.object({"type"}, "a load path control");
+    return c;
+  }
+  if (c.type == "arcLength") {
+    const Object o = v.object({"type", "maxSteps", "loadScaling"}, "an arcLength path control");
+    c.maxSteps = o.integer("maxSteps", c.maxSteps, 1, maxSteps);
+    c.loadScaling = o.number("loadScaling", c.loadScaling);
+    check::nonNegative(c.loadScaling, o.member("loadScaling"));
+    return c;
+  }
+  const Object o = v.object({"type", "maxSteps", "probe", "component", "displacement"}, "a displacement path control");
+  c.maxSteps = o.integer("maxSteps", c.maxSteps, 1, maxSteps);
+  c.probe = o.string("probe", "");
+  if (c.probe.empty()) throw InputError(o.member("probe") + ": missing (required: the name of the probe to drive)");
+  const std::string component = o.choice("component", {"x", "y", "z"}, "z");
+  c.component = component[0] - 'x';
+  if (!o.has("displacement")) throw InputError(o.member("displacement") + ": missing (required)");
+  c.displacement = o.number("displacement", 0.0);
+  if (!std::isfinite(c.displacement) || c.displacement == 0.0)
+    check::fail(o.member("displacement"), c.displacement, "must be finite and non-zero");
+  return c;
+}
+
 AnalysisSettings readAnalysis(const Value& v) {
   if (!v.isObject()) v.typeError("an object (the analysis)");
   const std::string type = Object(v).choice("type", {"static", "dynamic", "dynamicRelaxation"}, "");
@@ -422,9 +450,10 @@ AnalysisSettings readAnalysis(const Value& v) {
   AnalysisSettings a;
   const int maxSteps = static_cast<int>(inputLimits().maxSteps);
   if (type == "static") {
-    const Object o = v.object({"type", "loadSteps"}, "a static analysis");
+    const Object o = v.object({"type", "loadSteps", "pathControl"}, "a static analysis");
     a.type = AnalysisType::Static;
     a.loadSteps = o.integer("loadSteps", a.loadSteps, 1, maxSteps);
+    if (const auto p = o.find("pathControl")) a.pathControl = readPathControl(*p, maxSteps);
     return a;
   }
   const bool dynamic = type == "dynamic";

@@ -1,0 +1,37 @@
+#include "solvers/indefinite_factor.h"
+
+#include <cmath>
+
+namespace jetshell {
+
+bool IndefiniteFactor::factorize(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion) {
+  if (!analyzed_ || patternVersion != version_) {
+    ldlt_.analyzePattern(upper);
+    version_ = patternVersion;
+    analyzed_ = true;
+    ++analyses_;
+  }
+  ldlt_.factorize(upper);
+  if (ldlt_.info() != Eigen::Success) {
+    message_ = "LDLT: zero pivot (the tangent stiffness is singular)";
+    return false;
+  }
+  const Eigen::VectorXd& D = ldlt_.vectorD();
+  int negative = 0;
+  for (Eigen::Index i = 0; i < D.size(); ++i) {
+    if (!std::isfinite(D[i]) || D[i] == 0.0) {
+      message_ = "LDLT: zero or non-finite pivot";
+      return false;
+    }
+    if (D[i] < 0.0) ++negative;
+  }
+  negative_ = negative;
+  return true;
+}
+
+bool IndefiniteFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  x = ldlt_.solve(b);
+  return x.allFinite();
+}
+
+}  // namespace jetshell

@@ -1,0 +1,42 @@
+// A sparse LDLᵀ factor of a symmetric matrix that may be indefinite, with its inertia: the linear solve of
+// path following (solvers/path_following.h), where the tangent stiffness between two limit points has a
+// negative eigenvalue and the Cholesky solvers (solvers/linear_solver.h) would shift it away.
+//
+// Inputs: the matrix's upper triangle (compressed CSC, the HessianAssembler's matrix) and its pattern version.
+// Outputs: the factor (analysed once per pattern version, AMD ordering, no pivoting: Eigen's SimplicialLDLT),
+// solves with it, and the number of negative pivots, which by Sylvester's law of inertia is the number of
+// negative eigenvalues (fixed dofs are identity rows, so they count none): 0 on a stable equilibrium, 1 on the
+// unstable branch of a snap-through. A zero or non-finite pivot is a failure, never a solution.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+
+#include <cstdint>
+#include <string>
+
+namespace jetshell {
+
+class IndefiniteFactor {
+ public:
+  /// Factors upper (its symmetric matrix); false on a zero or non-finite pivot (message() says which).
+  bool factorize(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion);
+  /// x = A⁻¹ b with the last successful factor; false when the result is not finite.
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  /// Negative pivots of the last successful factor: the count of the matrix's negative eigenvalues.
+  int negativePivots() const { return negative_; }
+  /// The symbolic analyses done (one per pattern version).
+  int analyses() const { return analyses_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::AMDOrdering<int>> ldlt_;
+  std::uint64_t version_ = 0;
+  bool analyzed_ = false;
+  int analyses_ = 0;
+  int negative_ = 0;
+  std::string message_;
+};
+
+}  // namespace jetshell

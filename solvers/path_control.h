@@ -1,0 +1,37 @@
+// How a static path is followed (solvers/statics.h): the control that decides each increment, and what the path
+// reports where the load factor turns.
+//
+//  - Load: λ is prescribed level by level (Newton minimizes the energy at each λ). It cannot pass a limit point.
+//  - ArcLength: λ is an unknown; each increment keeps the distance from the last equilibrium,
+//    ‖Δu‖² + ψ² Δλ² ‖q‖² = Δs² (Crisfield's cylindrical arc length for ψ = 0, spherical for ψ = 1; u the free
+//    dofs, q = −∂g/∂λ the load vector), so the path passes limit points where λ decreases (snap-through).
+//    The path stops when λ reaches the target; it lands on every crossing of a requested level.
+//  - Displacement: one dof's displacement from the start is prescribed, τ × `displacement` with τ running
+//    0 → 1 over the levels; λ is the unknown that balances it. It passes load limit points, not snap-backs.
+// Both non-load controls solve, per Newton iteration, the bordered system [K −q; cᵀ] with two solves on one
+// LDLᵀ factor of K (solvers/path_corrector.h), which stays valid where K is indefinite.
+#pragma once
+
+#include <string>
+
+namespace jetshell {
+
+enum class PathControl { Load, ArcLength, Displacement };
+const char* toString(PathControl c);  // "load", "arcLength", "displacement"
+
+struct PathFollowingOptions {
+  PathControl control = PathControl::Load;
+  int maxSteps = 1000;        // accepted path points (arc length, displacement) before the run gives up
+  double loadScaling = 0.0;   // ψ (arc length): 0 cylindrical, 1 spherical
+  int controlledDof = -1;     // displacement: 3 × vertex + component (a free dof)
+  double displacement = 0.0;  // displacement: the controlled dof's displacement at τ = 1 [m] (non-zero)
+};
+
+/// A turning point of the load factor along the path (between three successive path points).
+struct LimitPoint {
+  int step = 0;              // the accepted step (LoadStepResult::step) nearest the turn
+  double loadFactor = 0.0;   // λ at the turn: the vertex of the parabola λ(path parameter) through the three
+  bool maximum = true;       // true: λ rose and turns down (a snap-through starts); false: it turns back up
+};
+
+}  // namespace jetshell

@@ -1,0 +1,331 @@
+#include "solvers/path_following.h"
+
+#include "core/mesh.h"
+#include "solvers/path_corrector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace jetshell {
+namespace {
+
+void check(bool ok, const char* field, double value, const char* rule) {
+  if (ok) return;
+  std::ostringstream s;
+  s << "path following: " << field << " = " << value << ": " << rule;
+  throw InputError(s.str());
+}
+
+/// Arc length: a correction whose increment turns by more than 60° from the previous one is cut (a large step
+/// can land on another branch or cut a sharp turn of the path short; smaller steps follow it).
+constexpr double kMinCosine = 0.5;
+
+struct PathPoint {
+  double p = 0.0;  // path parameter: arc length or τ
+  double lambda = 0.0;
+  Eigen::VectorXd x;
+  int step = 0;    // its index in the result's steps
+};
+
+/// (x, λ) at p from the polynomial through the history's points (newest first).
+void extrapolate(const std::vector<PathPoint>& history, double p, Eigen::VectorXd& x, double& lambda) {
+  std::vector<std::pair<double, Eigen::VectorXd>> h;
+  for (const PathPoint& q : history) {
+    Eigen::VectorXd z(q.x.size() + 1);
+    z << q.x, q.lambda;
+    h.emplace_back(q.p, std::move(z));
+  }
+  const Eigen::VectorXd z = extrapolateEquilibria(h, p);
+  x = z.head(z.size() - 1);
+  lambda = z[z.size() - 1];
+}
+
+}  // namespace
+
+const char* toString(PathControl c) {
+  switch (c) {
+    case PathControl::Load: return "load";
+    case PathControl::ArcLength: return "arcLength";
+    case PathControl::Displacement: return "displacement";
+  }
+  return "?";
+}
+
+double parabolaVertex(const double p[3], const double v[3]) {
+  const double f01 = (v[1] - v[0]) / (p[1] - p[0]), f12 = (v[2] - v[1]) / (p[2] - p[1]);
+  const double f012 = (f12 - f01) / (p[2] - p[0]);
+  if (!(std::abs(f012) > 0.0) || !std::isfinite(f012)) return p[1];
+  const double vertex = 0.5 * (p[0] + p[1]) - f01 / (2.0 * f012);
+  return vertex >= p[0] && vertex <= p[2] ? vertex : p[1];
+}
+
+double limitLoadFactor(const double p[3], const double l[3]) {
+  const double s = parabolaVertex(p, l);
+  if (s == p[1]) return l[1];
+  const double f01 = (l[1] - l[0]) / (p[1] - p[0]), f12 = (l[2] - l[1]) / (p[2] - p[1]);
+  const double f012 = (f12 - f01) / (p[2] - p[0]);
+  return l[0] + f01 * (s - p[0]) + f012 * (s - p[0]) * (s - p[1]);
+}
+
+StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                         const LoadSteppingOptions& o, const LoadStepCallback& callback) {
+  const PathFollowingOptions& po = o.path;
+  const bool arc = po.control == PathControl::ArcLength;
+  check(po.control != PathControl::Load, "control", 0, "load control is not path following");
+  check(po.maxSteps >= 1 && po.maxSteps <= 10000000, "maxSteps", po.maxSteps, "must be in 1..1e7");
+  check(std::isfinite(po.loadScaling) && po.loadScaling >= 0.0, "loadScaling", po.loadScaling, "must be >= 0");
+  if (!objective.finalized()) objective.finalize();
+  const std::vector<char>& fixed = objective.fixedDof();
+  if (!arc) {
+    check(po.controlledDof >= 0 && po.controlledDof < objective.numDofs(), "controlledDof", po.controlledDof,
+          "must be a dof of the shell (3 x vertex + component)");
+    check(!fixed[static_cast<std::size_t>(po.controlledDof)], "controlledDof", po.controlledDof,
+          "is a fixed dof: displacement control needs a free one");
+    check(std::isfinite(po.displacement) && po.displacement != 0.0, "displacement", po.displacement,
+          "must be finite and non-zero");
+  }
+  const double start = o.startLoadFactor, target = o.targetLoadFactor;
+  const std::vector<double> stops = arc ? pathStops(start, target, o.levels) : pathStops(0.0, 1.0, o.levels);
+  const double eps = 1e-12 * std::max({1.0, std::abs(target), std::abs(start)});
+  const int order = std::max(1, o.predictorOrder);
+
+  StaticsResult result;
+  result.activeTerms = objective.activeTermNames();
+  IndefiniteFactor factor;
+  const EvalOptions evalOptions{o.newton.derivatives, PsdProjection::None, o.newton.bendingHessian};
+
+  // The start's tangent t = K⁻¹ q: the first predictor, and the scale that turns λ increments into arc lengths.
+  double lambda = start;
+  objective.applyPrescribed(lambda, x);
+  loads.set(lambda);
+  Eigen::VectorXd g, t;
+  objective.evaluate(x, &g, true, evalOptions);
+  if (!g.allFinite() || !factor.factorize(objective.assembler().matrix(), objective.assembler().patternVersion())) {
+    result.message = "path following: the tangent stiffness at the start cannot be factored (" + factor.message() + ")";
+    return result;
+  }
+  const Eigen::VectorXd q0 = loadVector(objective, loads, x, lambda, g, evalOptions);
+  if (!factor.solve(q0, t)) {
+    result.message = "path following: the start's tangent is not finite";
+    return result;
+  }
+  objective.zeroFixed(t);
+  const double loadWeight = arc ? po.loadScaling * po.loadScaling * freeDot(q0, q0, fixed) : 0.0;
+  const double unit = std::sqrt(freeDot(t, t, fixed) + loadWeight);  // ds/dλ at the start
+  if (!(unit > 0.0) || !std::isfinite(unit)) {
+    result.message = "path following: the loads do not move the shell (no load vector at the start)";
+    return result;
+  }
+  if (!arc && !(std::abs(t[po.controlledDof]) > 0.0)) {
+    result.message = "path following: the loads do not move the controlled dof at the start";
+    return result;
+  }
+  const double direction = target >= start ? 1.0 : -1.0;
+  const double x0 = arc ? 0.0 : x[po.controlledDof];
+  auto distance = [&](const Eigen::VectorXd& xa, double la, const PathPoint& b) {
+    const Eigen::VectorXd d = xa - b.x;
+    return std::sqrt(freeDot(d, d, fixed) + loadWeight * (la - b.lambda) * (la - b.lambda));
+  };
+
+  std::vector<PathPoint> history = {{0.0, start, x, -1}};  // path points, newest first
+  double increment = std::min(o.initialIncrement, o.maxIncrement);  // in λ (arc) or τ units
+  std::size_t nextStop = 0;
+  int cuts = 0, pathPoints = 0;
+  std::vector<std::string> missed;
+  std::vector<PathPoint> recent = {{0.0, start, Eigen::VectorXd(), -1}};  // the last three path points, oldest first
+
+  auto emit = [&](double l, const Eigen::VectorXd& xs, double p, bool atLevel, PathCorrection& pc) {
+    LoadStepResult step;
+    step.step = static_cast<int>(result.steps.size());
+    step.loadFactor = l;
+    step.atLevel = atLevel;
+    step.x = xs;
+    step.pathParameter = p;
+    step.negativePivots = pc.negativePivots;
+    step.cuts = cuts;
+    step.summary = std::move(pc.summary);
+    result.steps.push_back(std::move(step));
+    result.loadFactor = l;
+    loads.accept(xs);
+    return !callback || callback(result.steps.back());
+  };
+  auto stopByCallback = [&](double l) {
+    result.stopped = true;
+    result.message = "stopped by the callback at lambda = " + std::to_string(l);
+    return result;
+  };
+
+  for (;;) {
+    if (pathPoints >= po.maxSteps) {
+      std::ostringstream s;
+      s << toString(po.control) << " control: stopped after " << po.maxSteps << " path points (maxSteps) at lambda = "
+        << history.front().lambda;
+      result.message = s.str();
+      x = history.front().x;
+      loads.set(history.front().lambda);
+      return result;
+    }
+    const PathPoint& last = history.front();
+    double pNext = 0.0;
+    bool landing = false;
+    if (arc) {
+      pNext = last.p + increment * unit;
+    } else {
+      const double stop = stops[nextStop], remaining = stop - last.p;
+      landing = remaining <= increment * (1.0 + 1e-9);
+      pNext = landing ? stop : last.p + (remaining < 2.0 * increment ? 0.5 * remaining : increment);
+    }
+    Eigen::VectorXd trial;
+    double trialLambda = 0.0;
+    if (history.size() == 1) {
+      const double dl = arc ? direction * (pNext - last.p) / unit : (pNext - last.p) * po.displacement / t[po.controlledDof];
+      trial = last.x + dl * t;
+      trialLambda = last.lambda + dl;
+    } else {
+      extrapolate(history, pNext, trial, trialLambda);
+    }
+    PathConstraint c;
+    if (arc) {
+      c.kind = PathConstraint::Kind::ArcLength;
+      c.anchor = &last.x;
+      c.anchorLoadFactor = last.lambda;
+      c.radius = distance(trial, trialLambda, last);
+      c.loadWeight = loadWeight;
+    } else {
+      c.kind = PathConstraint::Kind::Displacement;
+      c.dof = po.controlledDof;
+      c.value = x0 + pNext * po.displacement;
+      trial[c.dof] = c.value;
+    }
+    PathCorrection pc = correctOnPath(objective, loads, factor, trial, trialLambda, c, o.newton);
+    result.newtonIterations += pc.summary.iterations;
+    bool ok = pc.summary.converged();
+    if (ok && arc && history.size() >= 2) {
+      const Eigen::VectorXd du = trial - last.x, previous = last.x - history[1].x;
+      const double dl = trialLambda - last.lambda, dlPrevious = last.lambda - history[1].lambda;
+      const double along = freeDot(du, previous, fixed) + loadWeight * dl * dlPrevious;
+      const double norms = std::sqrt((freeDot(du, du, fixed) + loadWeight * dl * dl) *
+                                     (freeDot(previous, previous, fixed) + loadWeight * dlPrevious * dlPrevious));
+      if (!(along >= kMinCosine * norms)) {
+        ok = false;
+        pc.summary.reason = TerminationReason::Stalled;
+        pc.summary.message = along <= 0.0 ? "the correction turned back along the path"
+                                          : "the correction turned more than 60 degrees from the last increment";
+      }
+    }
+    if (!ok) {
+      pc.summary.trace.clear();
+      result.failedSolves.push_back(pc.summary);
+      ++cuts;
+      ++result.totalCuts;
+      increment = 0.5 * (arc ? increment : pNext - last.p);
+      if (increment < o.minIncrement) {
+        loads.set(last.lambda);
+        x = last.x;
+        std::ostringstream s;
+        s << toString(po.control) << " control: the step from lambda = " << last.lambda << " failed ("
+          << toString(pc.summary.reason) << ": " << pc.summary.message << ") with the increment cut below "
+          << o.minIncrement << "; stopped there";
+        result.message = s.str();
+        result.loadFactor = last.lambda;
+        return result;
+      }
+      continue;
+    }
+    const int iterations = pc.summary.iterations;
+    const double pNew = arc ? last.p + distance(trial, trialLambda, last) : pNext;
+
+    // Arc length: land on every requested λ crossed between the last path point and this one.
+    bool reachedTarget = false;
+    if (arc) {
+      std::vector<double> crossed;
+      for (double level : stops) {
+        const bool atNew = std::abs(level - trialLambda) <= eps, atLast = std::abs(level - last.lambda) <= eps;
+        if (!atLast && (atNew || (level - last.lambda) * (level - trialLambda) < 0.0)) crossed.push_back(level);
+      }
+      const double towards = trialLambda >= last.lambda ? 1.0 : -1.0;
+      std::sort(crossed.begin(), crossed.end(), [&](double a, double b) { return towards * a < towards * b; });
+      for (double level : crossed) {
+        const double f = (level - last.lambda) / (trialLambda - last.lambda);
+        Eigen::VectorXd xl = last.x + f * (trial - last.x);
+        double ll = level;
+        PathConstraint held;
+        held.kind = PathConstraint::Kind::LoadFactor;
+        held.loadFactor = level;
+        PathCorrection lc = correctOnPath(objective, loads, factor, xl, ll, held, o.newton);
+        result.newtonIterations += lc.summary.iterations;
+        const bool isTarget = std::abs(level - target) <= eps;
+        if (!lc.summary.converged()) {
+          std::ostringstream s;
+          s << level << " (" << lc.summary.message << ")";
+          missed.push_back(s.str());
+          lc.summary.trace.clear();
+          result.failedSolves.push_back(lc.summary);
+          continue;
+        }
+        if (!emit(level, xl, last.p + f * (pNew - last.p), true, lc)) {
+          x = xl;
+          return stopByCallback(level);
+        }
+        cuts = 0;
+        if (isTarget) {
+          x = xl;
+          reachedTarget = true;
+          break;
+        }
+      }
+    }
+    if (reachedTarget) break;
+
+    const bool crossedTarget = arc && direction * (trialLambda - target) > eps;
+    if (!emit(trialLambda, trial, pNew, landing, pc)) {
+      x = trial;
+      return stopByCallback(trialLambda);
+    }
+    cuts = 0;
+    ++pathPoints;
+    history.insert(history.begin(), PathPoint{pNew, trialLambda, trial, result.steps.back().step});
+    if (static_cast<int>(history.size()) > order + 1) history.pop_back();
+    // A turn of λ over the last three path points.
+    recent.push_back(history.front());
+    recent.back().x.resize(0);
+    if (recent.size() > 3) recent.erase(recent.begin());
+    if (recent.size() == 3) {
+      const double before = recent[1].lambda - recent[0].lambda, after = recent[2].lambda - recent[1].lambda;
+      if (before * after < 0.0) {
+        const double p[3] = {recent[0].p, recent[1].p, recent[2].p};
+        const double l[3] = {recent[0].lambda, recent[1].lambda, recent[2].lambda};
+        result.limitPoints.push_back({recent[1].step, limitLoadFactor(p, l), before > 0.0});
+      }
+    }
+    const double factorUp =
+        std::clamp(std::sqrt(static_cast<double>(o.easyIterations) / std::max(1, iterations)), 0.5, o.growth);
+    increment = std::clamp(increment * factorUp, o.minIncrement, o.maxIncrement);
+    if (crossedTarget) {
+      // The target was passed but its landing failed: the path stops beyond it, not completed.
+      x = trial;
+      std::ostringstream s;
+      s << "arc-length control passed the target lambda = " << target << " but could not land on it";
+      result.message = s.str();
+      return result;
+    }
+    if (!arc && landing && ++nextStop == stops.size()) {
+      x = trial;
+      break;
+    }
+  }
+  result.completed = true;
+  std::ostringstream s;
+  s << toString(po.control) << " control: reached " << (arc ? "lambda = " : "tau = 1, lambda = ") << result.loadFactor
+    << " in " << result.steps.size() << " steps (" << result.totalCuts << " cuts, " << result.newtonIterations
+    << " Newton iterations, " << result.limitPoints.size() << " limit points)";
+  if (!missed.empty()) {
+    s << "; levels not landed on:";
+    for (const std::string& m : missed) s << " " << m;
+  }
+  result.message = s.str();
+  return result;
+}
+
+}  // namespace jetshell

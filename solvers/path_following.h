@@ -1,0 +1,38 @@
+// The path-following loop of the statics path for arc-length and displacement control (solvers/path_control.h
+// states the controls; solveStatics in solvers/statics.h dispatches here when options.path.control is not Load).
+//
+// Inputs: the objective, the load hooks, the start x (an equilibrium at startLoadFactor, or the rest state at 0),
+// the stepping options. Outputs: the accepted equilibria (λ, x, the corrector's summary, the arc length or τ, the
+// negative pivots of the tangent stiffness), the limit points, and the last equilibrium in x.
+//
+// Each step predicts (x, λ) and corrects it onto the path (solvers/path_corrector.h):
+//  - predictor: the first step follows the start's tangent t = K⁻¹q; later steps extrapolate x and λ with the
+//    polynomial through the last max(1, predictorOrder) + 1 path points in the path parameter (arc length or τ);
+//  - arc length: the constraint radius is the predictor's distance from the last point, so the predictor lies on
+//    it; a correction whose increment turns by more than 60° from the previous increment (or back along the
+//    path) is rejected and the step cut: a large step can jump to another branch or cut a sharp turn short;
+//  - a failed correction halves the increment (below minIncrement the run stops, keeping the last equilibrium);
+//    after a step that took k iterations the increment is scaled by √(easyIterations / k) within [½, growth];
+//  - requested levels: displacement control lands on each τ level as load control does on λ; arc length lands on
+//    every crossing of each λ level (and ends on the target) with a load-controlled correction started from the
+//    chord between the two path points around it; a level whose correction fails is reported in the message.
+//  - limit points: where λ rises then falls (or falls then rises) over three successive path points, the vertex
+//    of the parabola λ(path parameter) through them is reported with its step and direction.
+#pragma once
+
+#include "solvers/statics.h"
+
+namespace jetshell {
+
+/// Follows the path with options.path.control (ArcLength or Displacement). Throws InputError for invalid options.
+StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                         const LoadSteppingOptions& options, const LoadStepCallback& callback);
+
+/// The abscissa of the vertex of the parabola through three points (p increasing) when it lies between the
+/// outer two; otherwise (or for points on a line) the middle p.
+double parabolaVertex(const double p[3], const double v[3]);
+
+/// The turning point of λ(p) through three path points (p increasing): λ at parabolaVertex.
+double limitLoadFactor(const double p[3], const double lambda[3]);
+
+}  // namespace jetshell
