@@ -32,6 +32,16 @@ struct ClothHessian {
   const Eigen::SparseMatrix<double>& H() const { return shell.objective().assembler().matrix(); }
 };
 
+/// CG to 1e-12 preconditioned by the one-ring factor of the cloth's mesh.
+LinearSolverOptions oneRingCg(const ClothHessian& c) {
+  LinearSolverOptions o;
+  o.type = LinearSolverType::PCG;
+  o.preconditioner = Preconditioner::OneRingCholesky;
+  o.cgRelativeTolerance = 1e-12;
+  o.oneRing = std::make_shared<OneRingFilter>(c.shell.mesh().F, c.shell.mesh().numVertices());
+  return o;
+}
+
 }  // namespace
 
 TEST_CASE("one-ring pattern: keeps the one-ring entries, moves the dropped ones' magnitudes to the diagonal", "[solvers]") {
@@ -66,11 +76,7 @@ TEST_CASE("one-ring pattern: CG preconditioned by the one-ring factor solves the
   ClothHessian c;
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(c.H().rows(), -1.0, 1.0);
   const Eigen::VectorXd reference = dense(c.H()).ldlt().solve(b);
-  LinearSolverOptions o;
-  o.type = LinearSolverType::PCG;
-  o.preconditioner = Preconditioner::OneRingCholesky;
-  o.cgRelativeTolerance = 1e-12;
-  o.oneRing = std::make_shared<OneRingFilter>(c.shell.mesh().F, c.shell.mesh().numVertices());
+  LinearSolverOptions o = oneRingCg(c);
   auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
   Eigen::VectorXd x;
   const LinearSolveReport r = solver->solve(c.H(), 1, b, x);
@@ -90,11 +96,7 @@ TEST_CASE("one-ring pattern: a new Hessian pattern with the same one-ring part k
   testing::SingleThread single;
   ClothHessian c;
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(c.H().rows(), -1.0, 1.0);
-  LinearSolverOptions o;
-  o.type = LinearSolverType::PCG;
-  o.preconditioner = Preconditioner::OneRingCholesky;
-  o.cgRelativeTolerance = 1e-12;
-  o.oneRing = std::make_shared<OneRingFilter>(c.shell.mesh().F, c.shell.mesh().numVertices());
+  LinearSolverOptions o = oneRingCg(c);
   auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
   Eigen::VectorXd x;
   REQUIRE(solver->solve(c.H(), 1, b, x).success);
