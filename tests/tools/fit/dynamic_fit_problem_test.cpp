@@ -2,6 +2,7 @@
 
 #include "tools/fit/fit_report.h"
 #include "tools/fit/fit_setup.h"
+#include "fit_test_util.h"
 #include "core/mesh_io.h"
 #include "../../solvers/test_problems.h"
 
@@ -49,19 +50,7 @@ void checkGradient(FitProblem& p, const Eigen::VectorXd& q) {
   const FitEvaluation j = p.evaluate(q, FitDerivatives::Jacobian);
   REQUIRE(j.ok);
   CHECK((j.jacobian.transpose() * j.residuals - g.gradient).norm() <= 1e-12 * g.gradient.norm());
-  for (Eigen::Index i = 0; i < q.size(); ++i) {
-    const double h = 1e-5 * q[i];
-    Eigen::VectorXd qp = q, qm = q;
-    qp[i] += h;
-    qm[i] -= h;
-    const FitEvaluation fp = p.evaluate(qp, FitDerivatives::None), fm = p.evaluate(qm, FitDerivatives::None);
-    REQUIRE(fp.ok);
-    REQUIRE(fm.ok);
-    const double fd = (fp.misfit - fm.misfit) / (2.0 * h);
-    INFO("parameter " << i << ": forward sensitivities " << g.gradient[i] << ", central difference " << fd);
-    REQUIRE(std::abs(fd) > 0.0);
-    CHECK(std::abs(fd - g.gradient[i]) <= 1e-6 * std::abs(fd));
-  }
+  test::checkAgainstCentralDifferences(p, q, g.gradient, 1e-5, "forward sensitivities");
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "tools/fit/fit_optimizer.h"
+#include "fit_test_util.h"
 #include "tools/fit/static_fit_problem.h"
 
 #include "core/mesh_generators.h"
@@ -110,15 +111,7 @@ TEST_CASE("fit: adjoint gradient equals the forward-sensitivity Jᵀr and centra
   // Two levels: one factorization and one solve each for the adjoint gradient.
   CHECK(fit.problem->counters().sensitivityFactorizations == 4);
   CHECK(fit.problem->counters().sensitivitySolves == 2 + 4);
-  for (int i = 0; i < 2; ++i) {
-    const double h = 1e-4 * q[i];
-    Eigen::Vector2d qp = q, qm = q;
-    qp[i] += h;
-    qm[i] -= h;
-    const double fd = (fit.problem->evaluate(qp, FitDerivatives::None).misfit -
-                       fit.problem->evaluate(qm, FitDerivatives::None).misfit) / (2.0 * h);
-    CHECK(std::abs(fd - g.gradient[i]) <= 1e-6 * std::abs(fd));
-  }
+  test::checkAgainstCentralDifferences(*fit.problem, q, g.gradient, 1e-4, "adjoint");
 }
 
 TEST_CASE("fit: every algorithm recovers known parameters from synthetic observations", "[fit]") {

@@ -1,6 +1,7 @@
 #include "tools/fit/fit_setup.h"
 
 #include "tools/fit/fit_report.h"
+#include "fit_test_util.h"
 #include "validation/self_weight_elastica.h"
 
 #include <catch2/catch.hpp>
@@ -25,18 +26,7 @@ TEST_CASE("fit: the adjoint gradient of a shell fit matches central differences 
   const FitEvaluation j = p.evaluate(q, FitDerivatives::Jacobian);
   REQUIRE(j.ok);
   CHECK((g.gradient - j.gradient).norm() <= 1e-8 * g.gradient.norm());
-  for (int i = 0; i < 4; ++i) {
-    const double h = 1e-4 * q[i];
-    Eigen::VectorXd qp = q, qm = q;
-    qp[i] += h;
-    qm[i] -= h;
-    const FitEvaluation fp = p.evaluate(qp, FitDerivatives::None), fm = p.evaluate(qm, FitDerivatives::None);
-    REQUIRE(fp.ok);
-    REQUIRE(fm.ok);
-    const double fd = (fp.misfit - fm.misfit) / (2.0 * h);
-    INFO("parameter " << i << ": adjoint " << g.gradient[i] << ", central difference " << fd);
-    CHECK(std::abs(fd - g.gradient[i]) <= 1e-6 * std::abs(fd));
-  }
+  test::checkAgainstCentralDifferences(p, q, g.gradient, 1e-4, "adjoint");
 }
 
 TEST_CASE("fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta of the synthetic plate to 1e-6", "[fit]") {
