@@ -155,8 +155,10 @@ class PcgSolver : public LinearSolver {
           throw std::invalid_argument("one_ring_cholesky preconditioner without the mesh's adjacency");
         options().oneRing->apply(H, oneRingMatrix_);
         // The one-ring part's pattern is the mesh's: contact pairs between distant vertices change H's pattern
-        // but not this one, so the analysis is redone only when the filtered pattern itself changed.
-        const bool samePattern = factor_.analyzed() && sameSparsity(oneRingMatrix_, analyzedPattern_);
+        // but not this one, so the analysis is redone only when the filtered pattern itself changed. Its
+        // pattern follows H's alone, so it is compared only when H's pattern is new.
+        const bool samePattern =
+            factor_.analyzed() && (!analyze || sameSparsity(oneRingMatrix_, analyzedPattern_));
         if (!samePattern) {
           if (factor_.analyze(oneRingMatrix_) != Status::Ok) {
             report.message = factor_.message();
