@@ -128,6 +128,9 @@ struct BenchmarkRunOptions {
 struct BenchmarkRow {
   double lambda = 0.0;
   std::vector<double> computed, reference, relError;
+  /// The error beyond the reference's printed precision: max(0, |q − q_ref| − half a unit of q_ref's last
+  /// digit) over the same scale (equal to relError for closed forms).
+  std::vector<double> relErrorBeyondDigits;
 };
 
 struct BenchmarkResult {
@@ -148,6 +151,7 @@ struct BenchmarkResult {
   std::vector<BenchmarkRow> rows;
   double maxRelError = 0.0;    // over all rows and quantities
   double finalRelError = 0.0;  // over the quantities at λ = 1
+  double maxRelErrorBeyondDigits = 0.0;  // over all rows and quantities, beyond the table's printed digits
 };
 
 /// The case's boundary rules on the system: the bending term's mirrored_clamp edge rule on the clamped edges
