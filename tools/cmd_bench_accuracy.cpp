@@ -79,6 +79,14 @@ std::vector<StudyRun> studyRuns(bool quick, bool large) {
     add("self-convergence", "slit annular plate, uniform rings", "slit-annular-plate", meshes, "", none);
     for (Resolution& m : meshes) m.grading = MeshGrading::Cosine;
     add("self-convergence", "slit annular plate, cosine rings", "slit-annular-plate", meshes, "cosine rings", none);
+    // The page's ring (the plate scaled 1:10) on the n x 16n family with cosine rings.
+    const MeshGrading c = MeshGrading::Cosine;
+    if (!quick)
+      add("self-convergence", "page's slit ring, cosine rings, 3x48 doubled", "slit-ring-page",
+          {{3, 48, c}, {6, 96, c}, {12, 192, c}}, "cosine rings", none);
+    if (large)
+      add("self-convergence", "page's slit ring, cosine rings, 4x64 doubled", "slit-ring-page",
+          {{4, 64, c}, {8, 128, c}, {16, 256, c}}, "cosine rings", none);
   }
 
   // 1c. The page's ring with the best rules (moment-free free edges, mirrored clamp, cosine rings): the family
@@ -236,9 +244,9 @@ double finalSignedError(const BenchmarkResult& r, const std::string& name) {
 }
 
 /// The ring's error model: per series of the ring group, the error e at W_B (λ = 1) and over the path against
-/// the radial count n (h ∝ 1/n within a series of fixed aspect), the least-squares fit e = C n^−p over the runs
-/// with n ≥ 6 (the asymptotic tail; coarser meshes sit in the free edges' pre-asymptotic range), the n it
-/// predicts for 1%, and the smallest measured mesh within 1%.
+/// the angular count n2 (h ∝ 1/n2 in both series: n x 16n, and 5 x n2), the least-squares fit e = C n2^−p in
+/// log-log over the runs with at least 5 rings (4 rings sit in the free edges' pre-asymptotic range), the n2 and
+/// vertex count it predicts for 1%, and the smallest measured meshes within 1%.
 void printRingConvergence(const std::vector<Done>& done) {
   std::vector<const Done*> runs;
   for (const Done& d : done)
@@ -262,7 +270,6 @@ void printRingConvergence(const std::vector<Done>& done) {
   std::cout << "\n| series | measure | fitted order p | constant C (e = C n2^-p) | n2 for 1% | vertices |\n"
                "|---|---|---:|---:|---:|---:|\n";
   for (const std::string series : {kRingFamily, kRingAngular}) {
-    // h ∝ 1/n2 in both series (n x 16n, and 5 x n2); the fit takes the runs with at least 5 rings.
     const bool family = series == kRingFamily;
     for (int measure = 0; measure < 2; ++measure) {
       double sx = 0, sy = 0, sxx = 0, sxy = 0;
