@@ -83,8 +83,9 @@ struct Benchmark {
   std::string resolutionMeaning;  // what n1 and n2 count
   ReferenceTable reference;
   ErrorMeasure errorMeasure = ErrorMeasure::PerQuantity;
-  Resolution defaultResolution;  // (with its grading) what `validate` runs without --mesh: the best error for about a second or two
-                                 // of CPU (VALIDATION.md); the meshes that reach 1% are listed there
+  Resolution defaultResolution;  // (with its grading) what `validate` runs without --mesh: a mesh within 1% at every
+                                 // level in a few CPU seconds, or the page's own mesh for the page's ring
+                                 // (VALIDATION.md lists the 1% meshes and their times)
   SolverKind defaultSolver = SolverKind::LoadStepping;  // dynamic relaxation compares λ = 1 only
   std::function<BenchmarkCase(const Resolution&, ClampKind, QuadDiagonals)> build;
 };
