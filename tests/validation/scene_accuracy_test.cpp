@@ -2,6 +2,7 @@
 // end-shear cantilever on 40x4 quads in 10 load steps, against the inextensible elastica at every level. The
 // bound is the error measured with the current defaults rounded up (an improvement never fails it), well inside
 // the 1% target; it fails if the scene's clamp, free-edge rule, load distribution or statics path regresses.
+#include "tests/test_util.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "validation/reference_table.h"
@@ -39,6 +40,7 @@ std::vector<std::vector<double>> readCsv(const fs::path& path) {
 }  // namespace
 
 TEST_CASE("scene accuracy: the end-shear scene is within 0.05% of the elastica at every level", "[validation]") {
+  const test::ScopedThreads serial(1);  // 205 vertices: threads only add barriers
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
   scene.outputs.frameStride = 1;
   scene.outputs.vtu = false;
