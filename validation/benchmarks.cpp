@@ -75,19 +75,9 @@ BenchmarkCase slitAnnulus(double scale, double youngsModulus, double density, do
   ShellMaterialParams m = ShellMaterialParamsFrom3dIsotropic(youngsModulus, 0.0, density, 0.03 * scale);
   m.massDampingCoefficient = massDamping;
   BenchmarkCase c;
-  c.problem = staticProblem(makeSlitAnnulus(6.0 * scale, 10.0 * scale, rings, nodes, diagonals), m);
-  if (r.grading == MeshGrading::Cosine) {
-    // Ring k at radius Ri + (Ro − Ri)·½(1 − cos(πk/n1)), same angles: fine at both free edges.
-    for (int k = 0; k < rings; ++k) {
-      const double t = 0.5 * (1.0 - std::cos(kPi * k / (rings - 1)));
-      const double radius = scale * (6.0 + 4.0 * t);
-      for (int j = 0; j < nodes; ++j) {
-        const int v = k * nodes + j;
-        const double current = c.problem.mesh.V.row(v).head<2>().norm();
-        c.problem.mesh.V.row(v).head<2>() *= radius / current;
-      }
-    }
-  }
+  // Cosine grading: ring k at radius Ri + (Ro − Ri)·½(1 − cos(πk/n1)), fine at both free edges.
+  const RingSpacing spacing = r.grading == MeshGrading::Cosine ? RingSpacing::Cosine : RingSpacing::Uniform;
+  c.problem = staticProblem(makeSlitAnnulus(6.0 * scale, 10.0 * scale, rings, nodes, diagonals, spacing), m);
   // Node j of ring k has index k·nodes + j: column 0 (θ = 0) is the clamped side, column nodes − 1 (θ = 2π)
   // the loaded one.
   std::vector<int> clamped, next, loaded;
