@@ -35,7 +35,7 @@
 // (Ceres' IsJet is false for a derived type), compound assignment with doubles and Eigen's normalized() still
 // failed to compile, and user code would hold two types; the inner-derived type needs none of that. Cost:
 // identical instruction counts to Ceres' nested Jet on a 12-input hinge energy (callgrind, same code both
-// ways), and see BENCHMARKS.md for the element benchmarks before and after.
+// ways); BENCHMARKS.md "Energies as plain math" has the element benchmarks before and after.
 #pragma once
 
 #include <Eigen/Core>
