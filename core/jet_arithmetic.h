@@ -7,6 +7,7 @@
 //                              (N = M for Hessians; M = P parameters for ∂²E/∂x∂p)
 // Outputs: inside such a function these compile and are exact for each T:
 //   - arithmetic with plain numbers: 2.0 * x, x / 3, x + 1.0, 1 - x, x *= 0.5, and comparisons (x < 0.5);
+//   - Ceres' math functions, also with one plain number: pow(2.0, x), atan2(x, 1.0), hypot(x, 1.0), fmax(x, 0.0);
 //   - Eigen fixed-size algebra on Eigen::Matrix<T, R, C>: a.dot(b), a.norm(), a.squaredNorm(), a.cross(b),
 //     v.sum(), (a - b).normalized(), 2.0 * v, v / 3.0, matrix products, trace(), determinant() of 2×2 and 3×3.
 // tests/core/jet_arithmetic_test.cpp instantiates each of them for each T and checks values, gradients and
@@ -41,6 +42,7 @@
 #include <Eigen/Core>
 #include <ceres/jet.h>
 
+#include <cmath>
 #include <limits>
 #include <type_traits>
 
@@ -92,6 +94,28 @@ JETSHELL_INNER_JET_COMPARISON(==)
 JETSHELL_INNER_JET_COMPARISON(!=)
 #undef JETSHELL_INNER_JET_COMPARISON
 
+// Ceres' classification functions, which its fmax, fmin and fdim call on the inner Jets.
+#define JETSHELL_INNER_JET_CLASSIFICATION(name)                                                       \
+  template <int M>                                                                                    \
+  inline bool name(const InnerJet<M>& f, const InnerJet<M>& g) {                                      \
+    return std::name(f.a, g.a);                                                                       \
+  }                                                                                                   \
+  template <int M, typename S, std::enable_if_t<std::is_arithmetic_v<S>, int> = 0>                    \
+  inline bool name(const InnerJet<M>& f, S s) {                                                       \
+    return std::name(f.a, static_cast<double>(s));                                                    \
+  }                                                                                                   \
+  template <int M, typename S, std::enable_if_t<std::is_arithmetic_v<S>, int> = 0>                    \
+  inline bool name(S s, const InnerJet<M>& f) {                                                       \
+    return std::name(static_cast<double>(s), f.a);                                                    \
+  }
+JETSHELL_INNER_JET_CLASSIFICATION(isless)
+JETSHELL_INNER_JET_CLASSIFICATION(isgreater)
+JETSHELL_INNER_JET_CLASSIFICATION(islessequal)
+JETSHELL_INNER_JET_CLASSIFICATION(isgreaterequal)
+JETSHELL_INNER_JET_CLASSIFICATION(islessgreater)
+JETSHELL_INNER_JET_CLASSIFICATION(isunordered)
+#undef JETSHELL_INNER_JET_CLASSIFICATION
+
 /// True for an arithmetic S that is not the Jet's own scalar type T (those Ceres handles itself).
 template <typename T, typename S>
 inline constexpr bool kForeignConstant = std::is_arithmetic_v<S> && !std::is_same_v<T, S>;
@@ -134,6 +158,41 @@ template <typename T, int N, typename S, std::enable_if_t<jetshell::kForeignCons
 inline Jet<T, N> operator/(S s, const Jet<T, N>& g) {
   return T(static_cast<double>(s)) / g;  // Ceres' scalar / Jet (the constant has no derivative part)
 }
+
+// Two-argument functions with one plain number (Ceres 2.1 has none for atan2 and hypot, and its pow(number, Jet)
+// takes only the Jet's own scalar type and does not compile for nested Jets of two sizes).
+/// b^g = exp(g ln b) for b > 0; 0 for b = 0 (meant for g > 0); NaN for b < 0, where g has no derivative.
+template <typename T, int N, typename S, std::enable_if_t<jetshell::kForeignConstant<T, S>, int> = 0>
+inline Jet<T, N> pow(S f, const Jet<T, N>& g) {
+  const double b = static_cast<double>(f);
+  if (b > 0.0) return exp(g * std::log(b));
+  return Jet<T, N>(T(b == 0.0 ? 0.0 : std::numeric_limits<double>::quiet_NaN()));
+}
+template <typename T, int N, typename S, std::enable_if_t<std::is_arithmetic_v<S>, int> = 0>
+inline Jet<T, N> atan2(const Jet<T, N>& g, S f) {
+  return atan2(g, Jet<T, N>(T(static_cast<double>(f))));
+}
+template <typename T, int N, typename S, std::enable_if_t<std::is_arithmetic_v<S>, int> = 0>
+inline Jet<T, N> atan2(S g, const Jet<T, N>& f) {
+  return atan2(Jet<T, N>(T(static_cast<double>(g))), f);
+}
+template <typename T, int N, typename S, std::enable_if_t<std::is_arithmetic_v<S>, int> = 0>
+inline Jet<T, N> hypot(const Jet<T, N>& x, S y) {
+  return hypot(x, Jet<T, N>(T(static_cast<double>(y))));
+}
+template <typename T, int N, typename S, std::enable_if_t<std::is_arithmetic_v<S>, int> = 0>
+inline Jet<T, N> hypot(S x, const Jet<T, N>& y) {
+  return hypot(Jet<T, N>(T(static_cast<double>(x))), y);
+}
+
+namespace internal {
+/// An InnerJet's underlying floating-point type is double, as for ceres::Jet<double, M>: this enables Ceres'
+/// fmax, fmin and fdim between a second-order Jet and a plain number.
+template <int M>
+struct UnderlyingScalar<jetshell::InnerJet<M>> {
+  using type = double;
+};
+}  // namespace internal
 
 }  // namespace ceres
 

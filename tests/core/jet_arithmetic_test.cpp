@@ -267,3 +267,18 @@ TEST_CASE("jet arithmetic: 3×3 products, trace and determinants", "[jet_arithme
         e);
   }
 }
+
+TEST_CASE("jet arithmetic: math functions with one plain number", "[jet_arithmetic]") {
+  // f = atan2(x0, 2) + 2^x1 + fmax(x2, −1) + hypot(x3, 1) + fmin(x4, 0.5) + √x5 (here x2 > −1 and x4 < 0.5).
+  const auto f = [](const auto* x) {
+    using std::atan2, std::pow, std::fmax, std::fmin, std::hypot, std::sqrt;
+    return atan2(x[0], 2.0) + pow(2.0, x[1]) + fmax(x[2], -1.0) + hypot(x[3], 1.0) + fmin(x[4], 0.5) + sqrt(x[5]);
+  };
+  const double* x = kX;
+  const double q = x[0] * x[0] + 4, h = std::hypot(x[3], 1.0), p = std::pow(2.0, x[1]), l = std::log(2.0);
+  Expected e;
+  e.value = std::atan2(x[0], 2.0) + p + x[2] + h + x[4] + std::sqrt(x[5]);
+  e.gradient << 2 / q, l * p, 1, x[3] / h, 1, 0.5 / std::sqrt(x[5]);
+  e.hessian.diagonal() << -4 * x[0] / (q * q), l * l * p, 0, 1 / (h * h * h), 0, -0.25 / (x[5] * std::sqrt(x[5]));
+  checkEveryScalar(f, e);
+}
