@@ -83,9 +83,13 @@ class ElementEnergyTerm : public FixedStencilTerm {
   }
 
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
+    // Nested-Jet Hessians over 15 or more dofs are costly elements (core/element_loop.h).
+    const int parallelMin =
+        request.hessian != nullptr && M >= 15 ? kParallelMinCostlyElements : kParallelMinElements;
     return runElementLoop<K>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int e, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, M, 1>& g,
-                                 Eigen::Matrix<double, M, M>& H) { return element(x, e, ids, wantG, wantH, g, H); });
+                                 Eigen::Matrix<double, M, M>& H) { return element(x, e, ids, wantG, wantH, g, H); },
+                             false, parallelMin);
   }
 
  private:
