@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -74,4 +75,31 @@ TEST_CASE("scene edge rules: a run clamps with the scene's clamp rule (linear ca
   CHECK(std::abs(mirrored / exact - 1.0) < 0.002);
   const double reference = tipDeflection("reference_clamp");
   CHECK(reference / exact > 1.1);  // the first-order rule is really the one applied when asked for
+}
+
+TEST_CASE("scene edge rules: the pinched hemisphere's two symmetry cuts take the symmetry-plane rule", "[scene]") {
+  // A quarter model: every boundary edge on x = 0 or y = 0 keeps its mid-edge normal in that plane; the hole's
+  // rim and the equator stay free (moment-free).
+  const Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/pinched_hemisphere.json");
+  const SceneModel model = buildSceneModel(scene);
+  const ShellProblem problem = shellProblemFromScene(scene, model);
+  ShellSystem system(problem, AnalysisKind::Statics);
+  addSceneEdgeRules(scene, problem, system);
+  REQUIRE(system.bending);
+  const Topology& topo = system.topology();
+  const TriMesh& mesh = system.mesh();
+  int cut = 0, free = 0;
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (!topo.isBoundaryEdge(e)) continue;
+    const int a = topo.edges(e, 0), b = topo.edges(e, 1);
+    const bool onCut = (std::abs(mesh.V(a, 0)) < 1e-9 && std::abs(mesh.V(b, 0)) < 1e-9) ||
+                       (std::abs(mesh.V(a, 1)) < 1e-9 && std::abs(mesh.V(b, 1)) < 1e-9);
+    INFO("edge " << a << "-" << b);
+    CHECK(system.bending->edgeRule(e) == (onCut ? EdgeRule::SymmetryPlane : EdgeRule::SecondOrderFree));
+    (onCut ? cut : free) += 1;
+  }
+  CHECK(cut == 2 * 12);  // 12 rings along each cut
+  CHECK(free > 0);
+  // At rest the ruled bending energy is zero (the rule's origin is taken at the rest shape).
+  CHECK(std::abs(system.bending->evaluate(system.restPositions(), {}, {})) <= 1e-12);
 }
