@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 using namespace jetshell;
@@ -110,6 +111,27 @@ TEST_CASE("edge rules: every rule on every boundary edge passes the derivative c
                },
                o))
         FAIL_CHECK(f);
+    }
+  }
+}
+
+TEST_CASE("edge rules: with the projected Hessian every rule's bending Hessian is positive semidefinite") {
+  ScopedThreads serial(1);
+  const CheckMesh m = makeCheckMeshes().back();
+  const Eigen::VectorXd x = makeCheckConfiguration(m, ConfigurationKind::Random, 7).x;
+  for (EdgeRule rule : kRules) {
+    for (BendingHessian hessian : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
+      INFO(edgeRuleName(rule));
+      BendingTerm t(m.mesh, m.topology, m.reference, 0.3, 0.7);
+      t.setEdgeRule(std::vector<char>(static_cast<std::size_t>(m.mesh.numVertices()), 1), rule, kPlane);
+      EvalOptions o;
+      o.bendingHessian = hessian;
+      const Eigen::MatrixXd H = evaluateDense(t, x, o).hessian;
+      o.projection = PsdProjection::Clamp;
+      const Eigen::MatrixXd P = evaluateDense(t, x, o).hessian;
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> exact(H), projected(P);
+      if (hessian == BendingHessian::Exact) CHECK(exact.eigenvalues().minCoeff() < -1e-6 * exact.eigenvalues().maxCoeff());
+      CHECK(projected.eigenvalues().minCoeff() >= -1e-12 * projected.eigenvalues().maxCoeff());
     }
   }
 }
