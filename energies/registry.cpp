@@ -59,7 +59,8 @@ EnergyTermPtr makeSymmetryPlaneBending(const TermSetup& s, const char* name) {
     const Eigen::Vector3d r = (Eigen::Vector3d(s.mesh.V.row(s.mesh.F(f, 1))) - x0)
                                   .cross(Eigen::Vector3d(s.mesh.V.row(s.mesh.F(f, 2))) - x0)
                                   .normalized();
-    const Eigen::Vector3d t = (s.mesh.V.row(s.topology.edges(e, 1)) - s.mesh.V.row(s.topology.edges(e, 0))).normalized();
+    const int a = s.topology.edges(e, 0), b = s.topology.edges(e, 1);
+    const Eigen::Vector3d t = (s.mesh.V.row(b) - s.mesh.V.row(a)).transpose().normalized();
     term->setEdgeRule(firstBoundaryEdgeMask(s), EdgeRule::SymmetryPlane,
                       std::cos(0.2) * t.cross(r) + std::sin(0.2) * r);
     break;

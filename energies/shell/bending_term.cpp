@@ -10,7 +10,8 @@
 // Jet<Jet<double,3>,3> on the AD path and from energies/shell/analytic_stages.h on the analytic path; everything
 // else is shared. Boundary edges (energies/shell/edge_rules.h): pass 2 takes m = ½(n + n_ghost(n)) with the
 // ghost rule as a 3 → 3 Jet stage; a face with moment-free edges takes the rule's minimized density as its
-// pass-3 density stage (Jets on both paths; the rest of the chain is unchanged). Each face normal serves four stencils and each mid-edge normal two, computed once.
+// pass-3 density stage (Jets on both paths; the rest of the chain is unchanged). Each face normal serves four
+// stencils and each mid-edge normal two, computed once.
 #include "energies/shell/bending_term.h"
 
 #include "core/element_loop.h"

@@ -23,8 +23,10 @@ BoundaryRuleCounts applyBoundaryRules(BendingTerm& bending, const TriMesh& mesh,
       throw InputError("symmetry plane: point and normal must be finite, the normal nonzero");
     const Eigen::Vector3d u = p.normal.normalized();
     std::vector<char> onPlane(static_cast<std::size_t>(n), 0);
-    for (int v = 0; v < n; ++v)
-      onPlane[v] = std::abs((Eigen::Vector3d(mesh.V.row(v).transpose()) - p.point).dot(u)) <= choice.planeTolerance * size;
+    for (int v = 0; v < n; ++v) {
+      const double distance = (Eigen::Vector3d(mesh.V.row(v).transpose()) - p.point).dot(u);
+      onPlane[v] = std::abs(distance) <= choice.planeTolerance * size;
+    }
     counts.symmetry += bending.setEdgeRule(onPlane, EdgeRule::SymmetryPlane, u);
   }
   if (!clamped.empty()) counts.clamped = bending.setEdgeRule(clamped, choice.clamp);

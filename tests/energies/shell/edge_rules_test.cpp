@@ -130,7 +130,9 @@ TEST_CASE("edge rules: with the projected Hessian every rule's bending Hessian i
       o.projection = PsdProjection::Clamp;
       const Eigen::MatrixXd P = evaluateDense(t, x, o).hessian;
       const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> exact(H), projected(P);
-      if (hessian == BendingHessian::Exact) CHECK(exact.eigenvalues().minCoeff() < -1e-6 * exact.eigenvalues().maxCoeff());
+      if (hessian == BendingHessian::Exact)
+        CHECK(exact.eigenvalues().minCoeff() <
+              -1e-6 * exact.eigenvalues().maxCoeff());
       CHECK(projected.eigenvalues().minCoeff() >= -1e-12 * projected.eigenvalues().maxCoeff());
     }
   }
@@ -150,13 +152,16 @@ TEST_CASE("edge rules: a moment-free edge's face takes its minimum over the boun
   BendingTerm term(mesh, topo, ref, 0.3, 0.7);
   REQUIRE(term.setEdgeRule(bottom, EdgeRule::SecondOrderFree) == 4);
   Eigen::VectorXd x = flatten(mesh.V);
-  for (int v = 0; v < mesh.numVertices(); ++v) x[3 * v + 2] += 0.5 * mesh.V(v, 0) * mesh.V(v, 1) + 0.3 * mesh.V(v, 0) * mesh.V(v, 0);
+  for (int v = 0; v < mesh.numVertices(); ++v)
+    x[3 * v + 2] +=
+        0.5 * mesh.V(v, 0) * mesh.V(v, 1) + 0.3 * mesh.V(v, 0) * mesh.V(v, 0);
   double expected = 0.0, page = 0.0;
   for (int f = 0; f < mesh.numFaces(); ++f) {
     double xs[18] = {};
     bool boundary[3];
     for (int k = 0; k < 6; ++k)
-      for (int c = 0; c < 3 && topo.bendingStencil(f, k) >= 0; ++c) xs[3 * k + c] = x[3 * topo.bendingStencil(f, k) + c];
+      for (int c = 0; c < 3 && topo.bendingStencil(f, k) >= 0; ++c)
+        xs[3 * k + c] = x[3 * topo.bendingStencil(f, k) + c];
     for (int i = 0; i < 3; ++i) boundary[i] = topo.bendingStencil(f, 3 + i) < 0;
     double b[3];
     stencilSecondFundamentalForm(xs, boundary, b);
