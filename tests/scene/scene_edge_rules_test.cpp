@@ -103,3 +103,21 @@ TEST_CASE("scene edge rules: the pinched hemisphere's two symmetry cuts take the
   // At rest the ruled bending energy is zero (the rule's origin is taken at the rest shape).
   CHECK(std::abs(system.bending->evaluate(system.restPositions(), {}, {})) <= 1e-12);
 }
+
+TEST_CASE("scene edge rules: bad edge rules are rejected with their JSON pointer", "[scene]") {
+  auto reject = [](const nlohmann::json& rules, const std::string& pointer) {
+    nlohmann::json scene = strip("mirrored_clamp");
+    scene["edgeRules"] = rules;
+    INFO(rules.dump());
+    CHECK_THROWS_WITH(sceneFromJson(scene, "."), Catch::StartsWith(pointer));
+  };
+  reject({{"free", "hinged"}}, "/edgeRules/free");
+  reject({{"free", "mirrored_clamp"}}, "/edgeRules/free");  // a clamp is no free edge
+  reject({{"clamp", "symmetry_plane"}}, "/edgeRules/clamp");
+  reject({{"clamp", 3}}, "/edgeRules/clamp");
+  reject({{"symmetryPlanes", {{{"normal", {0, 0, 0}}}}}}, "/edgeRules/symmetryPlanes/0/normal");
+  reject({{"symmetryPlanes", {{{"point", {0, 0}}}}}}, "/edgeRules/symmetryPlanes/0/point");
+  reject({{"symmetryPlanes", {{{"normal", {0, 1, 0}}, {"offset", 1}}}}}, "/edgeRules/symmetryPlanes/0");
+  reject({{"symmetryPlanes", nlohmann::json::array()}, {"mirror", true}}, "/edgeRules");
+  reject({{"symmetryPlanes", std::vector<nlohmann::json>(17, {{"normal", {0, 1, 0}}})}}, "/edgeRules/symmetryPlanes");
+}
