@@ -121,3 +121,26 @@ TEST_CASE("scene edge rules: bad edge rules are rejected with their JSON pointer
   reject({{"symmetryPlanes", nlohmann::json::array()}, {"mirror", true}}, "/edgeRules");
   reject({{"symmetryPlanes", std::vector<nlohmann::json>(17, {{"normal", {0, 1, 0}}})}}, "/edgeRules/symmetryPlanes");
 }
+
+TEST_CASE("scene edge rules: the bending stiffness damping takes the same rules as the bending term", "[scene]") {
+  // Rayleigh damping is β_R times the same stiffness, so its boundary edges close the same way.
+  nlohmann::json json = strip("mirrored_clamp");
+  json["actors"][0]["material"]["stiffnessDampingCoefficient"] = 0.01;
+  json["analysis"] = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.01}};
+  const Scene scene = sceneFromJson(json, ".");
+  const SceneModel model = buildSceneModel(scene);
+  const ShellProblem problem = shellProblemFromScene(scene, model);
+  ShellSystem system(problem, AnalysisKind::Dynamics);
+  addSceneEdgeRules(scene, problem, system);
+  REQUIRE(system.bending);
+  REQUIRE(system.stiffnessDamping.bending);
+  int clamped = 0, free = 0;
+  for (int e = 0; e < system.topology().numEdges(); ++e) {
+    if (!system.topology().isBoundaryEdge(e)) continue;
+    CHECK(system.stiffnessDamping.bending->edgeRule(e) == system.bending->edgeRule(e));
+    clamped += system.bending->edgeRule(e) == EdgeRule::MirroredClamp;
+    free += system.bending->edgeRule(e) == EdgeRule::SecondOrderFree;
+  }
+  CHECK(clamped == 2);
+  CHECK(free > 0);
+}
