@@ -14,6 +14,12 @@
 //     void derivatives(const double* z, int entity, int order, StageDerivatives<N, M>& d) const;
 // is evaluated by it on DerivativePath::Analytic; stageTwinDiscrepancy() measures it against the Jets (the
 // conformance tests call it), so a twin is an optimisation that is always checked, never a second truth.
+//
+// Optional declaration `static constexpr bool kConstantHessian = true;`: the stage is a polynomial of degree
+// at most 2 (a bilinear product such as a cross product, a metric or a second fundamental form), so its Hessians
+// do not depend on the input, the entity or the stage's data. The framework then computes them once per stage
+// type (Jets of order 2 on a default-constructed stage at z = 0, constantStageHessians()) and evaluates the
+// stage at order 1 only; constantHessianDiscrepancy() checks the declaration against the Jets at any z.
 #pragma once
 
 #include "core/scalar.h"
@@ -30,7 +36,7 @@
 
 namespace jetshell {
 
-inline constexpr int kMaxStageInputs = 12;
+inline constexpr int kMaxStageInputs = 15;
 inline constexpr int kMaxStageOutputs = 4;
 
 /// Local derivatives of one stage at one input z. Column-major, fixed size: no allocation.
@@ -52,6 +58,12 @@ template <typename S>
 struct HasStageTwin<S, std::void_t<decltype(std::declval<const S&>().derivatives(
                            static_cast<const double*>(nullptr), 0, 0, std::declval<StageDerivativesOf<S>&>()))>>
     : std::true_type {};
+
+/// True when stage S declares kConstantHessian = true.
+template <typename S, typename = void>
+struct HasConstantHessian : std::false_type {};
+template <typename S>
+struct HasConstantHessian<S, std::void_t<decltype(S::kConstantHessian)>> : std::bool_constant<S::kConstantHessian> {};
 
 /// Value (order 0), + Jacobian (order 1), + Hessians (order 2) of stage s at z, from Ceres Jets.
 template <typename S>
@@ -89,6 +101,43 @@ void stageDerivativesFromJets(const S& s, const double* z, int entity, int order
   }
 }
 
+/// The Hessians of a stage that declares kConstantHessian, computed once per stage type (thread-safe static).
+/// `zero` is true when every entry is 0 (a linear stage: no curvature to chain).
+template <typename S>
+struct ConstantStageHessians {
+  std::array<Eigen::Matrix<double, S::kInputs, S::kInputs>, S::kOutputs> hessians;
+  bool zero = true;
+};
+template <typename S>
+const ConstantStageHessians<S>& constantStageHessians() {
+  static const ConstantStageHessians<S> h = [] {
+    ConstantStageHessians<S> r;
+    StageDerivativesOf<S> d;
+    const double z[S::kInputs] = {};
+    stageDerivativesFromJets(S(), z, 0, 2, d);
+    r.hessians = d.hessians;
+    for (const auto& m : r.hessians) r.zero = r.zero && m.isZero(0.0);
+    return r;
+  }();
+  return h;
+}
+
+/// Largest absolute difference between the Jets' Hessians at z and the constant ones (0 for a stage without
+/// the declaration): a declaration that does not hold shows here.
+template <typename S>
+double constantHessianDiscrepancy(const S& s, const double* z, int entity) {
+  if constexpr (!HasConstantHessian<S>::value) {
+    return 0.0;
+  } else {
+    StageDerivativesOf<S> jets;
+    stageDerivativesFromJets(s, z, entity, 2, jets);
+    double worst = 0.0;
+    for (int k = 0; k < S::kOutputs; ++k)
+      worst = std::max(worst, (jets.hessians[k] - constantStageHessians<S>().hessians[k]).cwiseAbs().maxCoeff());
+    return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+  }
+}
+
 /// The stage's derivatives up to `order` on `path`: the analytic twin when there is one and path is
 /// Analytic, the Jets otherwise.
 template <typename S>
@@ -99,8 +148,23 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
       return;
     }
   }
+  if constexpr (HasConstantHessian<S>::value) {
+    if (order >= 2) {
+      stageDerivativesFromJets(s, z, entity, 1, d);
+      d.hessians = constantStageHessians<S>().hessians;
+      return;
+    }
+  }
   stageDerivativesFromJets(s, z, entity, order, d);
 }
+
+/// A stage's results as the chain reads them (core/stage_chain.h): value (M), Jacobian (M×N, column-major)
+/// and each output's Hessian (N×N, column-major), null when not computed (order < 2) or identically zero.
+struct StageView {
+  const double* value = nullptr;
+  const double* jacobian = nullptr;
+  const double* hessian[kMaxStageOutputs] = {};
+};
 
 /// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
 /// relative to the largest Jet entry of its kind, floor 1). 0 for a stage without a twin.
