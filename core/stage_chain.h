@@ -16,11 +16,11 @@
 //                                  H += Zᵀ (Σ_k w̄_k ∇²y_k) Z, then w̄_inputs += (∂y/∂z)ᵀ w̄. That is
 //                                  H = J_sᵀ W'' J_s + Σ_k w_k ∇²s_k, recursively. Gauss–Newton (context.order < 2
 //                                  with a Hessian asked) keeps the root's term only: H = J_sᵀ W'' J_s.
-// Cost: every total Jacobian is kept on its support only (the stencil vertices the node depends on, e.g. three
-// for a face normal), and the curvature Zᵀ C Z is formed per pair of input nodes on their supports, skipping the
-// pairs whose block of C is zero (a bilinear stage couples only some of its inputs; a stage with constant zero
-// Hessians, core/stage.h, has no curvature at all). A leaf's Jacobian is a ±1 selector, whose zero entries
-// are skipped.
+// Cost: total Jacobians are full-width rows (D), so that each update is one fixed-length vector operation; the
+// curvature Zᵀ C Z is formed per pair of input nodes, skipping the pairs whose block of C is zero (a bilinear
+// stage couples only some of its inputs; a stage with constant zero Hessians, core/stage.h, has none) and, in
+// Zᵀ, the columns off the input's support (the stencil vertices it depends on, e.g. three for a face normal)
+// and the zero entries of a leaf's ±1 selector.
 // Every buffer is a fixed-size member (kMaxNodes nodes, stage sizes bounded by core/stage.h): a chain is built
 // once per thread and reused; building and finishing a stencil never allocates.
 #pragma once
@@ -92,8 +92,7 @@ class StageChain {
     const Node& r = nodes_[root_];
     if (wantG || wantH) {
       g.setZero();
-      for (int t = 0; t < r.numSupport; ++t)
-        for (int c = 0; c < 3; ++c) g[3 * r.support[t] + c] = r.J[3 * t + c];
+      g = row(r, 0).transpose();
     }
     if (wantH) {
       for (int i = 0; i < D * D; ++i) Hrow_[i] = 0.0;
@@ -134,7 +133,7 @@ class StageChain {
     int numSupport = 0;                      // the stencil vertices the node depends on, ascending
     int support[K];
     std::uint32_t mask = 0;                  // the same as bits
-    double J[kMaxStageOutputs * D];          // total Jacobian on the support: row k at J + k·D, 3·numSupport columns
+    alignas(64) double J[kMaxStageOutputs * D];  // total Jacobian ∂y_k/∂xe: row k at J + k·D, zero off the support
     double adjoint[kMaxStageOutputs];
   };
 
@@ -166,11 +165,10 @@ class StageChain {
     n.value = n.leafValue;
     setSupport(n, 1u << j | (i >= 0 ? 1u << i : 0u));
     if (context_.energyOrder > 0) {
-      const int w = 3 * n.numSupport;
       for (int c = 0; c < 3; ++c) {
-        double* row = n.J + c * D;
-        for (int col = 0; col < w; ++col) row[col] = 0.0;
-        for (int t = 0; t < n.numSupport; ++t) row[3 * t + c] = n.support[t] == j ? 1.0 : -1.0;
+        row(n, c).setZero();
+        n.J[c * D + 3 * j + c] = 1.0;
+        if (i >= 0) n.J[c * D + 3 * i + c] = -1.0;
       }
     }
     return numNodes_ - 1;
@@ -206,37 +204,29 @@ class StageChain {
     n.value = n.view.value;
     setSupport(n, mask);
     if (context_.energyOrder > 0) {
-      // J_k = Σ_q (∂y_k/∂z_q) J_input(q), each input's rows added on its own support.
-      int position[K];
-      for (int t = 0; t < n.numSupport; ++t) position[n.support[t]] = t;
-      const int w = 3 * n.numSupport;
-      for (int k = 0; k < M; ++k)
-        for (int col = 0; col < w; ++col) n.J[k * D + col] = 0.0;
+      // J_k = Σ_q (∂y_k/∂z_q) J_input(q): full-width rows (zero off the support), so that every update is a
+      // fixed-length vector operation.
       const double* a = n.view.jacobian;
-      for (int g = 0; g < n.numGroups; ++g) {
-        const Node& in = nodes_[n.groupNode[g]];
-        const int start = n.groupStart[g];
-        for (int t = 0; t < in.numSupport; ++t) {
-          const int u = 3 * position[in.support[t]];
-          for (int c = 0; c < in.outputs; ++c) {
-            const double* Jin = in.J + c * D + 3 * t;
-            for (int k = 0; k < M; ++k) {
-              const double akq = a[k + M * (start + c)];
-              if (akq == 0.0) continue;
-              double* Jo = n.J + k * D + u;
-              Jo[0] += akq * Jin[0];
-              Jo[1] += akq * Jin[1];
-              Jo[2] += akq * Jin[2];
-            }
-          }
+      for (int k = 0; k < M; ++k) row(n, k).setZero();
+      for (int q = 0; q < N; ++q) {
+        const auto in = row(nodes_[n.inputNode[q]], n.inputComponent[q]);
+        for (int k = 0; k < M; ++k) {
+          const double akq = a[k + M * q];
+          if (akq != 0.0) row(n, k).noalias() += akq * in;
         }
       }
     }
     return self;
   }
 
-  /// H += Zᵀ C Z with C = Σ_k w̄_k ∇²y_k, per pair of input nodes (a ≤ b) whose block C_ab is not zero:
-  /// Y = C_ab Z_b on b's support, then Z_aᵀ Y added at (a's support, b's support) and, for a < b, its transpose.
+  using Row = Eigen::Map<Eigen::Matrix<double, 1, D>>;
+  static Row row(Node& n, int k) { return Row(n.J + k * D); }
+  static Eigen::Map<const Eigen::Matrix<double, 1, D>> row(const Node& n, int k) {
+    return Eigen::Map<const Eigen::Matrix<double, 1, D>>(n.J + k * D);
+  }
+
+  /// H += Zᵀ C Z with C = Σ_k w̄_k ∇²y_k, per ordered pair of input nodes (a, b) whose block C_ab is not zero:
+  /// Y = C_ab Z_b (full-width rows), then for each support column r of Z_a, H's row r += Z_a(·, r)ᵀ Y.
   void addCurvature(const Node& node) {
     const int N = node.numInputs;
     double C[kMaxStageInputs * kMaxStageInputs];
@@ -253,57 +243,38 @@ class StageChain {
       any = true;
     }
     if (!any) return;
-    double Y[kMaxStageOutputs * D];
+    alignas(64) double Y[kMaxStageOutputs * D];
     for (int a = 0; a < node.numGroups; ++a) {
       const Node& A = nodes_[node.groupNode[a]];
       const int sa = node.groupStart[a], na = A.outputs;
-      for (int b = a; b < node.numGroups; ++b) {
+      for (int b = 0; b < node.numGroups; ++b) {
         const Node& B = nodes_[node.groupNode[b]];
         const int sb = node.groupStart[b], nb = B.outputs;
         bool nonzero = false;
-        for (int c = 0; c < nb && !nonzero; ++c)
-          for (int r = 0; r < na; ++r)
-            if (C[(sa + r) + N * (sb + c)] != 0.0) {
-              nonzero = true;
-              break;
-            }
-        if (!nonzero) continue;
-        const int wb = 3 * B.numSupport;
         for (int r = 0; r < na; ++r) {
-          double* y = Y + r * D;
-          for (int col = 0; col < wb; ++col) y[col] = 0.0;
+          Row y(Y + r * D);
+          bool rowNonzero = false;
           for (int c = 0; c < nb; ++c) {
             const double crc = C[(sa + r) + N * (sb + c)];
             if (crc == 0.0) continue;
-            const double* zb = B.J + c * D;
-            for (int col = 0; col < wb; ++col) y[col] += crc * zb[col];
+            if (!rowNonzero) {
+              y.noalias() = crc * row(B, c);
+            } else {
+              y.noalias() += crc * row(B, c);
+            }
+            rowNonzero = true;
           }
+          if (!rowNonzero) y.setZero();
+          nonzero = nonzero || rowNonzero;
         }
-        const bool transpose = b != a;
-        const bool contiguous = B.support[B.numSupport - 1] - B.support[0] == B.numSupport - 1;
+        if (!nonzero) continue;
         for (int t = 0; t < A.numSupport; ++t) {
           for (int cc = 0; cc < 3; ++cc) {
             const int hr = 3 * A.support[t] + cc;
-            double* hrow = Hrow_ + hr * D;
+            Row h(Hrow_ + hr * D);
             for (int r = 0; r < na; ++r) {
-              const double z = A.J[r * D + 3 * t + cc];
-              if (z == 0.0) continue;
-              const double* y = Y + r * D;
-              if (contiguous) {
-                double* h = hrow + 3 * B.support[0];
-                for (int col = 0; col < wb; ++col) h[col] += z * y[col];
-              } else {
-                for (int u = 0; u < B.numSupport; ++u) {
-                  double* h = hrow + 3 * B.support[u];
-                  h[0] += z * y[3 * u];
-                  h[1] += z * y[3 * u + 1];
-                  h[2] += z * y[3 * u + 2];
-                }
-              }
-              if (transpose) {
-                for (int u = 0; u < B.numSupport; ++u)
-                  for (int e = 0; e < 3; ++e) Hrow_[(3 * B.support[u] + e) * D + hr] += z * y[3 * u + e];
-              }
+              const double z = A.J[r * D + hr];
+              if (z != 0.0) h.noalias() += z * Eigen::Map<const Eigen::Matrix<double, 1, D>>(Y + r * D);
             }
           }
         }

@@ -29,7 +29,9 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
     density_.lambda = lambda_;
     density_.mu = mu_;
     density_.scale = energyScale();
-    return elements_.evaluate(table_, schedule_, x, request, options, elementEnergy_,
+    EvalOptions exact = options;  // the Gauss-Newton option is the bending term's; the membrane stays exact
+    exact.bendingHessian = BendingHessian::Exact;
+    return elements_.evaluate(table_, schedule_, x, request, exact, elementEnergy_,
                               [&](StageChain<3>& chain, int f) { chain.energy(density_, f, {buildMetric(chain)}); });
   }
   const bool ad = options.path == DerivativePath::AutoDiff;

@@ -58,3 +58,39 @@ TEST_CASE("stage: an analytic twin is detected, used on the analytic path only, 
   CHECK(jets.hessians[0](1, 1) == Approx(1.4));
   CHECK(twin.hessians[0](1, 1) == Approx(1.4 + 1e-3));
 }
+
+namespace {
+
+/// y = (z0 z1, 3 z0 − z1): a polynomial of degree 2, declared so.
+struct Bilinear {
+  static constexpr int kInputs = 2, kOutputs = 2;
+  static constexpr bool kConstantHessian = true;
+  template <typename T>
+  void operator()(const T* z, T* y, int) const {
+    y[0] = z[0] * z[1];
+    y[1] = constant<T>(3.0) * z[0] - z[1];
+  }
+};
+/// The same declaration on a stage that does not honour it.
+struct FalselyConstant : Plain {
+  static constexpr bool kConstantHessian = true;
+};
+
+}  // namespace
+
+TEST_CASE("stage: constant Hessians are computed once and a false declaration shows against the Jets", "[stages]") {
+  STATIC_REQUIRE(HasConstantHessian<Bilinear>::value);
+  STATIC_REQUIRE_FALSE(HasConstantHessian<Plain>::value);
+  const double z[2] = {0.7, -1.3};
+  StageDerivatives<2, 2> d;
+  evaluateStage(Bilinear(), z, 0, 2, DerivativePath::AutoDiff, d);
+  CHECK(d.value[0] == Approx(0.7 * -1.3));
+  CHECK(d.jacobian(1, 0) == 3.0);
+  CHECK(d.hessians[0](0, 1) == 1.0);
+  CHECK(d.hessians[0](0, 0) == 0.0);
+  CHECK(d.hessians[1].isZero(0.0));
+  CHECK_FALSE(constantStageHessians<Bilinear>().zero);
+  CHECK(constantHessianDiscrepancy(Bilinear(), z, 0) == 0.0);
+  // Plain's y0 = z0 z1² has a Hessian that moves with z: the declaration is caught away from z = 0.
+  CHECK(constantHessianDiscrepancy(FalselyConstant(), z, 0) >= 1.0);
+}
