@@ -17,10 +17,10 @@
 //                                  H = J_sᵀ W'' J_s + Σ_k w_k ∇²s_k, recursively. Gauss–Newton (context.order < 2
 //                                  with a Hessian asked) keeps the root's term only: H = J_sᵀ W'' J_s.
 // Cost: total Jacobians are full-width rows (D), so that each update is one fixed-length vector operation; the
-// curvature Zᵀ C Z is formed per pair of input nodes, skipping the pairs whose block of C is zero (a bilinear
-// stage couples only some of its inputs; a stage with constant zero Hessians, core/stage.h, has none) and, in
-// Zᵀ, the columns off the input's support (the stencil vertices it depends on, e.g. three for a face normal)
-// and the zero entries of a leaf's ±1 selector.
+// curvature Zᵀ C Z is formed per input node, skipping the zero entries of C (a bilinear stage couples only some
+// of its inputs; a stage with constant zero Hessians, core/stage.h, has none) and, in Zᵀ, the columns off the
+// input's support (the stencil vertices it depends on, e.g. three for a face normal) and the zero entries of a
+// leaf's ±1 selector.
 // Every buffer is a fixed-size member (kMaxNodes nodes, stage sizes bounded by core/stage.h): a chain is built
 // once per thread and reused; building and finishing a stencil never allocates.
 #pragma once
@@ -225,8 +225,8 @@ class StageChain {
     return Eigen::Map<const Eigen::Matrix<double, 1, D>>(n.J + k * D);
   }
 
-  /// H += Zᵀ C Z with C = Σ_k w̄_k ∇²y_k, per ordered pair of input nodes (a, b) whose block C_ab is not zero:
-  /// Y = C_ab Z_b (full-width rows), then for each support column r of Z_a, H's row r += Z_a(·, r)ᵀ Y.
+  /// H += Zᵀ C Z with C = Σ_k w̄_k ∇²y_k, per input node a: Y = Σ_b C_ab Z_b (full-width rows, zero entries of C
+  /// skipped), then for each column r of Z_a on a's support, H's row r += Z_a(·, r)ᵀ Y.
   void addCurvature(const Node& node) {
     const int N = node.numInputs;
     double C[kMaxStageInputs * kMaxStageInputs];
@@ -247,35 +247,27 @@ class StageChain {
     for (int a = 0; a < node.numGroups; ++a) {
       const Node& A = nodes_[node.groupNode[a]];
       const int sa = node.groupStart[a], na = A.outputs;
-      for (int b = 0; b < node.numGroups; ++b) {
-        const Node& B = nodes_[node.groupNode[b]];
-        const int sb = node.groupStart[b], nb = B.outputs;
-        bool nonzero = false;
+      // Y = Σ_b C_ab Z_b: the rows of C Z that input node a's rows of Zᵀ meet.
+      bool nonzero = false;
+      for (int r = 0; r < na; ++r) Row(Y + r * D).setZero();
+      for (int q = 0; q < N; ++q) {
+        const auto zq = row(nodes_[node.inputNode[q]], node.inputComponent[q]);
         for (int r = 0; r < na; ++r) {
-          Row y(Y + r * D);
-          bool rowNonzero = false;
-          for (int c = 0; c < nb; ++c) {
-            const double crc = C[(sa + r) + N * (sb + c)];
-            if (crc == 0.0) continue;
-            if (!rowNonzero) {
-              y.noalias() = crc * row(B, c);
-            } else {
-              y.noalias() += crc * row(B, c);
-            }
-            rowNonzero = true;
-          }
-          if (!rowNonzero) y.setZero();
-          nonzero = nonzero || rowNonzero;
+          const double crq = C[(sa + r) + N * q];
+          if (crq == 0.0) continue;
+          Row(Y + r * D).noalias() += crq * zq;
+          nonzero = true;
         }
-        if (!nonzero) continue;
-        for (int t = 0; t < A.numSupport; ++t) {
-          for (int cc = 0; cc < 3; ++cc) {
-            const int hr = 3 * A.support[t] + cc;
-            Row h(Hrow_ + hr * D);
-            for (int r = 0; r < na; ++r) {
-              const double z = A.J[r * D + hr];
-              if (z != 0.0) h.noalias() += z * Eigen::Map<const Eigen::Matrix<double, 1, D>>(Y + r * D);
-            }
+      }
+      if (!nonzero) continue;
+      // H's row of each column of Z_a on a's support += Z_a(·, column)ᵀ Y.
+      for (int t = 0; t < A.numSupport; ++t) {
+        for (int cc = 0; cc < 3; ++cc) {
+          const int hr = 3 * A.support[t] + cc;
+          Row h(Hrow_ + hr * D);
+          for (int r = 0; r < na; ++r) {
+            const double z = A.J[r * D + hr];
+            if (z != 0.0) h.noalias() += z * Eigen::Map<const Eigen::Matrix<double, 1, D>>(Y + r * D);
           }
         }
       }

@@ -1,7 +1,7 @@
 // `jetshell bench elements`: per-face cost of the shell energies (value, gradient, Hessian with assembly into
 // the cached pattern) on a 200×200-square grid bent into a wavy shape, for the AD and analytic paths, exact
 // and Gauss–Newton bending Hessians, 1 thread and all threads. Medians of repeats; peak RSS reported.
-// The *_staged rows are the same energies on the stage framework (BendingTerm/MembraneTerm::setStaged),
+// --staged adds *_staged rows: the same energies on the stage framework (BendingTerm/MembraneTerm::setStaged),
 // measured in the same run, so that their ratio to the hand-chained evaluators means something on a busy machine.
 #include "tools/output/atomic_file.h"
 #include "core/assembly.h"
@@ -34,6 +34,7 @@ struct BenchOptions {
   std::string term;  // empty = all
   std::string path;  // empty = both
   int threads = 0;   // 0 = 1 and all
+  bool staged = false;  // also the *_staged rows (the stage framework), in the same run
 };
 
 double peakRssMb() {
@@ -117,10 +118,14 @@ int runBench(const BenchOptions& o) {
   }
   auto membrane = makeMembraneTerm(mesh, ref, mat.membraneLambda, mat.membraneMu);
   auto bending = makeBendingTerm(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
-  auto membraneStaged = std::make_shared<MembraneTerm>(mesh, ref, mat.membraneLambda, mat.membraneMu);
-  membraneStaged->setStaged(true);
-  auto bendingStaged = std::make_shared<BendingTerm>(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
-  bendingStaged->setStaged(true);
+  std::shared_ptr<MembraneTerm> membraneStaged;
+  std::shared_ptr<BendingTerm> bendingStaged;
+  if (o.staged) {
+    membraneStaged = std::make_shared<MembraneTerm>(mesh, ref, mat.membraneLambda, mat.membraneMu);
+    membraneStaged->setStaged(true);
+    bendingStaged = std::make_shared<BendingTerm>(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
+    bendingStaged->setStaged(true);
+  }
   HessianAssembler assembler;
   const int slotM = assembler.addStencils(membrane->stencils());
   const int slotB = assembler.addStencils(bending->stencils());
@@ -166,12 +171,14 @@ int runBench(const BenchOptions& o) {
     const char* term;
     std::vector<std::pair<EnergyTerm*, int>> terms;
   };
-  const std::vector<Case> cases = {{"membrane", {{membrane.get(), slotM}}},
-                                   {"bending", {{bending.get(), slotB}}},
-                                   {"shell", {{membrane.get(), slotM}, {bending.get(), slotB}}},
-                                   {"membrane_staged", {{membraneStaged.get(), slotM}}},
-                                   {"bending_staged", {{bendingStaged.get(), slotB}}},
-                                   {"shell_staged", {{membraneStaged.get(), slotM}, {bendingStaged.get(), slotB}}}};
+  std::vector<Case> cases = {{"membrane", {{membrane.get(), slotM}}},
+                             {"bending", {{bending.get(), slotB}}},
+                             {"shell", {{membrane.get(), slotM}, {bending.get(), slotB}}}};
+  if (o.staged) {
+    cases.push_back({"membrane_staged", {{membraneStaged.get(), slotM}}});
+    cases.push_back({"bending_staged", {{bendingStaged.get(), slotB}}});
+    cases.push_back({"shell_staged", {{membraneStaged.get(), slotM}, {bendingStaged.get(), slotB}}});
+  }
   std::printf("\n%-15s %-9s %-13s %7s %12s %12s %12s\n", "term", "path", "bending H", "threads", "value ns",
               "+grad ns", "+Hessian ns");
   for (int threads : threadCounts) {
@@ -227,7 +234,8 @@ int runBench(const BenchOptions& o) {
   const double stagedAd = find("shell_staged", "ad", "exact", 1), stagedAn = find("shell_staged", "analytic", "exact", 1);
   if (std::isfinite(stagedAd) && std::isfinite(stagedAn))
     std::printf("  stage framework, AD / analytic twins, 1 thread: %.2f\n", stagedAd / stagedAn);
-  std::printf("  peak resident memory: %.0f MB (target <= 300)\n", peakRssMb());
+  std::printf("  peak resident memory: %.0f MB (target <= 300%s)\n", peakRssMb(),
+              o.staged ? "; this run also holds the staged terms and their caches" : "");
 
   if (!o.json.empty()) {
     nlohmann::json out = nlohmann::json::array();
@@ -261,6 +269,8 @@ const RegisterSubcommand reg("bench elements", [](CLI::App& app, int& exitCode) 
   el->add_option("--json", opts->json, "Write the figures as a JSON list");
   el->add_option("--term", opts->term, "Only this term and its staged twin (hinge: the staged user term against one nested-Jet element)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge"}));
   el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));
+  el->add_flag("--staged", opts->staged,
+               "Also the same energies on the stage framework (rows *_staged), with their ratio to the default");
   el->add_option("--threads", opts->threads, "Only this thread count (default: 1 and all)")->check(CLI::Range(1, 256));
   el->callback([opts, &exitCode] { exitCode = runBench(*opts); });
 });
