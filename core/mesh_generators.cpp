@@ -103,7 +103,8 @@ static TriMesh alternatingRectangleGrid(double width, double height, int nx, int
   return m;
 }
 
-TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int nodesPerRing, QuadDiagonals diagonals) {
+TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int nodesPerRing, QuadDiagonals diagonals,
+                        RingSpacing spacing) {
   const char* g = "slit annulus";
   requirePositive(g, "innerRadius", innerRadius);
   requirePositive(g, "outerRadius", outerRadius);
@@ -114,7 +115,9 @@ TriMesh makeSlitAnnulus(double innerRadius, double outerRadius, int rings, int n
   TriMesh m;
   m.V.resize(rings * nodesPerRing, 3);
   for (int r = 0; r < rings; ++r) {
-    const double radius = innerRadius + (outerRadius - innerRadius) * r / (rings - 1);
+    const double s = static_cast<double>(r) / (rings - 1);
+    const double t = spacing == RingSpacing::Cosine ? 0.5 * (1.0 - std::cos(0.5 * kTwoPi * s)) : s;
+    const double radius = innerRadius + (outerRadius - innerRadius) * t;
     for (int j = 0; j < nodesPerRing; ++j) {
       // The last column is computed at exactly 2π so the slit's two sides coincide to rounding.
       const double theta = kTwoPi * j / (nodesPerRing - 1);
@@ -209,6 +212,14 @@ QuadDiagonals quadDiagonalsFromString(const std::string& name) {
 }
 
 const char* toString(QuadDiagonals d) { return d == QuadDiagonals::Uniform ? "uniform" : "alternating"; }
+
+RingSpacing ringSpacingFromString(const std::string& name) {
+  if (name == "uniform") return RingSpacing::Uniform;
+  if (name == "cosine") return RingSpacing::Cosine;
+  throw InputError("ringSpacing = \"" + name + "\": must be \"uniform\" or \"cosine\"");
+}
+
+const char* toString(RingSpacing s) { return s == RingSpacing::Cosine ? "cosine" : "uniform"; }
 
 TriMesh makeRectangleGrid(double width, double height, int nx, int ny) {
   return makeRectangleGrid(width, height, nx, ny, QuadDiagonals::Uniform);

@@ -34,4 +34,27 @@ class OneRingFilter {
   std::vector<std::vector<int>> neighbours_;  // sorted, self included
 };
 
+/// OneRingFilter::apply for a sequence of matrices of one pattern: plan() decides once which entries are kept
+/// and which dropped (one adjacency search per entry), then apply() only gathers values and adds the dropped
+/// magnitudes, in the filter's order, so the result has the same bits as OneRingFilter::apply.
+class OneRingPlan {
+ public:
+  /// Plans for upper's pattern (3·filter.numVertices() square, compressed).
+  void plan(const OneRingFilter& filter, const Eigen::SparseMatrix<double>& upper);
+  bool planned() const { return planned_; }
+  /// The one-ring part of upper, whose pattern must be the planned one. The pattern of the result is fixed
+  /// between plans.
+  const Eigen::SparseMatrix<double>& apply(const Eigen::SparseMatrix<double>& upper);
+
+ private:
+  bool planned_ = false;
+  Eigen::Index cols_ = 0, nonZeros_ = 0;
+  std::vector<int> kept_;                  // source position of each result entry
+  std::vector<int> dropped_;               // source positions of the dropped entries, in source order
+  std::vector<int> droppedRow_, droppedCol_;
+  std::vector<int> diagonal_;              // result position of each row's diagonal, -1 when absent
+  std::vector<double> droppedSum_;         // per row, reused
+  Eigen::SparseMatrix<double> result_;
+};
+
 }  // namespace jetshell

@@ -6,10 +6,13 @@
 // factorizations; when CG needs more than lagRefactorIterations, the current Hessian is factored and CG
 // restarts) and the one-ring factor (CHOLMOD, of the Hessian's one-ring part with the dropped entries'
 // magnitudes on the diagonal, solvers/one_ring_pattern.h: refactored every solve at about a tenth of the full
-// factor's flops, its pattern analysed once per pattern version). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base class answers with
+// factor's flops, its pattern analysed once per pattern version). Products with H run on the OpenMP threads
+// (solvers/symmetric_product.h). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base class answers with
 // a diagonal shift.
 #include "solvers/cholmod_factor.h"
 #include "solvers/linear_solver.h"
+#include "solvers/one_ring_pattern.h"
+#include "solvers/symmetric_product.h"
 #include "solvers/timer.h"
 
 #include <Eigen/Dense>
@@ -153,23 +156,25 @@ class PcgSolver : public LinearSolver {
         using Status = CholmodFactor::Status;
         if (!options().oneRing || options().oneRing->empty())
           throw std::invalid_argument("one_ring_cholesky preconditioner without the mesh's adjacency");
-        options().oneRing->apply(H, oneRingMatrix_);
+        // The plan follows H's pattern: re-planned whenever that pattern is new (analyze), values gathered always.
+        if (analyze || !oneRingPlan_.planned()) oneRingPlan_.plan(*options().oneRing, H);
+        const Eigen::SparseMatrix<double>& oneRing = oneRingPlan_.apply(H);
         // The one-ring part's pattern is the mesh's: contact pairs between distant vertices change H's pattern
         // but not this one, so the analysis is redone only when the filtered pattern itself changed. Its
         // pattern follows H's alone, so it is compared only when H's pattern is new.
         const bool samePattern =
-            factor_.analyzed() && (!analyze || sameSparsity(oneRingMatrix_, analyzedPattern_));
+            factor_.analyzed() && (!analyze || sameSparsity(oneRing, analyzedPattern_));
         if (!samePattern) {
-          if (factor_.analyze(oneRingMatrix_) != Status::Ok) {
+          if (factor_.analyze(oneRing) != Status::Ok) {
             report.message = factor_.message();
             return false;
           }
-          analyzedPattern_ = oneRingMatrix_;
+          analyzedPattern_ = oneRing;
         } else if (analyze) {
           report.analysisReused = true;
         }
         ++report.numericFactorizations;
-        if (factor_.factorize(oneRingMatrix_, shift) != Status::Ok) {
+        if (factor_.factorize(oneRing, shift) != Status::Ok) {
           report.message = "one-ring factor: " + factor_.message();
           return false;
         }
@@ -216,12 +221,13 @@ class PcgSolver : public LinearSolver {
     x.setZero(b.size());
     if (bNorm == 0.0) return Attempt::Ok;
     Eigen::VectorXd r = b, z, p, Ap(b.size());
+    product_.prepare(H);
     precondition(r, z);
     p = z;
     double rz = r.dot(z);
     const double target = relativeTolerance() * bNorm;
     for (int k = 1; k <= maxIterations; ++k) {
-      Ap.noalias() = H.selfadjointView<Eigen::Upper>() * p;
+      product_.apply(H, p, Ap);
       Ap += shift * p;
       const double pAp = p.dot(Ap);
       report.cgIterations = k;
@@ -250,9 +256,10 @@ class PcgSolver : public LinearSolver {
   Eigen::IncompleteCholesky<double, Eigen::Upper, Eigen::AMDOrdering<int>> ic_;
   bool icAnalyzed_ = false;
   Eigen::SparseMatrix<double> shifted_;
-  Eigen::SparseMatrix<double> oneRingMatrix_;
+  OneRingPlan oneRingPlan_;
   Eigen::SparseMatrix<double> analyzedPattern_;  // the one-ring matrix the factor was last analysed for
   CholmodFactor factor_;
+  SymmetricProduct product_;
 };
 
 }  // namespace

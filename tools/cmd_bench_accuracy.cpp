@@ -28,6 +28,9 @@ namespace {
 
 using namespace jetshell::validation;
 
+const char* const kRingFamily = "page's slit ring, cosine rings, n x 16n";
+const char* const kRingAngular = "page's slit ring, 5 cosine rings, angular refinement";
+
 /// One run of the study: a benchmark, a mesh and the options that differ from the defaults.
 struct StudyRun {
   std::string group;   // the table it belongs to
@@ -76,6 +79,28 @@ std::vector<StudyRun> studyRuns(bool quick, bool large) {
     add("self-convergence", "slit annular plate, uniform rings", "slit-annular-plate", meshes, "", none);
     for (Resolution& m : meshes) m.grading = MeshGrading::Cosine;
     add("self-convergence", "slit annular plate, cosine rings", "slit-annular-plate", meshes, "cosine rings", none);
+    // The page's ring (the plate scaled 1:10) on the n x 16n family with cosine rings.
+    const MeshGrading c = MeshGrading::Cosine;
+    if (!quick)
+      add("self-convergence", "page's slit ring, cosine rings, 3x48 doubled", "slit-ring-page",
+          {{3, 48, c}, {6, 96, c}, {12, 192, c}}, "cosine rings", none);
+    if (large)
+      add("self-convergence", "page's slit ring, cosine rings, 4x64 doubled", "slit-ring-page",
+          {{4, 64, c}, {8, 128, c}, {16, 256, c}}, "cosine rings", none);
+  }
+
+  // 1c. The page's ring with the best rules (moment-free free edges, mirrored clamp, cosine rings): the family
+  // n x 16n (the page's 4 x 64 is n = 4), and angular refinement at 5 rings (at λ = 1 the angular count governs
+  // W_B's error), for the error model of the smallest mesh within 1% at W_B (printRingConvergence).
+  {
+    std::vector<Resolution> family, angular;
+    for (int n : quick ? std::vector<int>{4, 6, 8} : std::vector<int>{4, 5, 6, 7, 8, 10, 12})
+      family.push_back({n, 16 * n, MeshGrading::Cosine});
+    if (large) family.push_back({16, 256, MeshGrading::Cosine});
+    for (int n : quick ? std::vector<int>{64, 96, 128} : std::vector<int>{64, 80, 96, 112, 128})
+      angular.push_back({5, n, MeshGrading::Cosine});
+    add("ring", kRingFamily, "slit-ring-page", family, "cosine rings", none);
+    add("ring", kRingAngular, "slit-ring-page", angular, "cosine rings", none);
   }
 
   // 2. Clamped edges: the two other models on the same meshes.
@@ -209,6 +234,80 @@ void printSelfConvergence(const std::vector<Done>& done) {
   }
 }
 
+/// The signed relative error of quantity `name` at λ = 1 (NaN when the run is incomplete or has no such quantity).
+double finalSignedError(const BenchmarkResult& r, const std::string& name) {
+  const auto at = std::find(r.quantities.begin(), r.quantities.end(), name);
+  if (!r.completed || r.rows.empty() || at == r.quantities.end()) return std::nan("");
+  const BenchmarkRow& row = r.rows.back();
+  const std::size_t q = static_cast<std::size_t>(at - r.quantities.begin());
+  return (row.computed[q] - row.reference[q]) / std::abs(row.reference[q]);
+}
+
+/// The ring's error model: per series of the ring group, the error e at W_B (λ = 1) and over the path against
+/// the angular count n2 (h ∝ 1/n2 in both series: n x 16n, and 5 x n2), the least-squares fit e = C n2^−p in
+/// log-log over the runs with at least 5 rings (4 rings sit in the free edges' pre-asymptotic range), the n2 and
+/// vertex count it predicts for 1%, and the smallest measured meshes within 1%.
+void printRingConvergence(const std::vector<Done>& done) {
+  std::vector<const Done*> runs;
+  for (const Done& d : done)
+    if (d.run.group == "ring") runs.push_back(&d);
+  if (runs.empty()) return;
+  std::cout << "\n### ring: error model (W_B at λ = 1, and the max over all levels and both points)\n\n"
+            << "| series | mesh | vertices | W_B error at λ=1 % | max error % | CPU s | wall s |\n"
+               "|---|---|---:|---:|---:|---:|---:|\n";
+  const Done* smallestB = nullptr;
+  const Done* smallestAll = nullptr;
+  for (const Done* d : runs) {
+    const BenchmarkResult& r = d->result;
+    const double eB = finalSignedError(r, "W_B");
+    std::cout << "| " << d->run.series << " | " << r.resolution.n1 << "x" << r.resolution.n2 << " | " << r.vertices
+              << " | " << (std::isfinite(eB) ? fixed(100.0 * eB, 3) : "failed") << " | " << percent(r.maxRelError)
+              << " | " << fixed(r.cpuSeconds, 2) << " | " << fixed(r.wallSeconds, 2) << " |\n";
+    if (std::abs(eB) < 0.01 && (smallestB == nullptr || r.vertices < smallestB->result.vertices)) smallestB = d;
+    if (r.completed && r.maxRelError < 0.01 && (smallestAll == nullptr || r.vertices < smallestAll->result.vertices))
+      smallestAll = d;
+  }
+  std::cout << "\n| series | measure | fitted order p | constant C (e = C n2^-p) | n2 for 1% | vertices |\n"
+               "|---|---|---:|---:|---:|---:|\n";
+  for (const std::string series : {kRingFamily, kRingAngular}) {
+    const bool family = series == kRingFamily;
+    for (int measure = 0; measure < 2; ++measure) {
+      double sx = 0, sy = 0, sxx = 0, sxy = 0;
+      int count = 0;
+      for (const Done* d : runs) {
+        const BenchmarkResult& r = d->result;
+        if (d->run.series != series || r.resolution.n1 < 5) continue;
+        const double e = measure == 0 ? std::abs(finalSignedError(r, "W_B")) : r.maxRelError;
+        if (!(e > 0.0) || !std::isfinite(e)) continue;
+        const double x = std::log(static_cast<double>(r.resolution.n2)), y = std::log(e);
+        sx += x, sy += y, sxx += x * x, sxy += x * y, ++count;
+      }
+      if (count < 2) continue;
+      const double slope = (count * sxy - sx * sy) / (count * sxx - sx * sx);
+      const double p = -slope, C = std::exp((sy - slope * sx) / count);
+      const double n2 = p > 0.0 ? std::pow(C / 0.01, 1.0 / p) : std::nan("");
+      std::string vertices = "-";
+      if (std::isfinite(n2) && n2 < 1e5) {
+        const double n1 = family ? std::ceil(n2 / 16.0) : 5.0;
+        const double a = family ? 16.0 * n1 : std::ceil(n2);
+        vertices = std::to_string(static_cast<long long>((n1 + 1.0) * (a + 1.0)));
+      }
+      std::cout << "| " << series << " | " << (measure == 0 ? "W_B at λ=1" : "max over the path") << " | "
+                << fixed(p, 2) << " | " << fixed(C, 3) << " | " << (std::isfinite(n2) ? fixed(n2, 0) : "-") << " | "
+                << vertices << " |\n";
+    }
+  }
+  auto name = [](const Done* d) {
+    return d == nullptr ? std::string("none measured")
+                        : std::to_string(d->result.resolution.n1) + "x" + std::to_string(d->result.resolution.n2) +
+                              " (" + std::to_string(d->result.vertices) + " vertices, " +
+                              fixed(d->result.cpuSeconds, 2) + " CPU s, " + fixed(d->result.wallSeconds, 2) +
+                              " wall s)";
+  };
+  std::cout << "\nsmallest measured within 1% at W_B (λ = 1): " << name(smallestB)
+            << "\nsmallest measured within 1% at every level and both points: " << name(smallestAll) << "\n";
+}
+
 int runStudy(bool quick, bool large, const std::string& jsonPath, const std::string& chartPath, const std::string& only) {
   std::vector<Done> done;
   nlohmann::json all = nlohmann::json::array();
@@ -255,6 +354,7 @@ int runStudy(bool quick, bool large, const std::string& jsonPath, const std::str
   }
 
   printSelfConvergence(done);
+  printRingConvergence(done);
 
   if (!chartPath.empty()) {
     std::vector<ErrorTimePoint> points;
@@ -291,7 +391,7 @@ const RegisterSubcommand reg("bench_accuracy", [](CLI::App& app, int& exitCode) 
   cmd->add_flag("--large", a->large, "Also the fine slit-ring meshes that reach 1% (several minutes each)");
   cmd->add_option("--json", a->json, "Write every run to this JSON file");
   cmd->add_option("--chart", a->chart, "Error-versus-time PNG (default validation-output/error_vs_time.png; '' for none)");
-  cmd->add_option("--only", a->only, "Run one group: convergence, self-convergence, anisotropic, clamps, diagonals, knobs, relaxation, one-percent");
+  cmd->add_option("--only", a->only, "Run one group: convergence, self-convergence, ring, anisotropic, clamps, diagonals, knobs, relaxation, one-percent");
   cmd->callback([a, &exitCode] {
     if (!a->chart.empty()) {
       const std::string dir = a->chart.substr(0, a->chart.find_last_of('/'));

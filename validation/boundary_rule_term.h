@@ -38,6 +38,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace jetshell::validation {
@@ -125,28 +126,65 @@ struct BoundaryRuleEnergy {
     else
       secondFundamentalForm(e0, e1, builtIn[0], builtIn[1], builtIn[2], bBuiltIn);
     int count = 0;
-    const V3<T> zero{{constant<T>(0.0), constant<T>(0.0), constant<T>(0.0)}};
     for (int i = 0; i < 3; ++i) {
       if (!el.boundary[i] || el.rule[i] != BoundaryRule::SecondOrderFree) continue;
-      // n̄_i = n + a u, u the unit in-plane direction across edge i (b is linear in the mid-edge normals).
+      // n̄_i = n + a u, u the unit in-plane direction across edge i (b is linear in the mid-edge normals):
+      // secondFundamentalForm(e0, e1, n0, n1, n2) with u as n_i and the other two zero, without the products
+      // by zero (b0 = 2(n1 − n0)·e0, b1 = −2 n0·e1, b2 = 2(n2 − n0)·e1).
       const V3<T> t = p[(i + 2) % 3] - p[(i + 1) % 3];
       const V3<T> u = unitNormal(cross(t, n));
-      V3<T> only[3] = {zero, zero, zero};
-      only[i] = u;
-      secondFundamentalForm(e0, e1, only[0], only[1], only[2], dbRuled[count]);
+      T* db = dbRuled[count];
+      const T zero = constant<T>(0.0);
+      if (i == 0) {
+        db[0] = scaledBy(-2.0, dot(u, e0));
+        db[1] = db[2] = scaledBy(-2.0, dot(u, e1));
+      } else if (i == 1) {
+        db[0] = scaledBy(2.0, dot(u, e0));
+        db[1] = db[2] = zero;
+      } else {
+        db[0] = db[1] = zero;
+        db[2] = scaledBy(2.0, dot(u, e1));
+      }
       ++count;
     }
     return count;
   }
 
-  /// G(u, v) = α tr(Pu) tr(Pv) + β tr(PuPv) (W_b(κ) = ½ G(κ, κ)).
+  /// c·x for a plain number c, entry by entry at every Jet depth (a product with constant<T>(c) would multiply
+  /// out every derivative of the constant, which are zeros: four times the work in nested Jets).
   template <typename T>
-  static T bilinear(const T u[3], const T v[3], const double P[3], const T& alpha, const T& beta) {
-    T w[3];
-    for (int k = 0; k < 3; ++k) w[k] = u[k] + v[k];
-    const T half = constant<T>(0.5);
-    return alpha * trace(P, u) * trace(P, v) +
-           beta * half * (traceOfSquare(P, w) - traceOfSquare(P, u) - traceOfSquare(P, v));
+  static T scaledBy(double c, const T& x) {
+    if constexpr (std::is_arithmetic_v<T>) {
+      return c * x;
+    } else {
+      T r;
+      r.a = scaledBy(c, x.a);
+      for (int i = 0; i < r.v.size(); ++i) r.v[i] = scaledBy(c, x.v[i]);
+      return r;
+    }
+  }
+
+  /// What G(u, v) = α tr(Pu) tr(Pv) + β tr(PuPv) (W_b(κ) = ½ G(κ, κ)) needs of u: tr(Pu) and the 2×2 product Pu
+  /// (u symmetric, stored as (00, 01, 11); P likewise), so each pair costs five products.
+  template <typename T>
+  struct Factored {
+    T trace;
+    T pu[4];  // (Pu)00, (Pu)01, (Pu)10, (Pu)11
+  };
+  template <typename T>
+  static Factored<T> factor(const T u[3], const double P[3]) {
+    Factored<T> f;
+    f.pu[0] = scaledBy(P[0], u[0]) + scaledBy(P[1], u[1]);
+    f.pu[1] = scaledBy(P[0], u[1]) + scaledBy(P[1], u[2]);
+    f.pu[2] = scaledBy(P[1], u[0]) + scaledBy(P[2], u[1]);
+    f.pu[3] = scaledBy(P[1], u[1]) + scaledBy(P[2], u[2]);
+    f.trace = f.pu[0] + f.pu[3];
+    return f;
+  }
+  template <typename T>
+  static T bilinear(const Factored<T>& u, const Factored<T>& v, const T& alpha, const T& beta) {
+    return alpha * (u.trace * v.trace) +
+           beta * (u.pu[0] * v.pu[0] + u.pu[1] * v.pu[2] + u.pu[2] * v.pu[1] + u.pu[3] * v.pu[3]);
   }
 
   template <typename T>
@@ -162,13 +200,17 @@ struct BoundaryRuleEnergy {
       // min over a of W(κ0 − Σ a_j δb_j): W(κ0) − ½ gᵀ Q⁻¹ g, g_j = G(κ0, δb_j), Q_jk = G(δb_j, δb_k).
       T k0[3];
       for (int k = 0; k < 3; ++k) k0[k] = constant<T>(el.Brule[k]) - bRuled[k];
+      const Factored<T> f0 = factor(k0, el.Ainv);
+      Factored<T> fd[3];
+      for (int j = 0; j < m; ++j) fd[j] = factor(db[j], el.Ainv);
       T g[3], Q[3][3];
       for (int j = 0; j < m; ++j) {
-        g[j] = bilinear(k0, db[j], el.Ainv, alpha, beta);
-        for (int k = 0; k < m; ++k) Q[j][k] = bilinear(db[j], db[k], el.Ainv, alpha, beta);
+        g[j] = bilinear(f0, fd[j], alpha, beta);
+        for (int k = 0; k <= j; ++k) Q[j][k] = Q[k][j] = bilinear(fd[j], fd[k], alpha, beta);
       }
       // Gaussian elimination (Q is symmetric positive definite for β > 0 and independent directions).
-      T y[3] = {g[0], g[1], g[2]};
+      T y[3];
+      for (int j = 0; j < m; ++j) y[j] = g[j];
       for (int c = 0; c < m; ++c)
         for (int r = c + 1; r < m; ++r) {
           const T f = Q[r][c] / Q[c][c];

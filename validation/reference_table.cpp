@@ -5,8 +5,22 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string>
 
 namespace jetshell::validation {
+namespace {
+
+/// Half a unit of the last digit of a number as printed ("0.026" -> 0.0005, "12" -> 0.5, "1.5e-3" -> 0.00005).
+double halfUnitOfLastDigit(const std::string& field) {
+  const std::size_t e = field.find_first_of("eE");
+  const std::string mantissa = field.substr(0, e);
+  const int exponent = e == std::string::npos ? 0 : std::stoi(field.substr(e + 1));
+  const std::size_t dot = mantissa.find('.');
+  const int decimals = dot == std::string::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
+  return 0.5 * std::pow(10.0, exponent - decimals);
+}
+
+}  // namespace
 
 std::string referenceDirectory() { return std::string(JETSHELL_SOURCE_DIR) + "/validation/reference"; }
 
@@ -22,7 +36,7 @@ ReferenceTable loadReferenceTable(const std::string& path, std::vector<std::stri
     const std::size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     std::istringstream fields(line);
-    std::vector<double> row;
+    std::vector<double> row, half;
     std::string field;
     while (fields >> field) {
       std::size_t used = 0;
@@ -35,6 +49,7 @@ ReferenceTable loadReferenceTable(const std::string& path, std::vector<std::stri
       if (used != field.size() || !std::isfinite(v))
         throw InputError(path + ":" + std::to_string(lineNumber) + ": '" + field + "' is not a number");
       row.push_back(v);
+      half.push_back(halfUnitOfLastDigit(field));
     }
     if (row.size() != columns)
       throw InputError(path + ":" + std::to_string(lineNumber) + ": expected " + std::to_string(columns) +
@@ -44,6 +59,7 @@ ReferenceTable loadReferenceTable(const std::string& path, std::vector<std::stri
       throw InputError(path + ":" + std::to_string(lineNumber) + ": lambda must increase strictly");
     t.lambda.push_back(row[0]);
     t.value.emplace_back(row.begin() + 1, row.end());
+    t.halfUnit.emplace_back(half.begin() + 1, half.end());
   }
   if (t.lambda.empty()) throw InputError(path + ": no rows");
   return t;
@@ -117,6 +133,8 @@ ReferenceTable endShearElastica(double length, double bendingStiffness, double m
 ReferenceTable scaled(ReferenceTable table, double factor) {
   for (auto& row : table.value)
     for (double& v : row) v *= factor;
+  for (auto& row : table.halfUnit)
+    for (double& v : row) v *= std::abs(factor);
   return table;
 }
 

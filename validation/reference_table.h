@@ -12,6 +12,9 @@ struct ReferenceTable {
   std::vector<std::string> quantities;     // e.g. {"W_A", "W_B"}
   std::vector<double> lambda;              // per row
   std::vector<std::vector<double>> value;  // per row, one per quantity
+  /// Per row and quantity: half a unit of the value's last printed digit (a table printed with three decimals
+  /// states 0.026 for anything in [0.0255, 0.0265]); 0 for closed forms, or empty (all 0).
+  std::vector<std::vector<double>> halfUnit;
   int rows() const { return static_cast<int>(lambda.size()); }
 };
 
@@ -19,7 +22,7 @@ struct ReferenceTable {
 std::string referenceDirectory();
 
 /// Reads a table of whitespace-separated numbers, one row per line, λ first, then quantities.size() values;
-/// lines starting with '#' and blank lines are skipped. Throws InputError naming file and line for a missing
+/// lines starting with '#' and blank lines are skipped. Each value's printed precision is kept in halfUnit. Throws InputError naming file and line for a missing
 /// file, a wrong number of columns, a non-number or λ not strictly increasing.
 ReferenceTable loadReferenceTable(const std::string& path, std::vector<std::string> quantities);
 

@@ -39,6 +39,9 @@ std::string formatSummary(const Benchmark& b, const BenchmarkResult& r) {
     << r.message << "\n"
     << "  max relative error " << format("%.3f", 100.0 * r.maxRelError) << "%, at lambda = 1 "
     << format("%.3f", 100.0 * r.finalRelError) << "% (" << toString(b.errorMeasure) << ")\n";
+  if (r.maxRelErrorBeyondDigits < r.maxRelError)
+    s << "  beyond the reference's printed digits (|q - q_ref| less half a unit of its last digit): max "
+      << format("%.3f", 100.0 * r.maxRelErrorBeyondDigits) << "%\n";
   return s.str();
 }
 
@@ -65,7 +68,8 @@ nlohmann::json toJson(const Benchmark& b, const BenchmarkResult& r) {
     rows.push_back({{"lambda", row.lambda},
                     {"computed", row.computed},
                     {"reference", row.reference},
-                    {"rel_error", row.relError}});
+                    {"rel_error", row.relError},
+                    {"rel_error_beyond_digits", row.relErrorBeyondDigits}});
   return {{"name", r.name},
           {"title", b.title},
           {"vertices", r.vertices},
@@ -87,6 +91,7 @@ nlohmann::json toJson(const Benchmark& b, const BenchmarkResult& r) {
           {"error_measure", toString(b.errorMeasure)},
           {"max_rel_error", finiteOrNull(r.maxRelError)},
           {"final_rel_error", finiteOrNull(r.finalRelError)},
+          {"max_rel_error_beyond_digits", finiteOrNull(r.maxRelErrorBeyondDigits)},
           {"quantities", r.quantities},
           {"rows", rows}};
 }

@@ -37,9 +37,13 @@ void compare(const Benchmark& b, int row, const std::vector<double>& computed, B
   double norm = 0.0;
   for (double v : out.reference) norm += v * v;
   norm = std::sqrt(norm);
+  const bool printed = row < static_cast<int>(b.reference.halfUnit.size());
   for (std::size_t q = 0; q < computed.size(); ++q) {
     const double scale = b.errorMeasure == ErrorMeasure::PerQuantity ? std::abs(out.reference[q]) : norm;
-    out.relError.push_back(std::abs(computed[q] - out.reference[q]) / scale);
+    const double difference = std::abs(computed[q] - out.reference[q]);
+    const double half = printed ? b.reference.halfUnit[row][q] : 0.0;
+    out.relError.push_back(difference / scale);
+    out.relErrorBeyondDigits.push_back(std::max(0.0, difference - half) / scale);
   }
   r.rows.push_back(std::move(out));
 }
@@ -158,12 +162,14 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
     r.message = sr.message;
     if (r.completed) r.message = "every level reached";
   }
-  for (const BenchmarkRow& row : r.rows)
+  for (const BenchmarkRow& row : r.rows) {
     for (double e : row.relError) r.maxRelError = std::max(r.maxRelError, e);
+    for (double e : row.relErrorBeyondDigits) r.maxRelErrorBeyondDigits = std::max(r.maxRelErrorBeyondDigits, e);
+  }
   if (r.completed && !r.rows.empty())
     for (double e : r.rows.back().relError) r.finalRelError = std::max(r.finalRelError, e);
   else
-    r.finalRelError = r.maxRelError = std::numeric_limits<double>::infinity();
+    r.finalRelError = r.maxRelError = r.maxRelErrorBeyondDigits = std::numeric_limits<double>::infinity();
   r.wallSeconds = seconds(start);
   r.cpuSeconds = processCpuSeconds() - cpuStart;
   return r;

@@ -86,3 +86,76 @@ TEST_CASE("psd projection: a block with NaN is not diagonally dominant and stays
     CHECK_FALSE(P.allFinite());
   }
 }
+
+namespace {
+
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+/// L: positions of three vertices -> the edge vectors x1 − x0, x2 − x0.
+Eigen::Matrix<double, 6, 9> edgeMap() {
+  Eigen::Matrix<double, 6, 9> L = Eigen::Matrix<double, 6, 9>::Zero();
+  for (int i = 0; i < 2; ++i) {
+    L.block<3, 3>(3 * i, 0) = -Eigen::Matrix3d::Identity();
+    L.block<3, 3>(3 * i, 3 + 3 * i) = Eigen::Matrix3d::Identity();
+  }
+  return L;
+}
+
+Mat6 edgeBlock(const Eigen::Matrix<double, 6, 1>& d) {
+  const Mat6 Q = Eigen::HouseholderQR<Mat6>(Mat6::Random()).householderQ();
+  return Q * d.asDiagonal() * Q.transpose();
+}
+
+}  // namespace
+
+TEST_CASE("psd projection: a translation-invariant block is judged by its edge-space block") {
+  std::srand(5);
+  const Eigen::Matrix<double, 6, 9> L = edgeMap();
+  // Positive definite in edge space: the 9×9 block is singular (translations), yet it comes back untouched,
+  // with no eigen-decomposition.
+  Eigen::Matrix<double, 6, 1> spd;
+  spd << 0.02, 0.5, 1.0, 2.0, 7.0, 30.0;
+  const Mat9 H = L.transpose() * edgeBlock(spd) * L;
+  CHECK(hasTranslationNullSpace(H));
+  CHECK(edgeSpaceBlockIsPositiveDefinite(H));
+  CHECK_FALSE(isDiagonallyDominant(H));
+  Mat9 copy = H;
+  CHECK_FALSE(projectPsd<9>(copy, PsdProjection::Clamp));
+  CHECK(copy == H);
+
+  // Indefinite in edge space: projected as a whole, as before (the eigen-decomposition of the 9×9 block).
+  Eigen::Matrix<double, 6, 1> mixed;
+  mixed << -3.0, -0.25, 0.5, 1.0, 4.0, 9.0;
+  const Mat9 Hm = L.transpose() * edgeBlock(mixed) * L;
+  CHECK(hasTranslationNullSpace(Hm));
+  CHECK_FALSE(edgeSpaceBlockIsPositiveDefinite(Hm));
+  const Eigen::SelfAdjointEigenSolver<Mat9> eig(Hm);
+  const Mat9 expected =
+      eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
+  Mat9 projected = Hm;
+  CHECK(projectPsd<9>(projected, PsdProjection::Clamp));
+  CHECK((projected - expected).norm() <= 1e-12 * expected.norm());
+  CHECK(Eigen::SelfAdjointEigenSolver<Mat9>(projected).eigenvalues().minCoeff() >= -1e-12 * expected.norm());
+  CHECK(hasTranslationNullSpace(projected));
+
+  // A block that is not translation invariant is not judged in edge space.
+  Mat9 shifted = H;
+  shifted(0, 0) += 1.0;
+  CHECK_FALSE(hasTranslationNullSpace(shifted));
+}
+
+TEST_CASE("psd projection: a block without a translation null space takes the full eigen-decomposition") {
+  std::srand(6);
+  const Mat9 Q = Eigen::HouseholderQR<Mat9>(Mat9::Random()).householderQ();
+  Eigen::Matrix<double, 9, 1> d;
+  d << -2.0, -1.0, 0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0;
+  const Mat9 H = Q * d.asDiagonal() * Q.transpose();
+  CHECK_FALSE(hasTranslationNullSpace(H));
+  Mat9 projected = H;
+  CHECK(projectPsd<9>(projected, PsdProjection::Abs));
+  const Eigen::Matrix<double, 9, 1> flipped = Eigen::SelfAdjointEigenSolver<Mat9>(projected).eigenvalues();
+  Eigen::Matrix<double, 9, 1> want;
+  want << 0.5, 1.0, 1.0, 2.0, 2.0, 3.0, 4.0, 5.0, 6.0;
+  CHECK((flipped - want).norm() <= 1e-12);
+}

@@ -57,6 +57,23 @@ TEST_CASE("generators: the slit annulus is cut along the slit and oriented +z") 
   CHECK(totalArea(m) == Approx(kPi * (1.0 - 0.36)).epsilon(0.01));
 }
 
+TEST_CASE("generators: cosine ring spacing is fine at both free edges, with the same numbering") {
+  const int rings = 5, nodes = 9;
+  const TriMesh u = makeSlitAnnulus(6.0, 10.0, rings, nodes);
+  const TriMesh c = makeSlitAnnulus(6.0, 10.0, rings, nodes, QuadDiagonals::Uniform, RingSpacing::Cosine);
+  REQUIRE(c.numVertices() == u.numVertices());
+  CHECK(c.F == u.F);
+  for (int r = 0; r < rings; ++r) {
+    const double expected = 6.0 + 4.0 * 0.5 * (1.0 - std::cos(kPi * r / (rings - 1)));
+    for (int j = 0; j < nodes; ++j) CHECK(c.V.row(r * nodes + j).norm() == Approx(expected).epsilon(1e-14));
+  }
+  // The first ring spacing is 4 · ½(1 − cos(π/4)) = 0.586 against the uniform 1; the middle one is wider.
+  CHECK(c.V.row(nodes).norm() - 6.0 == Approx(0.5857864376).epsilon(1e-9));
+  CHECK(ringSpacingFromString("cosine") == RingSpacing::Cosine);
+  CHECK(std::string(toString(RingSpacing::Uniform)) == "uniform");
+  CHECK_THROWS_WITH(ringSpacingFromString("log"), "ringSpacing = \"log\": must be \"uniform\" or \"cosine\"");
+}
+
 TEST_CASE("generators: a closed cylinder has no seam, a panel has one, both face outward") {
   const TriMesh tube = makeCylinder(2.0, 3.0, 2 * kPi, 12, 4);
   CHECK(tube.numVertices() == 12 * 5);

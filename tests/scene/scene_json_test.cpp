@@ -208,6 +208,11 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
           s["actors"][0]["shape"] = {{"generator", "slitAnnulus"}, {"innerRadius", 1}, {"outerRadius", 2},
                                      {"rings", 1}, {"nodesPerRing", 8}};
         }) == "/actors/0/shape/rings = 1: must be >= 2");
+  CHECK(startsWith(errorAfter([](Json& s) {
+                     s["actors"][0]["shape"] = {{"generator", "slitAnnulus"}, {"innerRadius", 1}, {"outerRadius", 2},
+                                                {"rings", 3}, {"nodesPerRing", 8}, {"ringSpacing", "log"}};
+                   }),
+                   "/actors/0/shape/ringSpacing: \"log\" is not one of \"uniform\", \"cosine\""));
   CHECK(errorAfter([](Json& s) { s["actors"][0]["type"] = "cloth"; }) ==
         "/actors/0/type: \"cloth\" is not one of \"shell\", \"plane\", \"box\", \"sphere\", \"capsule\", \"sdfGrid\"");
   CHECK(errorAfter([](Json& s) { s["actors"][0]["colliderType"] = "Sphere"; }) ==

@@ -130,3 +130,29 @@ TEST_CASE("one-ring pattern: a new Hessian pattern with the same one-ring part k
   REQUIRE(solver->solve(fewer, 3, b, x).success);
   CHECK(solver->symbolicAnalyses() == 2);
 }
+
+TEST_CASE("one-ring pattern: a plan gives the filter's matrix, bit for bit, for every matrix of its pattern",
+          "[solvers]") {
+  testing::SingleThread single;
+  ClothHessian c;
+  const OneRingFilter filter(c.shell.mesh().F, c.shell.mesh().numVertices());
+  OneRingPlan plan;
+  CHECK_FALSE(plan.planned());
+  plan.plan(filter, c.H());
+  for (double scale : {1.0, -0.5, 3.0}) {
+    Eigen::SparseMatrix<double> H = c.H();
+    for (Eigen::Index k = 0; k < H.nonZeros(); ++k) H.valuePtr()[k] *= scale * (1.0 + 1e-3 * static_cast<double>(k % 7));
+    Eigen::SparseMatrix<double> want;
+    filter.apply(H, want);
+    const Eigen::SparseMatrix<double>& got = plan.apply(H);
+    REQUIRE(got.nonZeros() == want.nonZeros());
+    CHECK(std::equal(want.outerIndexPtr(), want.outerIndexPtr() + want.cols() + 1, got.outerIndexPtr()));
+    CHECK(std::equal(want.innerIndexPtr(), want.innerIndexPtr() + want.nonZeros(), got.innerIndexPtr()));
+    CHECK(std::equal(want.valuePtr(), want.valuePtr() + want.nonZeros(), got.valuePtr()));
+  }
+  // Another pattern is refused until planned for.
+  Eigen::SparseMatrix<double> smaller = c.H();
+  smaller.prune([](Eigen::Index r, Eigen::Index col, double) { return r == col || (r + col) % 5 != 0; });
+  REQUIRE(smaller.nonZeros() < c.H().nonZeros());
+  CHECK_THROWS_AS(plan.apply(smaller), std::invalid_argument);
+}

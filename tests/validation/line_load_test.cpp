@@ -32,6 +32,25 @@ TEST_CASE("reference tables: the copied Sze tables load with their row counts") 
       loadReferenceTable(referenceDirectory() + "/sze2004_3.1_cantilever_end_shear.tsv", {"-u_tip", "w_tip"});
   CHECK(shear.rows() == 20);
   CHECK(shear.value[0][1] == 0.663);
+  // Three printed decimals: 0.026 stands for [0.0255, 0.0265].
+  REQUIRE(shear.halfUnit.size() == 20);
+  CHECK(shear.halfUnit[0][0] == Approx(0.0005));
+  CHECK(scaled(plate, 0.1).halfUnit.back()[1] == Approx(0.00005));
+}
+
+TEST_CASE("reference tables: each value keeps half a unit of its last printed digit") {
+  const std::string path = "validation_digits_table.tsv";
+  {
+    std::ofstream out(path);
+    out << "0.5 12 0.026 1.5e-3 2.50E2\n";
+  }
+  const ReferenceTable t = loadReferenceTable(path, {"a", "b", "c", "d"});
+  std::remove(path.c_str());
+  REQUIRE(t.halfUnit.size() == 1);
+  CHECK(t.halfUnit[0][0] == Approx(0.5));
+  CHECK(t.halfUnit[0][1] == Approx(0.0005));
+  CHECK(t.halfUnit[0][2] == Approx(0.00005));
+  CHECK(t.halfUnit[0][3] == Approx(0.5));
 }
 
 TEST_CASE("reference tables: malformed files are rejected naming the line") {

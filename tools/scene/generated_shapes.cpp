@@ -39,8 +39,8 @@ ShapeHandle makeRectangleShape(double width, double height, int nx, int ny, Quad
 }
 
 ShapeHandle makeSlitAnnulusShape(double innerRadius, double outerRadius, int rings, int nodesPerRing,
-                                 QuadDiagonals diagonals) {
-  TriMesh m = makeSlitAnnulus(innerRadius, outerRadius, rings, nodesPerRing, diagonals);
+                                 QuadDiagonals diagonals, RingSpacing spacing) {
+  TriMesh m = makeSlitAnnulus(innerRadius, outerRadius, rings, nodesPerRing, diagonals, spacing);
   Groups g;
   g["inner"] = sequence(nodesPerRing, [&](int j) { return j; });
   g["outer"] = sequence(nodesPerRing, [&](int j) { return (rings - 1) * nodesPerRing + j; });

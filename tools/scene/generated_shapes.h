@@ -13,7 +13,8 @@ ShapeHandle makeRectangleShape(double width, double height, int nx, int ny,
 
 /// Groups: "inner", "outer" (the circles), "slitStart" (θ = 0 side), "slitEnd" (θ = 2π side).
 ShapeHandle makeSlitAnnulusShape(double innerRadius, double outerRadius, int rings, int nodesPerRing,
-                                 QuadDiagonals diagonals = QuadDiagonals::Uniform);
+                                 QuadDiagonals diagonals = QuadDiagonals::Uniform,
+                                 RingSpacing spacing = RingSpacing::Uniform);
 
 /// Groups: "start" (y = 0), "end" (y = length); panels also "sideStart" (θ = −arc/2) and "sideEnd" (θ = arc/2).
 ShapeHandle makeCylinderShape(double radius, double length, double arcRadians, int nAround, int nAlong,

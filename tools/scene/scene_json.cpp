@@ -90,12 +90,14 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
     return at(v.pointer(), [&] { return makeRectangleShape(w, h, nx, ny, diagonals(o)); });
   }
   if (generator == "slitAnnulus") {
-    const Object o = v.object({"generator", "innerRadius", "outerRadius", "rings", "nodesPerRing", "diagonals"},
-                              "a slitAnnulus generator");
+    const Object o =
+        v.object({"generator", "innerRadius", "outerRadius", "rings", "nodesPerRing", "diagonals", "ringSpacing"},
+                 "a slitAnnulus generator");
     const double ri = positive(o, "innerRadius"), ro = positive(o, "outerRadius");
     if (!(ro > ri)) check::fail(o.member("outerRadius"), ro, "must be > innerRadius");
     const int rings = atLeast(o, "rings", 2), nodes = atLeast(o, "nodesPerRing", 4);
-    return at(v.pointer(), [&] { return makeSlitAnnulusShape(ri, ro, rings, nodes, diagonals(o)); });
+    const RingSpacing spacing = ringSpacingFromString(o.choice("ringSpacing", {"uniform", "cosine"}, "uniform"));
+    return at(v.pointer(), [&] { return makeSlitAnnulusShape(ri, ro, rings, nodes, diagonals(o), spacing); });
   }
   if (generator == "cylinder") {
     const Object o = v.object({"generator", "radius", "length", "arcDegrees", "nAround", "nAlong", "diagonals"},

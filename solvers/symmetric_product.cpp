@@ -1,0 +1,82 @@
+#include "solvers/symmetric_product.h"
+
+#include <algorithm>
+
+namespace jetshell {
+namespace {
+
+/// Columns per chunk are chosen so a chunk holds about this many nonzeros: large enough that the scatter
+/// buffers stay few, small enough for several chunks per thread.
+constexpr Eigen::Index kChunkNonZeros = 1 << 16;
+
+}  // namespace
+
+void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
+  const Eigen::Index n = upper.cols();
+  const int* outer = upper.outerIndexPtr();
+  const int* inner = upper.innerIndexPtr();
+  chunks_.clear();
+  Eigen::Index begin = 0;
+  while (begin < n) {
+    Eigen::Index end = begin + 1;
+    while (end < n && outer[end + 1] - outer[begin] <= kChunkNonZeros) ++end;
+    Chunk c;
+    c.begin = begin;
+    c.end = end;
+    c.firstRow = begin;
+    for (Eigen::Index j = begin; j < end; ++j) {
+      if (outer[j + 1] > outer[j]) c.firstRow = std::min<Eigen::Index>(c.firstRow, inner[outer[j]]);
+    }
+    c.scatter.assign(static_cast<std::size_t>(end - c.firstRow), 0.0);
+    chunks_.push_back(std::move(c));
+    begin = end;
+  }
+  cols_ = n;
+  nonZeros_ = upper.nonZeros();
+}
+
+void SymmetricProduct::apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
+                             Eigen::VectorXd& y) {
+  if (!upper.isCompressed() || upper.cols() != cols_ || upper.nonZeros() != nonZeros_) prepare(upper);
+  const Eigen::Index n = upper.cols();
+  y.resize(n);
+  const int* outer = upper.outerIndexPtr();
+  const int* inner = upper.innerIndexPtr();
+  const double* value = upper.valuePtr();
+  const int numChunks = static_cast<int>(chunks_.size());
+#pragma omp parallel if (numChunks > 1)
+  {
+#pragma omp for schedule(dynamic, 1)
+    for (int c = 0; c < numChunks; ++c) {
+      Chunk& chunk = chunks_[static_cast<std::size_t>(c)];
+      double* s = chunk.scatter.data() - chunk.firstRow;
+      std::fill(chunk.scatter.begin(), chunk.scatter.end(), 0.0);
+      for (Eigen::Index j = chunk.begin; j < chunk.end; ++j) {
+        const double pj = p[j];
+        double row = 0.0;
+        for (int k = outer[j]; k < outer[j + 1]; ++k) {
+          const int i = inner[k];
+          const double h = value[k];
+          row += h * p[i];
+          if (i != j) s[i] += h * pj;
+        }
+        y[j] = row;
+      }
+    }
+    // Buffers into y, each row summing the chunks that reach it in chunk order.
+#pragma omp for schedule(static)
+    for (int c = 0; c < numChunks; ++c) {
+      const Chunk& mine = chunks_[static_cast<std::size_t>(c)];
+      for (Eigen::Index i = mine.begin; i < mine.end; ++i) {
+        double sum = y[i];
+        for (int d = c; d < numChunks; ++d) {
+          const Chunk& other = chunks_[static_cast<std::size_t>(d)];
+          if (other.firstRow <= i) sum += other.scatter[static_cast<std::size_t>(i - other.firstRow)];
+        }
+        y[i] = sum;
+      }
+    }
+  }
+}
+
+}  // namespace jetshell

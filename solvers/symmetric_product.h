@@ -1,0 +1,35 @@
+// y = H p for a symmetric sparse H stored as its upper triangle (column-major, the layout the Objective
+// assembles), on the OpenMP threads.
+//
+// Data flow: prepare(H) cuts the columns into chunks of about equal nonzero count; a chunk's count depends on H
+// alone, never on the thread count. apply(): each chunk computes, for its own columns j, the row-side sums
+// y_j = Σ_{i<=j} H_ij p_i directly into y, and scatters the column-side terms H_ij p_j (i < j) into a buffer of its
+// own that spans rows [first row it touches, its last column]. The buffers are then added into y in chunk
+// order. Every sum runs in a fixed order, so the result has the same bits on any number of threads.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <vector>
+
+namespace jetshell {
+
+class SymmetricProduct {
+ public:
+  /// Cuts H's columns into chunks. Cheap (one pass over the column pointers and each chunk's first rows).
+  void prepare(const Eigen::SparseMatrix<double>& upper);
+  /// y = H p (y is resized). H must be the matrix given to prepare (same pattern).
+  void apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p, Eigen::VectorXd& y);
+
+ private:
+  struct Chunk {
+    Eigen::Index begin = 0, end = 0;  // columns [begin, end)
+    Eigen::Index firstRow = 0;        // the smallest row index in those columns
+    std::vector<double> scatter;      // rows [firstRow, end)
+  };
+  std::vector<Chunk> chunks_;
+  Eigen::Index cols_ = -1, nonZeros_ = -1;
+};
+
+}  // namespace jetshell

@@ -1,0 +1,80 @@
+#include "solvers/symmetric_product.h"
+
+#include <catch2/catch.hpp>
+
+#include <Eigen/SparseCore>
+
+#include <omp.h>
+
+#include <random>
+#include <vector>
+
+using namespace jetshell;
+
+namespace {
+
+/// A symmetric matrix's upper triangle: a band of half-width `band`, some far entries, some empty columns.
+Eigen::SparseMatrix<double> randomUpper(int n, int band, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  std::uniform_int_distribution<int> far(0, n - 1);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int j = 0; j < n; ++j) {
+    if (j % 97 == 13) continue;  // an empty column
+    for (int i = std::max(0, j - band); i <= j; ++i) {
+      if ((i * 7 + j) % 3 != 0) t.emplace_back(i, j, value(rng));
+    }
+    const int i = far(rng);
+    if (i < j) t.emplace_back(i, j, value(rng));
+  }
+  Eigen::SparseMatrix<double> H(n, n);
+  H.setFromTriplets(t.begin(), t.end());
+  H.makeCompressed();
+  return H;
+}
+
+}  // namespace
+
+TEST_CASE("symmetric product: matches the serial symmetric product on one chunk and on many") {
+  for (int n : {1, 50, 4000}) {
+    const Eigen::SparseMatrix<double> H = randomUpper(n, 40, static_cast<unsigned>(n));
+    const Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0).array().sin();
+    const Eigen::VectorXd want = H.selfadjointView<Eigen::Upper>() * p;
+    SymmetricProduct product;
+    product.prepare(H);
+    Eigen::VectorXd y;
+    product.apply(H, p, y);
+    CAPTURE(n, H.nonZeros());
+    REQUIRE(y.size() == n);
+    CHECK((y - want).norm() <= 1e-13 * (1.0 + want.norm()));
+  }
+}
+
+TEST_CASE("symmetric product: the same bits on one thread and on two") {
+  const Eigen::SparseMatrix<double> H = randomUpper(8000, 60, 7);
+  REQUIRE(H.nonZeros() > 4 * (1 << 16));  // several chunks
+  const Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(H.cols(), 0.0, 3.0).array().cos();
+  SymmetricProduct product;
+  Eigen::VectorXd one, two;
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  product.apply(H, p, one);
+  omp_set_num_threads(2);
+  product.apply(H, p, two);
+  omp_set_num_threads(before);
+  CHECK(one == two);
+  const Eigen::VectorXd want = H.selfadjointView<Eigen::Upper>() * p;
+  CHECK((one - want).norm() <= 1e-13 * want.norm());
+}
+
+TEST_CASE("symmetric product: a new pattern is picked up without prepare") {
+  SymmetricProduct product;
+  Eigen::VectorXd y;
+  for (int n : {30, 3000}) {
+    const Eigen::SparseMatrix<double> H = randomUpper(n, 20, 11u + static_cast<unsigned>(n));
+    const Eigen::VectorXd p = Eigen::VectorXd::Ones(n);
+    product.apply(H, p, y);
+    const Eigen::VectorXd want = H.selfadjointView<Eigen::Upper>() * p;
+    CHECK((y - want).norm() <= 1e-13 * (1.0 + want.norm()));
+  }
+}
