@@ -21,14 +21,20 @@ namespace jetshell {
 
 /// Loops over fewer elements than this run serially: thread start-up costs more than their elements.
 inline constexpr int kParallelMinElements = 512;
+/// The same for kernels of about 0.1 ms an element (nested-Jet Hessians over 15 or more dofs, ~0.5 M
+/// instructions each): a few dozen of them already outweigh a parallel region's start-up and barriers.
+inline constexpr int kParallelMinCostlyElements = 32;
 
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
 /// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width. colouredValues: a value-only
 /// loop also follows the colours (kernels that share per-entity caches between stencils, core/stage_cache.h).
+/// parallelMinElements: the element count from which the loop runs in parallel (kParallelMinCostlyElements for
+/// costly kernels); the result has the same bits either way.
 template <int K, typename Kernel>
 double runElementLoop(const StencilTable& table, const ElementSchedule& schedule,
                       const Eigen::VectorXd& /*x*/, const EvalRequest& request, PsdProjection projection,
-                      std::vector<double>& elementEnergy, Kernel&& kernel, bool colouredValues = false) {
+                      std::vector<double>& elementEnergy, Kernel&& kernel, bool colouredValues = false,
+                      int parallelMinElements = kParallelMinElements) {
   constexpr int M = 3 * K;
   const int ne = table.size();
   elementEnergy.resize(static_cast<std::size_t>(ne));
@@ -56,7 +62,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
     // One parallel region for all colours: a colour ends at the worksharing loop's barrier, without a team
     // start-up and join per colour (half the synchronization points, each of which costs a scheduling delay
     // when the other core is busy). Small meshes run serially: thread start-up costs more than their elements.
-#pragma omp parallel if (ne >= kParallelMinElements)
+#pragma omp parallel if (ne >= parallelMinElements)
     for (const std::vector<ElementRange>& color : schedule.colors) {
       const int n = static_cast<int>(color.size());
 #pragma omp for schedule(dynamic, 1)
@@ -68,7 +74,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
     // After the region: an exception must never leave an OpenMP region (that terminates the program).
     errors.rethrow();
   } else {
-#pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
+#pragma omp parallel for schedule(static) if (ne >= parallelMinElements)
     for (int e = 0; e < ne; ++e) {
       errors.run([&] {
         Eigen::Matrix<double, M, 1> g;

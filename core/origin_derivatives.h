@@ -8,11 +8,12 @@
 // the same scalar type T), a stencil table (K vertex ids per element, -1 = absent), x and y (3N), the
 // directions S (3N × P).
 // Output, added into out (3N × P): (∂²E/∂x∂y) S.
-// Scalar: Jet<Jet<double, P>, 3K>: the outer duals are seeded on x, the inner ones carry y's tangents (y + S t),
-// so E.v[i].v[j] = Σ_k ∂²E/∂x_i∂y_k S_kj. Cost per element ≈ (3K + 1)(P + 1) times the double energy. No finite
-// differences, no hand derivatives.
+// Scalar: SecondOrderJet<3K, P> (core/jet_arithmetic.h): the outer duals are seeded on x, the inner ones carry y's
+// tangents (y + S t), so E.v[i].v[j] = Σ_k ∂²E/∂x_i∂y_k S_kj. Cost per element ≈ (3K + 1)(P + 1) times the double
+// energy. No finite differences, no hand derivatives.
 #pragma once
 
+#include "core/jet_arithmetic.h"
 #include "core/mesh.h"
 #include "core/stencil.h"
 
@@ -25,8 +26,8 @@ template <int K, int P, typename F>
 void addOriginCrossDerivatives(const StencilTable& table, const Eigen::VectorXd& x, const Eigen::VectorXd& y,
                                const Eigen::MatrixXd& S, const F& f, Eigen::MatrixXd& out) {
   constexpr int M = 3 * K;
-  using J1 = ceres::Jet<double, P>;
-  using J2 = ceres::Jet<J1, M>;
+  using J1 = InnerJet<P>;
+  using J2 = SecondOrderJet<M, P>;
   const int ne = table.size();
   const int cols = static_cast<int>(S.cols());
   for (int e = 0; e < ne; ++e) {

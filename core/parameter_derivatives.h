@@ -4,9 +4,9 @@
 // parameters pe (both of the same scalar type T), a stencil table (K vertex ids per element, -1 = absent),
 // positions x (3N) and parameter values p (P).
 // Output, accumulated into ParameterDerivatives (core/term.h): ∂E/∂p (P) and ∂²E/∂x∂p (3N × P).
-// Scalar: Jet<Jet<double, P>, 3K>: the outer duals are seeded on the coordinates, the inner ones on the
-// parameters, so E.a.v = ∂E/∂p and E.v[i].v[j] = ∂²E/∂x_i∂p_j. Cost per element ≈ (3K + 1)(P + 1) times the
-// double energy: cheap for the few parameters a term has. No finite differences, no hand derivatives.
+// Scalar: SecondOrderJet<3K, P> (core/jet_arithmetic.h): the outer duals are seeded on the coordinates, the inner
+// ones on the parameters, so E.a.v = ∂E/∂p and E.v[i].v[j] = ∂²E/∂x_i∂p_j. Cost per element ≈ (3K + 1)(P + 1) times
+// the double energy: cheap for the few parameters a term has. No finite differences, no hand derivatives.
 #pragma once
 
 #include "core/scalar.h"
@@ -34,8 +34,8 @@ void addParameterDerivatives(const StencilTable& table, const Eigen::VectorXd& x
                              ParameterDerivatives& out) {
   static_assert(P > 0, "a term without parameters has no parameter derivatives");
   constexpr int M = 3 * K;
-  using J1 = ceres::Jet<double, P>;
-  using J2 = ceres::Jet<J1, M>;
+  using J1 = InnerJet<P>;
+  using J2 = SecondOrderJet<M, P>;
   J2 pj[P];
   for (int j = 0; j < P; ++j) pj[j] = J2(J1(p[j], j));
   const int ne = table.size();

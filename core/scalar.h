@@ -1,11 +1,19 @@
-// Scalar helpers that work for double, ceres::Jet<double,N> and nested ceres::Jet<ceres::Jet<double,N>,M>.
+// Scalar helpers for every scalar type an energy is instantiated with: double, ceres::Jet<double,N> and the
+// second-order SecondOrderJet<N,M> of core/jet_arithmetic.h (also Ceres' own nested Jet<Jet<double,M>,N>).
 //
-// Ceres 2.1's nested Jets do not mix with plain double constants (`x * 2.0` picks the inner-Jet overload and
-// fails; `JJ(2.0)` fails while `JJ(J(2.0))` works), and Eigen reductions on them fail because they construct
-// `Scalar(0)`. Energy code therefore writes constants as `constant<T>(2.0)` and uses the reductions below
-// instead of Eigen's. tests/core/scalar_test.cpp compile-tests every helper for every supported scalar type.
+// Energy code writes plain constants and Eigen algebra directly (2.0 * x, a.dot(b), a.cross(b).norm(): see
+// core/jet_arithmetic.h, included here). What stays here:
+//   vec3(p)          the 3-vector stored at p[0..2] as an Eigen vector of T (writable when p is)
+//   constant<T>(c)   a constant of type T at any nesting depth (also for Ceres' own nested Jets)
+//   valueOf(x)       the plain double value of x
+//   V3<T>            a 3-vector as a plain array with dot/cross/norm, from before Eigen worked for nested Jets;
+//                    existing stages still use it.
+// tests/core/scalar_test.cpp compile-tests every helper for every supported scalar type.
 #pragma once
 
+#include "core/jet_arithmetic.h"
+
+#include <Eigen/Core>
 #include <ceres/jet.h>
 
 #include <cmath>
@@ -16,6 +24,12 @@ template <typename T>
 struct ScalarTraits {
   static T constant(double c) { return T(c); }
   static double value(const T& x) { return x; }
+};
+
+template <int M>
+struct ScalarTraits<InnerJet<M>> {
+  static InnerJet<M> constant(double c) { return InnerJet<M>(c); }
+  static double value(const InnerJet<M>& x) { return x.a; }
 };
 
 template <typename Inner, int N>
@@ -34,6 +48,17 @@ inline T constant(double c) {
 template <typename T>
 inline double valueOf(const T& x) {
   return ScalarTraits<T>::value(x);
+}
+
+/// The 3-vector at p[0..2] as an Eigen vector (a view, no copy): `vec3(x).cross(vec3(x + 3)).norm()`.
+template <typename T>
+inline Eigen::Map<const Eigen::Matrix<T, 3, 1>> vec3(const T* p) {
+  return Eigen::Map<const Eigen::Matrix<T, 3, 1>>(p);
+}
+/// Writable view: `vec3(y) = a.cross(b).normalized();`.
+template <typename T>
+inline Eigen::Map<Eigen::Matrix<T, 3, 1>> vec3(T* p) {
+  return Eigen::Map<Eigen::Matrix<T, 3, 1>>(p);
 }
 
 /// 3-vectors as plain arrays: no Eigen reductions, so nested Jets work.

@@ -83,13 +83,9 @@ void stageDerivativesFromJets(const S& s, const double* z, int entity, int order
       d.jacobian.row(k) = y[k].v.transpose();
     }
   } else {
-    using J1 = ceres::Jet<double, N>;
-    using J2 = ceres::Jet<J1, N>;
+    using J2 = SecondOrderJet<N>;
     J2 zj[N], y[M];
-    for (int i = 0; i < N; ++i) {
-      zj[i] = J2(J1(z[i], i));
-      zj[i].v[i] = J1(1.0);
-    }
+    for (int i = 0; i < N; ++i) zj[i] = secondOrderVariable<N>(z[i], i);
     s(static_cast<const J2*>(zj), y, entity);
     for (int k = 0; k < M; ++k) {
       d.value[k] = y[k].a.a;

@@ -17,13 +17,9 @@ namespace jetshell {
 template <int N, typename F>
 void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient,
                             Eigen::Matrix<double, N, N>& hessian) {
-  using J1 = ceres::Jet<double, N>;
-  using J2 = ceres::Jet<J1, N>;
+  using J2 = SecondOrderJet<N>;
   J2 zj[N];
-  for (int i = 0; i < N; ++i) {
-    zj[i] = J2(J1(z[i], i));
-    zj[i].v[i] = J1(1.0);
-  }
+  for (int i = 0; i < N; ++i) zj[i] = secondOrderVariable<N>(z[i], i);
   const J2 y = f(zj);
   value = y.a.a;
   for (int i = 0; i < N; ++i) {
@@ -37,13 +33,9 @@ void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::M
 template <typename F>
 void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian,
                             std::array<Eigen::Matrix3d, 3>& hessians) {
-  using J1 = ceres::Jet<double, 3>;
-  using J2 = ceres::Jet<J1, 3>;
+  using J2 = SecondOrderJet<3>;
   V3<J2> zj;
-  for (int i = 0; i < 3; ++i) {
-    zj[i] = J2(J1(z[i], i));
-    zj[i].v[i] = J1(1.0);
-  }
+  for (int i = 0; i < 3; ++i) zj[i] = secondOrderVariable<3>(z[i], i);
   const V3<J2> y = f(zj);
   for (int k = 0; k < 3; ++k) {
     value[k] = y[k].a.a;

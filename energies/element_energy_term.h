@@ -7,8 +7,8 @@
 //     static constexpr int kVertices = K;           // stencil width
 //     template <typename T> T operator()(const T* x, int element) const;  // x: 3K positions of the element
 //   };
-// Write constants as constant<T>(c) and use the helpers of core/scalar.h instead of Eigen reductions: they
-// work for every Jet nesting depth.
+// Write the energy as plain math: double constants (2.0 * x, x / 3) and Eigen fixed-size algebra (vec3(x + 3),
+// a.dot(b), a.cross(b).norm()) work for T = double, Jet<double,3K> and SecondOrderJet<3K> (core/jet_arithmetic.h).
 //
 // Parameters as differentiable inputs (optional, detected at compile time): a functor that also declares
 //     static constexpr int kParameters = P;
@@ -83,14 +83,18 @@ class ElementEnergyTerm : public FixedStencilTerm {
   }
 
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
+    // Nested-Jet Hessians over 15 or more dofs are costly elements (core/element_loop.h).
+    const int parallelMin =
+        request.hessian != nullptr && M >= 15 ? kParallelMinCostlyElements : kParallelMinElements;
     return runElementLoop<K>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int e, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, M, 1>& g,
-                                 Eigen::Matrix<double, M, M>& H) { return element(x, e, ids, wantG, wantH, g, H); });
+                                 Eigen::Matrix<double, M, M>& H) { return element(x, e, ids, wantG, wantH, g, H); },
+                             false, parallelMin);
   }
 
  private:
   using J1 = ceres::Jet<double, M>;
-  using J2 = ceres::Jet<J1, M>;
+  using J2 = SecondOrderJet<M>;
 
   /// The functor's energy with the current parameters as constants of type T (when it has any).
   template <typename T>
@@ -111,10 +115,7 @@ class ElementEnergyTerm : public FixedStencilTerm {
       for (int c = 0; c < 3; ++c) xe[3 * k + c] = ids[k] >= 0 ? x[3 * ids[k] + c] : 0.0;
     if (wantH) {
       J2 xj[M];
-      for (int i = 0; i < M; ++i) {
-        xj[i] = J2(J1(xe[i], i));
-        xj[i].v[i] = J1(1.0);
-      }
+      for (int i = 0; i < M; ++i) xj[i] = secondOrderVariable<M>(xe[i], i);
       const J2 E = energy(static_cast<const J2*>(xj), e);
       for (int i = 0; i < M; ++i) {
         g[i] = E.a.v[i];

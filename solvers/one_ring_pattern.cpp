@@ -30,55 +30,15 @@ bool OneRingFilter::adjacent(int a, int b) const {
 }
 
 void OneRingFilter::apply(const Eigen::SparseMatrix<double>& upper, Eigen::SparseMatrix<double>& out) const {
-  const Eigen::Index n = upper.rows();
-  if (upper.cols() != n || n != 3 * static_cast<Eigen::Index>(neighbours_.size()) || !upper.isCompressed())
-    throw std::invalid_argument("OneRingFilter::apply: matrix size does not match the mesh");
-  const int* outer = upper.outerIndexPtr();
-  const int* inner = upper.innerIndexPtr();
-  const double* value = upper.valuePtr();
-  // Count, then fill (CSC, rows sorted as in the input).
-  std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    int count = 0;
-    for (int p = outer[j]; p < outer[j + 1]; ++p)
-      if (adjacent(inner[p] / 3, static_cast<int>(j / 3))) ++count;
-    start[static_cast<std::size_t>(j) + 1] = start[static_cast<std::size_t>(j)] + count;
-  }
-  out.resize(n, n);
-  out.resizeNonZeros(start.back());
-  std::copy(start.begin(), start.end(), out.outerIndexPtr());
-  int* oi = out.innerIndexPtr();
-  double* ov = out.valuePtr();
-  std::vector<double> dropped(static_cast<std::size_t>(n), 0.0);  // Σ |dropped entries| per row
-  std::vector<int> diagonal(static_cast<std::size_t>(n), -1);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    int q = start[static_cast<std::size_t>(j)];
-    for (int p = outer[j]; p < outer[j + 1]; ++p) {
-      if (!adjacent(inner[p] / 3, static_cast<int>(j / 3))) {
-        dropped[static_cast<std::size_t>(j)] += std::abs(value[p]);
-        dropped[static_cast<std::size_t>(inner[p])] += std::abs(value[p]);
-        continue;
-      }
-      if (inner[p] == j) diagonal[static_cast<std::size_t>(j)] = q;
-      oi[q] = inner[p];
-      ov[q] = value[p];
-      ++q;
-    }
-  }
-  // Diagonal compensation: H − H_kept is dominated by the diagonal of its absolute row sums, so
-  // H_kept + diag(dropped) ⪰ H stays positive definite whenever H is.
-  for (Eigen::Index j = 0; j < n; ++j) {
-    if (dropped[static_cast<std::size_t>(j)] == 0.0) continue;
-    if (diagonal[static_cast<std::size_t>(j)] < 0)
-      throw std::invalid_argument("OneRingFilter::apply: the matrix lacks a diagonal entry");
-    ov[diagonal[static_cast<std::size_t>(j)]] += dropped[static_cast<std::size_t>(j)];
-  }
+  OneRingPlan plan;
+  plan.plan(*this, upper);
+  out = plan.apply(upper);
 }
 
 void OneRingPlan::plan(const OneRingFilter& filter, const Eigen::SparseMatrix<double>& upper) {
   const Eigen::Index n = upper.rows();
   if (upper.cols() != n || n != 3 * static_cast<Eigen::Index>(filter.numVertices()) || !upper.isCompressed())
-    throw std::invalid_argument("OneRingPlan::plan: matrix size does not match the mesh");
+    throw std::invalid_argument("OneRingFilter: matrix size does not match the mesh");
   const int* outer = upper.outerIndexPtr();
   const int* inner = upper.innerIndexPtr();
   kept_.clear();
@@ -103,7 +63,7 @@ void OneRingPlan::plan(const OneRingFilter& filter, const Eigen::SparseMatrix<do
   for (std::size_t k = 0; k < dropped_.size(); ++k) {
     for (int row : {droppedCol_[k], droppedRow_[k]}) {
       if (diagonal_[static_cast<std::size_t>(row)] < 0)
-        throw std::invalid_argument("OneRingPlan::plan: the matrix lacks a diagonal entry");
+        throw std::invalid_argument("OneRingFilter: the matrix lacks a diagonal entry");
     }
   }
   result_.resize(n, n);

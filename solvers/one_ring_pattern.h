@@ -34,9 +34,9 @@ class OneRingFilter {
   std::vector<std::vector<int>> neighbours_;  // sorted, self included
 };
 
-/// OneRingFilter::apply for a sequence of matrices of one pattern: plan() decides once which entries are kept
-/// and which dropped (one adjacency search per entry), then apply() only gathers values and adds the dropped
-/// magnitudes, in the filter's order, so the result has the same bits as OneRingFilter::apply.
+/// The filter for a sequence of matrices of one pattern: plan() decides once which entries are kept and which
+/// dropped (one adjacency search per entry), then apply() only gathers values and adds the dropped magnitudes.
+/// OneRingFilter::apply is a plan used once.
 class OneRingPlan {
  public:
   /// Plans for upper's pattern (3·filter.numVertices() square, compressed).

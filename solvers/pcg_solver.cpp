@@ -221,7 +221,6 @@ class PcgSolver : public LinearSolver {
     x.setZero(b.size());
     if (bNorm == 0.0) return Attempt::Ok;
     Eigen::VectorXd r = b, z, p, Ap(b.size());
-    product_.prepare(H);
     precondition(r, z);
     p = z;
     double rz = r.dot(z);

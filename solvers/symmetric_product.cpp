@@ -14,7 +14,6 @@ constexpr Eigen::Index kChunkNonZeros = 1 << 16;
 void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
   const Eigen::Index n = upper.cols();
   const int* outer = upper.outerIndexPtr();
-  const int* inner = upper.innerIndexPtr();
   chunks_.clear();
   Eigen::Index begin = 0;
   while (begin < n) {
@@ -23,11 +22,6 @@ void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
     Chunk c;
     c.begin = begin;
     c.end = end;
-    c.firstRow = begin;
-    for (Eigen::Index j = begin; j < end; ++j) {
-      if (outer[j + 1] > outer[j]) c.firstRow = std::min<Eigen::Index>(c.firstRow, inner[outer[j]]);
-    }
-    c.scatter.assign(static_cast<std::size_t>(end - c.firstRow), 0.0);
     chunks_.push_back(std::move(c));
     begin = end;
   }
@@ -37,7 +31,11 @@ void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
 
 void SymmetricProduct::apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
                              Eigen::VectorXd& y) {
-  if (!upper.isCompressed() || upper.cols() != cols_ || upper.nonZeros() != nonZeros_) prepare(upper);
+  if (!upper.isCompressed()) {
+    y = upper.selfadjointView<Eigen::Upper>() * p;
+    return;
+  }
+  if (upper.cols() != cols_ || upper.nonZeros() != nonZeros_) prepare(upper);
   const Eigen::Index n = upper.cols();
   y.resize(n);
   const int* outer = upper.outerIndexPtr();
@@ -49,8 +47,14 @@ void SymmetricProduct::apply(const Eigen::SparseMatrix<double>& upper, const Eig
 #pragma omp for schedule(dynamic, 1)
     for (int c = 0; c < numChunks; ++c) {
       Chunk& chunk = chunks_[static_cast<std::size_t>(c)];
+      // The rows this chunk reaches depend on the pattern, which may change between calls with the same size:
+      // found on every call (one look per column, against a pass over the chunk's entries below).
+      chunk.firstRow = chunk.begin;
+      for (Eigen::Index j = chunk.begin; j < chunk.end; ++j) {
+        if (outer[j + 1] > outer[j]) chunk.firstRow = std::min<Eigen::Index>(chunk.firstRow, inner[outer[j]]);
+      }
+      chunk.scatter.assign(static_cast<std::size_t>(chunk.end - chunk.firstRow), 0.0);
       double* s = chunk.scatter.data() - chunk.firstRow;
-      std::fill(chunk.scatter.begin(), chunk.scatter.end(), 0.0);
       for (Eigen::Index j = chunk.begin; j < chunk.end; ++j) {
         const double pj = p[j];
         double row = 0.0;

@@ -2,7 +2,8 @@
 // assembles), on the OpenMP threads.
 //
 // Data flow: prepare(H) cuts the columns into chunks of about equal nonzero count; a chunk's count depends on H
-// alone, never on the thread count. apply(): each chunk computes, for its own columns j, the row-side sums
+// alone, never on the thread count, and apply() redoes the cut only when H's size or nonzero count changes (a
+// stale cut is only less balanced, never wrong). apply(): each chunk computes, for its own columns j, the row-side sums
 // y_j = Σ_{i<=j} H_ij p_i directly into y, and scatters the column-side terms H_ij p_j (i < j) into a buffer of its
 // own that spans rows [first row it touches, its last column]. The buffers are then added into y in chunk
 // order. Every sum runs in a fixed order, so the result has the same bits on any number of threads.
@@ -17,16 +18,17 @@ namespace jetshell {
 
 class SymmetricProduct {
  public:
-  /// Cuts H's columns into chunks. Cheap (one pass over the column pointers and each chunk's first rows).
+  /// Cuts H's columns into chunks (one pass over the column pointers).
   void prepare(const Eigen::SparseMatrix<double>& upper);
-  /// y = H p (y is resized). H must be the matrix given to prepare (same pattern).
+  /// y = H p (y is resized), for any pattern with rows sorted within each column (Eigen's compressed form); an
+  /// uncompressed H takes Eigen's serial product.
   void apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p, Eigen::VectorXd& y);
 
  private:
   struct Chunk {
     Eigen::Index begin = 0, end = 0;  // columns [begin, end)
-    Eigen::Index firstRow = 0;        // the smallest row index in those columns
-    std::vector<double> scatter;      // rows [firstRow, end)
+    Eigen::Index firstRow = 0;        // the smallest row index in those columns (set by apply)
+    std::vector<double> scatter;      // rows [firstRow, end), reused
   };
   std::vector<Chunk> chunks_;
   Eigen::Index cols_ = -1, nonZeros_ = -1;

@@ -2,7 +2,9 @@
 
 #include "core/mesh.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -14,7 +16,9 @@ namespace {
 double halfUnitOfLastDigit(const std::string& field) {
   const std::size_t e = field.find_first_of("eE");
   const std::string mantissa = field.substr(0, e);
-  const int exponent = e == std::string::npos ? 0 : std::stoi(field.substr(e + 1));
+  // The field already parsed as a finite number; the exponent is clamped so "0e99999999999" cannot overflow.
+  const long parsed = e == std::string::npos ? 0 : std::strtol(field.c_str() + e + 1, nullptr, 10);
+  const int exponent = static_cast<int>(std::clamp(parsed, -300L, 300L));
   const std::size_t dot = mantissa.find('.');
   const int decimals = dot == std::string::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
   return 0.5 * std::pow(10.0, exponent - decimals);

@@ -1,5 +1,6 @@
 // Mesh plumbing of the hinge-bending example (energies/examples/hinge_bending.h): stencils, per-hinge constants
-// and the nested-Jet reference, which composes the very same stage functions into one 12-dof element.
+// and the nested-Jet reference: the same energy written independently as one 12-dof element in plain math, so
+// the staged term and the reference check each other.
 #include "energies/examples/hinge_bending.h"
 
 #include "energies/element_energy_term.h"
@@ -50,30 +51,31 @@ HingeLayout hingeLayout(const TriMesh& mesh, const Topology& topology) {
   return h;
 }
 
-/// The hinge energy of the stencil positions x (12 values) as one function: the stages composed.
-template <typename T>
-T composedHingeEnergy(const T* x, const HingeEnergyDensity& density, const std::array<std::array<int, 3>, 2>& corner,
-                      int hinge) {
-  T z[9];
-  for (int s = 0; s < 2; ++s) {
-    const V3<T> p0 = load3(x + 3 * corner[s][0]);
-    const V3<T> e0 = load3(x + 3 * corner[s][1]) - p0, e1 = load3(x + 3 * corner[s][2]) - p0;
-    const T edges[6] = {e0[0], e0[1], e0[2], e1[0], e1[1], e1[2]};
-    HingeFaceNormal()(edges, z + 3 * s, 0);
+/// The same hinge energy as one 12-dof element, written independently of the stages as plain math: the form a
+/// user writes for a small stencil (README compares its length with TinyAD's and Ceres' equivalents).
+struct HingeElementEnergy {
+  static constexpr int kVertices = 4;
+  std::vector<std::array<std::array<int, 3>, 2>> corners;  // per hinge and face: its vertices in stencil numbering
+  std::vector<double> weight, restTan;                     // per hinge: k·3ℓ̄²/(Ā_A + Ā_B), tan(θ̄/2)
+  template <typename T> T tanHalf(const T* x, int h) const {
+    Eigen::Matrix<T, 3, 1> n[2];
+    for (int s = 0; s < 2; ++s) {
+      const auto p = [&](int k) { return vec3(x + 3 * corners[h][s][k]); };
+      n[s] = (p(1) - p(0)).cross(p(2) - p(0)).normalized();
+    }
+    const Eigen::Matrix<T, 3, 1> e = vec3(x + 3) - vec3(x);
+    return n[0].cross(n[1]).dot(e) / (e.norm() * (1.0 + n[0].dot(n[1])));
   }
-  for (int c = 0; c < 3; ++c) z[6 + c] = x[3 + c] - x[c];
-  T t[1], energy[1];
-  HingeTanHalf()(z, t, hinge);
-  density(t, energy, hinge);
-  return energy[0];
-}
+  template <typename T> T operator()(const T* x, int h) const {
+    const T d = 2.0 * (tanHalf(x, h) - restTan[h]);
+    return weight[h] * d * d;
+  }
+};
 
-HingeEnergyDensity restDensity(const TriMesh& mesh, const HingeLayout& h, double stiffness) {
-  HingeEnergyDensity density;
-  const int n = h.table.size();
-  density.weight.resize(static_cast<std::size_t>(n));
-  density.restTan.assign(static_cast<std::size_t>(n), 0.0);
-  for (int i = 0; i < n; ++i) {
+/// The element energy with its per-hinge constants from the rest positions (the mesh's).
+HingeElementEnergy restElementEnergy(const TriMesh& mesh, const HingeLayout& h, double stiffness) {
+  HingeElementEnergy energy{h.corners, {}, {}};
+  for (int i = 0; i < h.table.size(); ++i) {
     const int* ids = h.table.element(i);
     double x[12];
     for (int k = 0; k < 4; ++k)
@@ -83,39 +85,28 @@ HingeEnergyDensity restDensity(const TriMesh& mesh, const HingeLayout& h, double
       return 0.5 * (Eigen::Vector3d(mesh.V.row(mesh.F(f, 1))) - p0).cross(Eigen::Vector3d(mesh.V.row(mesh.F(f, 2))) - p0).norm();
     };
     const double length2 = (mesh.V.row(ids[1]) - mesh.V.row(ids[0])).squaredNorm();
-    density.weight[i] = stiffness * 3.0 * length2 / (area(h.faces[i][0]) + area(h.faces[i][1]));
-    // tan(θ̄/2) from the same function: with unit weight, E(r) = 4(t − r)², so t = (E(0) − E(1))/8 + 1/2.
-    const HingeEnergyDensity probe0{{1.0}, {0.0}}, probe1{{1.0}, {1.0}};
-    density.restTan[i] = (composedHingeEnergy(x, probe0, h.corners[i], 0) - composedHingeEnergy(x, probe1, h.corners[i], 0)) / 8.0 + 0.5;
+    energy.weight.push_back(stiffness * 3.0 * length2 / (area(h.faces[i][0]) + area(h.faces[i][1])));
+    energy.restTan.push_back(energy.tanHalf(static_cast<const double*>(x), i));
   }
-  return density;
+  return energy;
 }
-
-struct HingeNestedEnergy {
-  static constexpr int kVertices = 4;
-  HingeEnergyDensity density;
-  std::vector<std::array<std::array<int, 3>, 2>> corners;
-  template <typename T>
-  T operator()(const T* x, int hinge) const {
-    return composedHingeEnergy(x, density, corners[hinge], hinge);
-  }
-};
 
 }  // namespace
 
 EnergyTermPtr makeHingeBendingTerm(const TriMesh& mesh, const Topology& topology, double stiffness) {
   HingeLayout h = hingeLayout(mesh, topology);
-  HingeBendingEnergy energy{StageCache<HingeFaceNormal>({}, mesh.numFaces()), restDensity(mesh, h, stiffness),
-                            std::move(h.faces), std::move(h.corners)};
+  HingeElementEnergy rest = restElementEnergy(mesh, h, stiffness);
+  HingeBendingEnergy energy{StageCache<HingeFaceNormal>({}, mesh.numFaces()),
+                            HingeEnergyDensity{std::move(rest.weight), std::move(rest.restTan)}, std::move(h.faces),
+                            std::move(h.corners)};
   return std::make_shared<StagedEnergyTerm<HingeBendingEnergy>>("hinge_bending", std::move(h.table),
                                                                 mesh.numVertices(), std::move(energy));
 }
 
 EnergyTermPtr makeHingeBendingNestedJet(const TriMesh& mesh, const Topology& topology, double stiffness) {
-  HingeLayout h = hingeLayout(mesh, topology);
-  HingeNestedEnergy energy{restDensity(mesh, h, stiffness), std::move(h.corners)};
-  return std::make_shared<ElementEnergyTerm<HingeNestedEnergy>>("hinge_bending_nested_jet", std::move(h.table),
-                                                                mesh.numVertices(), std::move(energy));
+  const HingeLayout h = hingeLayout(mesh, topology);
+  return std::make_shared<ElementEnergyTerm<HingeElementEnergy>>("hinge_bending_nested_jet", h.table, mesh.numVertices(),
+                                                                 restElementEnergy(mesh, h, stiffness));
 }
 
 }  // namespace jetshell

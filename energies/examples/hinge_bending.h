@@ -3,8 +3,10 @@
 //   E = Σ_hinges k · 3ℓ̄²/(Ā_A + Ā_B) · (2 tan(θ/2) − 2 tan(θ̄/2))²,
 // θ the signed dihedral angle across an interior edge, tan(θ/2) = ((n_A × n_B)·ê) / (1 + n_A·n_B).
 // Three stages, written once for any scalar type: the unit normal of a face (6 → 3, cached per face and shared
-// by the face's three hinges), tan(θ/2) (9 → 1) and the energy (1 → 1). The framework (core/staged_term.h) differentiates
-// each with Jets of its own size and chains them; the term below is the whole user-side code (≤ 40 lines).
+// by the face's three hinges), tan(θ/2) (9 → 1) and the energy (1 → 1), each written as plain Eigen math with
+// plain double constants (core/jet_arithmetic.h makes that work for every Jet type). The framework
+// (core/staged_term.h) differentiates each with Jets of its own size and chains them; the term below is the
+// whole user-side code (≤ 40 lines).
 // makeHingeBendingNestedJet builds the same energy as one 12-dof nested-Jet element (the naive reference for
 // `jetshell bench elements --term hinge` and the checks).
 #pragma once
@@ -13,6 +15,8 @@
 #include "core/staged_term.h"
 #include "core/term.h"
 #include "core/topology.h"
+
+#include <Eigen/Geometry>
 
 #include <array>
 #include <vector>
@@ -24,16 +28,14 @@ namespace jetshell {
 struct HingeFaceNormal {
   static constexpr int kInputs = 6, kOutputs = 3;
   template <typename T> void operator()(const T* z, T* n, int /*face*/) const {
-    const V3<T> c = cross(load3(z), load3(z + 3));
-    const T inv = constant<T>(1.0) / norm(c);
-    for (int k = 0; k < 3; ++k) n[k] = inv * c[k];
+    vec3(n) = vec3(z).cross(vec3(z + 3)).normalized();
   }
 };
 struct HingeTanHalf {  // tan(θ/2) of the hinge from the two face normals and the edge vector
   static constexpr int kInputs = 9, kOutputs = 1;
   template <typename T> void operator()(const T* z, T* t, int /*hinge*/) const {
-    const V3<T> nA = load3(z), nB = load3(z + 3), e = load3(z + 6);
-    t[0] = dot(cross(nA, nB), e) / (norm(e) * (constant<T>(1.0) + dot(nA, nB)));
+    const auto nA = vec3(z), nB = vec3(z + 3), e = vec3(z + 6);
+    t[0] = nA.cross(nB).dot(e) / (e.norm() * (1.0 + nA.dot(nB)));
   }
 };
 /// The energy: a square of tan(θ/2), so the Gauss–Newton model (this stage's curvature only) is PSD.
@@ -41,8 +43,8 @@ struct HingeEnergyDensity {
   static constexpr int kInputs = 1, kOutputs = 1;
   std::vector<double> weight, restTan;  // per hinge: k·3ℓ̄²/(Ā_A + Ā_B), tan(θ̄/2)
   template <typename T> void operator()(const T* t, T* energy, int hinge) const {
-    const T d = constant<T>(2.0) * (t[0] - constant<T>(restTan[hinge]));
-    energy[0] = constant<T>(weight[hinge]) * d * d;
+    const T d = 2.0 * (t[0] - restTan[hinge]);
+    energy[0] = weight[hinge] * d * d;
   }
 };
 struct HingeBendingEnergy {

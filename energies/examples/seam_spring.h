@@ -2,8 +2,8 @@
 // their rest distance L: E = Σ k/2 (‖x_i − x_j‖ − L)². Only the energy is written, once, for any scalar type T;
 // ElementEnergyTerm evaluates it with doubles and with Ceres Jets for gradient and Hessian; assembly, PSD
 // projection and the derivative checks come for free. One line in energies/registry.cpp enrols it in
-// `jetshell check-derivatives` and the conformance suite. (Constants go through constant<T>() and vector
-// algebra through core/scalar.h: Ceres' nested Jets reject plain doubles and Eigen reductions.)
+// `jetshell check-derivatives` and the conformance suite. Plain double constants and Eigen vector algebra work
+// for every scalar type T the framework uses (core/jet_arithmetic.h; vec3 views 3 coordinates, core/scalar.h).
 #pragma once
 
 #include "core/mesh.h"
@@ -24,8 +24,8 @@ struct SeamSpringEnergy {
 
   template <typename T>
   T operator()(const T* x, const T* p, int pair) const {  // x: the pair's 6 coordinates; p[0] = k
-    const T stretch = norm(load3(x + 3) - load3(x)) - constant<T>(restLength[pair]);
-    return constant<T>(0.5) * p[0] * stretch * stretch;
+    const T stretch = (vec3(x + 3) - vec3(x)).norm() - restLength[pair];
+    return 0.5 * p[0] * stretch * stretch;
   }
 };
 

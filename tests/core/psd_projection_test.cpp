@@ -124,7 +124,7 @@ TEST_CASE("psd projection: a translation-invariant block is judged by its edge-s
   CHECK_FALSE(projectPsd<9>(copy, PsdProjection::Clamp));
   CHECK(copy == H);
 
-  // Indefinite in edge space: projected as a whole, as before (the eigen-decomposition of the 9×9 block).
+  // Indefinite in edge space: the same result as the eigen-decomposition of the whole 9×9 block.
   Eigen::Matrix<double, 6, 1> mixed;
   mixed << -3.0, -0.25, 0.5, 1.0, 4.0, 9.0;
   const Mat9 Hm = L.transpose() * edgeBlock(mixed) * L;
@@ -138,6 +138,10 @@ TEST_CASE("psd projection: a translation-invariant block is judged by its edge-s
   CHECK((projected - expected).norm() <= 1e-12 * expected.norm());
   CHECK(Eigen::SelfAdjointEigenSolver<Mat9>(projected).eigenvalues().minCoeff() >= -1e-12 * expected.norm());
   CHECK(hasTranslationNullSpace(projected));
+  const Mat9 flipped = eig.eigenvectors() * eig.eigenvalues().cwiseAbs().asDiagonal() * eig.eigenvectors().transpose();
+  Mat9 absProjected = Hm;
+  CHECK(projectPsd<9>(absProjected, PsdProjection::Abs));
+  CHECK((absProjected - flipped).norm() <= 1e-12 * flipped.norm());
 
   // A block that is not translation invariant is not judged in edge space.
   Mat9 shifted = H;
@@ -158,4 +162,25 @@ TEST_CASE("psd projection: a block without a translation null space takes the fu
   Eigen::Matrix<double, 9, 1> want;
   want << 0.5, 1.0, 1.0, 2.0, 2.0, 3.0, 4.0, 5.0, 6.0;
   CHECK((flipped - want).norm() <= 1e-12);
+}
+
+TEST_CASE("psd projection: an 18-dof translation-invariant block (a bending stencil's size) matches the whole-block projection") {
+  std::srand(8);
+  using Mat18 = Eigen::Matrix<double, 18, 18>;
+  using Mat15 = Eigen::Matrix<double, 15, 15>;
+  Eigen::Matrix<double, 15, 18> L = Eigen::Matrix<double, 15, 18>::Zero();
+  for (int i = 0; i < 5; ++i) {
+    L.block<3, 3>(3 * i, 0) = -Eigen::Matrix3d::Identity();
+    L.block<3, 3>(3 * i, 3 + 3 * i) = Eigen::Matrix3d::Identity();
+  }
+  const Mat15 Q = Eigen::HouseholderQR<Mat15>(Mat15::Random()).householderQ();
+  Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::LinSpaced(-4.0, 10.0);
+  const Mat18 H = L.transpose() * Q * d.asDiagonal() * Q.transpose() * L;
+  REQUIRE(hasTranslationNullSpace(H));
+  const Eigen::SelfAdjointEigenSolver<Mat18> eig(H);
+  const Mat18 expected =
+      eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
+  Mat18 projected = H;
+  CHECK(projectPsd<18>(projected, PsdProjection::Clamp));
+  CHECK((projected - expected).norm() <= 1e-12 * expected.norm());
 }

@@ -9,7 +9,8 @@ using namespace jetshell;
 namespace {
 
 using J1 = ceres::Jet<double, 3>;
-using J2 = ceres::Jet<J1, 3>;
+using J2 = ceres::Jet<J1, 3>;  // Ceres' own nested Jet: constant<T> and V3 still serve it
+using S2 = SecondOrderJet<3>;   // the framework's second-order scalar (core/jet_arithmetic.h)
 
 /// The helpers composed into one function of a 3-vector: f(p) = |p|² + 2·|p × q|·(p·q) − 0.5·|p|, q fixed.
 template <typename T>
@@ -25,7 +26,7 @@ double compositeValue(const double* p) { return composite(p); }
 
 }  // namespace
 
-TEMPLATE_TEST_CASE("scalar: helpers compile and agree in value for every scalar type", "", double, J1, J2) {
+TEMPLATE_TEST_CASE("scalar: helpers compile and agree in value for every scalar type", "", double, J1, J2, S2) {
   const double p[3] = {0.4, 0.9, -0.5};
   TestType pt[3];
   for (int i = 0; i < 3; ++i) pt[i] = constant<TestType>(p[i]);

@@ -131,7 +131,7 @@ TEST_CASE("one-ring pattern: a new Hessian pattern with the same one-ring part k
   CHECK(solver->symbolicAnalyses() == 2);
 }
 
-TEST_CASE("one-ring pattern: a plan gives the filter's matrix, bit for bit, for every matrix of its pattern",
+TEST_CASE("one-ring pattern: a plan reused over new values gives a fresh filter's matrix, bit for bit",
           "[solvers]") {
   testing::SingleThread single;
   ClothHessian c;

@@ -78,3 +78,28 @@ TEST_CASE("symmetric product: a new pattern is picked up without prepare") {
     CHECK((y - want).norm() <= 1e-13 * (1.0 + want.norm()));
   }
 }
+
+TEST_CASE("symmetric product: a pattern of the same size and nonzero count but other rows is handled") {
+  const int n = 3000;
+  std::vector<Eigen::Triplet<double>> band, firstRow;
+  for (int j = 0; j < n; ++j) {
+    band.emplace_back(j, j, 2.0 + j % 5);
+    firstRow.emplace_back(j, j, 2.0 + j % 5);
+    if (j > 0) {
+      band.emplace_back(j - 1, j, 0.5);
+      firstRow.emplace_back(0, j, 0.25);  // reaches row 0 from every column: other chunks' scatter rows
+    }
+  }
+  Eigen::SparseMatrix<double> A(n, n), B(n, n);
+  A.setFromTriplets(band.begin(), band.end());
+  B.setFromTriplets(firstRow.begin(), firstRow.end());
+  REQUIRE(A.nonZeros() == B.nonZeros());
+  const Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
+  SymmetricProduct product;
+  Eigen::VectorXd y;
+  for (const Eigen::SparseMatrix<double>* H : {&A, &B, &A}) {
+    product.apply(*H, p, y);
+    const Eigen::VectorXd want = H->selfadjointView<Eigen::Upper>() * p;
+    CHECK((y - want).norm() <= 1e-13 * want.norm());
+  }
+}

@@ -51,6 +51,15 @@ TEST_CASE("reference tables: each value keeps half a unit of its last printed di
   CHECK(t.halfUnit[0][1] == Approx(0.0005));
   CHECK(t.halfUnit[0][2] == Approx(0.00005));
   CHECK(t.halfUnit[0][3] == Approx(0.5));
+  // A zero with an exponent beyond any int loads (its half unit is bounded), it does not throw out_of_range.
+  {
+    std::ofstream out(path);
+    out << "0.5 0e99999999999\n";
+  }
+  const ReferenceTable z = loadReferenceTable(path, {"a"});
+  std::remove(path.c_str());
+  REQUIRE(z.halfUnit.size() == 1);
+  CHECK(std::isfinite(z.halfUnit[0][0]));
 }
 
 TEST_CASE("reference tables: malformed files are rejected naming the line") {
