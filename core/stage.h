@@ -16,10 +16,12 @@
 // conformance tests call it), so a twin is an optimisation that is always checked, never a second truth.
 //
 // Optional declaration `static constexpr bool kConstantHessian = true;`: the stage is a polynomial of degree
-// at most 2 (a bilinear product such as a cross product, a metric or a second fundamental form), so its Hessians
-// do not depend on the input, the entity or the stage's data. The framework then computes them once per stage
-// type (Jets of order 2 on a default-constructed stage at z = 0, constantStageHessians()) and evaluates the
-// stage at order 1 only; constantHessianDiscrepancy() checks the declaration against the Jets at any z.
+// at most 2 with fixed coefficients (a bilinear product such as a cross product, a metric or a second
+// fundamental form): its Hessians and its Jacobian at z = 0 do not depend on the input, the entity or the
+// stage's data. The framework computes them once per stage type (Jets of order 2 on a default-constructed stage
+// at z = 0, constantStageHessians()); afterwards the stage runs on doubles only, its Jacobian being
+// J(z) = J(0) + [∇²y_k z]_k (no Jets per element). constantHessianDiscrepancy() checks the declaration
+// (Hessians and Jacobian) against the Jets at any z.
 #pragma once
 
 #include "core/scalar.h"
@@ -103,6 +105,14 @@ template <typename S>
 struct ConstantStageHessians {
   std::array<Eigen::Matrix<double, S::kInputs, S::kInputs>, S::kOutputs> hessians;
   bool zero = true;
+  Eigen::Matrix<double, S::kOutputs, S::kInputs> jacobianAtZero;
+  // The nonzero Hessian entries, (output k, i, j, value): J(z)(k, i) = J(0)(k, i) + Σ value · z_j.
+  struct Entry {
+    int k, i, j;
+    double h;
+  };
+  std::array<Entry, S::kOutputs * S::kInputs * S::kInputs> entries;
+  int numEntries = 0;
 };
 template <typename S>
 const ConstantStageHessians<S>& constantStageHessians() {
@@ -112,22 +122,44 @@ const ConstantStageHessians<S>& constantStageHessians() {
     const double z[S::kInputs] = {};
     stageDerivativesFromJets(S(), z, 0, 2, d);
     r.hessians = d.hessians;
-    for (const auto& m : r.hessians) r.zero = r.zero && m.isZero(0.0);
+    r.jacobianAtZero = d.jacobian;
+    for (int k = 0; k < S::kOutputs; ++k)
+      for (int i = 0; i < S::kInputs; ++i)
+        for (int j = 0; j < S::kInputs; ++j)
+          if (r.hessians[k](i, j) != 0.0) r.entries[static_cast<std::size_t>(r.numEntries++)] = {k, i, j, r.hessians[k](i, j)};
+    r.zero = r.numEntries == 0;
     return r;
   }();
   return h;
 }
 
-/// Largest absolute difference between the Jets' Hessians at z and the constant ones (0 for a stage without
-/// the declaration): a declaration that does not hold shows here.
+/// Value and Jacobian of a stage declaring kConstantHessian, on doubles: y = s(z), J(z) = J(0) + [∇²y_k z]_k.
+template <typename S>
+void constantHessianStageJacobian(const S& s, const double* z, int entity, StageDerivativesOf<S>& d) {
+  constexpr int M = S::kOutputs;
+  double y[M];
+  s(z, y, entity);
+  for (int k = 0; k < M; ++k) d.value[k] = y[k];
+  const ConstantStageHessians<S>& c = constantStageHessians<S>();
+  d.jacobian = c.jacobianAtZero;
+  for (int e = 0; e < c.numEntries; ++e) {
+    const auto& t = c.entries[static_cast<std::size_t>(e)];
+    d.jacobian(t.k, t.i) += t.h * z[t.j];
+  }
+}
+
+/// Largest absolute difference between the Jets' Hessians and Jacobian at z and those the declaration gives
+/// (0 for a stage without the declaration): a declaration that does not hold shows here.
 template <typename S>
 double constantHessianDiscrepancy(const S& s, const double* z, int entity) {
   if constexpr (!HasConstantHessian<S>::value) {
     return 0.0;
   } else {
-    StageDerivativesOf<S> jets;
+    StageDerivativesOf<S> jets, fixed;
     stageDerivativesFromJets(s, z, entity, 2, jets);
-    double worst = 0.0;
+    constantHessianStageJacobian(s, z, entity, fixed);
+    double worst = (jets.jacobian - fixed.jacobian).cwiseAbs().maxCoeff() /
+                   std::max(1.0, jets.jacobian.cwiseAbs().maxCoeff());
     for (int k = 0; k < S::kOutputs; ++k)
       worst = std::max(worst, (jets.hessians[k] - constantStageHessians<S>().hessians[k]).cwiseAbs().maxCoeff());
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
@@ -145,9 +177,9 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
     }
   }
   if constexpr (HasConstantHessian<S>::value) {
-    if (order >= 2) {
-      stageDerivativesFromJets(s, z, entity, 1, d);
-      d.hessians = constantStageHessians<S>().hessians;
+    if (order >= 1) {
+      constantHessianStageJacobian(s, z, entity, d);
+      if (order >= 2) d.hessians = constantStageHessians<S>().hessians;
       return;
     }
   }
