@@ -75,6 +75,16 @@ struct Bilinear {
 struct FalselyConstant : Plain {
   static constexpr bool kConstantHessian = true;
 };
+/// Constant Hessians but a linear part that moves with the entity: not a fixed polynomial, so the declaration
+/// does not hold either (the Jacobian derived from J(0) would be the entity 0's).
+struct EntityLinear {
+  static constexpr int kInputs = 2, kOutputs = 1;
+  static constexpr bool kConstantHessian = true;
+  template <typename T>
+  void operator()(const T* z, T* y, int entity) const {
+    y[0] = constant<T>(1.0 + entity) * z[0] + z[0] * z[1];
+  }
+};
 
 }  // namespace
 
@@ -93,4 +103,12 @@ TEST_CASE("stage: constant Hessians are computed once and a false declaration sh
   CHECK(constantHessianDiscrepancy(Bilinear(), z, 0) == 0.0);
   // Plain's y0 = z0 z1² has a Hessian that moves with z: the declaration is caught away from z = 0.
   CHECK(constantHessianDiscrepancy(FalselyConstant(), z, 0) >= 1.0);
+  // At order 1 the stage runs on doubles, J(z) = J(0) + [H_k z]_k: the Jets' Jacobian, here exactly.
+  StageDerivatives<2, 2> jets;
+  stageDerivativesFromJets(Bilinear(), z, 0, 1, jets);
+  evaluateStage(Bilinear(), z, 0, 1, DerivativePath::AutoDiff, d);
+  CHECK(d.jacobian == jets.jacobian);
+  CHECK(d.value == jets.value);
+  CHECK(constantHessianDiscrepancy(EntityLinear(), z, 0) == 0.0);
+  CHECK(constantHessianDiscrepancy(EntityLinear(), z, 2) >= 1.0);
 }
