@@ -148,6 +148,12 @@ void constantHessianStageJacobian(const S& s, const double* z, int entity, Stage
   }
 }
 
+/// max |a − b| relative to b's largest entry (floor 1): how far a derived result is from the Jets' b.
+template <typename A, typename B>
+double relativeDifference(const A& a, const B& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
 /// Largest absolute difference between the Jets' Hessians and Jacobian at z and those the declaration gives
 /// (0 for a stage without the declaration): a declaration that does not hold shows here.
 template <typename S>
@@ -158,8 +164,7 @@ double constantHessianDiscrepancy(const S& s, const double* z, int entity) {
     StageDerivativesOf<S> jets, fixed;
     stageDerivativesFromJets(s, z, entity, 2, jets);
     constantHessianStageJacobian(s, z, entity, fixed);
-    double worst = (jets.jacobian - fixed.jacobian).cwiseAbs().maxCoeff() /
-                   std::max(1.0, jets.jacobian.cwiseAbs().maxCoeff());
+    double worst = relativeDifference(fixed.jacobian, jets.jacobian);
     for (int k = 0; k < S::kOutputs; ++k)
       worst = std::max(worst, (jets.hessians[k] - constantStageHessians<S>().hessians[k]).cwiseAbs().maxCoeff());
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
@@ -204,11 +209,8 @@ double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
     StageDerivativesOf<S> jets, twin;
     stageDerivativesFromJets(s, z, entity, 2, jets);
     s.derivatives(z, entity, 2, twin);
-    auto rel = [](const auto& a, const auto& b) {
-      return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
-    };
-    double worst = std::max(rel(twin.value, jets.value), rel(twin.jacobian, jets.jacobian));
-    for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, rel(twin.hessians[k], jets.hessians[k]));
+    double worst = std::max(relativeDifference(twin.value, jets.value), relativeDifference(twin.jacobian, jets.jacobian));
+    for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(twin.hessians[k], jets.hessians[k]));
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }
