@@ -63,7 +63,16 @@ int BendingTerm::buildSecondForm(StageChain<6>& chain, int f) {
   return chain.stage(SecondFormStage(), f, {chain.difference(0, 1), chain.difference(0, 2), nbar[0], nbar[1], nbar[2]});
 }
 
+/// The staged evaluator closes boundary edges with ghost-normal rules only; a moment-free edge (a density
+/// minimized per face) is the hand-chained evaluator's.
+static void requireGhostRules(const std::vector<EdgeRule>& rules, const std::string& name) {
+  for (EdgeRule r : rules)
+    if (minimizesMoment(r))
+      throw InputError(name + ": the staged evaluator does not take the " + edgeRuleName(r) + " edge rule");
+}
+
 double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+  requireGhostRules(rules_, name_);
   bindStages();
   return elements_.evaluate(table_, schedule_, x, request, options, elementEnergy_, [&](StageChain<6>& chain, int f) {
     chain.energy(density_, f, {buildSecondForm(chain, f)});
@@ -72,6 +81,7 @@ double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& 
 
 void BendingTerm::stagedCurvatureOrigin(const Eigen::VectorXd& xOrigin) {
   // From the very stages evaluateStaged() runs (value only), so that κ vanishes at the origin to the bit.
+  requireGhostRules(rules_, name_);
   bindStages();
   const StageContext context = elements_.newContext(EvalRequest{}, EvalOptions{});
   elements_.reserveChains();
