@@ -14,6 +14,14 @@
 //     void derivatives(const double* z, int entity, int order, StageDerivatives<N, M>& d) const;
 // is evaluated by it on DerivativePath::Analytic; stageTwinDiscrepancy() measures it against the Jets (the
 // conformance tests call it), so a twin is an optimisation that is always checked, never a second truth.
+//
+// Optional declaration `static constexpr bool kConstantHessian = true;`: the stage is a polynomial of degree
+// at most 2 with fixed coefficients (a bilinear product such as a cross product, a metric or a second
+// fundamental form): its Hessians and its Jacobian at z = 0 do not depend on the input, the entity or the
+// stage's data. The framework computes them once per stage type (Jets of order 2 on a default-constructed stage
+// at z = 0, constantStageHessians()); afterwards the stage runs on doubles only, its Jacobian being
+// J(z) = J(0) + [∇²y_k z]_k (no Jets per element). constantHessianDiscrepancy() checks the declaration
+// (Hessians and Jacobian) against the Jets at any z.
 #pragma once
 
 #include "core/scalar.h"
@@ -30,7 +38,7 @@
 
 namespace jetshell {
 
-inline constexpr int kMaxStageInputs = 12;
+inline constexpr int kMaxStageInputs = 15;
 inline constexpr int kMaxStageOutputs = 4;
 
 /// Local derivatives of one stage at one input z. Column-major, fixed size: no allocation.
@@ -52,6 +60,12 @@ template <typename S>
 struct HasStageTwin<S, std::void_t<decltype(std::declval<const S&>().derivatives(
                            static_cast<const double*>(nullptr), 0, 0, std::declval<StageDerivativesOf<S>&>()))>>
     : std::true_type {};
+
+/// True when stage S declares kConstantHessian = true.
+template <typename S, typename = void>
+struct HasConstantHessian : std::false_type {};
+template <typename S>
+struct HasConstantHessian<S, std::void_t<decltype(S::kConstantHessian)>> : std::bool_constant<S::kConstantHessian> {};
 
 /// Value (order 0), + Jacobian (order 1), + Hessians (order 2) of stage s at z, from Ceres Jets.
 template <typename S>
@@ -85,6 +99,78 @@ void stageDerivativesFromJets(const S& s, const double* z, int entity, int order
   }
 }
 
+/// The Hessians of a stage that declares kConstantHessian, computed once per stage type (thread-safe static).
+/// `zero` is true when every entry is 0 (a linear stage: no curvature to chain).
+template <typename S>
+struct ConstantStageHessians {
+  std::array<Eigen::Matrix<double, S::kInputs, S::kInputs>, S::kOutputs> hessians;
+  bool zero = true;
+  Eigen::Matrix<double, S::kOutputs, S::kInputs> jacobianAtZero;
+  // The nonzero Hessian entries, (output k, i, j, value): J(z)(k, i) = J(0)(k, i) + Σ value · z_j.
+  struct Entry {
+    int k, i, j;
+    double h;
+  };
+  std::array<Entry, S::kOutputs * S::kInputs * S::kInputs> entries;
+  int numEntries = 0;
+};
+template <typename S>
+const ConstantStageHessians<S>& constantStageHessians() {
+  static const ConstantStageHessians<S> h = [] {
+    ConstantStageHessians<S> r;
+    StageDerivativesOf<S> d;
+    const double z[S::kInputs] = {};
+    stageDerivativesFromJets(S(), z, 0, 2, d);
+    r.hessians = d.hessians;
+    r.jacobianAtZero = d.jacobian;
+    for (int k = 0; k < S::kOutputs; ++k)
+      for (int i = 0; i < S::kInputs; ++i)
+        for (int j = 0; j < S::kInputs; ++j)
+          if (r.hessians[k](i, j) != 0.0) r.entries[static_cast<std::size_t>(r.numEntries++)] = {k, i, j, r.hessians[k](i, j)};
+    r.zero = r.numEntries == 0;
+    return r;
+  }();
+  return h;
+}
+
+/// Value and Jacobian of a stage declaring kConstantHessian, on doubles: y = s(z), J(z) = J(0) + [∇²y_k z]_k.
+template <typename S>
+void constantHessianStageJacobian(const S& s, const double* z, int entity, StageDerivativesOf<S>& d) {
+  constexpr int M = S::kOutputs;
+  double y[M];
+  s(z, y, entity);
+  for (int k = 0; k < M; ++k) d.value[k] = y[k];
+  const ConstantStageHessians<S>& c = constantStageHessians<S>();
+  d.jacobian = c.jacobianAtZero;
+  for (int e = 0; e < c.numEntries; ++e) {
+    const auto& t = c.entries[static_cast<std::size_t>(e)];
+    d.jacobian(t.k, t.i) += t.h * z[t.j];
+  }
+}
+
+/// max |a − b| relative to b's largest entry (floor 1): how far a derived result is from the Jets' b.
+template <typename A, typename B>
+double relativeDifference(const A& a, const B& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
+/// Largest absolute difference between the Jets' Hessians and Jacobian at z and those the declaration gives
+/// (0 for a stage without the declaration): a declaration that does not hold shows here.
+template <typename S>
+double constantHessianDiscrepancy(const S& s, const double* z, int entity) {
+  if constexpr (!HasConstantHessian<S>::value) {
+    return 0.0;
+  } else {
+    StageDerivativesOf<S> jets, fixed;
+    stageDerivativesFromJets(s, z, entity, 2, jets);
+    constantHessianStageJacobian(s, z, entity, fixed);
+    double worst = relativeDifference(fixed.jacobian, jets.jacobian);
+    for (int k = 0; k < S::kOutputs; ++k)
+      worst = std::max(worst, (jets.hessians[k] - constantStageHessians<S>().hessians[k]).cwiseAbs().maxCoeff());
+    return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+  }
+}
+
 /// The stage's derivatives up to `order` on `path`: the analytic twin when there is one and path is
 /// Analytic, the Jets otherwise.
 template <typename S>
@@ -95,8 +181,23 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
       return;
     }
   }
+  if constexpr (HasConstantHessian<S>::value) {
+    if (order >= 1) {
+      constantHessianStageJacobian(s, z, entity, d);
+      if (order >= 2) d.hessians = constantStageHessians<S>().hessians;
+      return;
+    }
+  }
   stageDerivativesFromJets(s, z, entity, order, d);
 }
+
+/// A stage's results as the chain reads them (core/stage_chain.h): value (M), Jacobian (M×N, column-major)
+/// and each output's Hessian (N×N, column-major), null when not computed (order < 2) or identically zero.
+struct StageView {
+  const double* value = nullptr;
+  const double* jacobian = nullptr;
+  const double* hessian[kMaxStageOutputs] = {};
+};
 
 /// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
 /// relative to the largest Jet entry of its kind, floor 1). 0 for a stage without a twin.
@@ -108,11 +209,8 @@ double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
     StageDerivativesOf<S> jets, twin;
     stageDerivativesFromJets(s, z, entity, 2, jets);
     s.derivatives(z, entity, 2, twin);
-    auto rel = [](const auto& a, const auto& b) {
-      return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
-    };
-    double worst = std::max(rel(twin.value, jets.value), rel(twin.jacobian, jets.jacobian));
-    for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, rel(twin.hessians[k], jets.hessians[k]));
+    double worst = std::max(relativeDifference(twin.value, jets.value), relativeDifference(twin.jacobian, jets.jacobian));
+    for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(twin.hessians[k], jets.hessians[k]));
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }

@@ -9,13 +9,18 @@
 //                                  derivatives (value y, ∂y/∂z, ∇²y_k) from the stage (core/stage.h) or from a
 //                                  StageCache entry shared with other stencils (core/stage_cache.h). Forward: the
 //                                  node's total Jacobian over the stencil, J = (∂y/∂z) Z, Z the inputs' stacked
-//                                  total Jacobians, kept on the vertices the node depends on (its support).
+//                                  total Jacobians.
 //   energy(s, entity, {inputs...}) the root: a one-output stage (the energy density), always at order 2 when a
 //                                  Hessian is asked.
 //   finish(wantG, wantH, g, H)     g = J_rootᵀ. H by a reverse sweep: adjoint w̄ = 1 at the root, and per stage node
 //                                  H += Zᵀ (Σ_k w̄_k ∇²y_k) Z, then w̄_inputs += (∂y/∂z)ᵀ w̄. That is
 //                                  H = J_sᵀ W'' J_s + Σ_k w_k ∇²s_k, recursively. Gauss–Newton (context.order < 2
 //                                  with a Hessian asked) keeps the root's term only: H = J_sᵀ W'' J_s.
+// Cost: total Jacobians are full-width rows (D), so that each update is one fixed-length vector operation; the
+// curvature Zᵀ C Z is formed per input node, skipping the zero entries of C (a bilinear stage couples only some
+// of its inputs; a stage with constant zero Hessians, core/stage.h, has none) and, in Zᵀ, the columns off the
+// input's support (the stencil vertices it depends on, e.g. three for a face normal) and the zero entries of a
+// leaf's ±1 selector.
 // Every buffer is a fixed-size member (kMaxNodes nodes, stage sizes bounded by core/stage.h): a chain is built
 // once per thread and reused; building and finishing a stencil never allocates.
 #pragma once
@@ -57,27 +62,23 @@ class StageChain {
   /// A stage node evaluated for this stencil only.
   template <typename S>
   int stage(const S& s, int entity, std::initializer_list<int> inputs) {
-    return addStage<S>(inputs, context_.order, [&](const double* z, int order) -> const StageDerivativesOf<S>& {
+    return addStage<S>(inputs, context_.order, [&](const double* z, int order) {
       auto* d = new (allocate(sizeof(StageDerivativesOf<S>))) StageDerivativesOf<S>;
-      evaluateStage(s, z, entity, order, context_.path, *d);
-      return *d;
+      return evaluateStageView(s, z, entity, order, context_.path, *d);
     });
   }
   /// A stage node whose result is shared through a cache (computed by the first stencil that asks).
   template <typename S>
   int stage(StageCache<S>& cache, int entity, std::initializer_list<int> inputs) {
-    return addStage<S>(inputs, context_.order, [&](const double* z, int) -> const StageDerivativesOf<S>& {
-      return cache.get(entity, z, context_);
-    });
+    return addStage<S>(inputs, context_.order, [&](const double* z, int) { return cache.get(entity, z, context_); });
   }
   /// The root: a one-output stage, the stencil's energy.
   template <typename S>
   int energy(const S& s, int entity, std::initializer_list<int> inputs) {
     static_assert(S::kOutputs == 1, "the energy stage has one output");
-    root_ = addStage<S>(inputs, context_.energyOrder, [&](const double* z, int order) -> const StageDerivativesOf<S>& {
+    root_ = addStage<S>(inputs, context_.energyOrder, [&](const double* z, int order) {
       auto* d = new (allocate(sizeof(StageDerivativesOf<S>))) StageDerivativesOf<S>;
-      evaluateStage(s, z, entity, order, context_.path, *d);
-      return *d;
+      return evaluateStageView(s, z, entity, order, context_.path, *d);
     });
     return root_;
   }
@@ -91,12 +92,10 @@ class StageChain {
     const Node& r = nodes_[root_];
     if (wantG || wantH) {
       g.setZero();
-      for (int v = 0; v < K; ++v)
-        if (r.support >> v & 1u)
-          for (int c = 0; c < 3; ++c) g[3 * v + c] = r.J[3 * v + c];
+      g = row(r, 0).transpose();
     }
     if (wantH) {
-      H.setZero();
+      for (int i = 0; i < D * D; ++i) Hrow_[i] = 0.0;
       for (int n = 0; n <= root_; ++n)
         for (int k = 0; k < kMaxStageOutputs; ++k) nodes_[n].adjoint[k] = 0.0;
       nodes_[root_].adjoint[0] = 1.0;
@@ -105,15 +104,16 @@ class StageChain {
         Node& node = nodes_[n];
         if (node.numInputs == 0) continue;  // a leaf
         if (n != root_ && !exact) break;
-        node.curvature(*this, node, H);
+        addCurvature(node);
         if (exact) {
           for (int i = 0; i < node.numInputs; ++i) {
             double s = 0.0;
-            for (int k = 0; k < node.outputs; ++k) s += node.jacobian[k + node.outputs * i] * node.adjoint[k];
+            for (int k = 0; k < node.outputs; ++k) s += node.view.jacobian[k + node.outputs * i] * node.adjoint[k];
             nodes_[node.inputNode[i]].adjoint[node.inputComponent[i]] += s;
           }
         }
       }
+      H = Eigen::Map<const Eigen::Matrix<double, D, D, Eigen::RowMajor>>(Hrow_);
     }
     return r.value[0];
   }
@@ -121,17 +121,20 @@ class StageChain {
  private:
   struct Node {
     int outputs = 0;
-    int numInputs = 0;                     // 0: a leaf
-    int inputNode[kMaxStageInputs];        // per input i: the node and component it reads
+    int numInputs = 0;                       // 0: a leaf
+    int inputNode[kMaxStageInputs];          // per input i: the node and component it reads
     int inputComponent[kMaxStageInputs];
-    const double* value = nullptr;         // outputs
-    const double* jacobian = nullptr;      // ∂y/∂z, column-major outputs × numInputs
-    const double* hessian[kMaxStageOutputs] = {};  // ∇²y_k, column-major numInputs²; null below order 2
+    int numGroups = 0;                       // input nodes in order; group g is inputs groupStart[g] ..
+    int groupNode[kMaxStageInputs];
+    int groupStart[kMaxStageInputs + 1];
+    const double* value = nullptr;           // outputs
+    StageView view;                          // local derivatives (stage nodes)
     double leafValue[3];
-    std::uint32_t support = 0;             // bit v: depends on stencil vertex v
-    double J[kMaxStageOutputs * D];        // total Jacobian, row k at J + k·D
+    int numSupport = 0;                      // the stencil vertices the node depends on, ascending
+    int support[K];
+    std::uint32_t mask = 0;                  // the same as bits
+    alignas(64) double J[kMaxStageOutputs * D];  // total Jacobian ∂y_k/∂xe: row k at J + k·D, zero off the support
     double adjoint[kMaxStageOutputs];
-    void (*curvature)(const StageChain&, const Node&, Hessian&) = nullptr;  // curvatureOf<numInputs>
   };
 
   void* allocate(std::size_t bytes) {
@@ -147,16 +150,23 @@ class StageChain {
     return nodes_[numNodes_++];
   }
 
+  static void setSupport(Node& n, std::uint32_t mask) {
+    n.mask = mask;
+    n.numSupport = 0;
+    for (int v = 0; v < K; ++v)
+      if (mask >> v & 1u) n.support[n.numSupport++] = v;
+  }
+
   int leaf(int j, int i) {
     Node& n = newNode();
     n.outputs = 3;
     n.numInputs = 0;
     for (int c = 0; c < 3; ++c) n.leafValue[c] = xe_[3 * j + c] - (i >= 0 ? xe_[3 * i + c] : 0.0);
     n.value = n.leafValue;
-    n.support = 1u << j | (i >= 0 ? 1u << i : 0u);
+    setSupport(n, 1u << j | (i >= 0 ? 1u << i : 0u));
     if (context_.energyOrder > 0) {
-      for (int c = 0; c < 3 * D; ++c) n.J[c] = 0.0;
       for (int c = 0; c < 3; ++c) {
+        row(n, c).setZero();
         n.J[c * D + 3 * j + c] = 1.0;
         if (i >= 0) n.J[c * D + 3 * i + c] = -1.0;
       }
@@ -168,71 +178,100 @@ class StageChain {
   int addStage(std::initializer_list<int> inputs, int order, Evaluate&& evaluate) {
     constexpr int N = S::kInputs, M = S::kOutputs;
     double z[N];
-    int inputNode[N], inputComponent[N];
+    Node& n = newNode();
+    const int self = numNodes_ - 1;
     int i = 0;
-    std::uint32_t support = 0;
+    std::uint32_t mask = 0;
+    n.numGroups = 0;
     for (int p : inputs) {
-      if (p < 0 || p >= numNodes_) throw std::logic_error("stage chain: an input is not an earlier node");
+      if (p < 0 || p >= self) throw std::logic_error("stage chain: an input is not an earlier node");
       const Node& in = nodes_[p];
-      support |= in.support;
+      mask |= in.mask;
+      n.groupNode[n.numGroups] = p;
+      n.groupStart[n.numGroups++] = i;
       for (int c = 0; c < in.outputs; ++c, ++i) {
         if (i >= N) throw std::logic_error("stage chain: inputs larger than the stage's kInputs");
         z[i] = in.value[c];
-        inputNode[i] = p;
-        inputComponent[i] = c;
+        n.inputNode[i] = p;
+        n.inputComponent[i] = c;
       }
     }
     if (i != N) throw std::logic_error("stage chain: inputs smaller than the stage's kInputs");
-    const StageDerivativesOf<S>& d = evaluate(z, order);
-    Node& n = newNode();
+    n.groupStart[n.numGroups] = N;
+    n.view = evaluate(z, order);
     n.outputs = M;
     n.numInputs = N;
-    for (int k = 0; k < N; ++k) {
-      n.inputNode[k] = inputNode[k];
-      n.inputComponent[k] = inputComponent[k];
-    }
-    n.value = d.value.data();
-    n.jacobian = d.jacobian.data();
-    for (int k = 0; k < M; ++k) n.hessian[k] = order >= 2 ? d.hessians[k].data() : nullptr;
-    n.support = support;
-    n.curvature = &curvatureOf<N>;
+    n.value = n.view.value;
+    setSupport(n, mask);
     if (context_.energyOrder > 0) {
-      // J_k = Σ_i (∂y_k/∂z_i) J_input(i), on the support's columns only.
-      for (int k = 0; k < M; ++k)
-        for (int c = 0; c < D; ++c) n.J[k * D + c] = 0.0;
+      // J_k = Σ_q (∂y_k/∂z_q) J_input(q): full-width rows (zero off the support), so that every update is a
+      // fixed-length vector operation.
+      const double* a = n.view.jacobian;
+      for (int k = 0; k < M; ++k) row(n, k).setZero();
       for (int q = 0; q < N; ++q) {
-        const double* Jin = nodes_[inputNode[q]].J + inputComponent[q] * D;
-        const std::uint32_t s = nodes_[inputNode[q]].support;
-        for (int v = 0; v < K; ++v) {
-          if (!(s >> v & 1u)) continue;
-          for (int k = 0; k < M; ++k) {
-            const double a = d.jacobian(k, q);
-            for (int c = 3 * v; c < 3 * v + 3; ++c) n.J[k * D + c] += a * Jin[c];
+        const auto in = row(nodes_[n.inputNode[q]], n.inputComponent[q]);
+        for (int k = 0; k < M; ++k) {
+          const double akq = a[k + M * q];
+          if (akq != 0.0) row(n, k).noalias() += akq * in;
+        }
+      }
+    }
+    return self;
+  }
+
+  using Row = Eigen::Map<Eigen::Matrix<double, 1, D>>;
+  static Row row(Node& n, int k) { return Row(n.J + k * D); }
+  static Eigen::Map<const Eigen::Matrix<double, 1, D>> row(const Node& n, int k) {
+    return Eigen::Map<const Eigen::Matrix<double, 1, D>>(n.J + k * D);
+  }
+
+  /// H += Zᵀ C Z with C = Σ_k w̄_k ∇²y_k, per input node a: Y = Σ_b C_ab Z_b (full-width rows, zero entries of C
+  /// skipped), then for each column r of Z_a on a's support, H's row r += Z_a(·, r)ᵀ Y.
+  void addCurvature(const Node& node) {
+    const int N = node.numInputs;
+    double C[kMaxStageInputs * kMaxStageInputs];
+    bool any = false;
+    for (int k = 0; k < node.outputs; ++k) {
+      const double w = node.adjoint[k];
+      const double* h = node.view.hessian[k];
+      if (w == 0.0 || h == nullptr) continue;
+      if (!any) {
+        for (int i = 0; i < N * N; ++i) C[i] = w * h[i];
+      } else {
+        for (int i = 0; i < N * N; ++i) C[i] += w * h[i];
+      }
+      any = true;
+    }
+    if (!any) return;
+    alignas(64) double Y[kMaxStageOutputs * D];
+    for (int a = 0; a < node.numGroups; ++a) {
+      const Node& A = nodes_[node.groupNode[a]];
+      const int sa = node.groupStart[a], na = A.outputs;
+      // Y = Σ_b C_ab Z_b: the rows of C Z that input node a's rows of Zᵀ meet.
+      bool nonzero = false;
+      for (int r = 0; r < na; ++r) Row(Y + r * D).setZero();
+      for (int q = 0; q < N; ++q) {
+        const auto zq = row(nodes_[node.inputNode[q]], node.inputComponent[q]);
+        for (int r = 0; r < na; ++r) {
+          const double crq = C[(sa + r) + N * q];
+          if (crq == 0.0) continue;
+          Row(Y + r * D).noalias() += crq * zq;
+          nonzero = true;
+        }
+      }
+      if (!nonzero) continue;
+      // H's row of each column of Z_a on a's support += Z_a(·, column)ᵀ Y.
+      for (int t = 0; t < A.numSupport; ++t) {
+        for (int cc = 0; cc < 3; ++cc) {
+          const int hr = 3 * A.support[t] + cc;
+          Row h(Hrow_ + hr * D);
+          for (int r = 0; r < na; ++r) {
+            const double z = A.J[r * D + hr];
+            if (z != 0.0) h.noalias() += z * Eigen::Map<const Eigen::Matrix<double, 1, D>>(Y + r * D);
           }
         }
       }
     }
-    return numNodes_ - 1;
-  }
-
-  /// H += Zᵀ (Σ_k w̄_k ∇²y_k) Z for a node of N inputs, with fixed sizes (N × D) so that the products vectorize;
-  /// Z's rows are the inputs' total Jacobians, zero off their supports.
-  template <int N>
-  static void curvatureOf(const StageChain& chain, const Node& node, Hessian& H) {
-    Eigen::Matrix<double, N, N> C = Eigen::Matrix<double, N, N>::Zero();
-    bool any = false;
-    for (int k = 0; k < node.outputs; ++k) {
-      if (node.adjoint[k] == 0.0 || node.hessian[k] == nullptr) continue;
-      C.noalias() += node.adjoint[k] * Eigen::Map<const Eigen::Matrix<double, N, N>>(node.hessian[k]);
-      any = true;
-    }
-    if (!any) return;
-    Eigen::Matrix<double, N, D> Z;
-    for (int q = 0; q < N; ++q)
-      Z.row(q) = Eigen::Map<const Eigen::Matrix<double, 1, D>>(chain.nodes_[node.inputNode[q]].J +
-                                                               node.inputComponent[q] * D);
-    const Eigen::Matrix<double, N, D> CZ = C.lazyProduct(Z);
-    H.noalias() += Z.transpose().lazyProduct(CZ);
   }
 
   const double* xe_ = nullptr;
@@ -240,6 +279,7 @@ class StageChain {
   int numNodes_ = 0;
   int root_ = -1;
   Node nodes_[kMaxNodes];
+  alignas(64) double Hrow_[D * D];  // the Hessian being accumulated, row-major
   alignas(64) unsigned char arena_[1 << 16];
   std::size_t arenaUsed_ = 0;
 };

@@ -31,6 +31,65 @@
 
 namespace jetshell {
 
+/// The stencil's coordinates xe (3K) from x; absent vertices (id −1) read as 0.
+template <int K>
+void gatherStencil(const int* ids, const Eigen::VectorXd& x, double* xe) {
+  for (int k = 0; k < K; ++k)
+    for (int c = 0; c < 3; ++c) xe[3 * k + c] = ids[k] >= 0 ? x[3 * ids[k] + c] : 0.0;
+}
+
+/// The evaluation machinery of a staged term, for terms that keep their own class (the shell terms): one chain
+/// per thread and the evaluation epoch. evaluate() runs build(chain, element) for every element through the
+/// coloured element loop; build connects the element's stages and ends with chain.energy(...).
+template <int K>
+class StagedElements {
+ public:
+  static constexpr int M = 3 * K;
+
+  /// The context of an evaluation for `request` and `options` (a new epoch each call).
+  StageContext newContext(const EvalRequest& request, const EvalOptions& options) {
+    const bool wantG = request.gradient != nullptr, wantH = request.hessian != nullptr;
+    StageContext context;
+    context.epoch = ++epoch_;
+    context.path = options.path;
+    context.energyOrder = wantH ? 2 : wantG ? 1 : 0;
+    context.order = wantH && options.bendingHessian == BendingHessian::GaussNewton ? 1 : context.energyOrder;
+    return context;
+  }
+
+  /// A chain for the calling thread (created on first use; the element loop never allocates).
+  StageChain<K>& chain() { return *chains_[static_cast<std::size_t>(omp_get_thread_num())]; }
+
+  template <typename Build>
+  double evaluate(const StencilTable& table, const ElementSchedule& schedule, const Eigen::VectorXd& x,
+                  const EvalRequest& request, const EvalOptions& options, std::vector<double>& elementEnergy,
+                  Build&& build) {
+    const StageContext context = newContext(request, options);
+    reserveChains();
+    return runElementLoop<K>(
+        table, schedule, x, request, options.projection, elementEnergy,
+        [&](int e, const int* ids, bool g_, bool h_, Eigen::Matrix<double, M, 1>& g, Eigen::Matrix<double, M, M>& H) {
+          double xe[M];
+          gatherStencil<K>(ids, x, xe);
+          StageChain<K>& c = chain();
+          c.begin(xe, context);
+          build(c, e);
+          return c.finish(g_, h_, g, H);
+        },
+        /*colouredValues=*/true);
+  }
+
+  /// Makes sure every thread of the next parallel region has its chain.
+  void reserveChains() {
+    const int threads = omp_get_max_threads();
+    while (static_cast<int>(chains_.size()) < threads) chains_.push_back(std::make_unique<StageChain<K>>());
+  }
+
+ private:
+  std::uint64_t epoch_ = 0;
+  std::vector<std::unique_ptr<StageChain<K>>> chains_;  // one per thread, reused
+};
+
 template <typename Definition>
 class StagedEnergyTerm : public FixedStencilTerm {
  public:
@@ -46,32 +105,13 @@ class StagedEnergyTerm : public FixedStencilTerm {
   const Definition& definition() const { return definition_; }
 
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
-    const bool wantG = request.gradient != nullptr, wantH = request.hessian != nullptr;
-    StageContext context;
-    context.epoch = ++epoch_;
-    context.path = options.path;
-    context.energyOrder = wantH ? 2 : wantG ? 1 : 0;
-    context.order = wantH && options.bendingHessian == BendingHessian::GaussNewton ? 1 : context.energyOrder;
-    const int threads = omp_get_max_threads();
-    while (static_cast<int>(chains_.size()) < threads) chains_.push_back(std::make_unique<StageChain<K>>());
-    return runElementLoop<K>(
-        table_, schedule_, x, request, options.projection, elementEnergy_,
-        [&](int e, const int* ids, bool g_, bool h_, Eigen::Matrix<double, M, 1>& g, Eigen::Matrix<double, M, M>& H) {
-          double xe[M];
-          for (int k = 0; k < K; ++k)
-            for (int c = 0; c < 3; ++c) xe[3 * k + c] = ids[k] >= 0 ? x[3 * ids[k] + c] : 0.0;
-          StageChain<K>& chain = *chains_[static_cast<std::size_t>(omp_get_thread_num())];
-          chain.begin(xe, context);
-          definition_(chain, e);
-          return chain.finish(g_, h_, g, H);
-        },
-        /*colouredValues=*/true);
+    return elements_.evaluate(table_, schedule_, x, request, options, elementEnergy_,
+                              [&](StageChain<K>& chain, int e) { definition_(chain, e); });
   }
 
  private:
   Definition definition_;
-  std::uint64_t epoch_ = 0;
-  std::vector<std::unique_ptr<StageChain<K>>> chains_;  // one per thread, reused
+  StagedElements<K> elements_;
 };
 
 }  // namespace jetshell

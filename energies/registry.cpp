@@ -29,11 +29,19 @@ std::vector<char> firstBoundaryEdgeMask(const TermSetup& s) {
   return mask;
 }
 
-/// Bending with the first boundary edge under `rule` (energies/shell/edge_rules.h), the others free.
-EnergyTermPtr makeRuledBending(const TermSetup& s, EdgeRule rule, const char* name) {
+/// Bending (on the stage framework when staged), named `name`.
+std::shared_ptr<BendingTerm> makeNamedBending(const TermSetup& s, const char* name, bool staged = false) {
   auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
                                             s.material.bendingBeta);
-  term->setEdgeRule(firstBoundaryEdgeMask(s), rule);
+  term->setStaged(staged);
+  term->setName(name);
+  return term;
+}
+
+/// Membrane (on the stage framework when staged), named `name`.
+std::shared_ptr<MembraneTerm> makeNamedMembrane(const TermSetup& s, const char* name, bool staged = false) {
+  auto term = std::make_shared<MembraneTerm>(s.mesh, s.reference, s.material.membraneLambda, s.material.membraneMu);
+  term->setStaged(staged);
   term->setName(name);
   return term;
 }
@@ -44,6 +52,13 @@ EnergyTermPtr makeSecondOrderFreeBending(const TermSetup& s, const char* name) {
                                             s.material.bendingBeta);
   term->setEdgeRule(std::vector<char>(static_cast<std::size_t>(s.mesh.numVertices()), 1), EdgeRule::SecondOrderFree);
   term->setName(name);
+  return term;
+}
+
+/// Bending with the first boundary edge under `rule` (energies/shell/edge_rules.h), the others free.
+EnergyTermPtr makeRuledBending(const TermSetup& s, EdgeRule rule, const char* name, bool staged = false) {
+  auto term = makeNamedBending(s, name, staged);
+  term->setEdgeRule(firstBoundaryEdgeMask(s), rule);
   return term;
 }
 
@@ -77,10 +92,16 @@ Eigen::VectorXd displacedRest(const TriMesh& mesh, double amplitude) {
 }
 
 /// The stiffness-damping terms with their origin moved to a displaced configuration (β_R = 0.05 s, Δt = 0.01 s).
-StiffnessDampingTerms dampingTerms(const TermSetup& s) {
+StiffnessDampingTerms dampingTerms(const TermSetup& s, bool staged = false) {
   ShellMaterialParams m = s.material;
   m.stiffnessDampingCoefficient = 0.05;
   StiffnessDampingTerms t = makeStiffnessDampingTerms(s.mesh, s.topology, s.reference, m);
+  if (staged) {
+    t.membrane->setStaged(true);
+    t.membrane->setName("membrane_staged_damping");
+    t.bending->setStaged(true);
+    t.bending->setName("bending_staged_damping");
+  }
   const Eigen::VectorXd origin = displacedRest(s.mesh, 0.02);
   t.membrane->setStrainOrigin(origin, 0.05 / 0.01);
   t.bending->setCurvatureOrigin(origin, 0.05 / 0.01);
@@ -174,6 +195,23 @@ std::vector<RegisteredTerm> buildRegistry() {
        [](S s) { return EnergyTermPtr(dampingTerms(s).membrane); }},
       {"bending_damping", "bending stiffness damping (origin x_prev, scale beta_R/dt)",
        [](S s) { return EnergyTermPtr(dampingTerms(s).bending); }},
+      // The same shell terms on the stage framework (BendingTerm/MembraneTerm::setStaged): every edge rule, both
+      // Hessians and the moved origin of stiffness damping.
+      {"membrane_staged", "membrane on the stage framework (metric, density)",
+       [](S s) { return EnergyTermPtr(makeNamedMembrane(s, "membrane_staged", true)); }},
+      {"bending_staged", "bending on the stage framework (face normal, mid-edge normal, b, density), exact Hessian",
+       [](S s) { return EnergyTermPtr(makeNamedBending(s, "bending_staged", true)); }},
+      {"bending_staged_gauss_newton", "staged bending with the Gauss-Newton Hessian (a model: checked PSD)",
+       [](S s) { return EnergyTermPtr(makeNamedBending(s, "bending_staged_gauss_newton", true)); }, gaussNewton(),
+       false},
+      {"bending_staged_clamped", "staged bending, one boundary edge under the reference_clamp rule",
+       [](S s) { return makeRuledBending(s, EdgeRule::ReferenceClamp, "bending_staged_clamped", true); }},
+      {"bending_staged_mirrored_clamp", "staged bending, one boundary edge under the mirrored_clamp rule",
+       [](S s) { return makeRuledBending(s, EdgeRule::MirroredClamp, "bending_staged_mirrored_clamp", true); }},
+      {"membrane_staged_damping", "staged membrane stiffness damping (origin x_prev, scale beta_R/dt)",
+       [](S s) { return EnergyTermPtr(dampingTerms(s, true).membrane); }},
+      {"bending_staged_damping", "staged bending stiffness damping (origin x_prev, scale beta_R/dt)",
+       [](S s) { return EnergyTermPtr(dampingTerms(s, true).bending); }},
       {"end_moment", "end moment -lambda M theta on a boundary edge (no hand derivatives)", makeSampleEndMoment},
       // Example of a term written without hand derivatives, registered in one line (energies/examples/).
       {"seam_spring", "edge springs", [](S s) { return makeSeamSpringTerm(s.mesh, edgePairs(s.topology), 10.0); }},

@@ -1,6 +1,8 @@
 // `jetshell bench elements`: per-face cost of the shell energies (value, gradient, Hessian with assembly into
 // the cached pattern) on a 200×200-square grid bent into a wavy shape, for the AD and analytic paths, exact
 // and Gauss–Newton bending Hessians, 1 thread and all threads. Medians of repeats; peak RSS reported.
+// --staged adds *_staged rows: the same energies on the stage framework (BendingTerm/MembraneTerm::setStaged),
+// measured in the same run, so that their ratio to the hand-chained evaluators means something on a busy machine.
 #include "tools/output/atomic_file.h"
 #include "core/assembly.h"
 #include "core/mesh_generators.h"
@@ -32,6 +34,7 @@ struct BenchOptions {
   std::string term;  // empty = all
   std::string path;  // empty = both
   int threads = 0;   // 0 = 1 and all
+  bool staged = false;  // also the *_staged rows (the stage framework), in the same run
 };
 
 double peakRssMb() {
@@ -115,6 +118,14 @@ int runBench(const BenchOptions& o) {
   }
   auto membrane = makeMembraneTerm(mesh, ref, mat.membraneLambda, mat.membraneMu);
   auto bending = makeBendingTerm(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
+  std::shared_ptr<MembraneTerm> membraneStaged;
+  std::shared_ptr<BendingTerm> bendingStaged;
+  if (o.staged) {
+    membraneStaged = std::make_shared<MembraneTerm>(mesh, ref, mat.membraneLambda, mat.membraneMu);
+    membraneStaged->setStaged(true);
+    bendingStaged = std::make_shared<BendingTerm>(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
+    bendingStaged->setStaged(true);
+  }
   HessianAssembler assembler;
   const int slotM = assembler.addStencils(membrane->stencils());
   const int slotB = assembler.addStencils(bending->stencils());
@@ -160,19 +171,24 @@ int runBench(const BenchOptions& o) {
     const char* term;
     std::vector<std::pair<EnergyTerm*, int>> terms;
   };
-  const std::vector<Case> cases = {{"membrane", {{membrane.get(), slotM}}},
-                                   {"bending", {{bending.get(), slotB}}},
-                                   {"shell", {{membrane.get(), slotM}, {bending.get(), slotB}}}};
-  std::printf("\n%-9s %-9s %-13s %7s %12s %12s %12s\n", "term", "path", "bending H", "threads", "value ns",
+  std::vector<Case> cases = {{"membrane", {{membrane.get(), slotM}}},
+                             {"bending", {{bending.get(), slotB}}},
+                             {"shell", {{membrane.get(), slotM}, {bending.get(), slotB}}}};
+  if (o.staged) {
+    cases.push_back({"membrane_staged", {{membraneStaged.get(), slotM}}});
+    cases.push_back({"bending_staged", {{bendingStaged.get(), slotB}}});
+    cases.push_back({"shell_staged", {{membraneStaged.get(), slotM}, {bendingStaged.get(), slotB}}});
+  }
+  std::printf("\n%-15s %-9s %-13s %7s %12s %12s %12s\n", "term", "path", "bending H", "threads", "value ns",
               "+grad ns", "+Hessian ns");
   for (int threads : threadCounts) {
     omp_set_num_threads(threads);
     for (const Case& c : cases) {
-      if (!o.term.empty() && o.term != c.term) continue;
+      if (!o.term.empty() && o.term != c.term && o.term + "_staged" != c.term) continue;
       for (DerivativePath path : {DerivativePath::Analytic, DerivativePath::AutoDiff}) {
         if (!o.path.empty() && o.path != (path == DerivativePath::AutoDiff ? "ad" : "analytic")) continue;
         for (BendingHessian bh : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
-          if (bh == BendingHessian::GaussNewton && std::string(c.term) == "membrane") continue;
+          if (bh == BendingHessian::GaussNewton && std::string(c.term).rfind("membrane", 0) == 0) continue;
           EvalOptions opt;
           opt.path = path;
           opt.bendingHessian = bh;
@@ -181,7 +197,7 @@ int runBench(const BenchOptions& o) {
           const double v = measure(c.terms, opt, false, false);
           const double vg = measure(c.terms, opt, true, false);
           const double vgh = measure(c.terms, opt, true, true);
-          std::printf("%-9s %-9s %-13s %7d %12.1f %12.1f %12.1f\n", c.term, pathName, hName, threads, v, vg, vgh);
+          std::printf("%-15s %-9s %-13s %7d %12.1f %12.1f %12.1f\n", c.term, pathName, hName, threads, v, vg, vgh);
           rows.push_back({c.term, pathName, hName, "value", threads, v});
           rows.push_back({c.term, pathName, hName, "gradient", threads, vg});
           rows.push_back({c.term, pathName, hName, "hessian", threads, vgh});
@@ -209,18 +225,28 @@ int runBench(const BenchOptions& o) {
   const double gnBending = find("bending", "analytic", "gauss_newton", 1), exactBending = find("bending", "analytic", "exact", 1);
   if (std::isfinite(gnBending) && std::isfinite(exactBending))
     std::printf("  Gauss-Newton bending / exact bending, analytic, 1 thread: %.2f\n", gnBending / exactBending);
-  std::printf("  peak resident memory: %.0f MB (target <= 300)\n", peakRssMb());
+  for (const char* path : {"analytic", "ad"}) {
+    const double hand = find("shell", path, "exact", 1), staged = find("shell_staged", path, "exact", 1);
+    if (std::isfinite(hand) && std::isfinite(staged))
+      std::printf("  stage framework / hand-chained, %s, 1 thread: %.2f (%.0f vs %.0f ns/face)\n", path, staged / hand,
+                  staged, hand);
+  }
+  const double stagedAd = find("shell_staged", "ad", "exact", 1), stagedAn = find("shell_staged", "analytic", "exact", 1);
+  if (std::isfinite(stagedAd) && std::isfinite(stagedAn))
+    std::printf("  stage framework, AD / analytic twins, 1 thread: %.2f\n", stagedAd / stagedAn);
+  std::printf("  peak resident memory: %.0f MB (target <= 300%s)\n", peakRssMb(),
+              o.staged ? "; this run also holds the staged terms and their caches" : "");
 
   if (!o.json.empty()) {
     nlohmann::json out = nlohmann::json::array();
     for (const Row& r : rows) {
       if (r.what != "hessian") continue;
-      if (r.term != "membrane" && r.hessian != "exact") continue;
+      if (r.term.rfind("membrane", 0) != 0 && r.hessian != "exact") continue;
       out.push_back({{"term", r.term}, {"path", r.path}, {"threads", r.threads}, {"ns_per_face", r.nsPerFace},
                      {"measures", "value+gradient+hessian"}, {"bending_hessian", r.hessian}});
     }
     for (const Row& r : rows) {
-      if (r.what == "hessian" && r.term != "membrane" && r.hessian == "exact") continue;
+      if (r.what == "hessian" && r.term.rfind("membrane", 0) != 0 && r.hessian == "exact") continue;
       out.push_back({{"term", r.term}, {"path", r.path}, {"threads", r.threads}, {"ns_per_face", r.nsPerFace},
                      {"measures", r.what == "value" ? "value" : r.what == "gradient" ? "value+gradient"
                                                                                    : "value+gradient+hessian"},
@@ -241,8 +267,10 @@ const RegisterSubcommand reg("bench elements", [](CLI::App& app, int& exitCode) 
   el->add_option("--repeats", opts->repeats, "Timed repeats per figure (the median is reported)")
       ->check(CLI::Range(1, 100));
   el->add_option("--json", opts->json, "Write the figures as a JSON list");
-  el->add_option("--term", opts->term, "Only this term (hinge: the staged user term against one nested-Jet element)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge"}));
+  el->add_option("--term", opts->term, "Only this term and its staged twin (hinge: the staged user term against one nested-Jet element)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge"}));
   el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));
+  el->add_flag("--staged", opts->staged,
+               "Also the same energies on the stage framework (rows *_staged), with their ratio to the default");
   el->add_option("--threads", opts->threads, "Only this thread count (default: 1 and all)")->check(CLI::Range(1, 256));
   el->callback([opts, &exitCode] { exitCode = runBench(*opts); });
 });

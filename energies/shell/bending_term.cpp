@@ -256,6 +256,10 @@ Eigen::MatrixXd BendingTerm::originCrossDerivatives(const Eigen::VectorXd& x, co
 }
 
 void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scale) {
+  origin_ = xOrigin;
+  scale_ = scale;
+  originMoved_ = true;
+  if (staged_) return stagedCurvatureOrigin(xOrigin);
   computeFaceStages(xOrigin, 0, false);
   computeEdgeStages(0, false);
   for (int f = 0; f < static_cast<int>(F_.rows()); ++f) {
@@ -296,6 +300,7 @@ Vec3 BendingTerm::meanNormal(int e, int order) {
 }
 
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+    if (staged_) return evaluateStaged(x, request, options);
     const bool ad = options.path == DerivativePath::AutoDiff;
     const bool exact = options.bendingHessian == BendingHessian::Exact;
     // Stage order: 0 values, 1 Jacobians, 2 Hessians (only the exact bending Hessian needs them).

@@ -1,5 +1,10 @@
 // Bending term Σ_f scale · area_f · W_b(κ_f), κ = B_origin − b, on the four-triangle stencil with Kelvin-inverted
-// mid-edge normals, differentiated in stages (see bending_term.cpp for the data flow).
+// mid-edge normals, differentiated in stages (see bending_term.cpp for the data flow). Two evaluators of the same
+// energy: the hand-chained passes of bending_term.cpp (the default, faster today, see BENCHMARKS.md) and, after
+// setStaged(), the stage framework (core/staged_term.h, bending_term_staged.cpp): face normals cached per face,
+// mid-edge normals cached per edge (a boundary edge's from its ghost-normal rule), second fundamental form,
+// density (energies/shell/shell_stages.h), chained by the framework: no derivative by hand. The staged
+// evaluator takes the ghost-normal rules only (not second_order_free).
 //
 // Inputs: the mesh, its topology and reference state (B, A⁻¹, areas), the moduli α, β; per boundary edge a rule
 // (energies/shell/edge_rules.h; page_free until set): ghost-normal rules close the edge's mid-edge normal, and
@@ -9,6 +14,8 @@
 #pragma once
 
 #include "core/mesh.h"
+#include "core/staged_term.h"
+#include "energies/shell/shell_stages.h"
 #include "energies/shell/reference_state.h"
 #include "core/term.h"
 #include "core/topology.h"
@@ -73,7 +80,32 @@ class BendingTerm : public EnergyTerm {
   /// scales with β_R / betaR relative to the scale given to setCurvatureOrigin.
   void makeStiffnessDamping(double betaR);
 
+  /// Evaluates on the stage framework instead of the hand-chained passes (same energy, to rounding).
+  void setStaged(bool staged);
+  bool staged() const { return staged_; }
+
  private:
+  // ---- the staged evaluator (bending_term_staged.cpp) ----
+  double evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options);
+  /// b at every face of xOrigin from the staged chain (value only), into ref_.secondFundamentalForm.
+  void stagedCurvatureOrigin(const Eigen::VectorXd& xOrigin);
+  /// Connects stencil f's stages up to the second fundamental form; returns its node.
+  int buildSecondForm(StageChain<6>& chain, int f);
+  /// The face normal node of face `face`, whose vertices are the stencil vertices local[0..2].
+  int stagedFaceNormal(StageChain<6>& chain, int face, const std::int8_t* local);
+  /// Points the stages at this term's rules, reference and current parameters (before each evaluation).
+  void bindStages();
+  void resizeStages();
+  bool staged_ = false;
+  StageCache<FaceCrossStage> crosses_;
+  StageCache<UnitNormalStage> normals_;
+  StageCache<MeanNormalStage> meanNormals_;
+  StageCache<KelvinStage> midEdgeNormals_;
+  GhostMeanStage ghostMean_;
+  BendingDensityStage density_;
+  StagedElements<6> elements_;
+
+  // ---- the hand-chained evaluator (bending_term.cpp) ----
   // Stage results are split by order so that a pass touches only what it needs (the stencil pass is bound by
   // memory traffic): values and Jacobians together, Hessians apart (exact Hessian only).
   struct FaceStage {

@@ -19,7 +19,21 @@ MembraneTerm::MembraneTerm(const TriMesh& mesh, const ShellReference& ref, doubl
   schedule_ = scheduleElements(table_, mesh.numVertices());
 }
 
+int MembraneTerm::buildMetric(StageChain<3>& chain) {
+  return chain.stage(MetricStage(), 0, {chain.difference(0, 1), chain.difference(0, 2)});
+}
+
 double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+  if (staged_) {
+    density_.ref = &ref_;
+    density_.lambda = lambda_;
+    density_.mu = mu_;
+    density_.scale = energyScale();
+    EvalOptions exact = options;  // the Gauss-Newton option is the bending term's; the membrane stays exact
+    exact.bendingHessian = BendingHessian::Exact;
+    return elements_.evaluate(table_, schedule_, x, request, exact, elementEnergy_,
+                              [&](StageChain<3>& chain, int f) { chain.energy(density_, f, {buildMetric(chain)}); });
+  }
   const bool ad = options.path == DerivativePath::AutoDiff;
   return runElementLoop<3>(table_, schedule_, x, request, options.projection, elementEnergy_,
                            [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
@@ -27,11 +41,25 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
 }
 
 void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale) {
-  for (std::size_t f = 0; f < ref_.metric.size(); ++f) {
-    const int* ids = table_.element(static_cast<int>(f));
-    const Eigen::Vector3d x0 = xOrigin.segment<3>(3 * ids[0]);
-    const Eigen::Vector3d e0 = xOrigin.segment<3>(3 * ids[1]) - x0, e1 = xOrigin.segment<3>(3 * ids[2]) - x0;
-    ref_.metric[f] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
+  if (staged_) {
+    // The metric at the origin from the very stage evaluate() runs, so that ε vanishes there to the bit.
+    const StageContext context = elements_.newContext(EvalRequest{}, EvalOptions{});
+    elements_.reserveChains();
+    StageChain<3>& chain = elements_.chain();
+    for (int f = 0; f < table_.size(); ++f) {
+      double xe[9];
+      gatherStencil<3>(table_.element(f), xOrigin, xe);
+      chain.begin(xe, context);
+      const int a = buildMetric(chain);
+      ref_.metric[f] = {chain.value(a, 0), chain.value(a, 1), chain.value(a, 2)};
+    }
+  } else {
+    for (std::size_t f = 0; f < ref_.metric.size(); ++f) {
+      const int* ids = table_.element(static_cast<int>(f));
+      const Eigen::Vector3d x0 = xOrigin.segment<3>(3 * ids[0]);
+      const Eigen::Vector3d e0 = xOrigin.segment<3>(3 * ids[1]) - x0, e1 = xOrigin.segment<3>(3 * ids[2]) - x0;
+      ref_.metric[f] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
+    }
   }
   origin_ = xOrigin;
   scale_ = scale;

@@ -1,9 +1,13 @@
 // Membrane term: Σ_f scale · area_f · W_m(ε_f), ε = ½(a − A_origin), traces with the reference A⁻¹.
 // Stages: x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the templated density,
 // differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
+// setStaged(): the same energy on the stage framework (core/staged_term.h): a = Metric(e0, e1) ->
+// MembraneDensity(a) (energies/shell/shell_stages.h), chained by the framework, no derivative by hand.
 #pragma once
 
 #include "core/mesh.h"
+#include "core/staged_term.h"
+#include "energies/shell/shell_stages.h"
 #include "energies/shell/reference_state.h"
 #include "core/term.h"
 
@@ -41,7 +45,17 @@ class MembraneTerm : public EnergyTerm {
   /// scales with β_R / betaR relative to the scale given to setStrainOrigin.
   void makeStiffnessDamping(double betaR);
 
+  /// Evaluates on the stage framework instead of the hand-chained element (same energy, to rounding).
+  void setStaged(bool staged) { staged_ = staged; }
+  bool staged() const { return staged_; }
+
  private:
+  /// Connects a face's stages up to the metric; returns its node.
+  static int buildMetric(StageChain<3>& chain);
+  bool staged_ = false;
+  MembraneDensityStage density_;
+  StagedElements<3> elements_;
+
   double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
                  Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
 

@@ -1,0 +1,155 @@
+// The stages of the membrane and bending energies (core/stage.h): each a small templated function of the
+// geometry in energies/shell/shell_geometry.h, differentiated by the framework with Jets (or, on the analytic
+// path, by its twin from energies/shell/analytic_stages.h, checked against the Jets by the tests). How they
+// connect per stencil is in energies/shell/membrane_term.cpp and bending_term.cpp; the chain rule between them
+// is core/stage_chain.h's.
+//
+//   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear
+//   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin
+//   MeanNormalStage       (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B) 6 -> 3, linear
+//   GhostMeanStage        n of a boundary edge's face                   -> m = ½(n + n_ghost(n)), the edge's rule
+//   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin
+//   SecondFormStage       (e0, e1, n̄0, n̄1, n̄2) of a face                -> b                15 -> 3, bilinear
+//   BendingDensityStage   b                                             -> s·area·W_b(B − b) 3 -> 1, twin
+//   MetricStage           (e0, e1)                                      -> a = [e_a·e_b]    6 -> 3, bilinear
+//   MembraneDensityStage  a                                             -> s·area·W_m(½(a − A)) 3 -> 1, twin
+// The bilinear and linear stages declare kConstantHessian: their Hessians are computed once, not per element.
+#pragma once
+
+#include "core/stage.h"
+#include "energies/shell/analytic_stages.h"
+#include "energies/shell/edge_rules.h"
+#include "energies/shell/reference_state.h"
+#include "energies/shell/shell_geometry.h"
+
+#include <vector>
+
+namespace jetshell {
+
+template <typename T>
+void store3(const V3<T>& v, T* out) {
+  for (int k = 0; k < 3; ++k) out[k] = v[k];
+}
+
+struct FaceCrossStage {
+  static constexpr int kInputs = 6, kOutputs = 3;
+  static constexpr bool kConstantHessian = true;
+  template <typename T>
+  void operator()(const T* z, T* c, int /*face*/) const {
+    store3(cross(load3(z), load3(z + 3)), c);
+  }
+};
+
+struct UnitNormalStage {
+  static constexpr int kInputs = 3, kOutputs = 3;
+  template <typename T>
+  void operator()(const T* c, T* n, int /*face*/) const {
+    store3(unitNormal(load3(c)), n);
+  }
+  void derivatives(const double* c, int face, int order, StageDerivatives<3, 3>& d) const {
+    if (order <= 0) return (*this)(c, d.value.data(), face);
+    if (order == 1) return analytic::unitNormal(Eigen::Vector3d(c[0], c[1], c[2]), d.value, d.jacobian);
+    analytic::unitNormal(Eigen::Vector3d(c[0], c[1], c[2]), d.value, d.jacobian, d.hessians);
+  }
+};
+
+struct MeanNormalStage {
+  static constexpr int kInputs = 6, kOutputs = 3;
+  static constexpr bool kConstantHessian = true;
+  template <typename T>
+  void operator()(const T* z, T* m, int /*edge*/) const {
+    store3(constant<T>(0.5) * (load3(z) + load3(z + 3)), m);
+  }
+};
+
+/// Per boundary edge, the rule and its constants (energies/shell/edge_rules.h), indexed by edge.
+struct GhostMeanStage {
+  static constexpr int kInputs = 3, kOutputs = 3;
+  const std::vector<EdgeRule>* rules = nullptr;
+  const std::vector<EdgeRuleData>* data = nullptr;
+  template <typename T>
+  void operator()(const T* z, T* m, int edge) const {
+    const V3<T> n = load3(z);
+    const auto e = static_cast<std::size_t>(edge);
+    store3(constant<T>(0.5) * (n + ghostNormal((*rules)[e], n, (*data)[e])), m);
+  }
+};
+
+struct KelvinStage {
+  static constexpr int kInputs = 3, kOutputs = 3;
+  template <typename T>
+  void operator()(const T* m, T* nbar, int /*edge*/) const {
+    store3(kelvinInversion(load3(m)), nbar);
+  }
+  void derivatives(const double* m, int edge, int order, StageDerivatives<3, 3>& d) const {
+    if (order <= 0) return (*this)(m, d.value.data(), edge);
+    if (order == 1) return analytic::kelvinInversion(Eigen::Vector3d(m[0], m[1], m[2]), d.value, d.jacobian);
+    analytic::kelvinInversion(Eigen::Vector3d(m[0], m[1], m[2]), d.value, d.jacobian, d.hessians);
+  }
+};
+
+struct SecondFormStage {
+  static constexpr int kInputs = 15, kOutputs = 3;
+  static constexpr bool kConstantHessian = true;
+  template <typename T>
+  void operator()(const T* z, T* b, int /*face*/) const {
+    secondFundamentalForm(load3(z), load3(z + 3), load3(z + 6), load3(z + 9), load3(z + 12), b);
+  }
+};
+
+struct MetricStage {
+  static constexpr int kInputs = 6, kOutputs = 3;
+  static constexpr bool kConstantHessian = true;
+  template <typename T>
+  void operator()(const T* z, T* a, int /*face*/) const {
+    metric(load3(z), load3(z + 3), a);
+  }
+};
+
+/// Twin of an energy stage: s · stvkQuadratic(P, c1, c2, d) (energies/shell/analytic_stages.h) as a stage result.
+inline void scaledStvkQuadratic(const double P[3], double c1, double c2, const double d3[3], double s,
+                                StageDerivatives<3, 1>& d) {
+  double W;
+  Eigen::Vector3d w;
+  analytic::stvkQuadratic(P, c1, c2, d3, W, w, d.hessians[0]);
+  d.value[0] = s * W;
+  d.jacobian = s * w.transpose();
+  d.hessians[0] *= s;
+}
+
+/// The energy stages read the face's reference (origin B or A, A⁻¹, area) and scale with `scale`.
+struct BendingDensityStage {
+  static constexpr int kInputs = 3, kOutputs = 1;
+  const ShellReference* ref = nullptr;
+  double alpha = 0.0, beta = 0.0, scale = 1.0;
+  template <typename T>
+  void operator()(const T* b, T* w, int f) const {
+    w[0] = constant<T>(scale * ref->area[f]) *
+           bendingDensity(b, ref->secondFundamentalForm[f].data(), ref->inverseMetric[f].data(), alpha, beta);
+  }
+  void derivatives(const double* b, int f, int order, StageDerivatives<3, 1>& d) const {
+    if (order <= 0) return (*this)(b, d.value.data(), f);
+    const double* B = ref->secondFundamentalForm[f].data();
+    const double db[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
+    scaledStvkQuadratic(ref->inverseMetric[f].data(), alpha, 0.5 * beta, db, scale * ref->area[f], d);
+  }
+};
+
+struct MembraneDensityStage {
+  static constexpr int kInputs = 3, kOutputs = 1;
+  const ShellReference* ref = nullptr;
+  double lambda = 0.0, mu = 0.0, scale = 1.0;
+  template <typename T>
+  void operator()(const T* a, T* w, int f) const {
+    w[0] = constant<T>(scale * ref->area[f]) *
+           membraneDensity(a, ref->metric[f].data(), ref->inverseMetric[f].data(), lambda, mu);
+  }
+  void derivatives(const double* a, int f, int order, StageDerivatives<3, 1>& d) const {
+    if (order <= 0) return (*this)(a, d.value.data(), f);
+    const double* A = ref->metric[f].data();
+    const double da[3] = {a[0] - A[0], a[1] - A[1], a[2] - A[2]};
+    scaledStvkQuadratic(ref->inverseMetric[f].data(), 0.25 * lambda, 0.25 * mu, da, scale * ref->area[f], d);
+  }
+};
+
+}  // namespace jetshell

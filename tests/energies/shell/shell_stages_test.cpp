@@ -1,0 +1,50 @@
+#include "energies/shell/shell_stages.h"
+
+#include "tests/test_util.h"
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace jetshell;
+
+namespace {
+
+template <typename S>
+void randomInput(std::mt19937_64& rng, double* z) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < S::kInputs; ++i) z[i] = u(rng);
+}
+
+}  // namespace
+
+TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian declarations hold", "[stages]") {
+  std::mt19937_64 rng(11);
+  // A one-face reference for the energy stages, with a moved origin so that the densities' gradients are not 0.
+  ShellReference ref;
+  ref.area = {0.37};
+  ref.metric = {{1.1, 0.2, 0.9}};
+  ref.inverseMetric = {{0.95, -0.2, 1.15}};
+  ref.secondFundamentalForm = {{0.3, -0.1, 0.2}};
+  const BendingDensityStage bending{&ref, 0.3, 0.7, 2.0};
+  const MembraneDensityStage membrane{&ref, 3.0, 4.0, 2.0};
+  for (int trial = 0; trial < 20; ++trial) {
+    double z[15];
+    // Twins, relative to the Jets' largest entry (measured <= 4e-16; limit 1e-12).
+    randomInput<UnitNormalStage>(rng, z);
+    CHECK(stageTwinDiscrepancy(UnitNormalStage(), z, 0) <= 1e-12);
+    randomInput<KelvinStage>(rng, z);
+    CHECK(stageTwinDiscrepancy(KelvinStage(), z, 0) <= 1e-12);
+    randomInput<BendingDensityStage>(rng, z);
+    CHECK(stageTwinDiscrepancy(bending, z, 0) <= 1e-12);
+    CHECK(stageTwinDiscrepancy(membrane, z, 0) <= 1e-12);
+    // Bilinear and linear stages: their Hessians are the same everywhere (exactly: small integer entries).
+    randomInput<SecondFormStage>(rng, z);
+    CHECK(constantHessianDiscrepancy(SecondFormStage(), z, 0) == 0.0);
+    CHECK(constantHessianDiscrepancy(FaceCrossStage(), z, 0) == 0.0);
+    CHECK(constantHessianDiscrepancy(MeanNormalStage(), z, 0) == 0.0);
+    CHECK(constantHessianDiscrepancy(MetricStage(), z, 0) == 0.0);
+  }
+  CHECK(constantStageHessians<MeanNormalStage>().zero);
+  CHECK_FALSE(constantStageHessians<SecondFormStage>().zero);
+}
