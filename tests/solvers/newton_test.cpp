@@ -279,9 +279,7 @@ TEST_CASE("objective: a projection limited to small blocks projects the membrane
 TEST_CASE("newton: once a time step passed at its start, the next starts are judged on their gradient alone, with "
           "the same trajectory", "[solvers]") {
   testing::SingleThread single;
-  ShellProblem p;
-  p.mesh = makeRectangleGrid(0.2, 0.2, 3, 3);
-  p.gravity = Eigen::Vector3d(0.0, -9.81, 0.0);
+  const ShellProblem p = testing::freeCloth();
   ShellSystem system(p, AnalysisKind::Dynamics);
   DynamicsOptions o;
   o.timeStep = 0.02;
