@@ -20,4 +20,8 @@ const char* toString(PsdProjection p) {
   return "?";
 }
 
+#define JETSHELL_INSTANTIATE_PSD_PROJECTION(N) template bool projectPsd<N>(Eigen::Matrix<double, N, N>&, PsdProjection);
+JETSHELL_PSD_PROJECTION_SIZES(JETSHELL_INSTANTIATE_PSD_PROJECTION)
+#undef JETSHELL_INSTANTIATE_PSD_PROJECTION
+
 }  // namespace jetshell

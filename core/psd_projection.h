@@ -135,4 +135,12 @@ bool projectPsd(Eigen::Matrix<double, N, N>& H, PsdProjection mode) {
   return true;
 }
 
+// The block sizes of the shipped terms (a vertex, a pair, a face, a hinge, five- and six-vertex stencils) are
+// instantiated once, in psd_projection.cpp: their fixed-size eigen-solvers are among the slowest code to compile,
+// and every element term would otherwise compile its own copy. Other sizes instantiate where they are used.
+#define JETSHELL_PSD_PROJECTION_SIZES(X) X(3) X(6) X(9) X(12) X(15) X(18)
+#define JETSHELL_DECLARE_PSD_PROJECTION(N) extern template bool projectPsd<N>(Eigen::Matrix<double, N, N>&, PsdProjection);
+JETSHELL_PSD_PROJECTION_SIZES(JETSHELL_DECLARE_PSD_PROJECTION)
+#undef JETSHELL_DECLARE_PSD_PROJECTION
+
 }  // namespace jetshell

@@ -38,6 +38,37 @@ EnergyTermPtr makeRuledBending(const TermSetup& s, EdgeRule rule, const char* na
   return term;
 }
 
+/// Bending with every boundary edge moment-free (second_order_free): faces with one and with two minimized edges.
+EnergyTermPtr makeSecondOrderFreeBending(const TermSetup& s, const char* name) {
+  auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
+                                            s.material.bendingBeta);
+  term->setEdgeRule(std::vector<char>(static_cast<std::size_t>(s.mesh.numVertices()), 1), EdgeRule::SecondOrderFree);
+  term->setName(name);
+  return term;
+}
+
+/// Bending with the first boundary edge on a symmetry plane through it, whose normal is tilted by 0.2 rad out of
+/// the face's plane towards its reference normal (so the rule's rest origin differs from the page's).
+EnergyTermPtr makeSymmetryPlaneBending(const TermSetup& s, const char* name) {
+  auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
+                                            s.material.bendingBeta);
+  for (int e = 0; e < s.topology.numEdges(); ++e) {
+    if (!s.topology.isBoundaryEdge(e)) continue;
+    const int f = s.topology.edgeFaces(e, 0);
+    const Eigen::Vector3d x0 = s.mesh.V.row(s.mesh.F(f, 0));
+    const Eigen::Vector3d r = (Eigen::Vector3d(s.mesh.V.row(s.mesh.F(f, 1))) - x0)
+                                  .cross(Eigen::Vector3d(s.mesh.V.row(s.mesh.F(f, 2))) - x0)
+                                  .normalized();
+    const int a = s.topology.edges(e, 0), b = s.topology.edges(e, 1);
+    const Eigen::Vector3d t = (s.mesh.V.row(b) - s.mesh.V.row(a)).transpose().normalized();
+    term->setEdgeRule(firstBoundaryEdgeMask(s), EdgeRule::SymmetryPlane,
+                      std::cos(0.2) * t.cross(r) + std::sin(0.2) * r);
+    break;
+  }
+  term->setName(name);
+  return term;
+}
+
 /// A fixed, smooth displacement of the rest positions (centres and origins of the transient terms).
 Eigen::VectorXd displacedRest(const TriMesh& mesh, double amplitude) {
   Eigen::VectorXd x = flatten(mesh.V);
@@ -103,6 +134,18 @@ std::vector<RegisteredTerm> buildRegistry() {
       {"bending_clamped_gauss_newton", "clamped bending with the Gauss-Newton Hessian (a model: checked PSD)",
        [](S s) { return makeRuledBending(s, EdgeRule::MirroredClamp, "bending_clamped_gauss_newton"); },
        gaussNewton(), false},
+      {"bending_second_order_free",
+       "bending with every boundary edge second_order_free (its mid-edge normal minimized out: no moment)",
+       [](S s) { return makeSecondOrderFreeBending(s, "bending_second_order_free"); }},
+      {"bending_second_order_free_gauss_newton",
+       "second_order_free bending with the Gauss-Newton Hessian (a model: checked PSD)",
+       [](S s) { return makeSecondOrderFreeBending(s, "bending_second_order_free_gauss_newton"); }, gaussNewton(),
+       false},
+      {"bending_symmetry_plane", "bending with one boundary edge under the symmetry_plane rule (n - 2(n.p)p)",
+       [](S s) { return makeSymmetryPlaneBending(s, "bending_symmetry_plane"); }},
+      {"bending_symmetry_plane_gauss_newton",
+       "symmetry_plane bending with the Gauss-Newton Hessian (a model: checked PSD)",
+       [](S s) { return makeSymmetryPlaneBending(s, "bending_symmetry_plane_gauss_newton"); }, gaussNewton(), false},
       {"bending_nested_jet", "bending as one 18-dof nested-Jet element (the naive reference)",
        [](S s) {
          return makeBendingTermNestedJet(s.mesh, s.topology, s.reference, s.material.bendingAlpha,

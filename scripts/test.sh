@@ -28,7 +28,8 @@ failed=()
 # fuzzed, and its subcommands' set-up runs in tests/tools/subcommand_test.cpp), and runs the unit suites, not the
 # long numerical runs (each over 4 s in Release): the stress matrix gives every cell a wall-clock budget, which
 # the sanitizers' slow-down would break, and the accuracy benchmarks, the contact drops, the T-shirt and the
-# example runs repeat for minutes the code paths the unit suites already cover.
+# example runs repeat for minutes the code paths the unit suites already cover. The files made only of such runs
+# are not compiled in this pass either (CMakeLists.txt, JETSHELL_SANITIZE).
 sanitizeTargets=(jetshell_tests obj_replay scene_replay)
 sanitizeExclude="^(check_derivatives|check_parameter_derivatives|hostile_cli|interrupt_during_cut_step|stress_quick"
 sanitizeExclude+="|accuracy: .*|contact dynamics: .*|tshirt: .*|run: every example .*)$"

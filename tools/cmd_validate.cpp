@@ -115,9 +115,9 @@ BenchmarkRunOptions runOptions(const ValidateArgs& a) {
     o.defaultGrading = false;
     o.resolution.grading = parseMeshGrading(a.grading);
   }
-  o.freeRule = parseBoundaryRule(a.freeEdge);
-  if (o.freeRule != BoundaryRule::PageFree && o.freeRule != BoundaryRule::SecondOrderFree)
+  if (a.freeEdge != "page_free" && a.freeEdge != "second_order_free")
     throw InputError("--free-edge: '" + a.freeEdge + "' is not one of: page_free, second_order_free");
+  o.freeRule = edgeRuleFromString(a.freeEdge);
   if (!a.solver.empty()) {
     o.useDefaultSolver = false;
     if (a.solver == "load-stepping")

@@ -6,7 +6,7 @@
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
 #include "energies/end_moment_term.h"
-#include "validation/boundary_rule_term.h"
+#include "energies/shell/edge_rules.h"
 #include "validation/reference_table.h"
 
 #include <Eigen/Core>
@@ -106,7 +106,7 @@ struct BenchmarkRunOptions {
   Resolution resolution;  // n1 = 0: the benchmark's default
   bool defaultGrading = true;  // take the benchmark's default grading instead of resolution.grading
   ClampKind clamp = ClampKind::Mirrored;
-  BoundaryRule freeRule = BoundaryRule::SecondOrderFree;  // free edges carry no moment (VALIDATION.md: 2-3x closer
+  EdgeRule freeRule = EdgeRule::SecondOrderFree;          // free edges carry no moment (VALIDATION.md: 2-3x closer
                                                  // than the spec's page_free on the slit plate)
   QuadDiagonals diagonals = QuadDiagonals::Uniform;  // alternating diagonals overestimate the twist 2x
   SolverKind solver = SolverKind::LoadStepping;
@@ -156,8 +156,9 @@ struct BenchmarkResult {
 };
 
 /// The case's boundary rules on the system: the bending term's mirrored_clamp edge rule on the clamped edges
-/// (with ClampKind::Mirrored), and options.freeRule on every other boundary edge (validation/boundary_rule_term.h;
-/// on an edge whose nodes are fixed but not clamped, the moment-free rule is a hinge).
+/// (with ClampKind::Mirrored, else reference_clamp), and options.freeRule on every other boundary edge except the
+/// end moment's (energies/shell/boundary_rules.h; on an edge whose nodes are fixed but not clamped, the
+/// moment-free rule is a hinge).
 void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const BenchmarkRunOptions& options);
 
 /// Runs one benchmark: builds its case, solves every tabulated level (or λ = 1 only) and compares.

@@ -3,8 +3,8 @@
 #include "solvers/dynamic_relaxation.h"
 #include "solvers/statics.h"
 #include "validation/benchmark.h"
-#include "validation/boundary_rule_term.h"
 #include "energies/shell/bending_term.h"
+#include "energies/shell/boundary_rules.h"
 
 #include <algorithm>
 #include <chrono>
@@ -50,23 +50,17 @@ void compare(const Benchmark& b, int row, const std::vector<double>& computed, B
 
 }  // namespace
 
-/// The boundary rules: the bending term's mirrored_clamp edge rule on the clamped edges, and the moment-free
-/// free edge (validation/boundary_rule_term.h) on the free ones.
 void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const BenchmarkRunOptions& o) {
   if (!system.bending) return;
-  const EdgeRule clamp = o.clamp == ClampKind::Mirrored ? EdgeRule::MirroredClamp : EdgeRule::ReferenceClamp;
-  if (o.clamp == ClampKind::Mirrored) system.bending->setEdgeRule(c.problem.clampedVertices, clamp);
-  BoundaryRules rules;
-  rules.clampRule = rules.builtInClampRule = toBoundaryRule(clamp);
-  rules.freeRule = o.freeRule;
+  BoundaryRuleChoice choice;
+  choice.free = o.freeRule;
+  choice.clamp = o.clamp == ClampKind::Mirrored ? EdgeRule::MirroredClamp : EdgeRule::ReferenceClamp;
+  std::vector<char> momentLoaded;
   if (!c.momentEdge.empty()) {
-    rules.momentLoadedVertices.assign(static_cast<std::size_t>(c.problem.mesh.numVertices()), 0);
-    for (int v : c.momentEdge) rules.momentLoadedVertices[v] = 1;
+    momentLoaded.assign(static_cast<std::size_t>(c.problem.mesh.numVertices()), 0);
+    for (int v : c.momentEdge) momentLoaded[v] = 1;
   }
-  const ShellMaterialParams& m = system.material();
-  if (auto term = makeBoundaryRuleTerm(system.mesh(), system.topology(), system.reference(), m.bendingAlpha,
-                                       m.bendingBeta, c.problem.clampedVertices, rules))
-    system.objective().addTerm(term);
+  applyBoundaryRules(*system.bending, system.mesh(), c.problem.clampedVertices, momentLoaded, choice);
 }
 
 

@@ -202,7 +202,7 @@ std::string formatRoof(const RoofResult& r) {
   s << "Hinged cylindrical roof under a central point load (Sze et al. 2004), h = " << r.options.thickness << ", P = "
     << r.options.load << " at lambda = 1\n"
     << "  mesh " << r.options.resolution.n1 << " x " << r.options.resolution.n2 << " (quads across the arc x along), "
-    << r.vertices << " vertices, " << r.faces << " faces; edges " << toString(r.options.edgeRule) << "\n";
+    << r.vertices << " vertices, " << r.faces << " faces; edges " << edgeRuleName(r.options.edgeRule) << "\n";
   for (const RoofTrace* t : {&r.arc, &r.displacement}) {
     s << "  " << toString(t->control) << " control: " << (t->completed ? "completed" : "NOT completed") << ", "
       << t->pathPoints << " path points, " << t->newtonIterations << " Newton iterations, " << t->cuts << " cuts, "

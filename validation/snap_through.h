@@ -34,7 +34,7 @@ struct RoofOptions {
   double loadScaling = 0.0;       // ψ of the arc length (0: cylindrical)
   int maxSteps = 400;
   double residualTolerance = 1e-6;
-  BoundaryRule edgeRule = BoundaryRule::SecondOrderFree;  // the hinged and free edges: no moment across them
+  EdgeRule edgeRule = EdgeRule::SecondOrderFree;          // the hinged and free edges: no moment across them
   std::ostream* log = nullptr;    // one line per path point, or null
 };
 

@@ -8,7 +8,10 @@
 //     + Σ_k w_k ∇²b_k [exact only]), the second part by the chain rule through passes 2 and 1.
 // The nonlinear stages (unitNormal, kelvinInversion, bendingDensity: 3 inputs each) get their derivatives from
 // Jet<Jet<double,3>,3> on the AD path and from energies/shell/analytic_stages.h on the analytic path; everything
-// else is shared. Each face normal serves four stencils and each mid-edge normal two, computed once.
+// else is shared. Boundary edges (energies/shell/edge_rules.h): pass 2 takes m = ½(n + n_ghost(n)) with the
+// ghost rule as a 3 → 3 Jet stage; a face with moment-free edges takes the rule's minimized density as its
+// pass-3 density stage (Jets on both paths; the rest of the chain is unchanged). Each face normal serves four
+// stencils and each mid-edge normal two, computed once.
 #include "energies/shell/bending_term.h"
 
 #include "core/element_loop.h"
@@ -106,23 +109,61 @@ BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellR
     const Vec3 r = (Vec3(mesh.V.row(mesh.F(f, 1))) - x0).cross(Vec3(mesh.V.row(mesh.F(f, 2))) - x0).normalized();
     for (int c = 0; c < 3; ++c) ruleData_[e].reference[c] = r[c];
   }
+  minimized_.assign(static_cast<std::size_t>(nf), {false, false, false});
+  restPositions_ = flatten(mesh.V);
+  givenForm_ = ref.secondFundamentalForm;
 }
 
-int BendingTerm::setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule) {
-  if (rule == EdgeRule::Count) throw InputError("bending: invalid edge rule");
+int BendingTerm::setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule, const Eigen::Vector3d& axis) {
+  if (rule == EdgeRule::Count) throw InputError(name_ + ": invalid edge rule");
+  Vec3 p = Vec3::Zero();
+  if (rule == EdgeRule::SymmetryPlane) {
+    if (!(axis.allFinite() && axis.norm() > 0.0))
+      throw InputError(name_ + ": a symmetry plane's normal must be finite and nonzero");
+    p = axis.normalized();
+  }
   int count = 0;
-  ruledEdges_ = 0;
   for (int e = 0; e < topo_.numEdges(); ++e) {
     if (!topo_.isBoundaryEdge(e)) continue;
     const int a = topo_.edges(e, 0), b = topo_.edges(e, 1);
     if (a < static_cast<int>(vertexMask.size()) && b < static_cast<int>(vertexMask.size()) && vertexMask[a] &&
         vertexMask[b]) {
       rules_[e] = rule;
+      for (int c = 0; c < 3; ++c) ruleData_[e].axis[c] = p[c];
       ++count;
     }
-    if (rules_[e] != EdgeRule::PageFree) ++ruledEdges_;
   }
+  updateRuleState();
   return count;
+}
+
+void BendingTerm::updateRuleState() {
+  rigidEdges_ = 0;
+  for (int e = 0; e < topo_.numEdges(); ++e)
+    if (topo_.isBoundaryEdge(e) && ruleSeesRigidMotion(rules_[e])) ++rigidEdges_;
+  const int nf = static_cast<int>(F_.rows());
+  for (int f = 0; f < nf; ++f) {
+    const StencilEdges s = stencilEdges(f);
+    bool m[3];
+    s.minimizedEdges(m);
+    minimized_[f] = {m[0], m[1], m[2]};
+    if (originMoved_) continue;
+    // The rest origin: B as given, plus b(X) with the face's rules minus b(X) with the page's (nonzero only
+    // where a rule's ghost at rest is not the face's own normal: a symmetry plane the face's normal leaves).
+    ref_.secondFundamentalForm[f] = givenForm_[f];
+    if (!(s.rule[0] == EdgeRule::SymmetryPlane || s.rule[1] == EdgeRule::SymmetryPlane ||
+          s.rule[2] == EdgeRule::SymmetryPlane))
+      continue;
+    double X[18] = {};
+    for (int k = 0; k < 6; ++k) {
+      const int v = topo_.bendingStencil(f, k);
+      for (int c = 0; c < 3 && v >= 0; ++c) X[3 * k + c] = restPositions_[3 * v + c];
+    }
+    double ruled[3], page[3];
+    stencilSecondFundamentalForm(X, s, ruled);
+    stencilSecondFundamentalForm(X, s.boundary, page);
+    for (int k = 0; k < 3; ++k) ref_.secondFundamentalForm[f][k] += ruled[k] - page[k];
+  }
 }
 
 int BendingTerm::setClampedBoundary(const std::vector<char>& vertexMask) {
@@ -176,9 +217,11 @@ void BendingTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, Paramet
     stencilSecondFundamentalForm(xe, edges[f], b);
     const double* B = ref_.secondFundamentalForm[f].data();
     const double* P = ref_.inverseMetric[f].data();
+    const bool* m = minimized_[f].data();
     if (dampingReference_ > 0.0)
-      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * bendingDensity(b, B, P, p[1], p[2]);
-    return constant<T>(scale_ * ref_.area[f]) * bendingDensity(b, B, P, p[0], p[1]);
+      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] *
+             ruledBendingDensity(b, B, P, p[1], p[2], m);
+    return constant<T>(scale_ * ref_.area[f]) * ruledBendingDensity(b, B, P, p[0], p[1], m);
   };
   const std::vector<double> p = parameterValues();
   resetParameterDerivatives(out, x.size(), static_cast<int>(p.size()));
@@ -205,7 +248,8 @@ Eigen::MatrixXd BendingTerm::originCrossDerivatives(const Eigen::VectorXd& x, co
     stencilSecondFundamentalForm(xe, edges[f], bx);
     stencilSecondFundamentalForm(ye, edges[f], by);
     const T d[3] = {bx[0] - by[0], bx[1] - by[1], bx[2] - by[2]};
-    return constant<T>(s * ref_.area[f]) * bendingDensity(d, zero, ref_.inverseMetric[f].data(), alpha_, beta_);
+    return constant<T>(s * ref_.area[f]) *
+           ruledBendingDensity(d, zero, ref_.inverseMetric[f].data(), alpha_, beta_, minimized_[f].data());
   };
   addOriginCrossDerivatives<6>(table_, x, origin_, S, energy, out);
   return out;
@@ -327,13 +371,16 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     const double* B = ref_.secondFundamentalForm[f].data();
     const double* P = ref_.inverseMetric[f].data();
     const double area = energyScale() * ref_.area[f];
-    if (!wantG && !wantH) return area * bendingDensity(b, B, P, alpha_, beta_);
+    // A face with moment-free edges: its density minimized over them (edge_rules.h), on both paths from Jets.
+    const bool* minimized = minimized_[f].data();
+    const bool reduced = minimized[0] || minimized[1] || minimized[2];
+    if (!wantG && !wantH) return area * ruledBendingDensity(b, B, P, alpha_, beta_, minimized);
 
     double W;
     Vec3 w;
     Mat3 Wbb;
-    if (ad) {
-      auto density = [&](const auto* z) { return bendingDensity(z, B, P, alpha_, beta_); };
+    if (ad || reduced) {
+      auto density = [&](const auto* z) { return ruledBendingDensity(z, B, P, alpha_, beta_, minimized); };
       scalarStageDerivatives<3>(density, b, W, w, Wbb);
     } else {
       const double d[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};

@@ -1,5 +1,11 @@
 // Bending term Σ_f scale · area_f · W_b(κ_f), κ = B_origin − b, on the four-triangle stencil with Kelvin-inverted
 // mid-edge normals, differentiated in stages (see bending_term.cpp for the data flow).
+//
+// Inputs: the mesh, its topology and reference state (B, A⁻¹, areas), the moduli α, β; per boundary edge a rule
+// (energies/shell/edge_rules.h; page_free until set): ghost-normal rules close the edge's mid-edge normal, and
+// on a face with second_order_free edges the density is minimized over those edges' normals (closed form).
+// Outputs: energy, gradient, Hessian (exact, Gauss–Newton, either projected per element), parameter and
+// origin derivatives.
 #pragma once
 
 #include "core/mesh.h"
@@ -27,8 +33,9 @@ class BendingTerm : public EnergyTerm {
   bool hasAnalytic() const override { return true; }
   /// Zero at the reference configuration until the origin is moved (stiffness damping: zero at x_prev).
   bool zeroAtRest() const override { return !originMoved_; }
-  /// Invariant while every boundary edge follows the page's free rule (the other rules hold reference data).
-  bool rigidInvariant() const override { return ruledEdges_ == 0; }
+  /// Invariant while no boundary edge has a rule holding reference data or a fixed direction (the clamps, the
+  /// symmetry plane); the free rules keep it invariant.
+  bool rigidInvariant() const override { return rigidEdges_ == 0; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
 
   /// Parameters: "alpha", "beta" (α, β of W_b); a stiffness-damping term (makeStiffnessDamping) has "beta_R",
@@ -40,9 +47,13 @@ class BendingTerm : public EnergyTerm {
   void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
 
   /// Gives the boundary edges whose two endpoints are both marked in vertexMask (size N) the rule
-  /// (energies/shell/edge_rules.h): the missing neighbour's normal. Other edges keep theirs. Returns the number
-  /// of edges set.
-  int setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule);
+  /// (energies/shell/edge_rules.h). Other edges keep theirs. Returns the number of edges set. `axis` is the
+  /// symmetry plane's normal for SymmetryPlane (any finite nonzero length; InputError otherwise), unused by
+  /// the other rules. Until the curvature origin is moved, the origin of a face with a symmetry-plane edge
+  /// becomes b(X) with that rule (X the rest positions), so the term stays zero at rest; the other rules
+  /// close the edge with the face's rest normal at rest and leave B as given.
+  int setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule,
+                  const Eigen::Vector3d& axis = Eigen::Vector3d::Zero());
   /// The rule of boundary edge e (PageFree for every edge until set).
   EdgeRule edgeRule(int e) const { return rules_[static_cast<std::size_t>(e)]; }
 
@@ -89,6 +100,8 @@ class BendingTerm : public EnergyTerm {
                        const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
                        const Eigen::Matrix<double, 3, 9>* crossJacobians, Eigen::Matrix<double, 18, 18>& H) const;
   Eigen::Vector3d meanNormal(int edge, int order);
+  /// After a rule change: the counts, the per-face moment-free flags and (origin not moved) the rest origin.
+  void updateRuleState();
   StencilEdges stencilEdges(int f) const;
   /// scale_, times β_R / β_R(reference) for a stiffness-damping term.
   double energyScale() const { return dampingReference_ > 0.0 ? scale_ * dampingValue_ / dampingReference_ : scale_; }
@@ -108,7 +121,10 @@ class BendingTerm : public EnergyTerm {
   std::vector<std::array<std::int8_t, 9>> neighborLocal_;  // per face, per edge i: local index of g's vertex k
   std::vector<EdgeRule> rules_;                            // per edge (boundary edges only matter)
   std::vector<EdgeRuleData> ruleData_;                     // per edge
-  int ruledEdges_ = 0;                                     // boundary edges with a rule other than PageFree
+  int rigidEdges_ = 0;                                     // boundary edges whose rule sees rigid motions
+  std::vector<std::array<bool, 3>> minimized_;             // per face, per edge i: a moment-free boundary edge
+  Eigen::VectorXd restPositions_;                          // X (the symmetry plane's rest origin)
+  std::vector<Sym2> givenForm_;                       // B as given (the page's free rule at every edge)
   std::vector<GhostStage> ghosts_;                         // per edge (boundary edges only)
   std::vector<FaceStage> faces_;
   std::vector<EdgeStage> edges_;

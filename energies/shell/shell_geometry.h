@@ -98,12 +98,41 @@ T bendingDensity(const T b[3], const double B[3], const double Ainv[3], const Q&
   return scaledParameter<T>(0.5, alpha) * tr * tr + scaledParameter<T>(0.5, beta) * traceOfSquare(Ainv, kappa);
 }
 
+/// G(u, v) = α tr(Pu) tr(Pv) + β tr(PuPv) for symmetric u, v, P (stored as (00, 01, 11)): the symmetric
+/// bilinear form of W_b, W_b(κ) = ½ G(κ, κ). α and β are doubles or duals of type T.
+template <typename T, typename Q>
+T bendingBilinear(const T u[3], const T v[3], const double P[3], const Q& alpha, const Q& beta) {
+  const T p0 = constant<T>(P[0]), p1 = constant<T>(P[1]), p2 = constant<T>(P[2]);
+  const T pu00 = p0 * u[0] + p1 * u[1], pu01 = p0 * u[1] + p1 * u[2];
+  const T pu10 = p1 * u[0] + p2 * u[1], pu11 = p1 * u[1] + p2 * u[2];
+  const T pv00 = p0 * v[0] + p1 * v[1], pv01 = p0 * v[1] + p1 * v[2];
+  const T pv10 = p1 * v[0] + p2 * v[1], pv11 = p1 * v[1] + p2 * v[2];
+  return scaledParameter<T>(1.0, alpha) * (pu00 + pu11) * (pv00 + pv11) +
+         scaledParameter<T>(1.0, beta) * (pu00 * pv00 + pu01 * pv10 + pu10 * pv01 + pu11 * pv11);
+}
+
+/// The face's bending density with its boundary edges' rules: W_b(B − b) when no edge is moment-free, else
+/// its minimum over the moment-free edges' mid-edge normals (energies/shell/edge_rules.h,
+/// minimizedOverMomentFreeEdges), b taken with those normals at a = 0 (the face's own normal).
+template <typename T, typename Q>
+T ruledBendingDensity(const T b[3], const double B[3], const double Ainv[3], const Q& alpha, const Q& beta,
+                      const bool minimized[3]) {
+  if (!(minimized[0] || minimized[1] || minimized[2])) return bendingDensity(b, B, Ainv, alpha, beta);
+  const T kappa[3] = {constant<T>(B[0]) - b[0], constant<T>(B[1]) - b[1], constant<T>(B[2]) - b[2]};
+  return minimizedOverMomentFreeEdges(
+      kappa, minimized, [&](const T* u, const T* v) { return bendingBilinear(u, v, Ainv, alpha, beta); });
+}
+
 /// How a face's three stencil edges close: boundary[i] marks edge i as a boundary edge, whose missing
 /// neighbour's normal comes from rule[i] (energies/shell/edge_rules.h) with the constants data[i].
 struct StencilEdges {
   bool boundary[3] = {false, false, false};
   EdgeRule rule[3] = {EdgeRule::PageFree, EdgeRule::PageFree, EdgeRule::PageFree};
   EdgeRuleData data[3];
+  /// minimized[i]: edge i is a boundary edge whose rule minimizes its moment out (second_order_free).
+  void minimizedEdges(bool minimized[3]) const {
+    for (int i = 0; i < 3; ++i) minimized[i] = boundary[i] && minimizesMoment(rule[i]);
+  }
 };
 
 /// Everything the bending energy of one face sees, from the 6 stencil positions x (18 values: the face's

@@ -9,58 +9,80 @@ using namespace jetshell;
 
 namespace {
 
-using Mat4 = Eigen::Matrix4d;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
 
-/// Q diag(d) Qᵀ with a fixed orthogonal Q.
-Mat4 withEigenvalues(const Eigen::Vector4d& d) {
-  const Mat4 Q = Eigen::HouseholderQR<Mat4>(Mat4::Random()).householderQ();
+// The reference computations use dynamic sizes: one eigen-solver instantiation for every block size keeps this
+// file quick to compile (fixed-size solvers of 9 to 18 rows are among the slowest code to compile).
+MatrixXd randomOrthogonal(int n) { return Eigen::HouseholderQR<MatrixXd>(MatrixXd::Random(n, n)).householderQ(); }
+
+VectorXd eigenvaluesOf(const MatrixXd& H) { return Eigen::SelfAdjointEigenSolver<MatrixXd>(H).eigenvalues(); }
+
+/// The whole-block projection, eigenvalue by eigenvalue: clamped at 0, or their absolute values.
+MatrixXd wholeBlockProjection(const MatrixXd& H, bool absolute) {
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> eig(H);
+  const VectorXd d = absolute ? VectorXd(eig.eigenvalues().cwiseAbs()) : VectorXd(eig.eigenvalues().cwiseMax(0.0));
+  return eig.eigenvectors() * d.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+Vec6 vec6(double a, double b, double c, double d, double e, double f) {
+  Vec6 v;
+  v << a, b, c, d, e, f;
+  return v;
+}
+
+/// Q diag(d) Qᵀ with a fixed orthogonal Q. (Six rows: a size the shipped terms instantiate, core/psd_projection.h.)
+Mat6 withEigenvalues(const Vec6& d) {
+  const MatrixXd Q = randomOrthogonal(6);
   return Q * d.asDiagonal() * Q.transpose();
 }
 
-Eigen::Vector4d sortedEigenvalues(const Mat4& H) { return Eigen::SelfAdjointEigenSolver<Mat4>(H).eigenvalues(); }
+Vec6 sortedEigenvalues(const Mat6& H) { return eigenvaluesOf(H); }
 
 }  // namespace
 
 TEST_CASE("psd projection: none keeps the block, clamp zeroes and abs flips negative eigenvalues") {
   std::srand(3);
-  const Mat4 H = withEigenvalues(Eigen::Vector4d(-2.0, -0.5, 1.0, 3.0));
-  Mat4 none = H, clamp = H, abs = H;
-  CHECK_FALSE(projectPsd<4>(none, PsdProjection::None));
+  const Mat6 H = withEigenvalues(vec6(-2.0, -0.5, 1.0, 3.0, 4.0, 5.0));
+  Mat6 none = H, clamp = H, abs = H;
+  CHECK_FALSE(projectPsd<6>(none, PsdProjection::None));
   CHECK(none == H);
-  CHECK(projectPsd<4>(clamp, PsdProjection::Clamp));
-  CHECK(projectPsd<4>(abs, PsdProjection::Abs));
-  CHECK((sortedEigenvalues(clamp) - Eigen::Vector4d(0.0, 0.0, 1.0, 3.0)).norm() <= 1e-13);
-  CHECK((sortedEigenvalues(abs) - Eigen::Vector4d(0.5, 1.0, 2.0, 3.0)).norm() <= 1e-13);
+  CHECK(projectPsd<6>(clamp, PsdProjection::Clamp));
+  CHECK(projectPsd<6>(abs, PsdProjection::Abs));
+  CHECK((sortedEigenvalues(clamp) - vec6(0.0, 0.0, 1.0, 3.0, 4.0, 5.0)).norm() <= 1e-13);
+  CHECK((sortedEigenvalues(abs) - vec6(0.5, 1.0, 2.0, 3.0, 4.0, 5.0)).norm() <= 1e-13);
   // The eigenvectors are kept: the positive part of H is unchanged by the clamp.
-  const Eigen::SelfAdjointEigenSolver<Mat4> eig(H);
-  const Eigen::Vector4d top = eig.eigenvectors().col(3);
-  CHECK((clamp * top - 3.0 * top).norm() <= 1e-13);
+  const Eigen::SelfAdjointEigenSolver<MatrixXd> eig(MatrixXd{H});
+  const Vec6 top = eig.eigenvectors().col(5);
+  CHECK((clamp * top - 5.0 * top).norm() <= 1e-13);
   CHECK((clamp - clamp.transpose()).norm() <= 1e-14);
 }
 
 TEST_CASE("psd projection: positive definite blocks take an early exit and come back untouched") {
   std::srand(4);
   // Diagonally dominant (Gershgorin proves PSD without factorizing).
-  Mat4 dominant;
-  dominant << 4, 1, -1, 0.5,  //
-      1, 3, 0.5, -1,          //
-      -1, 0.5, 3, 1,          //
+  Mat6 dominant = Mat6::Identity();
+  dominant.topLeftCorner<4, 4>() << 4, 1, -1, 0.5,  //
+      1, 3, 0.5, -1,                                //
+      -1, 0.5, 3, 1,                                //
       0.5, -1, 1, 3;
   CHECK(isDiagonallyDominant(dominant));
-  Mat4 copy = dominant;
-  CHECK_FALSE(projectPsd<4>(copy, PsdProjection::Clamp));
+  Mat6 copy = dominant;
+  CHECK_FALSE(projectPsd<6>(copy, PsdProjection::Clamp));
   CHECK(copy == dominant);
   // Positive definite but not diagonally dominant: caught by the Cholesky exit, bits unchanged.
-  const Mat4 spd = withEigenvalues(Eigen::Vector4d(0.01, 1.0, 2.0, 50.0));
+  const Mat6 spd = withEigenvalues(vec6(0.01, 1.0, 2.0, 5.0, 10.0, 50.0));
   CHECK_FALSE(isDiagonallyDominant(spd));
-  Mat4 spdCopy = spd;
-  CHECK_FALSE(projectPsd<4>(spdCopy, PsdProjection::Abs));
+  Mat6 spdCopy = spd;
+  CHECK_FALSE(projectPsd<6>(spdCopy, PsdProjection::Abs));
   CHECK(spdCopy == spd);
   // A negative diagonal is never dominant.
-  Mat4 negative = Mat4::Identity();
+  Mat6 negative = Mat6::Identity();
   negative(2, 2) = -1e-3;
   CHECK_FALSE(isDiagonallyDominant(negative));
-  CHECK(projectPsd<4>(negative, PsdProjection::Clamp));
+  CHECK(projectPsd<6>(negative, PsdProjection::Clamp));
   CHECK(negative(2, 2) == Approx(0.0).margin(1e-15));
 }
 
@@ -90,7 +112,6 @@ TEST_CASE("psd projection: a block with NaN is not diagonally dominant and stays
 namespace {
 
 using Mat9 = Eigen::Matrix<double, 9, 9>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 /// L: positions of three vertices -> the edge vectors x1 − x0, x2 − x0.
 Eigen::Matrix<double, 6, 9> edgeMap() {
@@ -103,7 +124,7 @@ Eigen::Matrix<double, 6, 9> edgeMap() {
 }
 
 Mat6 edgeBlock(const Eigen::Matrix<double, 6, 1>& d) {
-  const Mat6 Q = Eigen::HouseholderQR<Mat6>(Mat6::Random()).householderQ();
+  const MatrixXd Q = randomOrthogonal(6);
   return Q * d.asDiagonal() * Q.transpose();
 }
 
@@ -130,15 +151,13 @@ TEST_CASE("psd projection: a translation-invariant block is judged by its edge-s
   const Mat9 Hm = L.transpose() * edgeBlock(mixed) * L;
   CHECK(hasTranslationNullSpace(Hm));
   CHECK_FALSE(edgeSpaceBlockIsPositiveDefinite(Hm));
-  const Eigen::SelfAdjointEigenSolver<Mat9> eig(Hm);
-  const Mat9 expected =
-      eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
+  const Mat9 expected = wholeBlockProjection(Hm, false);
   Mat9 projected = Hm;
   CHECK(projectPsd<9>(projected, PsdProjection::Clamp));
   CHECK((projected - expected).norm() <= 1e-12 * expected.norm());
-  CHECK(Eigen::SelfAdjointEigenSolver<Mat9>(projected).eigenvalues().minCoeff() >= -1e-12 * expected.norm());
+  CHECK(eigenvaluesOf(projected).minCoeff() >= -1e-12 * expected.norm());
   CHECK(hasTranslationNullSpace(projected));
-  const Mat9 flipped = eig.eigenvectors() * eig.eigenvalues().cwiseAbs().asDiagonal() * eig.eigenvectors().transpose();
+  const Mat9 flipped = wholeBlockProjection(Hm, true);
   Mat9 absProjected = Hm;
   CHECK(projectPsd<9>(absProjected, PsdProjection::Abs));
   CHECK((absProjected - flipped).norm() <= 1e-12 * flipped.norm());
@@ -151,14 +170,14 @@ TEST_CASE("psd projection: a translation-invariant block is judged by its edge-s
 
 TEST_CASE("psd projection: a block without a translation null space takes the full eigen-decomposition") {
   std::srand(6);
-  const Mat9 Q = Eigen::HouseholderQR<Mat9>(Mat9::Random()).householderQ();
+  const MatrixXd Q = randomOrthogonal(9);
   Eigen::Matrix<double, 9, 1> d;
   d << -2.0, -1.0, 0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0;
   const Mat9 H = Q * d.asDiagonal() * Q.transpose();
   CHECK_FALSE(hasTranslationNullSpace(H));
   Mat9 projected = H;
   CHECK(projectPsd<9>(projected, PsdProjection::Abs));
-  const Eigen::Matrix<double, 9, 1> flipped = Eigen::SelfAdjointEigenSolver<Mat9>(projected).eigenvalues();
+  const Eigen::Matrix<double, 9, 1> flipped = eigenvaluesOf(projected);
   Eigen::Matrix<double, 9, 1> want;
   want << 0.5, 1.0, 1.0, 2.0, 2.0, 3.0, 4.0, 5.0, 6.0;
   CHECK((flipped - want).norm() <= 1e-12);
@@ -167,19 +186,16 @@ TEST_CASE("psd projection: a block without a translation null space takes the fu
 TEST_CASE("psd projection: an 18-dof translation-invariant block (a bending stencil's size) matches the whole-block projection") {
   std::srand(8);
   using Mat18 = Eigen::Matrix<double, 18, 18>;
-  using Mat15 = Eigen::Matrix<double, 15, 15>;
   Eigen::Matrix<double, 15, 18> L = Eigen::Matrix<double, 15, 18>::Zero();
   for (int i = 0; i < 5; ++i) {
     L.block<3, 3>(3 * i, 0) = -Eigen::Matrix3d::Identity();
     L.block<3, 3>(3 * i, 3 + 3 * i) = Eigen::Matrix3d::Identity();
   }
-  const Mat15 Q = Eigen::HouseholderQR<Mat15>(Mat15::Random()).householderQ();
+  const MatrixXd Q = randomOrthogonal(15);
   Eigen::Matrix<double, 15, 1> d = Eigen::Matrix<double, 15, 1>::LinSpaced(-4.0, 10.0);
   const Mat18 H = L.transpose() * Q * d.asDiagonal() * Q.transpose() * L;
   REQUIRE(hasTranslationNullSpace(H));
-  const Eigen::SelfAdjointEigenSolver<Mat18> eig(H);
-  const Mat18 expected =
-      eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
+  const Mat18 expected = wholeBlockProjection(H, false);
   Mat18 projected = H;
   CHECK(projectPsd<18>(projected, PsdProjection::Clamp));
   CHECK((projected - expected).norm() <= 1e-12 * expected.norm());

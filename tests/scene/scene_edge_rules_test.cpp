@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -74,4 +75,72 @@ TEST_CASE("scene edge rules: a run clamps with the scene's clamp rule (linear ca
   CHECK(std::abs(mirrored / exact - 1.0) < 0.002);
   const double reference = tipDeflection("reference_clamp");
   CHECK(reference / exact > 1.1);  // the first-order rule is really the one applied when asked for
+}
+
+TEST_CASE("scene edge rules: the pinched hemisphere's two symmetry cuts take the symmetry-plane rule", "[scene]") {
+  // A quarter model: every boundary edge on x = 0 or y = 0 keeps its mid-edge normal in that plane; the hole's
+  // rim and the equator stay free (moment-free).
+  const Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/pinched_hemisphere.json");
+  const SceneModel model = buildSceneModel(scene);
+  const ShellProblem problem = shellProblemFromScene(scene, model);
+  ShellSystem system(problem, AnalysisKind::Statics);
+  addSceneEdgeRules(scene, problem, system);
+  REQUIRE(system.bending);
+  const Topology& topo = system.topology();
+  const TriMesh& mesh = system.mesh();
+  int cut = 0, free = 0;
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (!topo.isBoundaryEdge(e)) continue;
+    const int a = topo.edges(e, 0), b = topo.edges(e, 1);
+    const bool onCut = (std::abs(mesh.V(a, 0)) < 1e-9 && std::abs(mesh.V(b, 0)) < 1e-9) ||
+                       (std::abs(mesh.V(a, 1)) < 1e-9 && std::abs(mesh.V(b, 1)) < 1e-9);
+    INFO("edge " << a << "-" << b);
+    CHECK(system.bending->edgeRule(e) == (onCut ? EdgeRule::SymmetryPlane : EdgeRule::SecondOrderFree));
+    (onCut ? cut : free) += 1;
+  }
+  CHECK(cut == 2 * 12);  // 12 rings along each cut
+  CHECK(free > 0);
+  // At rest the ruled bending energy is zero (the rule's origin is taken at the rest shape).
+  CHECK(std::abs(system.bending->evaluate(system.restPositions(), {}, {})) <= 1e-12);
+}
+
+TEST_CASE("scene edge rules: bad edge rules are rejected with their JSON pointer", "[scene]") {
+  auto reject = [](const nlohmann::json& rules, const std::string& pointer) {
+    nlohmann::json scene = strip("mirrored_clamp");
+    scene["edgeRules"] = rules;
+    INFO(rules.dump());
+    CHECK_THROWS_WITH(sceneFromJson(scene, "."), Catch::StartsWith(pointer));
+  };
+  reject({{"free", "hinged"}}, "/edgeRules/free");
+  reject({{"free", "mirrored_clamp"}}, "/edgeRules/free");  // a clamp is no free edge
+  reject({{"clamp", "symmetry_plane"}}, "/edgeRules/clamp");
+  reject({{"clamp", 3}}, "/edgeRules/clamp");
+  reject({{"symmetryPlanes", {{{"normal", {0, 0, 0}}}}}}, "/edgeRules/symmetryPlanes/0/normal");
+  reject({{"symmetryPlanes", {{{"point", {0, 0}}}}}}, "/edgeRules/symmetryPlanes/0/point");
+  reject({{"symmetryPlanes", {{{"normal", {0, 1, 0}}, {"offset", 1}}}}}, "/edgeRules/symmetryPlanes/0");
+  reject({{"symmetryPlanes", nlohmann::json::array()}, {"mirror", true}}, "/edgeRules");
+  reject({{"symmetryPlanes", std::vector<nlohmann::json>(17, {{"normal", {0, 1, 0}}})}}, "/edgeRules/symmetryPlanes");
+}
+
+TEST_CASE("scene edge rules: the bending stiffness damping takes the same rules as the bending term", "[scene]") {
+  // Rayleigh damping is β_R times the same stiffness, so its boundary edges close the same way.
+  nlohmann::json json = strip("mirrored_clamp");
+  json["actors"][0]["material"]["stiffnessDampingCoefficient"] = 0.01;
+  json["analysis"] = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.01}};
+  const Scene scene = sceneFromJson(json, ".");
+  const SceneModel model = buildSceneModel(scene);
+  const ShellProblem problem = shellProblemFromScene(scene, model);
+  ShellSystem system(problem, AnalysisKind::Dynamics);
+  addSceneEdgeRules(scene, problem, system);
+  REQUIRE(system.bending);
+  REQUIRE(system.stiffnessDamping.bending);
+  int clamped = 0, free = 0;
+  for (int e = 0; e < system.topology().numEdges(); ++e) {
+    if (!system.topology().isBoundaryEdge(e)) continue;
+    CHECK(system.stiffnessDamping.bending->edgeRule(e) == system.bending->edgeRule(e));
+    clamped += system.bending->edgeRule(e) == EdgeRule::MirroredClamp;
+    free += system.bending->edgeRule(e) == EdgeRule::SecondOrderFree;
+  }
+  CHECK(clamped == 2);
+  CHECK(free > 0);
 }

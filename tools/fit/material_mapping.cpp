@@ -19,12 +19,12 @@ const std::vector<std::string> kCommon = {"massDampingCoefficient", "stiffnessDa
                                           "loadScale"};
 constexpr int kOutputs = 9;
 /// Output k of the formulas sets these term parameters (those whose term is active): the elastic moduli live in
-/// the elastic terms, the boundary-rule correction of a scene's edge rules and the stiffness-damping terms.
+/// the elastic terms and the stiffness-damping terms.
 const std::array<std::vector<TermParameter>, kOutputs> kTargets = {
     std::vector<TermParameter>{{"membrane", "lambda"}, {"membrane_damping", "lambda"}},
     std::vector<TermParameter>{{"membrane", "mu"}, {"membrane_damping", "mu"}},
-    std::vector<TermParameter>{{"bending", "alpha"}, {"boundary_rules", "alpha"}, {"bending_damping", "alpha"}},
-    std::vector<TermParameter>{{"bending", "beta"}, {"boundary_rules", "beta"}, {"bending_damping", "beta"}},
+    std::vector<TermParameter>{{"bending", "alpha"}, {"bending_damping", "alpha"}},
+    std::vector<TermParameter>{{"bending", "beta"}, {"bending_damping", "beta"}},
     std::vector<TermParameter>{{"gravity", "density"}},
     std::vector<TermParameter>{{"inertia", "density"}},
     std::vector<TermParameter>{{"mass_damping", "alpha_R"}},

@@ -5,8 +5,7 @@
 //
 //   output               term parameters                                   depends on (isotropic)  (shell base)
 //   λ, μ                 membrane.lambda/mu, membrane_damping.lambda/mu     E, ν, h                 membraneLambda/Mu
-//   α, β                 bending.alpha/beta, boundary_rules.alpha/beta,     E, ν, h                 bendingAlpha/Beta
-//                        bending_damping.alpha/beta
+//   α, β                 bending.alpha/beta, bending_damping.alpha/beta     E, ν, h                 bendingAlpha/Beta
 //   ρ_A0 · gravityScale  gravity.density                                   h, ρ0, gravityScale     density, gravityScale
 //   ρ_A0                 inertia.density                                   h, ρ0                   density
 //   α_R ρ_A0/ρ_A0,scene  mass_damping.alpha_R (its masses are the scene's)  h, ρ0, α_R              density, α_R

@@ -1,6 +1,6 @@
 #include "tools/scene/scene_edge_rules.h"
 
-#include "validation/boundary_rule_term.h"
+#include "energies/shell/boundary_rules.h"
 
 #include <algorithm>
 
@@ -20,19 +20,20 @@ std::vector<char> clampedVerticesOf(const ShellProblem& problem) {
 
 void addSceneEdgeRules(const Scene& scene, const ShellProblem& problem, ShellSystem& system) {
   if (!system.bending) return;
-  const std::vector<char> clamped = clampedVerticesOf(problem);
-  const EdgeRule clamp = edgeRuleFromString(scene.edgeRules.clamp);
-  if (!clamped.empty()) system.bending->setEdgeRule(clamped, clamp);
-  validation::BoundaryRules rules;
-  rules.clampRule = rules.builtInClampRule = validation::toBoundaryRule(clamp);
-  rules.freeRule = validation::parseBoundaryRule(scene.edgeRules.free);
+  BoundaryRuleChoice choice;
+  choice.clamp = edgeRuleFromString(scene.edgeRules.clamp);
+  choice.free = edgeRuleFromString(scene.edgeRules.free);
   for (const EdgeRuleSettings::SymmetryPlane& p : scene.edgeRules.symmetryPlanes)
-    rules.symmetryPlanes.push_back({p.point, p.normal});
-  rules.planeTolerance = 1e-6;
-  const ShellMaterialParams& m = system.material();
-  if (auto term = validation::makeBoundaryRuleTerm(system.mesh(), system.topology(), system.reference(), m.bendingAlpha,
-                                                   m.bendingBeta, clamped, rules))
-    system.objective().addTerm(term);
+    choice.symmetryPlanes.push_back({p.point, p.normal});
+  choice.planeTolerance = 1e-6;
+  const std::vector<char> clamped = clampedVerticesOf(problem);
+  // One bending term over the whole mesh, or one per actor ("bending/<actor>") when their materials differ; and
+  // the bending stiffness damping (Rayleigh: β_R times the same stiffness, so the same rules).
+  for (const std::string& name : system.objective().activeTermNames()) {
+    if (name != "bending" && name != "bending_damping" && name.rfind("bending/", 0) != 0) continue;
+    if (auto bending = std::dynamic_pointer_cast<BendingTerm>(system.objective().term(name)))
+      applyBoundaryRules(*bending, system.mesh(), clamped, {}, choice);
+  }
 }
 
 }  // namespace jetshell
