@@ -102,6 +102,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     s.finalEnergy = E;
     s.finalResidual = r;
     s.symbolicAnalyses = linear_->symbolicAnalyses() - analysesBefore;
+    const bool passedAtStart = reason == TerminationReason::Converged && s.iterations == 0;
+    solvesSinceStartPass_ = passedAtStart ? 0 : std::min(solvesSinceStartPass_ + 1, kStartPassMemory);
     linear_->setRelativeTolerance(0.0);
     s.totalSeconds = total.seconds();
     return s;
@@ -143,7 +145,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.iteration = k;
     const bool useExact = adaptive && (tryExact || o.exactHessianFirst) && exactCooldown == 0;
     if (exactCooldown > 0) --exactCooldown;
-    if (have == Have::Nothing && iterateTest_ && k > 0) {
+    const bool gradientFirst = k > 0 || (o.gradientFirstStart && solvesSinceStartPass_ < kStartPassMemory);
+    if (have == Have::Nothing && iterateTest_ && gradientFirst) {
       // The iterate test may end the solve here: the gradient first, the Hessian only if it is needed.
       const Timer t;
       E = obj.evaluate(x, &g, false, projected);

@@ -78,6 +78,13 @@ struct NewtonOptions {
   /// 2.6k vertices a cap of 0.1 took 31 Newton iterations where 0.01 and a fixed 1e-6 took 26).
   bool adaptiveLinearTolerance = false;
   double maxForcingTerm = 0.01;
+  /// With an iterate test (time steps), once one of the last kStartPassMemory solves passed its tests at the
+  /// start: the start is judged on its energy and gradient alone, and its Hessian is assembled only when the
+  /// tests fail there. Otherwise (and off) the start's Hessian is assembled with its gradient, so a run whose
+  /// starts never pass pays no extra gradient (the tests still see every start, so the first pass is noticed).
+  /// Measured (BENCHMARKS.md, Dynamics, Session 6): a settling cloth passes at the start of 68 of 300 steps, 23%
+  /// of its Hessians; no step of the falling cloth does.
+  bool gradientFirstStart = true;
 };
 
 /// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
@@ -91,6 +98,8 @@ using IterateTest = std::function<IterateTestResult(const Eigen::VectorXd& x, co
 
 class NewtonSolver {
  public:
+  static constexpr int kStartPassMemory = 4;  // NewtonOptions::gradientFirstStart
+
   /// The solver keeps a reference to objective (which must outlive it) and owns the linear solver, so the
   /// symbolic analysis is shared by every minimize() on the same pattern.
   NewtonSolver(Objective& objective, const NewtonOptions& options);
@@ -112,6 +121,7 @@ class NewtonSolver {
   NewtonOptions options_;
   std::unique_ptr<LinearSolver> linear_;
   IterateTest iterateTest_;
+  int solvesSinceStartPass_ = kStartPassMemory;  // minimize() calls since one converged without an iteration
 };
 
 }  // namespace jetshell

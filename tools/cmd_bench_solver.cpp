@@ -2,7 +2,9 @@
 // of Δt, then one static solve from the last dynamic state, once with the exact and once with the Gauss–Newton
 // bending Hessian (same tolerance). --orderings compares the fill-reducing orderings of the first step's
 // Hessian and of its one-ring part instead (nnz(L), flops, times).
-// Prints Newton iterations per step, milliseconds per phase per iteration, symbolic analyses and peak RSS.
+// Prints Newton iterations per step, milliseconds per phase per iteration, the counts (Hessians, factorizations,
+// CG iterations, solves that assembled no Hessian; steady under load, unlike the times), symbolic analyses and
+// peak RSS; --trace-from N prints the Newton trace of every time step of at least N iterations.
 #include "tools/output/atomic_file.h"
 #include "core/mesh_generators.h"
 #include "solvers/cholmod_factor.h"
@@ -42,14 +44,17 @@ struct SolverBenchOptions {
   std::string policy = "jetshell";
   int blasThreads = 1;
   bool orderings = false;
-  double cgTolerance = LinearSolverOptions{}.cgRelativeTolerance;
+  double cgTolerance = 0.0;  // 0: the default's (statics) or the time-step policy's (dynamics)
   double maxForcing = -1.0;  // < 0: the policy's; 0: fixed CG tolerance; > 0: Eisenstat–Walker up to this
   std::string lineSearch = "armijo";
   std::string projection = "clamp";
   bool projectAll = false;  // time steps: project every block at every iteration (no exact-Hessian-first)
+  int exactFirstProjectedDofs = -1;  // < 0: NewtonOptions' default
+  bool hessianAtStart = false;  // time steps: assemble the start's Hessian with its gradient (no gradient-first)
   double massDamping = 0.0;
   double stiffnessDamping = 0.0;
   bool skipStatics = false;
+  int traceFrom = 0;  // > 0: print the Newton trace of every step that takes at least this many iterations
   std::string json;
 };
 
@@ -69,11 +74,19 @@ double median(std::vector<double> v) {
 /// system, and the totals.
 struct PhaseFigures {
   int iterations = 0;
+  int hessians = 0, factorizations = 0, fallbacks = 0, solves = 0, solvesWithoutHessian = 0;
+  long cgTotal = 0;
   std::vector<double> assembly, factorization, solve, lineSearch, newtonIteration, cgIterations;
   void add(const SolverSummary& s) {
     iterations += s.iterations;
+    hessians += s.hessianEvaluations;
+    factorizations += s.numericFactorizations;
+    fallbacks += s.projectionFallbacks;
+    ++solves;
+    if (s.hessianEvaluations == 0) ++solvesWithoutHessian;
     for (const IterationRecord& r : s.trace) {
       if (r.factorizationSeconds == 0.0 && r.solveSeconds == 0.0) continue;  // no system solved
+      cgTotal += r.cgIterations;
       assembly.push_back(1e3 * r.assemblySeconds);
       factorization.push_back(1e3 * r.factorizationSeconds);
       solve.push_back(1e3 * r.solveSeconds);
@@ -90,13 +103,22 @@ struct PhaseFigures {
               {"solve", median(solve)},
               {"line_search", median(lineSearch)},
               {"assembly_factorization_solve", median(newtonIteration)}}},
-            {"median_cg_iterations", median(cgIterations)}};
+            {"median_cg_iterations", median(cgIterations)},
+            {"cg_iterations", cgTotal},
+            {"hessian_evaluations", hessians},
+            {"numeric_factorizations", factorizations},
+            {"projection_fallbacks", fallbacks},
+            {"solves", solves},
+            {"solves_without_hessian", solvesWithoutHessian}};
   }
   void print(const char* label) const {
     std::printf("%s: %d Newton iterations; median ms per iteration: assembly %.1f, factorization %.1f, solve %.1f, "
-                "line search %.1f; assembly+factorization+solve %.1f; median CG iterations %.0f\n",
+                "line search %.1f; assembly+factorization+solve %.1f; median CG iterations %.0f\n"
+                "%s  counts: %d Hessians (%d projection fallbacks), %d factorizations, %ld CG iterations; %d of %d "
+                "solves without a Hessian\n",
                 label, iterations, median(assembly), median(factorization), median(solve), median(lineSearch),
-                median(newtonIteration), median(cgIterations));
+                median(newtonIteration), median(cgIterations), label, hessians, fallbacks, factorizations, cgTotal,
+                solvesWithoutHessian, solves);
   }
 };
 
@@ -107,7 +129,7 @@ NewtonOptions newtonOptions(const SolverBenchOptions& o, const TriMesh& mesh) {
   n.linear.preconditioner = preconditionerFromString(o.preconditioner);
   n.linear.ordering = fillOrderingFromString(o.ordering);
   n.linear.blasThreads = o.blasThreads;
-  n.linear.cgRelativeTolerance = o.cgTolerance;
+  if (o.cgTolerance > 0.0) n.linear.cgRelativeTolerance = o.cgTolerance;
   n.lineSearch = lineSearchTypeFromString(o.lineSearch);
   n.projection = psdProjectionFromString(o.projection);
   return n;
@@ -193,6 +215,9 @@ int runSolverBench(const SolverBenchOptions& o) {
   d.newton = newtonOptions(o, problem.mesh);
   applyTimeStepPolicy(timeStepPolicyFromString(o.policy), d);
   if (o.projectAll) d.newton.exactHessianFirst = false;
+  if (o.exactFirstProjectedDofs >= 0) d.newton.exactFirstProjectedDofs = o.exactFirstProjectedDofs;
+  if (o.hessianAtStart) d.newton.gradientFirstStart = false;
+  if (o.cgTolerance > 0.0) d.newton.linear.cgRelativeTolerance = o.cgTolerance;  // the policy sets its own
   if (o.maxForcing == 0.0) d.newton.adaptiveLinearTolerance = false;
   if (o.maxForcing > 0.0) {
     d.newton.adaptiveLinearTolerance = true;
@@ -207,7 +232,11 @@ int runSolverBench(const SolverBenchOptions& o) {
   std::vector<int> iterationsPerStep;
   const double cpu0 = processCpuSeconds(), wall0 = wallSeconds();
   const DynamicsResult run = simulate(solver, o.steps * o.dt, [&](const StepReport& r, DynamicsSolver&) {
-    for (const SolverSummary& s : r.solves) dyn.add(s);
+    for (const SolverSummary& s : r.solves) {
+      dyn.add(s);
+      if (o.traceFrom > 0 && s.iterations >= o.traceFrom)
+        std::printf("  step %d (t = %.4f s):\n%s", r.step, r.time, s.fullReport().c_str());
+    }
     iterationsPerStep.push_back(r.newtonIterations);
     steps.push_back({{"step", r.step},
                      {"time", r.time},
@@ -323,7 +352,8 @@ const RegisterSubcommand reg("bench solver", [](CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
   cmd->add_flag("--orderings", opts->orderings,
                 "Only compare the fill-reducing orderings (nnz(L), flops, times) on the first step's Hessian");
-  cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")
+  cmd->add_option("--cg-tolerance", opts->cgTolerance,
+                  "PCG relative residual tolerance (default: the time-step policy's in dynamics)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--max-forcing", opts->maxForcing,
                   "PCG in dynamics: 0 = fixed --cg-tolerance; > 0 = Eisenstat-Walker forcing terms up to this value "
@@ -334,11 +364,21 @@ const RegisterSubcommand reg("bench solver", [](CLI::App& app, int& exitCode) {
   cmd->add_flag("--project-all", opts->projectAll,
                 "Time steps: project every element block at every iteration (default: small blocks first, "
                 "every block only where the system is indefinite)");
+  cmd->add_option("--exact-first-projected-dofs", opts->exactFirstProjectedDofs,
+                  "Time steps: element blocks of at most this many dofs are projected in the first try (0: none; "
+                  "default: NewtonOptions')")
+      ->check(CLI::Range(0, 1000));
+  cmd->add_flag("--hessian-at-start", opts->hessianAtStart,
+                "Time steps: assemble the start's Hessian with its gradient instead of judging the start on its "
+                "gradient first");
   cmd->add_option("--projection", opts->projection, "none | clamp | abs")
       ->check(CLI::IsMember({"none", "clamp", "abs"}));
   cmd->add_option("--mass-damping", opts->massDamping, "alpha_R [1/s]")->check(CLI::NonNegativeNumber);
   cmd->add_option("--stiffness-damping", opts->stiffnessDamping, "beta_R [s]")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--skip-statics", opts->skipStatics, "Dynamics only");
+  cmd->add_option("--trace-from", opts->traceFrom,
+                  "Print the Newton trace of every time step that takes at least this many iterations")
+      ->check(CLI::Range(1, 100000));
   cmd->add_option("--json", opts->json, "Write the figures as JSON");
   cmd->callback([opts, &exitCode]() { exitCode = runSolverBench(*opts); });
 });

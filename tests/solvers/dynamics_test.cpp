@@ -15,13 +15,7 @@ namespace {
 
 constexpr double kG = 9.81;
 
-/// A free square cloth falling under gravity −y from rest.
-ShellProblem freeCloth() {
-  ShellProblem p;
-  p.mesh = makeRectangleGrid(0.2, 0.2, 3, 3);
-  p.gravity = Eigen::Vector3d(0.0, -kG, 0.0);
-  return p;
-}
+using testing::freeCloth;  // gravity kG
 
 /// Mean y displacement after falling for T seconds with step h.
 double fallDistance(TimeIntegrator integrator, double T, double h) {

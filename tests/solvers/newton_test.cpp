@@ -275,3 +275,54 @@ TEST_CASE("objective: a projection limited to small blocks projects the membrane
   REQUIRE((Hall - H - membraneChange).norm() > 1e-6 * H.norm());  // and so were some bending blocks
   CHECK((Hsmall - H - membraneChange).norm() <= 1e-10 * H.norm());
 }
+
+TEST_CASE("newton: once a time step passed at its start, the next starts are judged on their gradient alone, with "
+          "the same trajectory", "[solvers]") {
+  testing::SingleThread single;
+  const ShellProblem p = testing::freeCloth();
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsOptions o;
+  o.timeStep = 0.02;
+  o.updateTolerance = 0.1;
+  o.extrapolatedStart = true;
+  o.newton.gradientFirstStart = true;
+  DynamicsOptions off = o;
+  off.newton.gradientFirstStart = false;
+  DynamicsSolver a(system, o);
+  ShellSystem otherSystem(p, AnalysisKind::Dynamics);
+  DynamicsSolver b(otherSystem, off);
+  // Free fall: from the third step on, the extrapolated start is the exact step (it passes with no iteration).
+  int skipped = 0;
+  for (int i = 0; i < 6; ++i) {
+    const StepReport ra = a.step(), rb = b.step();
+    REQUIRE(ra.success);
+    REQUIRE(rb.success);
+    REQUIRE(ra.solves.size() == 1);
+    const SolverSummary& s = ra.solves[0];
+    CHECK(s.converged());
+    CHECK(rb.solves.at(0).hessianEvaluations >= 1);  // off: the start's Hessian is always assembled
+    // Before any step passed at its start, the start's Hessian comes with its gradient: no extra gradient.
+    if (i < 3) CHECK(s.gradientEvaluations == rb.solves[0].gradientEvaluations);
+    if (s.hessianEvaluations == 0) {
+      ++skipped;
+      CHECK(s.iterations == 0);
+      CHECK(s.finalResidual == rb.solves[0].finalResidual);
+    }
+    CHECK((a.positions() - b.positions()).lpNorm<Eigen::Infinity>() == 0.0);
+  }
+  CHECK(skipped >= 3);
+  // A start that fails its test (the history is dropped, so Newton starts from the inertial predictor, off by
+  // Δt² g): the Hessian is assembled after all, Newton iterates, and both runs take the same step; it cost one
+  // gradient more.
+  a.setState(a.positions(), a.velocities(), a.time());
+  b.setState(b.positions(), b.velocities(), b.time());
+  const StepReport ra = a.step(), rb = b.step();
+  REQUIRE(ra.success);
+  REQUIRE(rb.success);
+  const SolverSummary& s = ra.solves.at(0);
+  CHECK(s.converged());
+  CHECK(s.iterations >= 1);
+  CHECK(s.hessianEvaluations >= 1);
+  CHECK(s.gradientEvaluations == rb.solves.at(0).gradientEvaluations + 1);  // the start's gradient, evaluated twice
+  CHECK((a.positions() - b.positions()).lpNorm<Eigen::Infinity>() == 0.0);
+}

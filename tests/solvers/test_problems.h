@@ -55,4 +55,12 @@ inline ShellProblem hangingCloth(double w, double h, int nx, int ny) {
   return p;
 }
 
+/// A free square cloth (0.2 m, 3 × 3 squares) falling under gravity −y from rest.
+inline ShellProblem freeCloth() {
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(0.2, 0.2, 3, 3);
+  p.gravity = Eigen::Vector3d(0.0, -9.81, 0.0);
+  return p;
+}
+
 }  // namespace jetshell::testing

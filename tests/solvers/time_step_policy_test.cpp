@@ -86,10 +86,7 @@ TEST_CASE("time-step policy: the jetshell rule keeps the Newton error well below
 TEST_CASE("time-step policy: from the extrapolated trajectory, a free fall needs no Newton iteration after two steps",
           "[solvers]") {
   testing::SingleThread single;
-  ShellProblem p;
-  p.mesh = makeRectangleGrid(0.2, 0.2, 3, 3);
-  p.gravity = Eigen::Vector3d(0.0, -9.81, 0.0);
-  ShellSystem system(p, AnalysisKind::Dynamics);
+  ShellSystem system(testing::freeCloth(), AnalysisKind::Dynamics);
   DynamicsOptions o;
   o.timeStep = 0.02;
   applyTimeStepPolicy(TimeStepPolicy::Jetshell, o);
