@@ -2,6 +2,7 @@
 // program), and reading stays bounded in memory and time.
 #include "core/input_limits.h"
 #include "core/mesh_io.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -45,7 +46,7 @@ struct LimitOverride {
 const std::string kSquare = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
 
 std::string tempPath(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("jetshell_obj_hostile_" + std::to_string(::getpid()));
+  const auto dir = test::scratchDirectory("obj_hostile");
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }

@@ -9,6 +9,7 @@
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
 #include "tools/scene/scene_json.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -26,7 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "jetshell_output_tests";
+  const fs::path dir = test::scratchDirectory("output_tests");
   fs::create_directories(dir);
   return dir / name;
 }

@@ -3,6 +3,7 @@
 #include "tools/scene/json_reader.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -20,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path freshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "jetshell_run_tests" / name;
+  const fs::path dir = test::scratchDirectory("run_tests") / name;
   fs::remove_all(dir);
   return dir;
 }

@@ -1,6 +1,7 @@
 #include "tools/scene/run_scene.h"
 #include "tools/scene/safeguard_report.h"
 #include "tools/scene/scene_json.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -55,7 +56,7 @@ nlohmann::json runCloth(const nlohmann::json& solver, const std::string& name) {
     "outputs": {"png": false, "plots": false}})");
   scene["solver"] = solver;
   RunOptions o;
-  o.outputDirectory = (fs::temp_directory_path() / "jetshell_safeguard_tests" / name).string();
+  o.outputDirectory = (test::scratchDirectory("safeguard_tests") / name).string();
   fs::remove_all(o.outputDirectory);
   o.pictures = false;
   runScene(sceneFromJson(scene, "."), o);

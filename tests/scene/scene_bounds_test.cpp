@@ -6,6 +6,7 @@
 #include "tools/scene/json_reader.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -78,7 +79,7 @@ Json rectangle(Json nx, Json ny) {
 }
 
 std::string tempPath(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("jetshell_scene_bounds_" + std::to_string(::getpid()));
+  const auto dir = test::scratchDirectory("scene_bounds");
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }

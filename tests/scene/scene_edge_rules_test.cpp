@@ -3,6 +3,7 @@
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_problem.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -40,7 +41,7 @@ nlohmann::json strip(const std::string& clamp) {
 double tipDeflection(const std::string& clamp) {
   const Scene scene = sceneFromJson(strip(clamp), ".");
   RunOptions o;
-  o.outputDirectory = (fs::temp_directory_path() / "jetshell_edge_rule_tests" / clamp).string();
+  o.outputDirectory = (test::scratchDirectory("edge_rule_tests") / clamp).string();
   fs::remove_all(o.outputDirectory);
   o.pictures = false;
   const RunResult r = runScene(scene, o);

@@ -3,6 +3,7 @@
 #include "tools/scene/json_reader.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -31,7 +32,7 @@ Json baseScene() {
 }
 
 std::string tempDir() {
-  const auto dir = std::filesystem::temp_directory_path() / "jetshell_scene_tests";
+  const auto dir = test::scratchDirectory("scene_tests");
   std::filesystem::create_directories(dir);
   return dir.string();
 }

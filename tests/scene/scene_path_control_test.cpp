@@ -1,6 +1,7 @@
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -35,7 +36,7 @@ nlohmann::json stripScene() {
 
 std::string errorOf(const nlohmann::json& scene) {
   try {
-    buildSceneModel(sceneFromJson(scene, fs::temp_directory_path().string()));
+    buildSceneModel(sceneFromJson(scene, test::scratchDirectory("path_control_scenes").string()));
   } catch (const InputError& e) {
     return e.what();
   }
@@ -44,7 +45,7 @@ std::string errorOf(const nlohmann::json& scene) {
 
 nlohmann::json run(const Scene& scene, const std::string& name) {
   RunOptions o;
-  o.outputDirectory = (fs::temp_directory_path() / "jetshell_path_control_tests" / name).string();
+  o.outputDirectory = (test::scratchDirectory("path_control_tests") / name).string();
   fs::remove_all(o.outputDirectory);
   o.pictures = false;
   runScene(scene, o);

@@ -2,6 +2,7 @@
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/support_check.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -43,7 +44,7 @@ TEST_CASE("support check: a static problem with no supports under load names its
   CHECK_THROWS_WITH(checkRigidModes(scene, model), Catch::Contains("rigid-body mode"));
   // The run says so before solving instead of ending at the iteration cap.
   RunOptions o;
-  o.outputDirectory = (fs::temp_directory_path() / "jetshell_support_test").string();
+  o.outputDirectory = test::scratchDirectory("support_test").string();
   o.pictures = false;
   CHECK_THROWS_WITH(runScene(scene, o), Catch::Contains("no equilibrium exists"));
   // Dynamic relaxation seeks the same equilibrium.

@@ -6,6 +6,7 @@
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "validation/reference_table.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -44,7 +45,7 @@ TEST_CASE("scene accuracy: the end-shear scene is within 0.05% of the elastica a
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
   scene.outputs.frameStride = 1;
   scene.outputs.vtu = false;
-  const fs::path dir = fs::temp_directory_path() / "jetshell_scene_accuracy" / "cantilever_strip";
+  const fs::path dir = test::scratchDirectory("scene_accuracy") / "cantilever_strip";
   fs::remove_all(dir);
   RunOptions o;
   o.outputDirectory = dir.string();

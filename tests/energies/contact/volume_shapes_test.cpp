@@ -1,6 +1,7 @@
 #include "energies/contact/sdf_grid.h"
 #include "energies/contact/volume_collider.h"
 #include "tests/test_util.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -26,7 +27,7 @@ void checkSample(const VolumeCollider& c, const Eigen::Vector3d& p, double t = 0
 }
 
 std::string tempFile(const std::string& name, const std::string& text) {
-  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  const std::string path = (test::scratchDirectory("volume_shapes") / name).string();
   std::ofstream(path) << text;
   return path;
 }

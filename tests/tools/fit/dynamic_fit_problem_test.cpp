@@ -5,6 +5,7 @@
 #include "fit_test_util.h"
 #include "core/mesh_io.h"
 #include "../../solvers/test_problems.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -163,7 +164,7 @@ TEST_CASE("dynamic fit: the density is recovered to 1e-6 from the whole shape at
   rho << 0.2;
   const FitEvaluation e = truth.problem().evaluate(rho, FitDerivatives::None);
   REQUIRE(e.ok);
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "jetshell_dynamic_shape_fit";
+  const std::filesystem::path dir = test::scratchDirectory("dynamic_shape_fit");
   std::filesystem::create_directories(dir);
   {
     std::ofstream obj(dir / "strip_0.04.obj");

@@ -1,6 +1,7 @@
 #include "tools/fit/fit_file.h"
 
 #include "core/mesh.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -27,7 +28,7 @@ const char* kScene = R"({
 })";
 
 fs::path directory() {
-  const fs::path d = fs::temp_directory_path() / "jetshell_fit_file_tests";
+  const fs::path d = test::scratchDirectory("fit_file_tests");
   fs::create_directories(d);
   return d;
 }

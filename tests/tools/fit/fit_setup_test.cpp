@@ -3,6 +3,7 @@
 #include "tools/fit/fit_report.h"
 #include "fit_test_util.h"
 #include "validation/self_weight_elastica.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -45,7 +46,7 @@ TEST_CASE("fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta of the synt
   CHECK(j["parameters"].size() == 4);
   CHECK(j["history"].size() == r.history.size());
   CHECK(j["cost"]["full_solves"] == r.counters.fullSolves);
-  const std::string dir = (std::filesystem::temp_directory_path() / "jetshell_fit_report_test").string();
+  const std::string dir = test::scratchDirectory("fit_report_test").string();
   std::vector<std::string> notes;
   const std::vector<std::string> files = writeFitReport(in, dir, false, notes);
   CHECK(std::filesystem::exists(dir + "/fit.json"));

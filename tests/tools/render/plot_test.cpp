@@ -4,6 +4,7 @@
 #include "tools/render/plot.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path freshDirectory(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "jetshell_plot_tests" / name;
+  const fs::path dir = test::scratchDirectory("plot_tests") / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
