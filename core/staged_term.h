@@ -79,6 +79,22 @@ class StagedElements {
         /*colouredValues=*/true);
   }
 
+  /// The value of one node at every element of x, serially and without derivatives, from the very stages
+  /// evaluate() runs (so an origin taken this way cancels to the bit there): node(chain, e) connects element e's
+  /// stages and returns the node; store(e, chain, node) reads its outputs with chain.value(node, k).
+  template <typename Node, typename Store>
+  void nodeValues(const StencilTable& table, const Eigen::VectorXd& x, Node&& node, Store&& store) {
+    const StageContext context = newContext(EvalRequest{}, EvalOptions{});
+    reserveChains();
+    StageChain<K>& c = chain();
+    for (int e = 0; e < table.size(); ++e) {
+      double xe[M];
+      gatherStencil<K>(table.element(e), x, xe);
+      c.begin(xe, context);
+      store(e, c, node(c, e));
+    }
+  }
+
   /// Makes sure every thread of the next parallel region has its chain.
   void reserveChains() {
     const int threads = omp_get_max_threads();

@@ -48,10 +48,8 @@ std::shared_ptr<MembraneTerm> makeNamedMembrane(const TermSetup& s, const char* 
 
 /// Bending with every boundary edge moment-free (second_order_free): faces with one and with two minimized edges.
 EnergyTermPtr makeSecondOrderFreeBending(const TermSetup& s, const char* name) {
-  auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
-                                            s.material.bendingBeta);
+  auto term = makeNamedBending(s, name);
   term->setEdgeRule(std::vector<char>(static_cast<std::size_t>(s.mesh.numVertices()), 1), EdgeRule::SecondOrderFree);
-  term->setName(name);
   return term;
 }
 
@@ -65,8 +63,7 @@ EnergyTermPtr makeRuledBending(const TermSetup& s, EdgeRule rule, const char* na
 /// Bending with the first boundary edge on a symmetry plane through it, whose normal is tilted by 0.2 rad out of
 /// the face's plane towards its reference normal (so the rule's rest origin differs from the page's).
 EnergyTermPtr makeSymmetryPlaneBending(const TermSetup& s, const char* name) {
-  auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
-                                            s.material.bendingBeta);
+  auto term = makeNamedBending(s, name);
   for (int e = 0; e < s.topology.numEdges(); ++e) {
     if (!s.topology.isBoundaryEdge(e)) continue;
     const int f = s.topology.edgeFaces(e, 0);
@@ -80,7 +77,6 @@ EnergyTermPtr makeSymmetryPlaneBending(const TermSetup& s, const char* name) {
                       std::cos(0.2) * t.cross(r) + std::sin(0.2) * r);
     break;
   }
-  term->setName(name);
   return term;
 }
 

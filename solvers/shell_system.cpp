@@ -136,6 +136,7 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
       if (!uniform) t->setName("bending" + suffix);
       objective_.addTerm(t);
       if (!bending) bending = t;
+      bendingTerms.push_back(t);
     }
   }
   const bool gravityActive = p.gravity.squaredNorm() > 0.0 && gravityMass.maxCoeff() > 0.0;
@@ -164,6 +165,7 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     if (stiffnessDamping.bending) {
       if (!clamped.empty()) stiffnessDamping.bending->setClampedBoundary(clamped);
       objective_.addTerm(stiffnessDamping.bending, TermRole::Transient);
+      bendingTerms.push_back(stiffnessDamping.bending);
     }
   }
 

@@ -98,6 +98,9 @@ class ShellSystem {
   std::shared_ptr<DiagonalQuadraticTerm> inertia;
   std::shared_ptr<DiagonalQuadraticTerm> massDamping;
   StiffnessDampingTerms stiffnessDamping;
+  /// Every bending term: the elastic ones (one per actor when their materials differ; `bending` is the first)
+  /// and the stiffness damping's. Boundary-edge rules go to all of them (energies/shell/boundary_rules.h).
+  std::vector<std::shared_ptr<BendingTerm>> bendingTerms;
   ShellContact contact;  // empty without colliders
 
  private:

@@ -270,9 +270,6 @@ void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scal
     const Vec3& n2 = edges_[topo_.faceEdges(f, 2)].nbar;
     ref_.secondFundamentalForm[f] = {2.0 * (n1 - n0).dot(e0), -2.0 * n0.dot(e1), 2.0 * (n2 - n0).dot(e1)};
   }
-  origin_ = xOrigin;
-  scale_ = scale;
-  originMoved_ = true;
 }
 
 Vec3 BendingTerm::meanNormal(int e, int order) {

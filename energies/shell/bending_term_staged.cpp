@@ -80,19 +80,14 @@ double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& 
 }
 
 void BendingTerm::stagedCurvatureOrigin(const Eigen::VectorXd& xOrigin) {
-  // From the very stages evaluateStaged() runs (value only), so that κ vanishes at the origin to the bit.
+  // From the very stages evaluateStaged() runs, so that κ vanishes at the origin to the bit.
   requireGhostRules(rules_, name_);
   bindStages();
-  const StageContext context = elements_.newContext(EvalRequest{}, EvalOptions{});
-  elements_.reserveChains();
-  StageChain<6>& chain = elements_.chain();
-  for (int f = 0; f < table_.size(); ++f) {
-    double xe[18];
-    gatherStencil<6>(table_.element(f), xOrigin, xe);
-    chain.begin(xe, context);
-    const int b = buildSecondForm(chain, f);
-    ref_.secondFundamentalForm[f] = {chain.value(b, 0), chain.value(b, 1), chain.value(b, 2)};
-  }
+  elements_.nodeValues(
+      table_, xOrigin, [&](StageChain<6>& chain, int f) { return buildSecondForm(chain, f); },
+      [&](int f, const StageChain<6>& chain, int b) {
+        ref_.secondFundamentalForm[f] = {chain.value(b, 0), chain.value(b, 1), chain.value(b, 2)};
+      });
 }
 
 }  // namespace jetshell

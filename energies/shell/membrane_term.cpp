@@ -43,16 +43,11 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
 void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale) {
   if (staged_) {
     // The metric at the origin from the very stage evaluate() runs, so that ε vanishes there to the bit.
-    const StageContext context = elements_.newContext(EvalRequest{}, EvalOptions{});
-    elements_.reserveChains();
-    StageChain<3>& chain = elements_.chain();
-    for (int f = 0; f < table_.size(); ++f) {
-      double xe[9];
-      gatherStencil<3>(table_.element(f), xOrigin, xe);
-      chain.begin(xe, context);
-      const int a = buildMetric(chain);
-      ref_.metric[f] = {chain.value(a, 0), chain.value(a, 1), chain.value(a, 2)};
-    }
+    elements_.nodeValues(
+        table_, xOrigin, [&](StageChain<3>& chain, int) { return buildMetric(chain); },
+        [&](int f, const StageChain<3>& chain, int a) {
+          ref_.metric[f] = {chain.value(a, 0), chain.value(a, 1), chain.value(a, 2)};
+        });
   } else {
     for (std::size_t f = 0; f < ref_.metric.size(); ++f) {
       const int* ids = table_.element(static_cast<int>(f));

@@ -27,13 +27,10 @@ void addSceneEdgeRules(const Scene& scene, const ShellProblem& problem, ShellSys
     choice.symmetryPlanes.push_back({p.point, p.normal});
   choice.planeTolerance = 1e-6;
   const std::vector<char> clamped = clampedVerticesOf(problem);
-  // One bending term over the whole mesh, or one per actor ("bending/<actor>") when their materials differ; and
-  // the bending stiffness damping (Rayleigh: β_R times the same stiffness, so the same rules).
-  for (const std::string& name : system.objective().activeTermNames()) {
-    if (name != "bending" && name != "bending_damping" && name.rfind("bending/", 0) != 0) continue;
-    if (auto bending = std::dynamic_pointer_cast<BendingTerm>(system.objective().term(name)))
-      applyBoundaryRules(*bending, system.mesh(), clamped, {}, choice);
-  }
+  // Every actor's bending term and the bending stiffness damping (Rayleigh: β_R times the same stiffness, so the
+  // same rules).
+  for (const std::shared_ptr<BendingTerm>& bending : system.bendingTerms)
+    applyBoundaryRules(*bending, system.mesh(), clamped, {}, choice);
 }
 
 }  // namespace jetshell
