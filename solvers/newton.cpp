@@ -74,6 +74,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   double E = 0.0;
   double r = 0.0;
   double forcing = 0.0, previousGradientNorm = -1.0;  // Eisenstat–Walker state (adaptiveLinearTolerance)
+  double newtonStepFraction = 0.0;  // of the last Newton direction, to the current iterate (IterateView)
   enum class Have { Nothing, Gradient, Hessian } have = Have::Nothing;
   bool tryExact = false;     // the last step's full-step model agreed: try the unprojected Hessian
   int exactCooldown = 0;     // iterations to wait before the next try, growing with each fallback
@@ -190,14 +191,15 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       return finish(TerminationReason::Converged, m.str());
     }
     if (iterateTest_) {
-      const IterateTestResult t = iterateTest_(x, g);
+      const IterateTestResult t = iterateTest_(IterateView{x, g, k, newtonStepFraction});
       if (t.passed) {
         s.assemblySeconds += rec.assemblySeconds;
         std::ostringstream m;
-        m << "iterate test: estimate " << t.estimate << " m <= " << t.threshold << " m; residual " << r << " N";
+        m << "iterate test: " << t.estimateName << " " << t.estimate << " m <= " << t.threshold << " m; residual " << r << " N";
         s.convergenceTest = "iterate";
         return finish(TerminationReason::Converged, m.str());
       }
+
     }
     if (k >= o.maxIterations) {
       s.assemblySeconds += rec.assemblySeconds;
@@ -270,7 +272,9 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     if (haveExact) ++s.exactHessianSteps;
     obj.zeroFixed(d);
     double slope = g.dot(d);
+    bool newtonDirection = true;
     if (!(slope < 0.0)) {
+      newtonDirection = false;
       // Round-off can cost a nearly singular system its descent property; fall back to scaled steepest descent.
       d = g / -meanDiagonal(obj.assembler().matrix());
       obj.zeroFixed(d);
@@ -341,6 +345,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
                     res.message);
     }
     const double alpha = res.point.alpha;
+    newtonStepFraction = newtonDirection ? alpha * std::min(bound, 1.0) : 0.0;
     rec.stepLength = alpha;
     s.trace.push_back(rec);
     ++s.iterations;

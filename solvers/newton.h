@@ -27,7 +27,8 @@
 // Two more residual tests, off by default, for presets that state them so: absoluteResidualTolerance [N]
 // (‖g_free‖∞ ≤ it) and relativeResidualTolerance (‖g_free‖∞ ≤ it × the initial residual).
 // An iterate test (setIterateTest; time stepping sets one, see solvers/dynamics.h) is asked at every iterate,
-// with its gradient, before the iteration cap and the solve; when it passes the solve ends as converged, and the
+// with its gradient and the fraction of the Newton direction that led there (IterateView), before the iteration
+// cap and the solve; when it passes the solve ends as converged, and the
 // summary's message states the test's estimate and threshold in metres.
 #pragma once
 
@@ -92,9 +93,18 @@ struct IterateTestResult {
   bool passed = false;
   double estimate = 0.0;
   double threshold = 0.0;
+  const char* estimateName = "estimate";  // what the estimate is, for the summary's message
 };
-/// x: the iterate; gradient: the objective's gradient there (fixed dofs zeroed).
-using IterateTest = std::function<IterateTestResult(const Eigen::VectorXd& x, const Eigen::VectorXd& gradient)>;
+/// What an iterate test sees: the iterate, the objective's gradient there (fixed dofs zeroed), the iteration k,
+/// and the fraction of the last Newton direction that led to it (α × the step bound: 1 for a full Newton step;
+/// 0 at the start, and after a steepest-descent fallback).
+struct IterateView {
+  const Eigen::VectorXd& x;
+  const Eigen::VectorXd& gradient;
+  int iteration = 0;
+  double newtonStepFraction = 0.0;
+};
+using IterateTest = std::function<IterateTestResult(const IterateView& iterate)>;
 
 class NewtonSolver {
  public:

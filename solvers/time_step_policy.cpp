@@ -55,6 +55,7 @@ void applyTimeStepPolicy(TimeStepPolicy policy, DynamicsOptions& o) {
       o.acceptIterationCap = false;
       o.extrapolatedStart = true;
       o.updateTolerance = jetshellUpdateTolerance;
+      o.correctionTest = true;
       return;
     case TimeStepPolicy::Reference:
       n.maxIterations = 200;

@@ -4,9 +4,10 @@
 //  - page:      the engine the spec comes from: at most 4 Newton iterations, absolute residual tolerance 1e-3 N,
 //               relative 1e-6, the residual-norm line search, and "move on" (accept the unconverged iterate)
 //               when the cap is hit; each such step is counted as moved on, never as converged.
-//  - jetshell:  the time-discretization stopping rule (solvers/dynamics.h): stop once the Newton error
-//               estimate is below η = jetshellUpdateTolerance of ‖x − x̃‖ (the step's local-truncation-error
-//               scale), or at the static residual test; Armijo line search; start from the extrapolated trajectory; a step that
+//  - jetshell:  the time-discretization stopping rule (solvers/dynamics.h): stop once a Newton error estimate
+//               (the residual's, or the last full Newton correction's) is below η = jetshellUpdateTolerance of
+//               ‖x − x̃‖ (the step's local-truncation-error scale), or at the static residual test; Armijo line
+//               search; start from the extrapolated trajectory (the integrator's own constant-acceleration step); a step that
 //               does not converge in 20 iterations is cut (halved), never accepted unconverged. With the
 //               linear solver on auto: CG preconditioned by the one-ring factor, stopped at Eisenstat–Walker
 //               forcing terms (NewtonOptions::adaptiveLinearTolerance).

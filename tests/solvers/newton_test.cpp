@@ -326,3 +326,29 @@ TEST_CASE("newton: once a time step passed at its start, the next starts are jud
   CHECK(s.gradientEvaluations == rb.solves.at(0).gradientEvaluations + 1);  // the start's gradient, evaluated twice
   CHECK((a.positions() - b.positions()).lpNorm<Eigen::Infinity>() == 0.0);
 }
+
+TEST_CASE("newton: the iterate test sees each iterate with the fraction of the Newton direction that led to it",
+          "[solvers]") {
+  ShellSystem system(testing::cantileverPlate(8, 3, 0.02), AnalysisKind::Statics);
+  NewtonSolver newton(system.objective(), NewtonOptions{});
+  std::vector<int> iterations;
+  std::vector<double> fractions;
+  newton.setIterateTest([&](const IterateView& it) {
+    iterations.push_back(it.iteration);
+    fractions.push_back(it.newtonStepFraction);
+    return IterateTestResult{};  // never passes: the residual test ends the solve
+  });
+  Eigen::VectorXd x = system.restPositions();
+  const SolverSummary s = newton.minimize(x);
+  INFO(s.fullReport());
+  REQUIRE(s.converged());
+  CHECK(s.convergenceTest == "residual");
+  // Asked at the start and after every step but the last (the residual test ends the solve first).
+  REQUIRE(static_cast<int>(iterations.size()) == s.iterations);
+  REQUIRE(s.trace.size() >= iterations.size());
+  CHECK(fractions.at(0) == 0.0);
+  for (std::size_t k = 1; k < iterations.size(); ++k) {
+    CHECK(iterations[k] == static_cast<int>(k));
+    CHECK(fractions[k] == s.trace[k - 1].stepLength);  // no step bound in statics without contact
+  }
+}
