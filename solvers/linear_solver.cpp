@@ -77,6 +77,7 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
     return report;
   }
   const bool analyze = !analyzed_ || patternVersion != analyzedVersion_;
+  solvingVersion_ = patternVersion;
   double shift = 0.0;
   std::ostringstream retries;
   const int maxRetries = maxRegularizations >= 0 ? maxRegularizations : options_.maxRegularizations;

@@ -86,6 +86,16 @@ struct NewtonOptions {
   /// Measured (BENCHMARKS.md, Dynamics, Session 6): a settling cloth passes at the start of 68 of 300 steps, 23%
   /// of its Hessians; no step of the falling cloth does.
   bool gradientFirstStart = true;
+  /// Overlap the preconditioner's factorization with the assembly (Objective::evaluate's narrow hook and
+  /// LinearSolver::preparePreconditioner): the terms of narrow stencils are assembled first, then the one-ring
+  /// factor of their part plus the wide terms' part from the solve's previous iteration is computed on one thread
+  /// while the wide terms (bending) are assembled on the others. The first iteration of a solve, and the projected
+  /// retry after an indefinite one, factor the whole one-ring part after the assembly as before: that
+  /// factorization failing is what detects an indefinite unprojected Hessian. Nothing crosses from one solve to
+  /// the next. Only solvers that prepare (PCG with the one-ring factor) do anything with it, and only with at
+  /// least two OpenMP threads (on one there is nothing to overlap with). CG solves with the whole current
+  /// Hessian either way.
+  bool overlapPreconditioner = true;
 };
 
 /// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
