@@ -91,9 +91,10 @@ struct NewtonOptions {
   /// while the wide terms (bending) are assembled on the others. The first iteration of a solve, and the projected
   /// retry after an indefinite one, factor the whole one-ring part after the assembly as before: that
   /// factorization failing is what detects an indefinite unprojected Hessian. Nothing crosses from one solve to
-  /// the next. Only solvers that prepare (PCG with the one-ring factor) do anything with it, and only with at
-  /// least two OpenMP threads (on one there is nothing to overlap with). CG solves with the whole current
-  /// Hessian either way.
+  /// the next. Only solvers that prepare (PCG with the one-ring factor) do anything with it, only with at least
+  /// two OpenMP threads (on one there is nothing to overlap with), and not for objectives whose stencils follow
+  /// the configuration (moving contacts change the pattern at almost every iteration: measured slower, see
+  /// newton.cpp). CG solves with the whole current Hessian either way.
   bool overlapPreconditioner = true;
 };
 

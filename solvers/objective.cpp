@@ -163,6 +163,12 @@ EnergyTermPtr Objective::term(const std::string& name) const {
   return nullptr;
 }
 
+bool Objective::hasMovingStencils() const {
+  for (const Entry& e : terms_)
+    if (e.term->stencilsFollowConfiguration()) return true;
+  return false;
+}
+
 double Objective::energyMagnitude() const {
   double m = 0.0;
   for (double e : termEnergies_) m += std::abs(e);

@@ -123,6 +123,8 @@ class Objective {
   void beginStep(const Eigen::VectorXd& xStart, double tStart, double timeStep);
   /// min(1, every step bound) at x along direction; 1 without bounds. Always in (0, 1].
   double stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& direction) const;
+  /// Whether a term's stencils follow the configuration (contact pairs), so the pattern may change.
+  bool hasMovingStencils() const;
   /// How many times the stencils were re-declared after the first finalize (moving contacts).
   int patternRebuilds() const { return patternRebuilds_; }
   /// Of these, how many built a new matrix pattern (grew it, or pruned it): each costs the linear solver a new
