@@ -10,7 +10,8 @@
 // Jet<Jet<double,3>,3> on the AD path and from energies/shell/analytic_stages.h on the analytic path; everything
 // else is shared. Boundary edges (energies/shell/edge_rules.h): pass 2 takes m = ½(n + n_ghost(n)) with the
 // ghost rule as a 3 → 3 Jet stage; a face with moment-free edges takes the rule's minimized density as its
-// pass-3 density stage (Jets on both paths; the rest of the chain is unchanged). Each face normal serves four
+// pass-3 density stage (Jets on the AD path; the analytic path takes the constant quadratic form that density
+// is, once per α, β and rules; the rest of the chain is unchanged). Each face normal serves four
 // stencils and each mid-edge normal two, computed once.
 #include "energies/shell/bending_term.h"
 
@@ -138,6 +139,7 @@ int BendingTerm::setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule,
 }
 
 void BendingTerm::updateRuleState() {
+  quadraticStale_ = true;
   rigidEdges_ = 0;
   for (int e = 0; e < topo_.numEdges(); ++e)
     if (topo_.isBoundaryEdge(e) && ruleSeesRigidMotion(rules_[e])) ++rigidEdges_;
@@ -296,12 +298,32 @@ Vec3 BendingTerm::meanNormal(int e, int order) {
   return 0.5 * (n + g);
 }
 
+void BendingTerm::updateRuledQuadratics() {
+  if (!quadraticStale_ && quadraticAlpha_ == alpha_ && quadraticBeta_ == beta_) return;
+  const int nf = static_cast<int>(F_.rows());
+  ruledQuadratic_.assign(static_cast<std::size_t>(nf), Mat3::Zero());
+  const double zero[3] = {0.0, 0.0, 0.0};
+  for (int f = 0; f < nf; ++f) {
+    const bool* m = minimized_[f].data();
+    if (!(m[0] || m[1] || m[2])) continue;
+    const double* P = ref_.inverseMetric[f].data();
+    auto density = [&](const auto* z) { return ruledBendingDensity(z, zero, P, alpha_, beta_, m); };
+    double W;
+    Vec3 w;
+    scalarStageDerivatives<3>(density, zero, W, w, ruledQuadratic_[f]);
+  }
+  quadraticAlpha_ = alpha_;
+  quadraticBeta_ = beta_;
+  quadraticStale_ = false;
+}
+
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
     if (staged_) return evaluateStaged(x, request, options);
     const bool ad = options.path == DerivativePath::AutoDiff;
     const bool exact = options.bendingHessian == BendingHessian::Exact;
     // Stage order: 0 values, 1 Jacobians, 2 Hessians (only the exact bending Hessian needs them).
     const int order = request.hessian != nullptr && exact ? 2 : request.gradient != nullptr || request.hessian ? 1 : 0;
+    if (!ad && order > 0) updateRuledQuadratics();
     computeFaceStages(x, order, ad);
     computeEdgeStages(order, ad);
     return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
@@ -381,9 +403,14 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     double W;
     Vec3 w;
     Mat3 Wbb;
-    if (ad || reduced) {
+    if (ad) {
       auto density = [&](const auto* z) { return ruledBendingDensity(z, B, P, alpha_, beta_, minimized); };
       scalarStageDerivatives<3>(density, b, W, w, Wbb);
+    } else if (reduced) {
+      const Vec3 d(b[0] - B[0], b[1] - B[1], b[2] - B[2]);
+      Wbb = ruledQuadratic_[f];
+      w.noalias() = Wbb * d;
+      W = 0.5 * d.dot(w);
     } else {
       const double d[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
       analytic::stvkQuadratic(P, alpha_, 0.5 * beta_, d, W, w, Wbb);
