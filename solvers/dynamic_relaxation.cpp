@@ -29,11 +29,20 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   result.activeTerms = system.objective().activeTermNames();
   Objective& obj = system.objective();
   Eigen::VectorXd g;
-  auto staticResidual = [&]() {
-    obj.evaluate(solver.positions(), &g, false, EvalOptions{}, TermSelection::PotentialOnly);
+  const EvalOptions evalOptions{o.newton.derivatives};
+  // After a step, nothing changed the terms since its Newton solve took its last gradient at the accepted
+  // positions: that gradient's potential part is the static residual.
+  auto staticResidual = [&](bool afterStep) {
+    const Eigen::VectorXd* last =
+        afterStep && o.reuseStepGradient ? obj.lastPotentialGradient(solver.positions(), evalOptions.path) : nullptr;
+    if (last != nullptr) {
+      ++result.reusedGradients;
+      return last->lpNorm<Eigen::Infinity>();
+    }
+    obj.evaluate(solver.positions(), &g, false, evalOptions, TermSelection::PotentialOnly);
     return g.lpNorm<Eigen::Infinity>();
   };
-  const double r0 = staticResidual();
+  const double r0 = staticResidual(false);
   const ForceScale F = obj.forceScale(solver.positions(), r0);
   result.forceScale = F.value;
   result.forceScaleSource = F.source;
@@ -55,7 +64,7 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
     ++result.steps;
     result.pseudoTime = solver.time();
     x = solver.positions();
-    result.staticResidual = staticResidual();
+    result.staticResidual = staticResidual(true);
     result.residualHistory.push_back(result.staticResidual);
     const bool converged = result.staticResidual <= result.residualThreshold;
     if (callback && !callback(r, result.staticResidual) && !converged) {
