@@ -91,6 +91,11 @@ class LinearSolver {
     return solve(assembler.matrix(), assembler.patternVersion(), b, x, &assembler.fixedDof(), maxRegularizations);
   }
 
+  /// Solves H x = b with the factor the last successful solve() left, without assembling or factoring anything
+  /// (modified Newton, NewtonOptions::reuseFactor). False, x unspecified, when the solver keeps no factor
+  /// (iterative solvers), the last solve failed, or patternVersion is not the one that factor was taken on.
+  bool solveWithLastFactor(std::uint64_t patternVersion, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+
   /// nnz(L), flops and ordering of the last symbolic analysis of a Cholesky factor (zeros when the solver has
   /// none).
   virtual FactorStatistics factorStatistics() const { return {}; }
@@ -116,11 +121,14 @@ class LinearSolver {
   /// add their phase times to the report, and put a reason into report.message when they fail.
   virtual Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift,
                           const Eigen::VectorXd& b, Eigen::VectorXd& x, LinearSolveReport& report) = 0;
+  /// x = the last successful attempt's factor applied to b; false when the solver keeps none.
+  virtual bool solveWithFactor(const Eigen::VectorXd& /*b*/, Eigen::VectorXd& /*x*/) { return false; }
 
  private:
   LinearSolverOptions options_;
   std::uint64_t analyzedVersion_ = 0;
   bool analyzed_ = false;
+  bool factorValid_ = false;  // the last solve() succeeded (solveWithLastFactor)
   int analyses_ = 0;
   double relativeTolerance_ = 0.0;
 };
