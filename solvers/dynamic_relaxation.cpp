@@ -20,6 +20,7 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   d.integrator = TimeIntegrator::BackwardEuler;
   d.timeStep = o.timeStep;
   d.newton = o.newton;
+  if (o.reuseFactor) d.newton.reuseFactor = true;
   d.massDampingOverride = alpha;
   DynamicsSolver solver(system, d);
   solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);

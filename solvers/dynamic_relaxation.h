@@ -26,6 +26,11 @@ struct RelaxationOptions {
   /// iterate (Objective::lastPotentialGradient) instead of evaluating the potential terms again; false: always
   /// evaluate them (the same residual, one more gradient per step).
   bool reuseStepGradient = true;
+  /// Modified Newton in every step (NewtonOptions::reuseFactor, set here over newton's): a relaxation's Hessian
+  /// changes slowly, so a step's Newton iterations start from the factor an earlier step left and assemble and
+  /// factor anew only when it stops contracting. Each step still meets the same Newton tests. false: newton's
+  /// own setting (a fresh Hessian and factor at every iteration by default).
+  bool reuseFactor = true;
   NewtonOptions newton;
 };
 
