@@ -20,7 +20,11 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   d.integrator = TimeIntegrator::BackwardEuler;
   d.timeStep = o.timeStep;
   d.newton = o.newton;
-  if (o.reuseFactor) d.newton.reuseFactor = true;
+  // Only CHOLMOD keeps a factor to reuse (LinearSolver::solveWithLastFactor); other solvers stay plain Newton.
+  const LinearSolverType type = o.newton.linear.type;
+  const bool cholmod = type == LinearSolverType::Cholmod ||
+                       (type == LinearSolverType::Auto && x.size() <= o.newton.linear.autoDirectMaxDofs);
+  if (o.reuseFactor && cholmod) d.newton.reuseFactor = true;
   d.massDampingOverride = alpha;
   DynamicsSolver solver(system, d);
   solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);

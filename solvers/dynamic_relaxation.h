@@ -28,8 +28,9 @@ struct RelaxationOptions {
   bool reuseStepGradient = true;
   /// Modified Newton in every step (NewtonOptions::reuseFactor, set here over newton's): a relaxation's Hessian
   /// changes slowly, so a step's Newton iterations start from the factor an earlier step left and assemble and
-  /// factor anew only when it stops contracting. Each step still meets the same Newton tests. false: newton's
-  /// own setting (a fresh Hessian and factor at every iteration by default).
+  /// factor anew only when it stops contracting. Each step still meets the same Newton tests. With CHOLMOD only
+  /// (newton.linear Cholmod, or Auto resolving to it): other solvers keep no factor. false: newton's own setting
+  /// (a fresh Hessian and factor at every iteration by default).
   bool reuseFactor = true;
   NewtonOptions newton;
 };
