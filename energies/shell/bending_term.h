@@ -127,6 +127,10 @@ class BendingTerm : public EnergyTerm {
   void computeEdgeStages(int order, bool ad);
   double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
                  Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
+  /// The stencil's gradient J_bᵀ w by adjoints (gradient-only evaluations; w already scaled by the area).
+  void gradientByAdjoints(const Eigen::VectorXd& x, int f, const int* ids, const Eigen::Vector3d& e0,
+                          const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const std::int8_t* nloc, const int* fn,
+                          Eigen::Matrix<double, 18, 1>& g) const;
   void addCurvatureOfB(int f, const Eigen::Vector3d& e0,
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 12>* M,
                        const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
