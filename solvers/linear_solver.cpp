@@ -78,6 +78,7 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
   }
   const bool analyze = !analyzed_ || patternVersion != analyzedVersion_;
   factorValid_ = false;
+  solvingVersion_ = patternVersion;
   double shift = 0.0;
   std::ostringstream retries;
   const int maxRetries = maxRegularizations >= 0 ? maxRegularizations : options_.maxRegularizations;

@@ -17,6 +17,7 @@
 #include <Eigen/Sparse>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -70,6 +71,10 @@ struct LinearSolveReport {
   int numericFactorizations = 0;      // Cholesky factorizations done (direct, or the lagged preconditioner)
   double factorizationSeconds = 0.0;  // analysis + numeric factorization, or preconditioner set-up
   double solveSeconds = 0.0;          // triangular solves, or CG iterations
+  /// The preconditioner was factored ahead, while the Hessian's wide terms were assembled
+  /// (LinearSolver::preparePreconditioner); its time is inside the assembly's, not in factorizationSeconds.
+  bool preparedPreconditioner = false;
+  double preparedSeconds = 0.0;       // that factorization's own time (overlapped)
   std::string message;                // why it failed, or what was retried
 };
 
@@ -96,6 +101,32 @@ class LinearSolver {
   /// (iterative solvers), the last solve failed, or patternVersion is not the one that factor was taken on.
   bool solveWithLastFactor(std::uint64_t patternVersion, const Eigen::VectorXd& b, Eigen::VectorXd& x);
 
+  /// Preconditioning ahead of the solve, overlapped with assembly. Called while `upper` (the assembler's matrix,
+  /// of pattern `patternVersion`) holds only the terms with narrow stencils (at most one triangle: membrane,
+  /// inertia, vertex and pair contacts); the wide ones (bending, two-ring stencils) are still to be added. A
+  /// solver that can use it copies what it needs now and, with factorAhead, returns a task that builds its
+  /// preconditioner for the coming solve, to run while the wide terms are assembled; the next solve() then uses
+  /// that preconditioner (at shift 0; a shifted retry sets up its own). Without factorAhead it only records, and
+  /// the coming solve sets its preconditioner up from the whole matrix as usual. Returns an empty function when
+  /// there is no task (the default: solvers with no use for it).
+  /// The one-ring preconditioner (solvers/pcg_solver.cpp) factors the narrow part's one-ring entries plus the
+  /// wide terms' one-ring part from the previous solve of the same Newton solve: the wide terms lag by one
+  /// iteration in the preconditioner only; CG still solves with the whole current Hessian, so the direction is
+  /// the same to CG's tolerance.
+  virtual std::function<void()> preparePreconditioner(const Eigen::SparseMatrix<double>& upper,
+                                                      std::uint64_t patternVersion, bool factorAhead) {
+    (void)upper;
+    (void)patternVersion;
+    (void)factorAhead;
+    return {};
+  }
+  /// Forgets a prepared preconditioner not yet used and what earlier solves left for the next one (the wide
+  /// terms' lagged part), so that a solve depends on nothing before it (a Newton solve calls it when it starts,
+  /// so a run resumed from a checkpoint repeats the uninterrupted one bit for bit, and when it ends, so a later
+  /// solve of another matrix does not take the preconditioner prepared for its last assembly). The first
+  /// prepared preconditioner after it is the narrow part alone.
+  virtual void forgetPreparationHistory() {}
+
   /// nnz(L), flops and ordering of the last symbolic analysis of a Cholesky factor (zeros when the solver has
   /// none).
   virtual FactorStatistics factorStatistics() const { return {}; }
@@ -114,6 +145,8 @@ class LinearSolver {
  protected:
   explicit LinearSolver(const LinearSolverOptions& options) : options_(options) {}
   const LinearSolverOptions& options() const { return options_; }
+  /// The pattern version of the solve in progress (for attempt()).
+  std::uint64_t solvingPatternVersion() const { return solvingVersion_; }
 
   /// Failed: a shift may help (e.g. CG did not converge). Fatal: it will not (e.g. out of memory).
   enum class Attempt { Ok, NotPositiveDefinite, Failed, Fatal };
@@ -127,6 +160,7 @@ class LinearSolver {
  private:
   LinearSolverOptions options_;
   std::uint64_t analyzedVersion_ = 0;
+  std::uint64_t solvingVersion_ = 0;
   bool analyzed_ = false;
   bool factorValid_ = false;  // the last solve() succeeded (solveWithLastFactor)
   int analyses_ = 0;

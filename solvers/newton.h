@@ -92,6 +92,16 @@ struct NewtonOptions {
   /// is judged as always, on the true gradient. Direct solvers only (others keep no factor: plain Newton).
   bool reuseFactor = false;
   double reuseContraction = 0.5;
+  /// Overlap the preconditioner's factorization with the assembly (Objective::evaluate's narrow hook and
+  /// LinearSolver::preparePreconditioner): the terms of narrow stencils are assembled first, then the one-ring
+  /// factor of their part plus the wide terms' part from the solve's previous iteration is computed on one thread
+  /// while the wide terms (bending) are assembled on the others. The first iteration of a solve, and the projected
+  /// retry after an indefinite one, factor the whole one-ring part after the assembly as before: that
+  /// factorization failing is what detects an indefinite unprojected Hessian. Nothing crosses from one solve to
+  /// the next. Only solvers that prepare (PCG with the one-ring factor) do anything with it, and only with at
+  /// least two OpenMP threads (on one there is nothing to overlap with). CG solves with the whole current
+  /// Hessian either way.
+  bool overlapPreconditioner = true;
 };
 
 /// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.

@@ -2,10 +2,14 @@
 
 #include "core/mesh.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <sstream>
+#include <thread>
 
 namespace jetshell {
 
@@ -40,7 +44,8 @@ void Objective::finalize() {
 }
 
 double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, bool hessian,
-                           const EvalOptions& options, TermSelection selection) {
+                           const EvalOptions& options, TermSelection selection,
+                           const NarrowAssembledHook& narrowAssembled) {
   if (x.size() != numDofs()) throw InputError("objective: x has the wrong size");
   using Clock = std::chrono::steady_clock;
   const auto stencilStart = Clock::now();
@@ -68,12 +73,12 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
     potentialsFirst = false;
   };
   double total = 0.0;
-  for (std::size_t i = 0; i < terms_.size(); ++i) {
+  auto evaluateTerm = [&](std::size_t i) {
     Entry& e = terms_[i];
     if (e.role != TermRole::Potential && potentialsFirst) keepPotentialGradient();
     if (selection == TermSelection::PotentialOnly && e.role != TermRole::Potential) {
       termEnergies_[i] = 0.0;
-      continue;
+      return;
     }
     if (e.role == TermRole::Potential && gradient != nullptr) potentialGradientValid_ = false;  // interleaved
     EvalRequest request{gradient, hessian && e.slot >= 0 ? &assembler_ : nullptr, e.slot};
@@ -84,6 +89,46 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
     termEnergies_[i] = e.term->evaluate(x, request, termOptions);
     termSeconds_[i] += std::chrono::duration<double>(Clock::now() - termStart).count();
     total += termEnergies_[i];
+  };
+  if (!hessian || !narrowAssembled) {
+    for (std::size_t i = 0; i < terms_.size(); ++i) evaluateTerm(i);
+  } else {
+    auto narrow = [&](std::size_t i) { return terms_[i].slot < 0 || terms_[i].blockDofs <= kNarrowBlockDofs; };
+    for (std::size_t i = 0; i < terms_.size(); ++i)
+      if (narrow(i)) evaluateTerm(i);
+    const std::function<void()> task = narrowAssembled(assembler_);
+    auto evaluateWide = [&] {
+      for (std::size_t i = 0; i < terms_.size(); ++i)
+        if (!narrow(i)) evaluateTerm(i);
+    };
+    const int threads = omp_get_max_threads();
+    if (!task) {
+      evaluateWide();
+    } else if (threads < 2) {
+      task();
+      evaluateWide();
+    } else {
+      // The task takes one core, the wide terms the rest.
+      std::exception_ptr taskError;
+      std::thread worker([&task, &taskError] {
+        try {
+          task();
+        } catch (...) {
+          taskError = std::current_exception();
+        }
+      });
+      omp_set_num_threads(threads - 1);
+      std::exception_ptr wideError;
+      try {
+        evaluateWide();
+      } catch (...) {
+        wideError = std::current_exception();
+      }
+      omp_set_num_threads(threads);
+      worker.join();
+      if (wideError) std::rethrow_exception(wideError);
+      if (taskError) std::rethrow_exception(taskError);
+    }
   }
   if (potentialsFirst) keepPotentialGradient();
   if (gradient != nullptr) zeroFixed(*gradient);

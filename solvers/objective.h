@@ -65,11 +65,22 @@ class Objective {
   void finalize();
   bool finalized() const { return assembler_.finalized(); }
 
+  /// Work to overlap with the assembly of the wide terms: called with the assembler holding the narrow terms'
+  /// part of the Hessian, it returns a task (or an empty function). See evaluate().
+  using NarrowAssembledHook = std::function<std::function<void()>(const HessianAssembler&)>;
+  /// Element blocks of at most this many dofs (one triangle) make a term narrow.
+  static constexpr int kNarrowBlockDofs = 9;
+
   /// Energy at x (size 3N) of the selected terms. When gradient is non-null it is overwritten (size 3N) with
   /// the gradient, fixed entries zeroed. When hessian is true the assembler's matrix is refilled (upper
   /// triangle; fixed dofs identity). Per-term energies are kept for reports (termEnergies()).
+  /// With a Hessian and narrowAssembled: the narrow terms (element blocks of at most kNarrowBlockDofs dofs, or
+  /// no Hessian) are evaluated first; narrowAssembled is then called, and the task it returns runs on a thread of
+  /// its own while the wide terms (bending) are evaluated on the remaining OpenMP threads (with one OpenMP
+  /// thread, before them). Exceptions of the task are rethrown here. Energy and gradient are summed in that
+  /// order (round-off aside, the same values).
   double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, bool hessian, const EvalOptions& options,
-                  TermSelection selection = TermSelection::All);
+                  TermSelection selection = TermSelection::All, const NarrowAssembledHook& narrowAssembled = {});
 
   /// The Potential terms' gradient (fixed entries zeroed) from the last evaluate() that asked for a gradient, when
   /// that evaluation was taken at exactly x (every entry equal) with derivative path `path`; null otherwise. It is the

@@ -45,6 +45,8 @@ class OneRingPlan {
   /// The one-ring part of upper, whose pattern must be the planned one. The pattern of the result is fixed
   /// between plans.
   const Eigen::SparseMatrix<double>& apply(const Eigen::SparseMatrix<double>& upper);
+  /// The last apply()'s result.
+  const Eigen::SparseMatrix<double>& result() const { return result_; }
 
  private:
   bool planned_ = false;

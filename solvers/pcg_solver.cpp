@@ -21,7 +21,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace jetshell {
 namespace {
@@ -39,14 +42,114 @@ class PcgSolver : public LinearSolver {
                   Eigen::VectorXd& x, LinearSolveReport& report) override {
     if (options().preconditioner == Preconditioner::LaggedCholesky) return laggedAttempt(upper, analyze, shift, b, x, report);
     Timer timer;
-    const bool ready = setUpPreconditioner(upper, analyze, shift, report);
-    report.factorizationSeconds += timer.seconds();
-    if (!ready) return Attempt::NotPositiveDefinite;
+    const bool usePrepared = takePrepared(upper, shift, analyze, report);
+    if (!usePrepared) {
+      const bool ready = setUpPreconditioner(upper, analyze, shift, report);
+      report.factorizationSeconds += timer.seconds();
+      if (!ready) return Attempt::NotPositiveDefinite;
+    }
+    if (narrowValid_) updateWideLag(upper, !usePrepared);
 
     timer.reset();
     const Attempt a = iterate(upper, shift, b, x, options().cgMaxIterations, report);
     report.solveSeconds += timer.seconds();
     return a;
+  }
+
+ public:
+  std::function<void()> preparePreconditioner(const Eigen::SparseMatrix<double>& upper,
+                                              std::uint64_t patternVersion, bool factorAhead) override {
+    prepared_ = false;
+    narrowValid_ = false;
+    if (options().preconditioner != Preconditioner::OneRingCholesky || !options().oneRing ||
+        options().oneRing->empty() || upper.rows() != 3 * options().oneRing->numVertices())
+      return {};
+    if (!oneRingPlan_.planned() || planVersion_ != patternVersion) planOneRing(upper, patternVersion);
+    const Eigen::SparseMatrix<double>& narrow = oneRingPlan_.apply(upper);
+    const auto nnz = static_cast<std::size_t>(narrow.nonZeros());
+    narrowValues_.assign(narrow.valuePtr(), narrow.valuePtr() + nnz);
+    narrowValid_ = true;
+    if (!factorAhead) return {};
+    preparedMatrix_ = narrow;
+    if (wideLag_.size() == nnz) {
+      double* v = preparedMatrix_.valuePtr();
+      for (std::size_t q = 0; q < nnz; ++q) v[q] += wideLag_[q];
+    }
+    preparedVersion_ = patternVersion;
+    return [this] {
+      const Timer timer;
+      preparedAnalyzed_ = ringChanged_ || !factor_.analyzed();
+      preparedMessage_.clear();
+      preparedOk_ = factorOneRing(preparedMatrix_, 0.0, preparedMessage_);
+      preparedSeconds_ = timer.seconds();
+      prepared_ = true;
+    };
+  }
+
+  void forgetPreparationHistory() override {
+    wideLag_.clear();
+    narrowValid_ = false;
+    prepared_ = false;
+  }
+
+ private:
+  /// Whether this attempt uses the factor prepared during assembly (shift 0, the same pattern, and the prepared
+  /// factorization succeeded). Consumes it either way.
+  bool takePrepared(const Eigen::SparseMatrix<double>& upper, double shift, bool analyze, LinearSolveReport& report) {
+    if (!prepared_) return false;
+    prepared_ = false;
+    if (shift != 0.0 || preparedVersion_ != solvingPatternVersion() || upper.rows() != preparedMatrix_.rows())
+      return false;
+    ++report.numericFactorizations;
+    report.preparedPreconditioner = true;
+    report.preparedSeconds = preparedSeconds_;
+    if (!preparedOk_) return false;  // the whole one-ring part is factored instead, at once
+    if (analyze) report.analysisReused = !preparedAnalyzed_;
+    return true;
+  }
+
+  /// The wide terms' one-ring part of this solve's H (its one-ring part minus the narrow part gathered by
+  /// preparePreconditioner), for the next prepared preconditioner.
+  /// gathered: the plan's result already holds upper's one-ring part (the set-up just filtered it).
+  void updateWideLag(const Eigen::SparseMatrix<double>& upper, bool gathered) {
+    narrowValid_ = false;
+    if (!oneRingPlan_.planned() || planVersion_ != solvingPatternVersion()) return;
+    const Eigen::SparseMatrix<double>& full = gathered ? oneRingPlan_.result() : oneRingPlan_.apply(upper);
+    const std::size_t nnz = narrowValues_.size();
+    if (static_cast<std::size_t>(full.nonZeros()) != nnz) return;
+    wideLag_.resize(nnz);
+    const double* v = full.valuePtr();
+    for (std::size_t q = 0; q < nnz; ++q) wideLag_[q] = v[q] - narrowValues_[q];
+  }
+
+  /// Plans the one-ring filter for H's pattern (version). A filtered pattern other than the analysed one asks
+  /// for a new analysis and drops the wide terms' lagged part.
+  void planOneRing(const Eigen::SparseMatrix<double>& H, std::uint64_t version) {
+    oneRingPlan_.plan(*options().oneRing, H);
+    planVersion_ = version;
+    const Eigen::SparseMatrix<double>& ring = oneRingPlan_.apply(H);
+    if (!factor_.analyzed() || !sameSparsity(ring, analyzedPattern_)) {
+      ringChanged_ = true;
+      wideLag_.clear();
+    }
+  }
+
+  /// Factors the one-ring matrix (+ shift), analysing its pattern first when it changed.
+  bool factorOneRing(const Eigen::SparseMatrix<double>& oneRing, double shift, std::string& message) {
+    using Status = CholmodFactor::Status;
+    if (ringChanged_ || !factor_.analyzed()) {
+      if (factor_.analyze(oneRing) != Status::Ok) {
+        message = factor_.message();
+        return false;
+      }
+      analyzedPattern_ = oneRing;
+      ringChanged_ = false;
+    }
+    if (factor_.factorize(oneRing, shift) != Status::Ok) {
+      message = "one-ring factor: " + factor_.message();
+      return false;
+    }
+    return true;
   }
 
  private:
@@ -153,32 +256,15 @@ class PcgSolver : public LinearSolver {
         return true;
       }
       case Preconditioner::OneRingCholesky: {
-        using Status = CholmodFactor::Status;
         if (!options().oneRing || options().oneRing->empty())
           throw std::invalid_argument("one_ring_cholesky preconditioner without the mesh's adjacency");
-        // The plan follows H's pattern: re-planned whenever that pattern is new (analyze), values gathered always.
-        if (analyze || !oneRingPlan_.planned()) oneRingPlan_.plan(*options().oneRing, H);
+        // The plan follows H's pattern: re-planned whenever that pattern is new, values gathered always.
+        if (analyze || !oneRingPlan_.planned() || planVersion_ != solvingPatternVersion())
+          planOneRing(H, solvingPatternVersion());
         const Eigen::SparseMatrix<double>& oneRing = oneRingPlan_.apply(H);
-        // The one-ring part's pattern is the mesh's: contact pairs between distant vertices change H's pattern
-        // but not this one, so the analysis is redone only when the filtered pattern itself changed. Its
-        // pattern follows H's alone, so it is compared only when H's pattern is new.
-        const bool samePattern =
-            factor_.analyzed() && (!analyze || sameSparsity(oneRing, analyzedPattern_));
-        if (!samePattern) {
-          if (factor_.analyze(oneRing) != Status::Ok) {
-            report.message = factor_.message();
-            return false;
-          }
-          analyzedPattern_ = oneRing;
-        } else if (analyze) {
-          report.analysisReused = true;
-        }
+        if (analyze && !ringChanged_ && factor_.analyzed()) report.analysisReused = true;
         ++report.numericFactorizations;
-        if (factor_.factorize(oneRing, shift) != Status::Ok) {
-          report.message = "one-ring factor: " + factor_.message();
-          return false;
-        }
-        return true;
+        return factorOneRing(oneRing, shift, report.message);
       }
       case Preconditioner::LaggedCholesky: break;  // laggedAttempt
     }
@@ -256,7 +342,18 @@ class PcgSolver : public LinearSolver {
   bool icAnalyzed_ = false;
   Eigen::SparseMatrix<double> shifted_;
   OneRingPlan oneRingPlan_;
+  std::uint64_t planVersion_ = 0;  // H's pattern version the plan was made for
+  bool ringChanged_ = false;       // the planned one-ring pattern is not the analysed one
   Eigen::SparseMatrix<double> analyzedPattern_;  // the one-ring matrix the factor was last analysed for
+  // Preconditioning ahead (preparePreconditioner): the narrow terms' one-ring values of the coming solve, the
+  // wide terms' one-ring part of the last solve (same positions), and the prepared matrix and its outcome.
+  std::vector<double> narrowValues_, wideLag_;
+  bool narrowValid_ = false;
+  Eigen::SparseMatrix<double> preparedMatrix_;
+  std::uint64_t preparedVersion_ = 0;
+  bool prepared_ = false, preparedOk_ = false, preparedAnalyzed_ = false;
+  double preparedSeconds_ = 0.0;
+  std::string preparedMessage_;  // why the prepared factorization failed
   CholmodFactor factor_;
   SymmetricProduct product_;
 };

@@ -34,6 +34,9 @@ struct IterationRecord {
   bool exactHessian = false;  // the step used the unprojected Hessian
   double assemblySeconds = 0.0;
   double factorizationSeconds = 0.0;
+  /// The preconditioner's factorization run during the assembly (NewtonOptions::overlapPreconditioner): its
+  /// own time, inside assemblySeconds' wall time and not in factorizationSeconds.
+  double overlappedFactorizationSeconds = 0.0;
   double solveSeconds = 0.0;
   double lineSearchSeconds = 0.0;
 };
