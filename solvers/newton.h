@@ -85,6 +85,13 @@ struct NewtonOptions {
   /// Measured (BENCHMARKS.md, Dynamics, Session 6): a settling cloth passes at the start of 68 of 300 steps, 23%
   /// of its Hessians; no step of the falling cloth does.
   bool gradientFirstStart = true;
+  /// Modified Newton: an iteration first solves with the factor the last factored iteration left (kept across
+  /// minimize() calls: the steps of a time integration or a relaxation), with no Hessian assembled and nothing
+  /// factored, and assembles and factors only when that direction does not descend, its line search fails, or
+  /// the iterate it gives has not shrunk the residual to reuseContraction × the residual before it. Convergence
+  /// is judged as always, on the true gradient. Direct solvers only (others keep no factor: plain Newton).
+  bool reuseFactor = false;
+  double reuseContraction = 0.5;
   /// Overlap the preconditioner's factorization with the assembly (Objective::evaluate's narrow hook and
   /// LinearSolver::preparePreconditioner): the terms of narrow stencils are assembled first, then the one-ring
   /// factor of their part plus the wide terms' part from the solve's previous iteration is computed on one thread
@@ -133,6 +140,7 @@ class NewtonSolver {
   std::unique_ptr<LinearSolver> linear_;
   IterateTest iterateTest_;
   int solvesSinceStartPass_ = kStartPassMemory;  // minimize() calls since one converged without an iteration
+  bool factorReusable_ = false;  // reuseFactor: the linear solver's last factor may serve the next direction
 };
 
 }  // namespace jetshell
