@@ -71,6 +71,8 @@ class EnergyTerm {
   virtual void updateStencils(const Eigen::VectorXd& /*x*/) {}
   /// Changes whenever stencils() changed.
   virtual std::uint64_t stencilVersion() const { return 0; }
+  /// True for such terms (their stencils, and so the Hessian's pattern, may change between evaluations).
+  virtual bool stencilsFollowConfiguration() const { return false; }
 
   // Parameters as differentiable inputs (fitting, sensitivities). A term exposes the constants its energy is
   // a smooth function of (λ, μ, α, β, density, damping coefficients, load magnitudes, contact stiffness, ...)

@@ -39,6 +39,9 @@ class CholmodSolver : public LinearSolver {
     }
     return Attempt::Ok;
   }
+  bool solveWithFactor(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    return factor_.factorized() && factor_.solve(b, x) == CholmodFactor::Status::Ok;
+  }
 
  private:
   CholmodFactor factor_;

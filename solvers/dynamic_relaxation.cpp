@@ -20,6 +20,11 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   d.integrator = TimeIntegrator::BackwardEuler;
   d.timeStep = o.timeStep;
   d.newton = o.newton;
+  // Only CHOLMOD keeps a factor to reuse (LinearSolver::solveWithLastFactor); other solvers stay plain Newton.
+  const LinearSolverType type = o.newton.linear.type;
+  const bool cholmod = type == LinearSolverType::Cholmod ||
+                       (type == LinearSolverType::Auto && x.size() <= o.newton.linear.autoDirectMaxDofs);
+  if (o.reuseFactor && cholmod) d.newton.reuseFactor = true;
   d.massDampingOverride = alpha;
   DynamicsSolver solver(system, d);
   solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
@@ -29,11 +34,20 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   result.activeTerms = system.objective().activeTermNames();
   Objective& obj = system.objective();
   Eigen::VectorXd g;
-  auto staticResidual = [&]() {
-    obj.evaluate(solver.positions(), &g, false, EvalOptions{}, TermSelection::PotentialOnly);
+  const EvalOptions evalOptions{o.newton.derivatives};
+  // After a step, nothing changed the terms since its Newton solve took its last gradient at the accepted
+  // positions: that gradient's potential part is the static residual.
+  auto staticResidual = [&](bool afterStep) {
+    const Eigen::VectorXd* last =
+        afterStep && o.reuseStepGradient ? obj.lastPotentialGradient(solver.positions(), evalOptions.path) : nullptr;
+    if (last != nullptr) {
+      ++result.reusedGradients;
+      return last->lpNorm<Eigen::Infinity>();
+    }
+    obj.evaluate(solver.positions(), &g, false, evalOptions, TermSelection::PotentialOnly);
     return g.lpNorm<Eigen::Infinity>();
   };
-  const double r0 = staticResidual();
+  const double r0 = staticResidual(false);
   const ForceScale F = obj.forceScale(solver.positions(), r0);
   result.forceScale = F.value;
   result.forceScaleSource = F.source;
@@ -55,7 +69,7 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
     ++result.steps;
     result.pseudoTime = solver.time();
     x = solver.positions();
-    result.staticResidual = staticResidual();
+    result.staticResidual = staticResidual(true);
     result.residualHistory.push_back(result.staticResidual);
     const bool converged = result.staticResidual <= result.residualThreshold;
     if (callback && !callback(r, result.staticResidual) && !converged) {

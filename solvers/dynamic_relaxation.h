@@ -22,6 +22,16 @@ struct RelaxationOptions {
   int maxSteps = 10000;
   double residualTolerance = 1e-6;  // static residual ‖g‖∞ ≤ tolerance × force scale [N]
   double loadFactor = 1.0;          // λ for the nodal forces
+  /// Take each step's static residual from the gradient the step's Newton solve already evaluated at its last
+  /// iterate (Objective::lastPotentialGradient) instead of evaluating the potential terms again; false: always
+  /// evaluate them (the same residual, one more gradient per step).
+  bool reuseStepGradient = true;
+  /// Modified Newton in every step (NewtonOptions::reuseFactor, set here over newton's): a relaxation's Hessian
+  /// changes slowly, so a step's Newton iterations start from the factor an earlier step left and assemble and
+  /// factor anew only when it stops contracting. Each step still meets the same Newton tests. With CHOLMOD only
+  /// (newton.linear Cholmod, or Auto resolving to it): other solvers keep no factor. false: newton's own setting
+  /// (a fresh Hessian and factor at every iteration by default).
+  bool reuseFactor = true;
   NewtonOptions newton;
 };
 
@@ -37,6 +47,7 @@ struct RelaxationResult {
   std::vector<double> residualHistory;  // after each step
   int newtonIterations = 0;
   int cuts = 0;
+  int reusedGradients = 0;  // static residuals read from the step's own last gradient (reuseStepGradient)
   std::vector<std::string> activeTerms;
   std::string message;
 };

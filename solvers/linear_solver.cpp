@@ -77,6 +77,7 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
     return report;
   }
   const bool analyze = !analyzed_ || patternVersion != analyzedVersion_;
+  factorValid_ = false;
   solvingVersion_ = patternVersion;
   double shift = 0.0;
   std::ostringstream retries;
@@ -96,6 +97,7 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
     }
     if (a == Attempt::Ok && x.allFinite()) {
       report.success = true;
+      factorValid_ = true;
       report.shift = shift;
       if (k > 0) {
         std::ostringstream s;
@@ -112,6 +114,11 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
   report.success = false;
   report.message = "linear solve failed: " + retries.str();
   return report;
+}
+
+bool LinearSolver::solveWithLastFactor(std::uint64_t patternVersion, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (!factorValid_ || patternVersion != analyzedVersion_ || !b.allFinite()) return false;
+  return solveWithFactor(b, x) && x.allFinite();
 }
 
 std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions& options, int numDofs) {

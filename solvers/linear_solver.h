@@ -96,6 +96,11 @@ class LinearSolver {
     return solve(assembler.matrix(), assembler.patternVersion(), b, x, &assembler.fixedDof(), maxRegularizations);
   }
 
+  /// Solves H x = b with the factor the last successful solve() left, without assembling or factoring anything
+  /// (modified Newton, NewtonOptions::reuseFactor). False, x unspecified, when the solver keeps no factor
+  /// (iterative solvers), the last solve failed, or patternVersion is not the one that factor was taken on.
+  bool solveWithLastFactor(std::uint64_t patternVersion, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+
   /// Preconditioning ahead of the solve, overlapped with assembly. Called while `upper` (the assembler's matrix,
   /// of pattern `patternVersion`) holds only the terms with narrow stencils (at most one triangle: membrane,
   /// inertia, vertex and pair contacts); the wide ones (bending, two-ring stencils) are still to be added. A
@@ -149,12 +154,15 @@ class LinearSolver {
   /// add their phase times to the report, and put a reason into report.message when they fail.
   virtual Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift,
                           const Eigen::VectorXd& b, Eigen::VectorXd& x, LinearSolveReport& report) = 0;
+  /// x = the last successful attempt's factor applied to b; false when the solver keeps none.
+  virtual bool solveWithFactor(const Eigen::VectorXd& /*b*/, Eigen::VectorXd& /*x*/) { return false; }
 
  private:
   LinearSolverOptions options_;
   std::uint64_t analyzedVersion_ = 0;
   std::uint64_t solvingVersion_ = 0;
   bool analyzed_ = false;
+  bool factorValid_ = false;  // the last solve() succeeded (solveWithLastFactor)
   int analyses_ = 0;
   double relativeTolerance_ = 0.0;
 };

@@ -54,7 +54,10 @@ NewtonSolver::NewtonSolver(Objective& objective, const NewtonOptions& options)
 void NewtonSolver::setOptions(const NewtonOptions& options) {
   const bool keepLinear = sameLinearOptions(options.linear, options_.linear);
   options_ = options;
-  if (!keepLinear) linear_ = makeLinearSolver(options_.linear, objective_.numDofs());
+  if (!keepLinear) {
+    linear_ = makeLinearSolver(options_.linear, objective_.numDofs());
+    factorReusable_ = false;
+  }
 }
 
 SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
@@ -121,7 +124,10 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   // T-shirt's landing, measured, then went 8.6 mm below the plane instead of 0.5 mm).
   linear_->forgetPreparationHistory();  // a solve depends on nothing before it
   // With one thread there is nothing to overlap with: the plain preconditioner of the whole Hessian is better.
-  const bool overlap = o.overlapPreconditioner && omp_get_max_threads() >= 2;
+  // Nor with moving contacts: measured on the T-shirt, whose pattern changes at almost every iteration, a
+  // preconditioner with the wide part of another iterate took 1 283 CG iterations instead of 1 094 over 30
+  // steps, and bending on one thread cost more than the factorizations saved (0.86-0.93x the steps per second).
+  const bool overlap = o.overlapPreconditioner && omp_get_max_threads() >= 2 && !obj.hasMovingStencils();
   auto assemble = [&](bool withExact, IterationRecord& rec, bool factorAhead) {
     const Timer t;
     Objective::NarrowAssembledHook prepare;
@@ -159,13 +165,16 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     return p;
   };
 
+  bool lastStepReused = false;  // reuseFactor: the last step's direction came from an earlier factor
+  double residualBeforeStep = 0.0;
   for (int k = 0;; ++k) {
     IterationRecord rec;
     rec.iteration = k;
     const bool useExact = adaptive && (tryExact || o.exactHessianFirst) && exactCooldown == 0;
     if (exactCooldown > 0) --exactCooldown;
     const bool gradientFirst = k > 0 || (o.gradientFirstStart && solvesSinceStartPass_ < kStartPassMemory);
-    if (have == Have::Nothing && iterateTest_ && gradientFirst) {
+    const bool mayReuse = o.reuseFactor && factorReusable_;
+    if (have == Have::Nothing && ((iterateTest_ && gradientFirst) || mayReuse)) {
       // The iterate test may end the solve here: the gradient first, the Hessian only if it is needed.
       const Timer t;
       E = obj.evaluate(x, &g, false, projected);
@@ -176,6 +185,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     }
     if (have == Have::Nothing) assemble(useExact, rec, k > 0);
     r = infNorm(g);
+    if (lastStepReused && !(r <= o.reuseContraction * residualBeforeStep)) factorReusable_ = false;
+    lastStepReused = false;
     if (!std::isfinite(E) || !g.allFinite()) {
       s.assemblySeconds += rec.assemblySeconds;
       return finish(TerminationReason::NonFinite, "non-finite energy or gradient at iteration " + std::to_string(k));
@@ -228,8 +239,19 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
           << " N: the loads move the shell by less than its positions' round-off";
       return finish(TerminationReason::IterationCap, m.str());
     }
-    if (have != Have::Hessian || haveExact != useExact) assemble(useExact, rec, k > 0);
-    updateFloor();
+    // Modified Newton: the direction from the last factor, nothing assembled (NewtonOptions::reuseFactor).
+    bool reused = false;
+    if (o.reuseFactor && factorReusable_ && have != Have::Hessian) {
+      const Timer t;
+      if (linear_->solveWithLastFactor(obj.assembler().patternVersion(), -g, d)) {
+        obj.zeroFixed(d);
+        reused = g.dot(d) < 0.0;
+      }
+      rec.solveSeconds += t.seconds();
+      factorReusable_ = reused;
+    }
+    if (!reused && (have != Have::Hessian || haveExact != useExact)) assemble(useExact, rec, k > 0);
+    if (!reused) updateFloor();
 
     // Newton direction. An unprojected Hessian gets no regularization: if it is indefinite, the projected one
     // is the better fix.
@@ -249,7 +271,9 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       previousGradientNorm = gNorm;
       linear_->setRelativeTolerance(forcing);
     }
-    LinearSolveReport lin = linear_->solve(obj.assembler(), b, d, haveExact ? 0 : -1);
+    LinearSolveReport lin;
+    lin.success = reused;
+    if (!reused) lin = linear_->solve(obj.assembler(), b, d, haveExact ? 0 : -1);
     bool exactFailed = haveExact && !lin.success;
     if (haveExact && lin.success) {
       // CG can finish on an indefinite system without meeting negative curvature: a direction that does not
@@ -289,7 +313,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       s.trace.push_back(rec);
       return finish(TerminationReason::LinearSolverFailure, lin.message);
     }
-    if (haveExact) ++s.exactHessianSteps;
+    factorReusable_ = true;
+    if (haveExact && !reused) ++s.exactHessianSteps;
     obj.zeroFixed(d);
     double slope = g.dot(d);
     bool newtonDirection = true;
@@ -306,7 +331,9 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     const double noise = 1e-13 * obj.energyMagnitude();
 
     const Timer ls;
-    if (decrement <= decrementThreshold) {
+    // (An old factor's decrement is only an estimate: its step goes through the line search, whose failure, or a
+    // residual that does not shrink, brings a fresh factor.)
+    if (decrement <= decrementThreshold && !reused) {
       // The step releases next to no energy. Take it if it does not raise the energy beyond round-off; then the
       // residual decides. A residual still above its tolerance after such a step will not improve: stalled.
       const LineSearchPoint p = evaluateTrial(1.0, true);
@@ -359,6 +386,11 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.lineSearchEvaluations = res.evaluations;
     rec.lineSearchSeconds = ls.seconds();
     s.lineSearchSeconds += rec.lineSearchSeconds;
+    if (!res.success && reused) {
+      factorReusable_ = false;  // the old factor's direction failed: the same iterate again, with a fresh one
+      s.trace.push_back(rec);
+      continue;
+    }
     if (!res.success) {
       s.trace.push_back(rec);
       return finish(res.allNonFinite ? TerminationReason::NonFinite : TerminationReason::LineSearchFailure,
@@ -369,6 +401,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.stepLength = alpha;
     s.trace.push_back(rec);
     ++s.iterations;
+    lastStepReused = reused;
+    residualBeforeStep = r;
     // The quadratic model predicts a decrease of −½ gᵀd for the full step (with the H that was solved).
     const double ratio = (E - res.point.energy) / (decrement * bound * (2.0 - bound));
     tryExact = alpha == 1.0 && ratio >= 0.5 && ratio <= 2.0;

@@ -86,15 +86,23 @@ struct NewtonOptions {
   /// Measured (BENCHMARKS.md, Dynamics, Session 6): a settling cloth passes at the start of 68 of 300 steps, 23%
   /// of its Hessians; no step of the falling cloth does.
   bool gradientFirstStart = true;
+  /// Modified Newton: an iteration first solves with the factor the last factored iteration left (kept across
+  /// minimize() calls: the steps of a time integration or a relaxation), with no Hessian assembled and nothing
+  /// factored, and assembles and factors only when that direction does not descend, its line search fails, or
+  /// the iterate it gives has not shrunk the residual to reuseContraction × the residual before it. Convergence
+  /// is judged as always, on the true gradient. Direct solvers only (others keep no factor: plain Newton).
+  bool reuseFactor = false;
+  double reuseContraction = 0.5;
   /// Overlap the preconditioner's factorization with the assembly (Objective::evaluate's narrow hook and
   /// LinearSolver::preparePreconditioner): the terms of narrow stencils are assembled first, then the one-ring
   /// factor of their part plus the wide terms' part from the solve's previous iteration is computed on one thread
   /// while the wide terms (bending) are assembled on the others. The first iteration of a solve, and the projected
   /// retry after an indefinite one, factor the whole one-ring part after the assembly as before: that
   /// factorization failing is what detects an indefinite unprojected Hessian. Nothing crosses from one solve to
-  /// the next. Only solvers that prepare (PCG with the one-ring factor) do anything with it, and only with at
-  /// least two OpenMP threads (on one there is nothing to overlap with). CG solves with the whole current
-  /// Hessian either way.
+  /// the next. Only solvers that prepare (PCG with the one-ring factor) do anything with it, only with at least
+  /// two OpenMP threads (on one there is nothing to overlap with), and not for objectives whose stencils follow
+  /// the configuration (moving contacts change the pattern at almost every iteration: measured slower, see
+  /// newton.cpp). CG solves with the whole current Hessian either way.
   bool overlapPreconditioner = true;
 };
 
@@ -142,6 +150,7 @@ class NewtonSolver {
   std::unique_ptr<LinearSolver> linear_;
   IterateTest iterateTest_;
   int solvesSinceStartPass_ = kStartPassMemory;  // minimize() calls since one converged without an iteration
+  bool factorReusable_ = false;  // reuseFactor: the linear solver's last factor may serve the next direction
 };
 
 }  // namespace jetshell

@@ -61,13 +61,26 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
   finalize();
   if (gradient != nullptr) gradient->setZero(numDofs());
   if (hessian) assembler_.setZero();
+  // The Potential terms' partial sum is kept when they all come first (lastPotentialGradient()).
+  bool potentialsFirst = gradient != nullptr;
+  if (gradient != nullptr) potentialGradientValid_ = false;
+  auto keepPotentialGradient = [&]() {
+    potentialGradient_ = *gradient;
+    zeroFixed(potentialGradient_);
+    potentialGradientX_ = x;
+    potentialGradientPath_ = options.path;
+    potentialGradientValid_ = true;
+    potentialsFirst = false;
+  };
   double total = 0.0;
   auto evaluateTerm = [&](std::size_t i) {
     Entry& e = terms_[i];
+    if (e.role != TermRole::Potential && potentialsFirst) keepPotentialGradient();
     if (selection == TermSelection::PotentialOnly && e.role != TermRole::Potential) {
       termEnergies_[i] = 0.0;
       return;
     }
+    if (e.role == TermRole::Potential && gradient != nullptr) potentialGradientValid_ = false;  // interleaved
     EvalRequest request{gradient, hessian && e.slot >= 0 ? &assembler_ : nullptr, e.slot};
     const auto termStart = Clock::now();
     EvalOptions termOptions = options;
@@ -117,8 +130,18 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
       if (taskError) std::rethrow_exception(taskError);
     }
   }
+  if (potentialsFirst) keepPotentialGradient();
   if (gradient != nullptr) zeroFixed(*gradient);
   return total;
+}
+
+const Eigen::VectorXd* Objective::lastPotentialGradient(const Eigen::VectorXd& x, DerivativePath path) const {
+  if (!potentialGradientValid_ || path != potentialGradientPath_ || x.size() != potentialGradientX_.size())
+    return nullptr;
+  // Exactly the same positions (a NaN never matches).
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    if (!(x[i] == potentialGradientX_[i])) return nullptr;
+  return &potentialGradient_;
 }
 
 void Objective::rebuildPattern() {
@@ -161,6 +184,12 @@ EnergyTermPtr Objective::term(const std::string& name) const {
   for (const Entry& e : terms_)
     if (e.term->name() == name) return e.term;
   return nullptr;
+}
+
+bool Objective::hasMovingStencils() const {
+  for (const Entry& e : terms_)
+    if (e.term->stencilsFollowConfiguration()) return true;
+  return false;
 }
 
 double Objective::energyMagnitude() const {

@@ -82,6 +82,14 @@ class Objective {
   double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, bool hessian, const EvalOptions& options,
                   TermSelection selection = TermSelection::All, const NarrowAssembledHook& narrowAssembled = {});
 
+  /// The Potential terms' gradient (fixed entries zeroed) from the last evaluate() that asked for a gradient, when
+  /// that evaluation was taken at exactly x (every entry equal) with derivative path `path`; null otherwise. It is the
+  /// static residual a time step's solver has already paid for at its last iterate (dynamic relaxation reads it
+  /// instead of evaluating the terms again). The caller must know that no term changed since (load factors,
+  /// parameters, origins): only x and the path are compared. Kept only when every Potential term comes before
+  /// every Transient term (then it is bit for bit the PotentialOnly evaluation's gradient).
+  const Eigen::VectorXd* lastPotentialGradient(const Eigen::VectorXd& x, DerivativePath path) const;
+
   /// Zeroes the entries of fixed dofs.
   void zeroFixed(Eigen::VectorXd& v) const;
   /// Writes the prescribed values at time t into x.
@@ -123,6 +131,8 @@ class Objective {
   void beginStep(const Eigen::VectorXd& xStart, double tStart, double timeStep);
   /// min(1, every step bound) at x along direction; 1 without bounds. Always in (0, 1].
   double stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& direction) const;
+  /// Whether a term's stencils follow the configuration (contact pairs), so the pattern may change.
+  bool hasMovingStencils() const;
   /// How many times the stencils were re-declared after the first finalize (moving contacts).
   int patternRebuilds() const { return patternRebuilds_; }
   /// Of these, how many built a new matrix pattern (grew it, or pruned it): each costs the linear solver a new
@@ -158,6 +168,10 @@ class Objective {
   int patternRebuilds_ = 0;
   std::vector<double> termSeconds_;
   double stencilSeconds_ = 0.0;
+  // lastPotentialGradient(): the gradient, where it was taken and how; valid only when potentialGradientValid_.
+  Eigen::VectorXd potentialGradient_, potentialGradientX_;
+  DerivativePath potentialGradientPath_ = DerivativePath::Analytic;
+  bool potentialGradientValid_ = false;
 };
 
 }  // namespace jetshell

@@ -64,7 +64,9 @@ class PcgSolver : public LinearSolver {
     if (options().preconditioner != Preconditioner::OneRingCholesky || !options().oneRing ||
         options().oneRing->empty() || upper.rows() != 3 * options().oneRing->numVertices())
       return {};
-    if (!oneRingPlan_.planned() || planVersion_ != patternVersion) planOneRing(upper, patternVersion);
+    // Only on the pattern of the last solve: a new pattern (moving contacts) is planned and analysed after the
+    // assembly as before, and nothing is recorded for it.
+    if (!oneRingPlan_.planned() || planVersion_ != patternVersion) return {};
     const Eigen::SparseMatrix<double>& narrow = oneRingPlan_.apply(upper);
     const auto nnz = static_cast<std::size_t>(narrow.nonZeros());
     narrowValues_.assign(narrow.valuePtr(), narrow.valuePtr() + nnz);
@@ -259,8 +261,7 @@ class PcgSolver : public LinearSolver {
         if (!options().oneRing || options().oneRing->empty())
           throw std::invalid_argument("one_ring_cholesky preconditioner without the mesh's adjacency");
         // The plan follows H's pattern: re-planned whenever that pattern is new, values gathered always.
-        if (analyze || !oneRingPlan_.planned() || planVersion_ != solvingPatternVersion())
-          planOneRing(H, solvingPatternVersion());
+        if (!oneRingPlan_.planned() || planVersion_ != solvingPatternVersion()) planOneRing(H, solvingPatternVersion());
         const Eigen::SparseMatrix<double>& oneRing = oneRingPlan_.apply(H);
         if (analyze && !ringChanged_ && factor_.analyzed()) report.analysisReused = true;
         ++report.numericFactorizations;

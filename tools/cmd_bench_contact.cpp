@@ -36,6 +36,7 @@ struct ContactBenchOptions {
   int threads = 0;
   std::string pattern = "exact";  // grow | exact | both
   std::string solver = "scene";   // scene | direct | both
+  bool noOverlap = false;         // NewtonOptions::overlapPreconditioner off
   std::string json;
 };
 
@@ -61,6 +62,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     d.newton.adaptiveLinearTolerance = false;
     d.newton.exactHessianFirst = false;
   }
+  if (o.noOverlap) d.newton.overlapPreconditioner = false;
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
@@ -108,6 +110,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               objective.patternRebuilds(), objective.patternGrowths(), analyses, factorizations);
   std::printf("linear solve: %.2f s factorization (or preconditioner), %.2f s solves, %d CG iterations\n",
               factorSeconds, linear - factorSeconds, cg);
+  const FactorStatistics fs = solver.newton().linearSolver().factorStatistics();
+  std::printf("factor: nnz(L) %.0f, %.3f GFlop per factorization\n", fs.nnzL, 1e-9 * fs.flops);
   std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one\n", exactSteps,
               fallbacks);
   std::printf("time split: broad phase %.1f%% (within contact), contact terms %.1f%%, other terms %.1f%%, "
@@ -199,6 +203,8 @@ const RegisterSubcommand reg("bench contact", [](CLI::App& app, int& exitCode) {
                   "Linear algebra: scene (the scene's time-step solver, the default), direct (CHOLMOD, every block "
                   "projected), or both (scene, then direct, and their ratio)")
       ->check(CLI::IsMember({"scene", "direct", "both"}));
+  cmd->add_flag("--no-overlap", opts->noOverlap,
+                "Factor the one-ring preconditioner after the whole assembly, never during the bending assembly");
   cmd->add_option("--json", opts->json, "Write the figures as JSON");
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

@@ -46,6 +46,8 @@ struct ValidateArgs {
   double residualTolerance = NewtonOptions{}.residualTolerance;
   double maxError = 0.0;
   bool log = false;
+  bool relaxationFreshFactors = false;
+  bool relaxationEvaluateResidual = false;
   // The snap-through benchmark (validation/snap_through.h).
   double thickness = RoofOptions{}.thickness;
   double load = RoofOptions{}.load;
@@ -138,6 +140,8 @@ BenchmarkRunOptions runOptions(const ValidateArgs& a) {
   o.predictorOrder = a.predictor;
   o.newton.residualTolerance = a.residualTolerance;
   if (a.log) o.log = &std::cerr;
+  o.relaxationReuseFactor = !a.relaxationFreshFactors;
+  o.relaxationReuseStepGradient = !a.relaxationEvaluateResidual;
   return o;
 }
 
@@ -226,6 +230,12 @@ const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--max-error", a->maxError, "Fail (exit 1) when a benchmark's max relative error exceeds this")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--log", a->log, "One line per Newton solve on stderr");
+  cmd->add_flag("--relaxation-fresh-factors", a->relaxationFreshFactors,
+                "Dynamic relaxation: assemble and factor the Hessian at every Newton iteration instead of reusing "
+                "an earlier step's factor while it contracts");
+  cmd->add_flag("--relaxation-evaluate-residual", a->relaxationEvaluateResidual,
+                "Dynamic relaxation: evaluate each step's static residual instead of reading it from the step's "
+                "last gradient");
   cmd->add_option("--thickness", a->thickness, "hinged-cylindrical-roof: shell thickness (12.7 or 6.35 in Sze et al.)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--load", a->load, "hinged-cylindrical-roof: the point load P at lambda = 1 [N]")

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/mesh_generators.h"
+#include "solvers/dynamic_relaxation.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
 #include "energies/end_moment_term.h"
@@ -123,6 +124,8 @@ struct BenchmarkRunOptions {
   double relaxationMassDamping = 0.0;  // α [1/s]; 0 takes the material's α_R
   double relaxationTolerance = 1e-6;
   int relaxationMaxSteps = 20000;
+  bool relaxationReuseFactor = RelaxationOptions{}.reuseFactor;              // modified Newton in each step
+  bool relaxationReuseStepGradient = RelaxationOptions{}.reuseStepGradient;  // residual from the step's gradient
   std::ostream* log = nullptr;  // one line per Newton solve (load stepping), or null
 };
 

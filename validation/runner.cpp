@@ -97,6 +97,8 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
     ro.massDamping = o.relaxationMassDamping;
     ro.maxSteps = o.relaxationMaxSteps;
     ro.residualTolerance = o.relaxationTolerance;
+    ro.reuseFactor = o.relaxationReuseFactor;
+    ro.reuseStepGradient = o.relaxationReuseStepGradient;
     ro.newton = o.newton;
     Eigen::VectorXd x = X;
     const RelaxationResult rr = relaxToStatic(system, x, ro);

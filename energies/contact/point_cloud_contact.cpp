@@ -56,6 +56,7 @@ class DynamicPairTerm : public EnergyTerm {
   bool zeroAtRest() const override { return false; }
   bool rigidInvariant() const override { return !friction_; }
   std::uint64_t stencilVersion() const override { return version_; }
+  bool stencilsFollowConfiguration() const override { return true; }
   void updateStencils(const Eigen::VectorXd& x) override {
     if (!friction_) state_->refresh(x);
     const std::uint64_t v = friction_ ? state_->frictionVersion() : state_->candidateVersion();

@@ -10,7 +10,8 @@
 // Jet<Jet<double,3>,3> on the AD path and from energies/shell/analytic_stages.h on the analytic path; everything
 // else is shared. Boundary edges (energies/shell/edge_rules.h): pass 2 takes m = ½(n + n_ghost(n)) with the
 // ghost rule as a 3 → 3 Jet stage; a face with moment-free edges takes the rule's minimized density as its
-// pass-3 density stage (Jets on both paths; the rest of the chain is unchanged). Each face normal serves four
+// pass-3 density stage (Jets on the AD path; the analytic path takes the constant quadratic form that density
+// is, once per α, β and rules; the rest of the chain is unchanged). Each face normal serves four
 // stencils and each mid-edge normal two, computed once.
 #include "energies/shell/bending_term.h"
 
@@ -138,6 +139,7 @@ int BendingTerm::setEdgeRule(const std::vector<char>& vertexMask, EdgeRule rule,
 }
 
 void BendingTerm::updateRuleState() {
+  quadraticStale_ = true;
   rigidEdges_ = 0;
   for (int e = 0; e < topo_.numEdges(); ++e)
     if (topo_.isBoundaryEdge(e) && ruleSeesRigidMotion(rules_[e])) ++rigidEdges_;
@@ -296,12 +298,32 @@ Vec3 BendingTerm::meanNormal(int e, int order) {
   return 0.5 * (n + g);
 }
 
+void BendingTerm::updateRuledQuadratics() {
+  if (!quadraticStale_ && quadraticAlpha_ == alpha_ && quadraticBeta_ == beta_) return;
+  const int nf = static_cast<int>(F_.rows());
+  ruledQuadratic_.assign(static_cast<std::size_t>(nf), Mat3::Zero());
+  const double zero[3] = {0.0, 0.0, 0.0};
+  for (int f = 0; f < nf; ++f) {
+    const bool* m = minimized_[f].data();
+    if (!(m[0] || m[1] || m[2])) continue;
+    const double* P = ref_.inverseMetric[f].data();
+    auto density = [&](const auto* z) { return ruledBendingDensity(z, zero, P, alpha_, beta_, m); };
+    double W;
+    Vec3 w;
+    scalarStageDerivatives<3>(density, zero, W, w, ruledQuadratic_[f]);
+  }
+  quadraticAlpha_ = alpha_;
+  quadraticBeta_ = beta_;
+  quadraticStale_ = false;
+}
+
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
     if (staged_) return evaluateStaged(x, request, options);
     const bool ad = options.path == DerivativePath::AutoDiff;
     const bool exact = options.bendingHessian == BendingHessian::Exact;
     // Stage order: 0 values, 1 Jacobians, 2 Hessians (only the exact bending Hessian needs them).
     const int order = request.hessian != nullptr && exact ? 2 : request.gradient != nullptr || request.hessian ? 1 : 0;
+    if (!ad && order > 0) updateRuledQuadratics();
     computeFaceStages(x, order, ad);
     computeEdgeStages(order, ad);
     return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
@@ -381,17 +403,26 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     double W;
     Vec3 w;
     Mat3 Wbb;
-    if (ad || reduced) {
+    if (ad) {
       auto density = [&](const auto* z) { return ruledBendingDensity(z, B, P, alpha_, beta_, minimized); };
       scalarStageDerivatives<3>(density, b, W, w, Wbb);
+    } else if (reduced) {
+      const Vec3 d(b[0] - B[0], b[1] - B[1], b[2] - B[2]);
+      Wbb = ruledQuadratic_[f];
+      w.noalias() = Wbb * d;
+      W = 0.5 * d.dot(w);
     } else {
       const double d[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
       analytic::stvkQuadratic(P, alpha_, 0.5 * beta_, d, W, w, Wbb);
     }
 
-    // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x, compact over edge i's four stencil vertices (0, 1, 2, 3+i): 3×12.
     const std::int8_t* nloc = neighborLocal_[f].data();
     const int fn[3] = {topo_.faceNeighbors(f, 0), topo_.faceNeighbors(f, 1), topo_.faceNeighbors(f, 2)};
+    if (!wantH) {
+      gradientByAdjoints(x, f, ids, e0, e1, area * w, nloc, fn, g);
+      return area * W;
+    }
+    // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x, compact over edge i's four stencil vertices (0, 1, 2, 3+i): 3×12.
     // ∂c/∂x and ∂n/∂x of this face (0) and the neighbours (1..3), each in its own vertex order.
     Mat39 C[4], dndx[4];
     C[0] = crossJacobian(e0, e1);
@@ -446,6 +477,46 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     if (exact) addCurvatureOfB(f, e0, e1, w, M, N, nloc, fn, C, H);
     return area * W;
   }
+
+void BendingTerm::gradientByAdjoints(const Eigen::VectorXd& x, int f, const int* ids, const Vec3& e0, const Vec3& e1,
+                                     const Vec3& w, const std::int8_t* nloc, const int* fn,
+                                     Eigen::Matrix<double, 18, 1>& g) const {
+  // g = J_bᵀ w without forming J_b: the adjoint of b flows back to the mid-edge normals, the mean normals, the
+  // face normals and the positions (the same chain as the Jacobians in stencil(), taken the other way).
+  g.setZero();
+  const Vec3& n0 = edges_[topo_.faceEdges(f, 0)].nbar;
+  const Vec3& n1 = edges_[topo_.faceEdges(f, 1)].nbar;
+  const Vec3& n2 = edges_[topo_.faceEdges(f, 2)].nbar;
+  // b00 = 2(n̄1 − n̄0)·e0, b01 = −2 n̄0·e1, b11 = 2(n̄2 − n̄0)·e1: their explicit dependence on e0 and e1 ...
+  const Vec3 d0 = (2.0 * w[0]) * (n1 - n0), d12 = (-2.0 * w[1]) * n0 + (2.0 * w[2]) * (n2 - n0);
+  g.segment<3>(3) += d0;
+  g.segment<3>(6) += d12;
+  g.segment<3>(0) -= d0 + d12;
+  // ... and the adjoints of the mid-edge normals n̄_i.
+  const Vec3 u[3] = {-2.0 * (w[0] * e0 + (w[1] + w[2]) * e1), 2.0 * w[0] * e0, 2.0 * w[2] * e1};
+  // The adjoint of c = (x1 − x0) × (x2 − x0) added to the face's vertices (stencil slots `slot`).
+  auto addCross = [&g](const Vec3& a, const Vec3& b, const Vec3& y, const std::int8_t* slot) {
+    const Vec3 g1 = b.cross(y), g2 = y.cross(a);
+    g.segment<3>(3 * slot[1]) += g1;
+    g.segment<3>(3 * slot[2]) += g2;
+    g.segment<3>(3 * slot[0]) -= g1 + g2;
+  };
+  Vec3 face = Vec3::Zero();  // the adjoint of this face's normal
+  for (int i = 0; i < 3; ++i) {
+    const int e = topo_.faceEdges(f, i);
+    const Vec3 m = edges_[e].dndm.transpose() * u[i];  // the adjoint of the mean normal m_i
+    if (fn[i] < 0) {
+      face.noalias() += ghosts_[e].dmdn.transpose() * m;  // m = ½(n + n_ghost(n))
+      continue;
+    }
+    face += 0.5 * m;
+    const std::int8_t* local = nloc + 3 * i;
+    const Vec3 q0 = position(x, ids[local[0]]);
+    addCross(position(x, ids[local[1]]) - q0, position(x, ids[local[2]]) - q0,
+             faces_[fn[i]].dndc.transpose() * (0.5 * m), local);
+  }
+  addCross(e0, e1, faces_[f].dndc.transpose() * face, kSelf);
+}
 
 void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
                                   const Vec3& w, const Mat3x12* M, const Mat3x12* N, const std::int8_t* nloc,

@@ -127,6 +127,10 @@ class BendingTerm : public EnergyTerm {
   void computeEdgeStages(int order, bool ad);
   double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
                  Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
+  /// The stencil's gradient J_bᵀ w by adjoints (gradient-only evaluations; w already scaled by the area).
+  void gradientByAdjoints(const Eigen::VectorXd& x, int f, const int* ids, const Eigen::Vector3d& e0,
+                          const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const std::int8_t* nloc, const int* fn,
+                          Eigen::Matrix<double, 18, 1>& g) const;
   void addCurvatureOfB(int f, const Eigen::Vector3d& e0,
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 12>* M,
                        const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
@@ -134,6 +138,8 @@ class BendingTerm : public EnergyTerm {
   Eigen::Vector3d meanNormal(int edge, int order);
   /// After a rule change: the counts, the per-face moment-free flags and (origin not moved) the rest origin.
   void updateRuleState();
+  /// Brings ruledQuadratic_ up to date with α, β and the rules (before a derivative pass of the analytic path).
+  void updateRuledQuadratics();
   StencilEdges stencilEdges(int f) const;
   /// scale_, times β_R / β_R(reference) for a stiffness-damping term.
   double energyScale() const { return dampingReference_ > 0.0 ? scale_ * dampingValue_ / dampingReference_ : scale_; }
@@ -155,6 +161,13 @@ class BendingTerm : public EnergyTerm {
   std::vector<EdgeRuleData> ruleData_;                     // per edge
   int rigidEdges_ = 0;                                     // boundary edges whose rule sees rigid motions
   std::vector<std::array<bool, 3>> minimized_;             // per face, per edge i: a moment-free boundary edge
+  // A face with moment-free edges has a density that is a constant quadratic form in b (a Schur complement of
+  // W_b's form, edge_rules.h): W = ½ (b − B)ᵀ A_f (b − B). The analytic path takes w and W'' from A_f, taken
+  // once from Jets of the rule's density, instead of nested Jets per face and evaluation (measured: a third of
+  // the slit ring's gradient). Kept for the α, β and rules it was taken with.
+  std::vector<Eigen::Matrix3d> ruledQuadratic_;
+  double quadraticAlpha_ = 0.0, quadraticBeta_ = 0.0;
+  bool quadraticStale_ = true;
   Eigen::VectorXd restPositions_;                          // X (the symmetry plane's rest origin)
   std::vector<Sym2> givenForm_;                       // B as given (the page's free rule at every edge)
   std::vector<GhostStage> ghosts_;                         // per edge (boundary edges only)

@@ -111,8 +111,8 @@ TEST_CASE("pcg: the one-ring factor prepared during assembly, with the wide part
     return prepared->preparePreconditioner(a.matrix(), a.patternVersion(), true);
   };
   Eigen::VectorXd g;
-  for (int k = 0; k < 3; ++k) {
-    // Three iterates of a bending deformation: the wide part of the preconditioner comes from the one before.
+  for (int k = 0; k < 4; ++k) {
+    // Iterates of a bending deformation: the wide part of the preconditioner comes from the one before.
     Eigen::VectorXd x = c.x;
     for (int v = 0; v < c.shell.mesh().numVertices(); ++v) x[3 * v + 1] += 0.02 * k * std::pow(c.shell.mesh().V(v, 0), 3);
     obj.evaluate(x, &g, true, BentCloth::clamp(), TermSelection::All, prepare);
@@ -122,7 +122,8 @@ TEST_CASE("pcg: the one-ring factor prepared during assembly, with the wide part
     const LinearSolveReport r0 = plain->solve(obj.assembler(), b, d0);
     REQUIRE(r1.success);
     REQUIRE(r0.success);
-    CHECK(r1.preparedPreconditioner);
+    // Prepared only on a pattern the solver has planned for, so from the second assembly on.
+    CHECK(r1.preparedPreconditioner == (k > 0));
     CHECK_FALSE(r0.preparedPreconditioner);
     CHECK(r1.numericFactorizations == 1);
     CHECK((d1 - d0).norm() <= 1e-9 * d0.norm());

@@ -209,3 +209,27 @@ TEST_CASE("bending: a zero-area face gives a non-finite energy on the value path
     CHECK_FALSE((std::isfinite(e) && g.allFinite()));
   }
 }
+
+TEST_CASE("edge rules: a moment-free face's derivatives follow alpha and beta set after the first evaluation") {
+  // The analytic path keeps each moment-free face's quadratic form; a parameter change must renew it.
+  ScopedThreads serial(1);
+  const CheckMesh m = makeCheckMeshes().back();
+  const Eigen::VectorXd x = makeCheckConfiguration(m, ConfigurationKind::Random, 3).x;
+  const std::vector<char> all(static_cast<std::size_t>(m.mesh.numVertices()), 1);
+  BendingTerm term(m.mesh, m.topology, m.reference, 0.3, 0.7);
+  REQUIRE(term.setEdgeRule(all, EdgeRule::SecondOrderFree) > 0);
+  EvalOptions analytic, ad;
+  ad.path = DerivativePath::AutoDiff;
+  const DenseDerivatives before = evaluateDense(term, x, analytic);
+  term.setParameterValues({0.5, 1.9});
+  BendingTerm fresh(m.mesh, m.topology, m.reference, 0.5, 1.9);
+  fresh.setEdgeRule(all, EdgeRule::SecondOrderFree);
+  const DenseDerivatives after = evaluateDense(term, x, analytic), jets = evaluateDense(term, x, ad),
+                         reference = evaluateDense(fresh, x, analytic);
+  const double gScale = jets.gradient.lpNorm<Eigen::Infinity>(), hScale = jets.hessian.lpNorm<Eigen::Infinity>();
+  CHECK((after.gradient - before.gradient).lpNorm<Eigen::Infinity>() > 1e-3 * gScale);  // it did change
+  CHECK((after.gradient - jets.gradient).lpNorm<Eigen::Infinity>() <= 1e-10 * gScale);
+  CHECK((after.hessian - jets.hessian).lpNorm<Eigen::Infinity>() <= 1e-10 * hScale);
+  CHECK((after.gradient - reference.gradient).lpNorm<Eigen::Infinity>() <= 1e-12 * gScale);
+  CHECK(after.energy == Approx(jets.energy).epsilon(1e-12));
+}

@@ -1,0 +1,41 @@
+#include "solvers/objective.h"
+#include "solvers/shell_system.h"
+#include "test_problems.h"
+
+#include <catch2/catch.hpp>
+
+using namespace jetshell;
+
+TEST_CASE("objective: the potential terms' part of the last gradient is kept for the positions it was taken at",
+          "[objective]") {
+  ShellProblem problem = testing::cantileverPlate(4, 2, 0.01);
+  ShellSystem system(problem, AnalysisKind::DynamicRelaxation);  // potentials, then inertia and mass damping
+  REQUIRE(system.inertia);
+  REQUIRE(system.massDamping);
+  Objective& obj = system.objective();
+  const Eigen::VectorXd X = system.restPositions();
+  Eigen::VectorXd x = X, y = X;
+  for (Eigen::Index i = 0; i < x.size(); i += 3) x[i + 2] += 1e-3 * std::sin(0.7 * static_cast<double>(i));
+  y[y.size() - 1] += 1e-3;
+  system.inertia->setCentre(X, 100.0);
+  system.massDamping->setCentre(X, 10.0);
+
+  Eigen::VectorXd all, potential;
+  obj.evaluate(x, &potential, false, EvalOptions{}, TermSelection::PotentialOnly);
+  CHECK(obj.lastPotentialGradient(x, DerivativePath::Analytic) != nullptr);
+  obj.evaluate(x, &all, true, EvalOptions{});
+  REQUIRE(obj.lastPotentialGradient(x, DerivativePath::Analytic) != nullptr);
+  const Eigen::VectorXd kept = *obj.lastPotentialGradient(x, DerivativePath::Analytic);
+  CHECK((kept - potential).lpNorm<Eigen::Infinity>() <= 1e-12 * potential.lpNorm<Eigen::Infinity>());
+  CHECK((all - kept).lpNorm<Eigen::Infinity>() > 0.0);  // the transient terms are not in it
+  // Other positions, another derivative path: nothing.
+  CHECK(obj.lastPotentialGradient(y, DerivativePath::Analytic) == nullptr);
+  CHECK(obj.lastPotentialGradient(x, DerivativePath::AutoDiff) == nullptr);
+  // An energy-only evaluation elsewhere keeps it; a gradient elsewhere replaces it.
+  obj.evaluate(y, nullptr, false, EvalOptions{});
+  CHECK(obj.lastPotentialGradient(x, DerivativePath::Analytic) != nullptr);
+  Eigen::VectorXd g;
+  obj.evaluate(y, &g, false, EvalOptions{});
+  CHECK(obj.lastPotentialGradient(x, DerivativePath::Analytic) == nullptr);
+  CHECK(obj.lastPotentialGradient(y, DerivativePath::Analytic) != nullptr);
+}
