@@ -84,6 +84,7 @@ void DynamicsSolver::setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v
   v_ = v;
   t_ = t;
   historyValid_ = false;
+  forgetSolverHistory();
 }
 
 void DynamicsSolver::restore(const Snapshot& s) {

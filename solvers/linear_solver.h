@@ -110,9 +110,10 @@ class LinearSolver {
   /// the coming solve sets its preconditioner up from the whole matrix as usual. Returns an empty function when
   /// there is no task (the default: solvers with no use for it).
   /// The one-ring preconditioner (solvers/pcg_solver.cpp) factors the narrow part's one-ring entries plus the
-  /// wide terms' one-ring part from the previous solve of the same Newton solve: the wide terms lag by one
-  /// iteration in the preconditioner only; CG still solves with the whole current Hessian, so the direction is
-  /// the same to CG's tolerance.
+  /// wide terms' one-ring part of the previous solve: the wide terms lag by one Newton iteration (at a time
+  /// step's first iteration, the previous step's last) in the preconditioner only; CG still solves with the whole
+  /// current Hessian, so the direction is the same to CG's tolerance. The first solve on a new pattern sets up
+  /// from the whole matrix.
   virtual std::function<void()> preparePreconditioner(const Eigen::SparseMatrix<double>& upper,
                                                       std::uint64_t patternVersion, bool factorAhead) {
     (void)upper;
@@ -120,11 +121,13 @@ class LinearSolver {
     (void)factorAhead;
     return {};
   }
-  /// Forgets a prepared preconditioner not yet used and what earlier solves left for the next one (the wide
-  /// terms' lagged part), so that a solve depends on nothing before it (a Newton solve calls it when it starts,
-  /// so a run resumed from a checkpoint repeats the uninterrupted one bit for bit, and when it ends, so a later
-  /// solve of another matrix does not take the preconditioner prepared for its last assembly). The first
-  /// prepared preconditioner after it is the narrow part alone.
+  /// Drops a prepared preconditioner not yet used (a Newton solve calls it when it ends, so a later solve of
+  /// another matrix, such as a sensitivity, sets up its own).
+  virtual void discardPrepared() {}
+  /// Forgets also what earlier solves left for the next prepared preconditioner (the wide terms' part), and
+  /// makes the next solve set its preconditioner up from its whole matrix, as a new solver's first solve does:
+  /// after it the solver behaves as a new one (a time integrator calls it where a run can be resumed from a
+  /// checkpoint, so the resumed run repeats the uninterrupted one bit for bit).
   virtual void forgetPreparationHistory() {}
 
   /// nnz(L), flops and ordering of the last symbolic analysis of a Cholesky factor (zeros when the solver has

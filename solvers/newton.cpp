@@ -113,20 +113,21 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     linear_->setRelativeTolerance(0.0);
     // A preconditioner prepared for the last assembly belongs to this solve: later solves on the same linear
     // solver (sensitivities) set up their own.
-    linear_->forgetPreparationHistory();
+    linear_->discardPrepared();
     s.totalSeconds = total.seconds();
     return s;
   };
-  // Overlapped preconditioning (NewtonOptions::overlapPreconditioner). The first assembly of a solve and the
-  // projected re-assembly after an indefinite try only record the narrow part: their solves factor the whole
-  // one-ring part as before, whose failure on an indefinite Hessian is what sends the iteration to the projected
-  // one (a preconditioner with the wide part missing or lagged is positive definite more often, and the
-  // T-shirt's landing, measured, then went 8.6 mm below the plane instead of 0.5 mm).
-  linear_->forgetPreparationHistory();  // a solve depends on nothing before it
+  // Overlapped preconditioning (NewtonOptions::overlapPreconditioner). The projected re-assembly after an
+  // indefinite try only records the narrow part: its solve factors the whole one-ring part as before. The wide
+  // part of a solve's first iteration is the previous solve's last (measured at 10k vertices: with the narrow
+  // part alone there, CG took a median 11 iterations instead of 5, and the iteration 113 ms instead of 75).
   // With one thread there is nothing to overlap with: the plain preconditioner of the whole Hessian is better.
   // Nor with moving contacts: measured on the T-shirt, whose pattern changes at almost every iteration, a
   // preconditioner with the wide part of another iterate took 1 283 CG iterations instead of 1 094 over 30
   // steps, and bending on one thread cost more than the factorizations saved (0.86-0.93x the steps per second).
+  // There the whole one-ring factor failing is also what sends an indefinite unprojected Hessian to the projected
+  // one: with the first iteration's preconditioner the narrow part alone, no fallback fired and the T-shirt's
+  // landing went 8.6 mm below the plane instead of 0.5 mm.
   const bool overlap = o.overlapPreconditioner && omp_get_max_threads() >= 2 && !obj.hasMovingStencils();
   auto assemble = [&](bool withExact, IterationRecord& rec, bool factorAhead) {
     const Timer t;
@@ -183,7 +184,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       ++s.gradientEvaluations;
       have = Have::Gradient;
     }
-    if (have == Have::Nothing) assemble(useExact, rec, k > 0);
+    if (have == Have::Nothing) assemble(useExact, rec, true);
     r = infNorm(g);
     if (lastStepReused && !(r <= o.reuseContraction * residualBeforeStep)) factorReusable_ = false;
     lastStepReused = false;
@@ -250,7 +251,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       rec.solveSeconds += t.seconds();
       factorReusable_ = reused;
     }
-    if (!reused && (have != Have::Hessian || haveExact != useExact)) assemble(useExact, rec, k > 0);
+    if (!reused && (have != Have::Hessian || haveExact != useExact)) assemble(useExact, rec, true);
     if (!reused) updateFloor();
 
     // Newton direction. An unprojected Hessian gets no regularization: if it is indefinite, the projected one

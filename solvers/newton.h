@@ -95,14 +95,15 @@ struct NewtonOptions {
   double reuseContraction = 0.5;
   /// Overlap the preconditioner's factorization with the assembly (Objective::evaluate's narrow hook and
   /// LinearSolver::preparePreconditioner): the terms of narrow stencils are assembled first, then the one-ring
-  /// factor of their part plus the wide terms' part from the solve's previous iteration is computed on one thread
-  /// while the wide terms (bending) are assembled on the others. The first iteration of a solve, and the projected
-  /// retry after an indefinite one, factor the whole one-ring part after the assembly as before: that
-  /// factorization failing is what detects an indefinite unprojected Hessian. Nothing crosses from one solve to
-  /// the next. Only solvers that prepare (PCG with the one-ring factor) do anything with it, only with at least
-  /// two OpenMP threads (on one there is nothing to overlap with), and not for objectives whose stencils follow
-  /// the configuration (moving contacts change the pattern at almost every iteration: measured slower, see
-  /// newton.cpp). CG solves with the whole current Hessian either way.
+  /// factor of their part plus the wide terms' part from the previous iteration (at a solve's first, the previous
+  /// solve's last) is computed on one thread while the wide terms (bending) are assembled on the others. The
+  /// projected retry after an indefinite try factors the whole one-ring part after the assembly as before.
+  /// forgetHistory() makes the solver behave as a new one (see LinearSolver::forgetPreparationHistory). Only
+  /// solvers that prepare (PCG with the one-ring factor) do anything with it, only with at least two OpenMP
+  /// threads (on one there is nothing to overlap with), only on a pattern already solved once, and not for
+  /// objectives whose stencils follow the configuration (moving contacts: measured slower, and there the
+  /// whole one-ring factor failing is what detects an indefinite Hessian; see newton.cpp). CG solves with the
+  /// whole current Hessian either way.
   bool overlapPreconditioner = true;
 };
 
@@ -141,6 +142,9 @@ class NewtonSolver {
   void setOptions(const NewtonOptions& options);
   LinearSolver& linearSolver() { return *linear_; }
   /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
+  /// Forgets what earlier solves left to later ones (NewtonOptions::overlapPreconditioner): the next solve runs as
+  /// a new solver's would. A time integrator calls it where a run can be resumed from.
+  void forgetHistory() { linear_->forgetPreparationHistory(); }
   void setIterateTest(IterateTest test) { iterateTest_ = std::move(test); }
   Objective& objective() { return objective_; }
 

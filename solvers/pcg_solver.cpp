@@ -64,14 +64,19 @@ class PcgSolver : public LinearSolver {
     if (options().preconditioner != Preconditioner::OneRingCholesky || !options().oneRing ||
         options().oneRing->empty() || upper.rows() != 3 * options().oneRing->numVertices())
       return {};
-    // Only on the pattern of the last solve: a new pattern (moving contacts) is planned and analysed after the
-    // assembly as before, and nothing is recorded for it.
-    if (!oneRingPlan_.planned() || planVersion_ != patternVersion) return {};
+    // A new pattern is planned here and its first solve sets up from the whole matrix (so does the first solve
+    // after forgetPreparationHistory).
+    bool recordOnly = !factorAhead || recordOnlyNext_;
+    recordOnlyNext_ = false;
+    if (!oneRingPlan_.planned() || planVersion_ != patternVersion) {
+      planOneRing(upper, patternVersion);  // the coming solve finds it
+      recordOnly = true;
+    }
     const Eigen::SparseMatrix<double>& narrow = oneRingPlan_.apply(upper);
     const auto nnz = static_cast<std::size_t>(narrow.nonZeros());
     narrowValues_.assign(narrow.valuePtr(), narrow.valuePtr() + nnz);
     narrowValid_ = true;
-    if (!factorAhead) return {};
+    if (recordOnly) return {};
     preparedMatrix_ = narrow;
     if (wideLag_.size() == nnz) {
       double* v = preparedMatrix_.valuePtr();
@@ -88,10 +93,14 @@ class PcgSolver : public LinearSolver {
     };
   }
 
-  void forgetPreparationHistory() override {
-    wideLag_.clear();
+  void discardPrepared() override {
     narrowValid_ = false;
     prepared_ = false;
+  }
+  void forgetPreparationHistory() override {
+    discardPrepared();
+    wideLag_.clear();
+    recordOnlyNext_ = true;
   }
 
  private:
@@ -350,6 +359,7 @@ class PcgSolver : public LinearSolver {
   // wide terms' one-ring part of the last solve (same positions), and the prepared matrix and its outcome.
   std::vector<double> narrowValues_, wideLag_;
   bool narrowValid_ = false;
+  bool recordOnlyNext_ = false;  // the next preparation only records (forgetPreparationHistory)
   Eigen::SparseMatrix<double> preparedMatrix_;
   std::uint64_t preparedVersion_ = 0;
   bool prepared_ = false, preparedOk_ = false, preparedAnalyzed_ = false;

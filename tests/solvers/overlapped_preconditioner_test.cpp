@@ -164,3 +164,35 @@ TEST_CASE("newton: time steps with the overlapped preconditioner reach the same 
   // the cloth's motion (centimetres).
   CHECK((xs[1] - xs[0]).lpNorm<Eigen::Infinity>() <= 1e-6);
 }
+
+TEST_CASE("dynamics: with the overlapped preconditioner, a run restored from a snapshot repeats the uninterrupted "
+          "one bit for bit once that one forgot its solver history there",
+          "[solvers][dynamics]") {
+  test::ScopedThreads scoped(2);
+  DynamicsOptions o;
+  applyTimeStepPolicy(TimeStepPolicy::Jetshell, o);
+  o.integrator = TimeIntegrator::BDF2;
+  o.newton.linear.type = LinearSolverType::PCG;
+  o.newton.linear.preconditioner = Preconditioner::OneRingCholesky;
+  ShellSystem a(testing::hangingCloth(0.3, 0.3, 8, 8), AnalysisKind::Dynamics);
+  DynamicsSolver whole(a, o);
+  int prepared = 0;
+  DynamicsSolver::Snapshot middle;
+  for (int step = 0; step < 8; ++step) {
+    const StepReport r = whole.step();
+    REQUIRE(r.success);
+    for (const SolverSummary& s : r.solves)
+      for (const IterationRecord& it : s.trace) prepared += it.overlappedFactorizationSeconds > 0.0;
+    if (step == 3) {
+      middle = whole.snapshot();
+      whole.forgetSolverHistory();
+    }
+  }
+  CHECK(prepared > 0);
+  ShellSystem b(testing::hangingCloth(0.3, 0.3, 8, 8), AnalysisKind::Dynamics);
+  DynamicsSolver resumed(b, o);
+  resumed.restore(middle);
+  for (int step = 4; step < 8; ++step) REQUIRE(resumed.step().success);
+  CHECK(resumed.positions() == whole.positions());
+  CHECK(resumed.velocities() == whole.velocities());
+}

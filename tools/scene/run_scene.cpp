@@ -316,7 +316,10 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       progress.update(d.time() / duration, "t = " + format("%.3f", d.time()) + " s");
       doneIterations += s.newtonIterations;
       doneCuts += s.cuts;
-      if (options.checkpointEvery > 0 && s.step % options.checkpointEvery == 0) writeCheckpointNow(d);
+      if (options.checkpointEvery > 0 && s.step % options.checkpointEvery == 0) {
+        writeCheckpointNow(d);
+        d.forgetSolverHistory();  // a run resumed from here starts with a new solver: so does this one
+      }
       return !shouldStop(s.step);
     });
     summary.steps = solver.stepCount();
