@@ -120,7 +120,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   // Overlapped preconditioning (NewtonOptions::overlapPreconditioner). The projected re-assembly after an
   // indefinite try only records the narrow part: its solve factors the whole one-ring part as before. The wide
   // part of a solve's first iteration is the previous solve's last (measured at 10k vertices: with the narrow
-  // part alone there, CG took a median 11 iterations instead of 5, and the iteration 113 ms instead of 75).
+  // part alone there, CG took a median 11 iterations instead of 4, and the iteration 113 ms instead of 75).
   // With one thread there is nothing to overlap with: the plain preconditioner of the whole Hessian is better.
   // Nor with moving contacts: measured on the T-shirt, whose pattern changes at almost every iteration, a
   // preconditioner with the wide part of another iterate took 1 283 CG iterations instead of 1 094 over 30
