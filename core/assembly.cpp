@@ -79,8 +79,17 @@ ElementSchedule scheduleElements(const StencilTable& table, int numVertices, int
 
 int HessianAssembler::addStencils(const StencilTable& table) {
   if (finalized_) throw std::logic_error("HessianAssembler::addStencils after finalize");
-  slots_.push_back(Slot{table, {}});
+  slots_.push_back(Slot{table, {}, true});
   return static_cast<int>(slots_.size()) - 1;
+}
+
+void HessianAssembler::replaceStencils(int slot, const StencilTable& table) {
+  if (slot < 0 || slot >= numSlots()) throw std::out_of_range("HessianAssembler::replaceStencils: no such slot");
+  if (table.width != slots_[slot].table.width)
+    throw std::invalid_argument("HessianAssembler::replaceStencils: the stencil width changed");
+  slots_[slot].table = table;
+  slots_[slot].stale = true;
+  finalized_ = false;
 }
 
 void HessianAssembler::clearStencils() {
@@ -149,19 +158,40 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
       rowsOf = std::move(merged);
     }
   }
-  fixedDof_ = std::move(fixed);
+  // Slots not replaced keep their scatter tables with the pattern, or translate them to a new one: only over
+  // the same vertices and fixed dofs (their tables then index the current matrix).
+  const bool translatable = patternBuilds_ > 0 && static_cast<int>(rows_.size()) == n && fixed == fixedDof_;
+  bool everything = !translatable;
   if (newPattern) {
     for (auto& r : rowsOf) r.shrink_to_fit();
+    std::vector<std::int32_t> translation;
+    bool anyKept = false;
+    for (const Slot& s : slots_) anyKept = anyKept || !s.stale;
+    if (translatable && anyKept) translation = translationTo(rowsOf);
     rows_ = std::move(rowsOf);
     buildMatrix(n);
     ++patternBuilds_;
     ++patternVersion_;
+    if (!translation.empty()) {
+      for (Slot& s : slots_) {
+        if (s.stale) continue;
+        std::int32_t* v = s.scatter.data();
+        const std::int64_t count = static_cast<std::int64_t>(s.scatter.size());
+#pragma omp parallel for schedule(static) if (count >= 65536)
+        for (std::int64_t k = 0; k < count; ++k) {
+          const std::int32_t idx = v[k];
+          if (idx >= 0) v[k] = translation[static_cast<std::size_t>(idx)];
+          else if (idx <= -2) v[k] = -2 - translation[static_cast<std::size_t>(-2 - idx)];
+        }
+      }
+    }
   } else {
     ++patternReuses_;
   }
+  fixedDof_ = std::move(fixed);
   patternPairs_ = 0;
   for (const auto& r : rows_) patternPairs_ += static_cast<std::int64_t>(r.size());
-  buildScatter();
+  buildScatter(everything);
   finalized_ = true;
   setZero();
 }
@@ -197,9 +227,42 @@ void HessianAssembler::buildMatrix(int numVertices) {
   for (int d = 0; d < ndof; ++d) diagonalIndex_[d] = outerPtr[d + 1] - 1;
 }
 
-void HessianAssembler::buildScatter() {
+std::vector<std::int32_t> HessianAssembler::translationTo(const std::vector<std::vector<int>>& newRows) const {
+  // Column 3j+c holds, per row vertex of rows[j] (ascending, j itself last), 3 entries (c + 1 for j): the entry of
+  // row vertex rank k, component r, is at outer[3j+c] + 3k + r in either pattern.
+  const int n = static_cast<int>(rows_.size());
+  const int* outer = matrix_.outerIndexPtr();
+  std::vector<std::int64_t> newOuter(static_cast<std::size_t>(3 * n) + 1, 0);
+  for (int j = 0; j < n; ++j)
+    for (int c = 0; c < 3; ++c)
+      newOuter[3 * j + c + 1] = 3 * (static_cast<std::int64_t>(newRows[j].size()) - 1) + c + 1;
+  for (int d = 0; d < 3 * n; ++d) newOuter[d + 1] += newOuter[d];
+  if (newOuter[3 * n] > std::numeric_limits<int>::max()) throw std::length_error("Hessian pattern exceeds 2^31 entries");
+  std::vector<std::int32_t> to(static_cast<std::size_t>(matrix_.nonZeros()), -1);
+#pragma omp parallel for schedule(static) if (n >= 4096)
+  for (int j = 0; j < n; ++j) {
+    const auto& a = rows_[j];
+    const auto& b = newRows[j];
+    std::size_t q = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      while (q < b.size() && b[q] < a[k]) ++q;
+      if (q == b.size() || b[q] != a[k]) continue;
+      for (int c = 0; c < 3; ++c) {
+        const int rows = a[k] == j ? c + 1 : 3;
+        for (int r = 0; r < rows; ++r)
+          to[static_cast<std::size_t>(outer[3 * j + c] + 3 * static_cast<std::int64_t>(k) + r)] =
+              static_cast<std::int32_t>(newOuter[3 * j + c] + 3 * static_cast<std::int64_t>(q) + r);
+      }
+    }
+  }
+  return to;
+}
+
+void HessianAssembler::buildScatter(bool everything) {
   const int* outerPtr = matrix_.outerIndexPtr();
   for (Slot& s : slots_) {
+    if (!s.stale && !everything) continue;
+    s.stale = false;
     const int w = s.table.width;
     const int m = 3 * w;
     const std::size_t perElement = static_cast<std::size_t>(m) * (m + 1) / 2;

@@ -13,6 +13,10 @@
 // pattern only the scatter tables are rebuilt: patternVersion() stays and a linear solver keeps its symbolic
 // analysis. The pattern is reset to the exact one (pruned) when it has to grow and would otherwise carry more
 // stale vertex pairs than `pruneFraction` × the pairs in use.
+// Re-declaring only the slots that moved (replaceStencils, then finalize): the other slots' scatter tables are
+// kept when the pattern is kept, and translated (old value index -> new, one gather per entry) when a new pattern
+// is built, instead of searched again: the mesh terms (bending's 12x12 blocks) are most of the scatter entries,
+// and a contact pattern changes at almost every Newton iteration.
 #pragma once
 
 #include "core/stencil.h"
@@ -34,6 +38,10 @@ class HessianAssembler {
   /// Forgets every slot so that stencils can be declared anew (a pattern that follows moving contacts); the
   /// next finalize() bumps patternVersion() when it builds a new pattern (always, unless grow-only).
   void clearStencils();
+  /// Replaces the stencils of one declared slot (same width, any element count); the next finalize() builds the
+  /// pattern anew as finalize() after clearStencils() and every slot's addStencils() would, keeping or translating
+  /// the scatter tables of the slots not replaced (see the file comment).
+  void replaceStencils(int slot, const StencilTable& table);
   /// Grow-only patterns (see the file comment); pruneFraction >= 0. Off by default.
   void setGrowOnly(bool growOnly, double pruneFraction = 0.25);
   bool growOnly() const { return growOnly_; }
@@ -68,11 +76,15 @@ class HessianAssembler {
   struct Slot {
     StencilTable table;
     std::vector<std::int32_t> scatter;  // per element: (3K)(3K+1)/2 value indices; -1 discard; <= -2 doubled
+    bool stale = true;                  // the scatter table does not match the table (declared or replaced)
   };
   /// Builds the matrix pattern from rows (per column vertex, the sorted row vertices <= it).
   void buildMatrix(int numVertices);
-  /// Fills every slot's scatter table against rows_.
-  void buildScatter();
+  /// Fills the scatter tables of the stale slots (all with everything) against rows_.
+  void buildScatter(bool everything);
+  /// For a new pattern (newRows) over the same vertices and fixed dofs: the new value index of every value index
+  /// of the current matrix whose vertex pair newRows keeps (-1 for the others).
+  std::vector<std::int32_t> translationTo(const std::vector<std::vector<int>>& newRows) const;
 
   std::vector<Slot> slots_;
   std::vector<std::vector<int>> rows_;  // the matrix pattern's vertex pairs: per column vertex j, rows i <= j

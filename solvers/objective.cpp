@@ -145,10 +145,24 @@ const Eigen::VectorXd* Objective::lastPotentialGradient(const Eigen::VectorXd& x
 }
 
 void Objective::rebuildPattern() {
-  assembler_.clearStencils();
+  // Only the terms whose stencils moved are declared again (the assembler keeps or translates the others'
+  // scatter tables), unless a term's stencil width changed: then every slot anew.
+  bool sameSlots = assembler_.numSlots() > 0;
+  for (const Entry& e : terms_) {
+    if (!sameSlots) break;
+    if (e.term->stencilVersion() == e.stencilVersion) continue;
+    const int width = e.term->stencils().width;
+    sameSlots = e.slot >= 0 ? width == assembler_.stencils(e.slot).width : width == 0;
+  }
+  if (!sameSlots) assembler_.clearStencils();
   for (Entry& e : terms_) {
+    if (sameSlots && e.term->stencilVersion() == e.stencilVersion) continue;
     const StencilTable table = e.term->stencils();
-    e.slot = table.width > 0 ? assembler_.addStencils(table) : -1;
+    if (sameSlots) {
+      if (e.slot >= 0) assembler_.replaceStencils(e.slot, table);
+    } else {
+      e.slot = table.width > 0 ? assembler_.addStencils(table) : -1;
+    }
     e.blockDofs = 3 * table.width;
     e.stencilVersion = e.term->stencilVersion();
   }

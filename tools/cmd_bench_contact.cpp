@@ -7,6 +7,9 @@
 // `--solver both` runs it with the scene's time-step linear algebra (solvers/time_step_policy.h: CG preconditioned
 // by the one-ring factor, element Hessians projected only where needed) and then with the direct solver
 // (CHOLMOD on the whole Hessian, every element block projected), and prints their ratio.
+// It ends with the guards of the T-shirt's checks over the run: the deepest sample inside a volume collider, the
+// closest interacting point-cloud pair (in units of their contact distance 2r), the final kinetic energy;
+// `--trace` prints them, the Newton and CG iterations and how the solve ended for every step.
 // Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
@@ -37,6 +40,7 @@ struct ContactBenchOptions {
   std::string pattern = "exact";  // grow | exact | both
   std::string solver = "scene";   // scene | direct | both
   bool noOverlap = false;         // NewtonOptions::overlapPreconditioner off
+  bool trace = false;             // one line per step
   std::string json;
 };
 
@@ -72,8 +76,28 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0, cg = 0;
   double factorSeconds = 0.0;
   double linear = 0.0;
+  // The guards of the T-shirt's checks: the deepest sample in a volume collider (signed distance, m) and the
+  // closest interacting point-cloud pair (distance / 2r), over every step and at the last one.
+  double deepest = 0.0, closest = 1.0, lastDeepest = 0.0, lastClosest = 1.0;
+  auto guards = [&](const Eigen::VectorXd& x) {
+    lastDeepest = 0.0;
+    for (const VolumeContactTerms& vc : system.contact.volume)
+      lastDeepest = std::min(lastDeepest, vc.state->minDistance(x));
+    lastClosest = system.contact.pointCloud.state ? system.contact.pointCloud.state->minDistanceRatio(x) : 1.0;
+    deepest = std::min(deepest, lastDeepest);
+    closest = std::min(closest, lastClosest);
+  };
   for (int s = 0; s < o.steps; ++s) {
     const StepReport r = solver.step();
+    guards(solver.positions());
+    if (o.trace) {
+      int stepCg = 0;
+      for (const SolverSummary& solve : r.solves)
+        for (const IterationRecord& it : solve.trace) stepCg += it.cgIterations;
+      std::printf("step %d: %d Newton iterations, %d CG, deepest %.2f mm, closest %.3f x 2r: %s\n", s + 1,
+                  r.newtonIterations, stepCg, 1e3 * lastDeepest, lastClosest,
+                  r.solves.empty() ? "" : r.solves.back().message.c_str());
+    }
     iterations += r.newtonIterations;
     linear += r.factorizationSeconds + r.solveSeconds;
     factorSeconds += r.factorizationSeconds;
@@ -118,6 +142,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               "linear solve %.1f%%, rest %.1f%%\n",
               pct(broad), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
   std::printf("contact detection + assembly: %.1f%% of a step (target <= 30%%)\n", pct(contactTerms));
+  std::printf("guards: deepest sample in a volume %.2f mm (last step %.2f mm), closest pair %.3f x 2r (last step "
+              "%.3f x 2r), kinetic energy at the end %.3g J\n",
+              1e3 * deepest, 1e3 * lastDeepest, closest, lastClosest, solver.kineticEnergy());
   failedRun = failed > 0;
   return {{"pattern", growOnly ? "grow" : "exact"},
           {"solver", v.direct ? "direct" : "scene"},
@@ -136,6 +163,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
           {"cg_iterations", cg},
           {"factorization_seconds", factorSeconds},
           {"projection_fallbacks", fallbacks},
+          {"deepest_in_volume_m", deepest},
+          {"closest_pair_ratio", closest},
+          {"final_kinetic_energy", solver.kineticEnergy()},
           {"seconds", {{"broad_phase", broad},
                        {"contact_terms", contactTerms},
                        {"other_terms", otherTerms},
@@ -205,6 +235,7 @@ const RegisterSubcommand reg("bench contact", [](CLI::App& app, int& exitCode) {
       ->check(CLI::IsMember({"scene", "direct", "both"}));
   cmd->add_flag("--no-overlap", opts->noOverlap,
                 "Factor the one-ring preconditioner after the whole assembly, never during the bending assembly");
+  cmd->add_flag("--trace", opts->trace, "One line per step: Newton and CG iterations, the guards, how it ended");
   cmd->add_option("--json", opts->json, "Write the figures as JSON");
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

@@ -281,3 +281,50 @@ TEST_CASE("assembly: a grow-only pattern keeps its version while re-declared pai
   CHECK(C.patternVersion() > c1Version);
   CHECK(C.patternPairs() == C.usedPairs());
 }
+
+TEST_CASE("assembly: replacing one slot's stencils gives the pattern and the bits of declaring every slot again") {
+  // A shell (membrane, bending) with two fixed dofs, and a moving "contact" slot of pairs between distant
+  // vertices (a repeated vertex included), re-declared several times, exact and grow-only.
+  ShellFixture f(7, 5);
+  const int n = f.mesh.numVertices();
+  std::vector<char> fixed(static_cast<std::size_t>(3 * n), 0);
+  fixed[4] = fixed[3 * (n - 1)] = 1;
+  const std::vector<StencilTable> contacts = {
+      {2, {0, n - 1, 3, 20}}, {2, {}}, {2, {5, 30, 0, n - 1, 11, 11}}, {2, {n - 2, 1}}, {2, {5, 30, 0, n - 1}}};
+  const Eigen::MatrixXd hc = Eigen::MatrixXd::Constant(6, 6, 0.25) + Eigen::MatrixXd::Identity(6, 6);
+  for (bool growOnly : {false, true}) {
+    HessianAssembler replaced, declared;
+    replaced.setGrowOnly(growOnly, 1.0);
+    declared.setGrowOnly(growOnly, 1.0);
+    int slotM = replaced.addStencils(f.membrane->stencils());
+    int slotB = replaced.addStencils(f.bending->stencils());
+    const int slotC = replaced.addStencils(contacts[0]);
+    replaced.finalize(n, fixed);
+    for (const StencilTable& c : contacts) {
+      replaced.replaceStencils(slotC, c);
+      replaced.finalize(n, fixed);
+      declared.clearStencils();
+      slotM = declared.addStencils(f.membrane->stencils());
+      slotB = declared.addStencils(f.bending->stencils());
+      declared.addStencils(c);
+      declared.finalize(n, fixed);
+      CHECK(replaced.patternPairs() == declared.patternPairs());
+      Eigen::VectorXd g1, g2;
+      const EvalOptions o{DerivativePath::Analytic, PsdProjection::None};
+      f.evaluate(replaced, slotM, slotB, g1, o);
+      f.evaluate(declared, slotM, slotB, g2, o);
+      for (int e = 0; e < c.size(); ++e) {
+        replaced.addElementHessian(slotC, e, hc.data());
+        declared.addElementHessian(slotC, e, hc.data());
+      }
+      const Eigen::SparseMatrix<double>& a = replaced.matrix();
+      const Eigen::SparseMatrix<double>& b = declared.matrix();
+      REQUIRE(a.nonZeros() == b.nonZeros());
+      CHECK(std::memcmp(a.outerIndexPtr(), b.outerIndexPtr(), sizeof(int) * static_cast<std::size_t>(a.cols() + 1)) == 0);
+      CHECK(std::memcmp(a.innerIndexPtr(), b.innerIndexPtr(), sizeof(int) * static_cast<std::size_t>(a.nonZeros())) == 0);
+      CHECK(sameBits(a, b));
+    }
+    CHECK_THROWS_AS(replaced.replaceStencils(slotC, StencilTable{3, {0, 1, 2}}), std::invalid_argument);
+    CHECK_THROWS_AS(replaced.replaceStencils(7, contacts[0]), std::out_of_range);
+  }
+}
