@@ -94,6 +94,8 @@ void HessianAssembler::replaceStencils(int slot, const StencilTable& table) {
 
 void HessianAssembler::clearStencils() {
   slots_.clear();
+  keptSlots_.clear();
+  keptRows_.clear();
   finalized_ = false;
 }
 
@@ -111,9 +113,11 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
 
   // Vertex-block adjacency of the declared stencils: for column vertex j, the row vertices i <= j it couples
   // with (sorted, unique).
-  std::vector<std::vector<int>> rowsOf(static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j) rowsOf[j].push_back(j);
-  for (const Slot& s : slots_) {
+  // The slots kept since the last finalize (not replaced) contribute the pairs they did then: their adjacency is
+  // kept (keptRows_) and only the replaced slots' pairs are added to it, in the columns they touch.
+  std::vector<char> kept(slots_.size(), 0);
+  for (std::size_t k = 0; k < slots_.size(); ++k) kept[k] = !slots_[k].stale;
+  auto addPairs = [&](const Slot& s, std::vector<std::vector<int>>& rows, std::vector<char>* touched) {
     const int w = s.table.width;
     for (int e = 0; e < s.table.size(); ++e) {
       const int* ids = s.table.element(e);
@@ -121,16 +125,34 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
         for (int b = 0; b < w; ++b) {
           if (ids[a] < 0 || ids[b] < 0 || ids[a] > ids[b]) continue;
           if (ids[a] >= n || ids[b] >= n) throw std::out_of_range("stencil vertex id out of range");
-          rowsOf[ids[b]].push_back(ids[a]);
+          rows[ids[b]].push_back(ids[a]);
+          if (touched) (*touched)[ids[b]] = 1;
         }
       }
     }
+  };
+  auto sortUnique = [](std::vector<int>& r) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  };
+  // (A slot is kept only while it is not replaced: the same kept slots have the same stencils.)
+  if (kept != keptSlots_ || static_cast<int>(keptRows_.size()) != n) {
+    // The kept slots changed: their adjacency anew (no slot kept: the diagonal alone).
+    keptRows_.assign(static_cast<std::size_t>(n), {});
+    for (int j = 0; j < n; ++j) keptRows_[j].push_back(j);
+    for (std::size_t k = 0; k < slots_.size(); ++k)
+      if (kept[k]) addPairs(slots_[k], keptRows_, nullptr);
+    for (auto& r : keptRows_) sortUnique(r);
+    keptSlots_ = kept;
   }
+  std::vector<std::vector<int>> rowsOf = keptRows_;
+  std::vector<char> touched(static_cast<std::size_t>(n), 0);
+  for (std::size_t k = 0; k < slots_.size(); ++k)
+    if (!kept[k]) addPairs(slots_[k], rowsOf, &touched);
   std::int64_t used = 0;
   for (int j = 0; j < n; ++j) {
     auto& r = rowsOf[j];
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
+    if (touched[j]) sortUnique(r);
     used += static_cast<std::int64_t>(r.size());
   }
   usedPairs_ = used;
@@ -343,6 +365,8 @@ void HessianAssembler::addElementHessian(int slot, int element, const double* H)
 std::size_t HessianAssembler::memoryBytes() const {
   std::size_t bytes = static_cast<std::size_t>(matrix_.nonZeros()) * (sizeof(double) + sizeof(int));
   for (const Slot& s : slots_) bytes += s.scatter.size() * sizeof(std::int32_t) + s.table.ids.size() * sizeof(int);
+  for (const auto& r : rows_) bytes += r.size() * sizeof(int);
+  for (const auto& r : keptRows_) bytes += r.size() * sizeof(int);
   return bytes;
 }
 

@@ -88,6 +88,9 @@ class HessianAssembler {
 
   std::vector<Slot> slots_;
   std::vector<std::vector<int>> rows_;  // the matrix pattern's vertex pairs: per column vertex j, rows i <= j
+  // The adjacency (as rows_) of the slots that were kept (not replaced) at the last finalize, and which they were.
+  std::vector<std::vector<int>> keptRows_;
+  std::vector<char> keptSlots_;
   std::vector<char> fixedDof_;
   Eigen::SparseMatrix<double> matrix_;
   std::vector<std::int32_t> diagonalIndex_;
