@@ -47,9 +47,17 @@ void OneRingPlan::plan(const OneRingFilter& filter, const Eigen::SparseMatrix<do
   droppedCol_.clear();
   diagonal_.assign(static_cast<std::size_t>(n), -1);
   std::vector<int> start(static_cast<std::size_t>(n) + 1, 0);
+  kept_.reserve(static_cast<std::size_t>(upper.nonZeros()));
   for (Eigen::Index j = 0; j < n; ++j) {
+    // A column's rows come in runs of one row vertex (3 entries): one adjacency search per run.
+    int runVertex = -1;
+    bool runAdjacent = false;
     for (int p = outer[j]; p < outer[j + 1]; ++p) {
-      if (!filter.adjacent(inner[p] / 3, static_cast<int>(j / 3))) {
+      if (inner[p] / 3 != runVertex) {
+        runVertex = inner[p] / 3;
+        runAdjacent = filter.adjacent(runVertex, static_cast<int>(j / 3));
+      }
+      if (!runAdjacent) {
         dropped_.push_back(p);
         droppedRow_.push_back(inner[p]);
         droppedCol_.push_back(static_cast<int>(j));
