@@ -324,6 +324,25 @@ TEST_CASE("assembly: replacing one slot's stencils gives the pattern and the bit
       CHECK(std::memcmp(a.innerIndexPtr(), b.innerIndexPtr(), sizeof(int) * static_cast<std::size_t>(a.nonZeros())) == 0);
       CHECK(sameBits(a, b));
     }
+    // A slot kept so far is replaced too (fewer bending hinges, then all again): its adjacency is rebuilt.
+    StencilTable fewer = f.bending->stencils();
+    fewer.ids.resize(fewer.ids.size() / 2 / static_cast<std::size_t>(fewer.width) * static_cast<std::size_t>(fewer.width));
+    for (const StencilTable& b : {fewer, f.bending->stencils()}) {
+      replaced.replaceStencils(slotB, b);
+      replaced.finalize(n, fixed);
+      declared.clearStencils();
+      declared.addStencils(f.membrane->stencils());
+      declared.addStencils(b);
+      declared.addStencils(contacts.back());
+      declared.finalize(n, fixed);
+      CHECK(replaced.patternPairs() == declared.patternPairs());
+      CHECK(replaced.usedPairs() == declared.usedPairs());
+      const Eigen::SparseMatrix<double>& a = replaced.matrix();
+      const Eigen::SparseMatrix<double>& c = declared.matrix();
+      REQUIRE(a.nonZeros() == c.nonZeros());
+      CHECK(std::memcmp(a.innerIndexPtr(), c.innerIndexPtr(), sizeof(int) * static_cast<std::size_t>(a.nonZeros())) == 0);
+    }
+    CHECK(replaced.patternPairs() > 0);
     CHECK_THROWS_AS(replaced.replaceStencils(slotC, StencilTable{3, {0, 1, 2}}), std::invalid_argument);
     CHECK_THROWS_AS(replaced.replaceStencils(7, contacts[0]), std::out_of_range);
   }
