@@ -10,7 +10,9 @@
 //  - The round-off floor is the residual that rounding the positions alone leaves, 64 ε max_i (|H| |x|)_i over the
 //    free dofs (a position known to ε|x| moves the force by H ε|x|); it counts only while it is below 1e-2 F. A
 //    problem whose floor is above that (a load that moves the shell by less than its positions' round-off) cannot
-//    converge and says so.
+//    converge and says so. A pass owed to the floor alone, reached by an iteration that still shrank the residual
+//    8-fold, takes up to 2 more iterations (the floor bounds what rounding may leave; a smooth residual at it can
+//    still carry a real error: measured on the slit ring with 64x1024 quads, 0.16% of a deflection).
 // The Newton decrement ½ gᵀH⁻¹g decides nothing on its own: when it falls below decrementTolerance × F × L [J]
 // (L the mean edge length), the full step is taken if it does not raise the energy beyond round-off, and if the
 // residual is still above its tolerance after that the solve ends as Stalled, not converged.
