@@ -207,16 +207,24 @@ struct ComposedStage {
     constexpr int P = Inner::kOutputs, M = Outer::kOutputs;
     StageDerivativesOf<Inner> i;
     StageDerivativesOf<Outer> o;
-    evaluateStage(inner, z, entity, order, path, i);
+    evaluateStage(inner, z, entity, HasConstantHessian<Inner>::value ? std::min(order, 1) : order, path, i);
     evaluateStage(outer, i.value.data(), entity, order, path, o);
     d.value = o.value;
     if (order < 1) return;
     d.jacobian.noalias() = o.jacobian * i.jacobian;
     if (order < 2) return;
-    for (int k = 0; k < M; ++k) {
-      d.hessians[k].noalias() = i.jacobian.transpose() * (o.hessians[k] * i.jacobian);
-      for (int m = 0; m < P; ++m)
-        if (o.jacobian(k, m) != 0.0) d.hessians[k].noalias() += o.jacobian(k, m) * i.hessians[m];
+    for (int k = 0; k < M; ++k) d.hessians[k].noalias() = i.jacobian.transpose() * (o.hessians[k] * i.jacobian);
+    if constexpr (HasConstantHessian<Inner>::value) {
+      // The inner stage's few constant Hessian entries (a cross product has 4 per output), not its dense blocks.
+      const auto& c = constantStageHessians<Inner>();
+      for (int e = 0; e < c.numEntries; ++e) {
+        const auto& t = c.entries[static_cast<std::size_t>(e)];
+        for (int k = 0; k < M; ++k) d.hessians[k](t.i, t.j) += o.jacobian(k, t.k) * t.h;
+      }
+    } else {
+      for (int k = 0; k < M; ++k)
+        for (int m = 0; m < P; ++m)
+          if (o.jacobian(k, m) != 0.0) d.hessians[k].noalias() += o.jacobian(k, m) * i.hessians[m];
     }
   }
 };
