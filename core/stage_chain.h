@@ -12,7 +12,8 @@
 //                                  total Jacobians.
 //   energy(s, entity, {inputs...}) the root: a one-output stage (the energy density), always at order 2 when a
 //                                  Hessian is asked.
-//   finish(wantG, wantH, g, H)     g = J_rootᵀ. H by a reverse sweep: adjoint w̄ = 1 at the root, and per stage node
+//   finish(wantG, wantH, g, H)     g = J_rootᵀ (with a Hessian, from the forward rows; alone, by one reverse
+//                                  sweep of adjoints over the local Jacobians: no rows formed). H by a reverse sweep: adjoint w̄ = 1 at the root, and per stage node
 //                                  H += Zᵀ (Σ_k w̄_k ∇²y_k) Z, then w̄_inputs += (∂y/∂z)ᵀ w̄. That is
 //                                  H = J_sᵀ W'' J_s + Σ_k w_k ∇²s_k, recursively. Gauss–Newton (context.order < 2
 //                                  with a Hessian asked) keeps the root's term only: H = J_sᵀ W'' J_s.
@@ -91,10 +92,8 @@ class StageChain {
   double finish(bool wantG, bool wantH, Gradient& g, Hessian& H) {
     if (root_ < 0) throw std::logic_error("stage chain: no energy stage");
     const Node& r = nodes_[root_];
-    if (wantG || wantH) {
-      g.setZero();
-      g = row(r, 0).transpose();
-    }
+    if (wantG && !forwardRows()) reverseGradient(g);
+    if ((wantG || wantH) && forwardRows()) g = row(r, 0).transpose();
     if (wantH) {
       for (int i = 0; i < D * D; ++i) Hrow_[i] = 0.0;
       for (int n = 0; n <= root_; ++n)
@@ -121,6 +120,34 @@ class StageChain {
   }
 
  private:
+  /// Total Jacobians are formed forward only when a Hessian is asked (its curvature terms need them); a gradient
+  /// alone comes from one reverse sweep over the local Jacobians.
+  bool forwardRows() const { return context_.energyOrder >= 2; }
+
+  /// g = J_rootᵀ by adjoints: w̄ = 1 at the root, w̄_inputs += (∂y/∂z)ᵀ w̄ per stage node, a leaf's w̄ added to
+  /// its vertex's coordinates (subtracted at its second vertex).
+  void reverseGradient(Gradient& g) {
+    g.setZero();
+    for (int n = 0; n <= root_; ++n)
+      for (int k = 0; k < kMaxStageOutputs; ++k) nodes_[n].adjoint[k] = 0.0;
+    nodes_[root_].adjoint[0] = 1.0;
+    for (int n = root_; n >= 0; --n) {
+      Node& node = nodes_[n];
+      if (node.numInputs == 0) {
+        for (int c = 0; c < 3; ++c) {
+          g[3 * node.leafPlus + c] += node.adjoint[c];
+          if (node.leafMinus >= 0) g[3 * node.leafMinus + c] -= node.adjoint[c];
+        }
+        continue;
+      }
+      for (int i = 0; i < node.numInputs; ++i) {
+        double s = 0.0;
+        for (int k = 0; k < node.outputs; ++k) s += node.view.jacobian[k + node.outputs * i] * node.adjoint[k];
+        nodes_[node.inputNode[i]].adjoint[node.inputComponent[i]] += s;
+      }
+    }
+  }
+
   struct Node {
     int outputs = 0;
     int numInputs = 0;                       // 0: a leaf
@@ -202,7 +229,7 @@ class StageChain {
     n.numInputs = N;
     n.value = n.view.value;
     setSupport(n, mask);
-    if (context_.energyOrder > 0) {
+    if (forwardRows()) {
       // J_k = Σ_q (∂y_k/∂z_q) J_input(q): full-width rows (zero off the support), so that every update is a
       // fixed-length vector operation.
       // A leaf input adds ±(∂y_k/∂z_q) at its two columns instead of a row.
