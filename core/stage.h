@@ -22,6 +22,12 @@
 // at z = 0, constantStageHessians()); afterwards the stage runs on doubles only, its Jacobian being
 // J(z) = J(0) + [∇²y_k z]_k (no Jets per element). constantHessianDiscrepancy() checks the declaration
 // (Hessians and Jacobian) against the Jets at any z.
+//
+// ComposedStage<Inner, Outer>: Outer ∘ Inner as one stage (for example a face normal 6 → 3 from the cross product
+// 6 → 3 and the normalisation 3 → 3), so that a chain caches and chains it as one node. Its derivatives come from
+// the two stages' own (each on its Jets, twin or constant Hessians) by the chain rule, once per entity:
+// J = J_o J_i, ∇²y_k = J_iᵀ ∇²o_k J_i + Σ_m (J_o)_km ∇²i_m. Its Jets (stageDerivativesFromJets) remain the
+// reference it is tested against.
 #pragma once
 
 #include "core/scalar.h"
@@ -171,10 +177,68 @@ double constantHessianDiscrepancy(const S& s, const double* z, int entity) {
   }
 }
 
+template <typename Inner, typename Outer>
+struct ComposedStage;
+
+/// True when S is a ComposedStage.
+template <typename S>
+struct IsComposedStage : std::false_type {};
+template <typename Inner, typename Outer>
+struct IsComposedStage<ComposedStage<Inner, Outer>> : std::true_type {};
+
+template <typename S>
+void evaluateStage(const S& s, const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<S>& d);
+
+/// Outer ∘ Inner (Inner: N → P, Outer: P → M) as one stage; see the top of this file.
+template <typename Inner, typename Outer>
+struct ComposedStage {
+  static_assert(Inner::kOutputs == Outer::kInputs, "the inner stage's outputs are the outer stage's inputs");
+  static constexpr int kInputs = Inner::kInputs, kOutputs = Outer::kOutputs;
+  Inner inner;
+  Outer outer;
+  template <typename T>
+  void operator()(const T* z, T* y, int entity) const {
+    T mid[Inner::kOutputs];
+    inner(z, mid, entity);
+    outer(static_cast<const T*>(mid), y, entity);
+  }
+  /// The chain rule over the two stages' local derivatives, up to `order`, each on `path`.
+  void chained(const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<ComposedStage>& d) const {
+    constexpr int P = Inner::kOutputs, M = Outer::kOutputs;
+    StageDerivativesOf<Inner> i;
+    StageDerivativesOf<Outer> o;
+    evaluateStage(inner, z, entity, HasConstantHessian<Inner>::value ? std::min(order, 1) : order, path, i);
+    evaluateStage(outer, i.value.data(), entity, order, path, o);
+    d.value = o.value;
+    if (order < 1) return;
+    d.jacobian.noalias() = o.jacobian * i.jacobian;
+    if (order < 2) return;
+    for (int k = 0; k < M; ++k) d.hessians[k].noalias() = i.jacobian.transpose() * (o.hessians[k] * i.jacobian);
+    if constexpr (HasConstantHessian<Inner>::value) {
+      // The inner stage's few constant Hessian entries (a cross product has 4 per output), not its dense blocks.
+      const auto& c = constantStageHessians<Inner>();
+      for (int e = 0; e < c.numEntries; ++e) {
+        const auto& t = c.entries[static_cast<std::size_t>(e)];
+        for (int k = 0; k < M; ++k) d.hessians[k](t.i, t.j) += o.jacobian(k, t.k) * t.h;
+      }
+    } else {
+      for (int k = 0; k < M; ++k)
+        for (int m = 0; m < P; ++m)
+          if (o.jacobian(k, m) != 0.0) d.hessians[k].noalias() += o.jacobian(k, m) * i.hessians[m];
+    }
+  }
+};
+
 /// The stage's derivatives up to `order` on `path`: the analytic twin when there is one and path is
-/// Analytic, the Jets otherwise.
+/// Analytic, the Jets otherwise (a composed stage: its parts' derivatives, chained).
 template <typename S>
 void evaluateStage(const S& s, const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<S>& d) {
+  if constexpr (IsComposedStage<S>::value) {
+    if (order >= 1) {
+      s.chained(z, entity, order, path, d);
+      return;
+    }
+  }
   if constexpr (HasStageTwin<S>::value) {
     if (path == DerivativePath::Analytic) {
       s.derivatives(z, entity, order, d);
@@ -189,6 +253,22 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
     }
   }
   stageDerivativesFromJets(s, z, entity, order, d);
+}
+
+/// Largest relative difference between a composed stage's chained derivatives on `path` and its own Jets at z
+/// (value, Jacobian, Hessians; 0 for any other stage).
+template <typename S>
+double composedStageDiscrepancy(const S& s, const double* z, int entity, DerivativePath path) {
+  if constexpr (!IsComposedStage<S>::value) {
+    return 0.0;
+  } else {
+    StageDerivativesOf<S> jets, chained;
+    stageDerivativesFromJets(s, z, entity, 2, jets);
+    s.chained(z, entity, 2, path, chained);
+    double worst = std::max(relativeDifference(chained.value, jets.value), relativeDifference(chained.jacobian, jets.jacobian));
+    for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(chained.hessians[k], jets.hessians[k]));
+    return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+  }
 }
 
 /// A stage's results as the chain reads them (core/stage_chain.h): value (M), Jacobian (M×N, column-major)

@@ -12,15 +12,17 @@
 //                                  total Jacobians.
 //   energy(s, entity, {inputs...}) the root: a one-output stage (the energy density), always at order 2 when a
 //                                  Hessian is asked.
-//   finish(wantG, wantH, g, H)     g = J_rootᵀ. H by a reverse sweep: adjoint w̄ = 1 at the root, and per stage node
+//   finish(wantG, wantH, g, H)     g = J_rootᵀ (with a Hessian, from the forward rows; alone, by one reverse
+//                                  sweep of adjoints over the local Jacobians: no rows formed). H by a reverse sweep: adjoint w̄ = 1 at the root, and per stage node
 //                                  H += Zᵀ (Σ_k w̄_k ∇²y_k) Z, then w̄_inputs += (∂y/∂z)ᵀ w̄. That is
 //                                  H = J_sᵀ W'' J_s + Σ_k w_k ∇²s_k, recursively. Gauss–Newton (context.order < 2
 //                                  with a Hessian asked) keeps the root's term only: H = J_sᵀ W'' J_s.
-// Cost: total Jacobians are full-width rows (D), so that each update is one fixed-length vector operation; the
+// Cost: total Jacobians are full-width rows (D), so that each update is one fixed-length vector operation; a
+// leaf stores no rows: its ±I selector is applied directly (two scalar updates instead of a row update). The
 // curvature Zᵀ C Z is formed per input node, skipping the zero entries of C (a bilinear stage couples only some
 // of its inputs; a stage with constant zero Hessians, core/stage.h, has none) and, in Zᵀ, the columns off the
-// input's support (the stencil vertices it depends on, e.g. three for a face normal) and the zero entries of a
-// leaf's ±1 selector.
+// input's support (the stencil vertices it depends on, e.g. three for a face normal). Only the blocks C_ab with
+// b ≥ a are formed, the diagonal one halved, into P; the Hessian is P + Pᵀ (symmetric pairs of blocks once).
 // Every buffer is a fixed-size member (kMaxNodes nodes, stage sizes bounded by core/stage.h): a chain is built
 // once per thread and reused; building and finishing a stencil never allocates.
 #pragma once
@@ -90,10 +92,8 @@ class StageChain {
   double finish(bool wantG, bool wantH, Gradient& g, Hessian& H) {
     if (root_ < 0) throw std::logic_error("stage chain: no energy stage");
     const Node& r = nodes_[root_];
-    if (wantG || wantH) {
-      g.setZero();
-      g = row(r, 0).transpose();
-    }
+    if (wantG && !forwardRows()) reverseGradient(g);
+    if ((wantG || wantH) && forwardRows()) g = row(r, 0).transpose();
     if (wantH) {
       for (int i = 0; i < D * D; ++i) Hrow_[i] = 0.0;
       for (int n = 0; n <= root_; ++n)
@@ -113,12 +113,41 @@ class StageChain {
           }
         }
       }
-      H = Eigen::Map<const Eigen::Matrix<double, D, D, Eigen::RowMajor>>(Hrow_);
+      const Eigen::Map<const Eigen::Matrix<double, D, D, Eigen::RowMajor>> P(Hrow_);
+      H = P + P.transpose();
     }
     return r.value[0];
   }
 
  private:
+  /// Total Jacobians are formed forward only when a Hessian is asked (its curvature terms need them); a gradient
+  /// alone comes from one reverse sweep over the local Jacobians.
+  bool forwardRows() const { return context_.energyOrder >= 2; }
+
+  /// g = J_rootᵀ by adjoints: w̄ = 1 at the root, w̄_inputs += (∂y/∂z)ᵀ w̄ per stage node, a leaf's w̄ added to
+  /// its vertex's coordinates (subtracted at its second vertex).
+  void reverseGradient(Gradient& g) {
+    g.setZero();
+    for (int n = 0; n <= root_; ++n)
+      for (int k = 0; k < kMaxStageOutputs; ++k) nodes_[n].adjoint[k] = 0.0;
+    nodes_[root_].adjoint[0] = 1.0;
+    for (int n = root_; n >= 0; --n) {
+      Node& node = nodes_[n];
+      if (node.numInputs == 0) {
+        for (int c = 0; c < 3; ++c) {
+          g[3 * node.leafPlus + c] += node.adjoint[c];
+          if (node.leafMinus >= 0) g[3 * node.leafMinus + c] -= node.adjoint[c];
+        }
+        continue;
+      }
+      for (int i = 0; i < node.numInputs; ++i) {
+        double s = 0.0;
+        for (int k = 0; k < node.outputs; ++k) s += node.view.jacobian[k + node.outputs * i] * node.adjoint[k];
+        nodes_[node.inputNode[i]].adjoint[node.inputComponent[i]] += s;
+      }
+    }
+  }
+
   struct Node {
     int outputs = 0;
     int numInputs = 0;                       // 0: a leaf
@@ -130,10 +159,12 @@ class StageChain {
     const double* value = nullptr;           // outputs
     StageView view;                          // local derivatives (stage nodes)
     double leafValue[3];
+    int leafPlus = -1, leafMinus = -1;       // a leaf's Jacobian: +I at vertex leafPlus, −I at leafMinus (or none)
     int numSupport = 0;                      // the stencil vertices the node depends on, ascending
     int support[K];
     std::uint32_t mask = 0;                  // the same as bits
-    alignas(64) double J[kMaxStageOutputs * D];  // total Jacobian ∂y_k/∂xe: row k at J + k·D, zero off the support
+    alignas(64) double J[kMaxStageOutputs * D];  // total Jacobian ∂y_k/∂xe: row k at J + k·D, zero off the
+                                                 // support; unused for a leaf
     double adjoint[kMaxStageOutputs];
   };
 
@@ -164,13 +195,8 @@ class StageChain {
     for (int c = 0; c < 3; ++c) n.leafValue[c] = xe_[3 * j + c] - (i >= 0 ? xe_[3 * i + c] : 0.0);
     n.value = n.leafValue;
     setSupport(n, 1u << j | (i >= 0 ? 1u << i : 0u));
-    if (context_.energyOrder > 0) {
-      for (int c = 0; c < 3; ++c) {
-        row(n, c).setZero();
-        n.J[c * D + 3 * j + c] = 1.0;
-        if (i >= 0) n.J[c * D + 3 * i + c] = -1.0;
-      }
-    }
+    n.leafPlus = j;
+    n.leafMinus = i;  // no rows stored: the chain applies a leaf's ±I selector directly
     return numNodes_ - 1;
   }
 
@@ -203,13 +229,25 @@ class StageChain {
     n.numInputs = N;
     n.value = n.view.value;
     setSupport(n, mask);
-    if (context_.energyOrder > 0) {
+    if (forwardRows()) {
       // J_k = Σ_q (∂y_k/∂z_q) J_input(q): full-width rows (zero off the support), so that every update is a
       // fixed-length vector operation.
+      // A leaf input adds ±(∂y_k/∂z_q) at its two columns instead of a row.
       const double* a = n.view.jacobian;
       for (int k = 0; k < M; ++k) row(n, k).setZero();
       for (int q = 0; q < N; ++q) {
-        const auto in = row(nodes_[n.inputNode[q]], n.inputComponent[q]);
+        const Node& from = nodes_[n.inputNode[q]];
+        if (from.numInputs == 0) {
+          const int plus = 3 * from.leafPlus + n.inputComponent[q];
+          const int minus = from.leafMinus >= 0 ? 3 * from.leafMinus + n.inputComponent[q] : -1;
+          for (int k = 0; k < M; ++k) {
+            const double akq = a[k + M * q];
+            n.J[k * D + plus] += akq;
+            if (minus >= 0) n.J[k * D + minus] -= akq;
+          }
+          continue;
+        }
+        const auto in = row(from, n.inputComponent[q]);
         for (int k = 0; k < M; ++k) {
           const double akq = a[k + M * q];
           if (akq != 0.0) row(n, k).noalias() += akq * in;
@@ -225,8 +263,10 @@ class StageChain {
     return Eigen::Map<const Eigen::Matrix<double, 1, D>>(n.J + k * D);
   }
 
-  /// H += Zᵀ C Z with C = Σ_k w̄_k ∇²y_k, per input node a: Y = Σ_b C_ab Z_b (full-width rows, zero entries of C
-  /// skipped), then for each column r of Z_a on a's support, H's row r += Z_a(·, r)ᵀ Y.
+  /// Adds Zᵀ C Z (C = Σ_k w̄_k ∇²y_k) to P, half of H (H = P + Pᵀ at the end): per input group a, only the
+  /// blocks C_ab with b ≥ a (the diagonal block halved), so a symmetric pair of blocks is formed once. Per group
+  /// a: Y = Σ_{b≥a} C_ab Z_b (full-width rows, zero entries of C skipped, a leaf's ±1 columns written directly),
+  /// then for each column r of Z_a on a's support, P's row r += Z_a(·, r)ᵀ Y.
   void addCurvature(const Node& node) {
     const int N = node.numInputs;
     double C[kMaxStageInputs * kMaxStageInputs];
@@ -246,21 +286,35 @@ class StageChain {
     alignas(64) double Y[kMaxStageOutputs * D];
     for (int a = 0; a < node.numGroups; ++a) {
       const Node& A = nodes_[node.groupNode[a]];
-      const int sa = node.groupStart[a], na = A.outputs;
-      // Y = Σ_b C_ab Z_b: the rows of C Z that input node a's rows of Zᵀ meet.
+      const int sa = node.groupStart[a], ea = node.groupStart[a + 1], na = A.outputs;
       bool nonzero = false;
       for (int r = 0; r < na; ++r) Row(Y + r * D).setZero();
-      for (int q = 0; q < N; ++q) {
-        const auto zq = row(nodes_[node.inputNode[q]], node.inputComponent[q]);
+      for (int q = sa; q < N; ++q) {
+        const Node& B = nodes_[node.inputNode[q]];
+        const int comp = node.inputComponent[q];
+        const double half = q < ea ? 0.5 : 1.0;
         for (int r = 0; r < na; ++r) {
           const double crq = C[(sa + r) + N * q];
           if (crq == 0.0) continue;
-          Row(Y + r * D).noalias() += crq * zq;
           nonzero = true;
+          if (B.numInputs == 0) {
+            Y[r * D + 3 * B.leafPlus + comp] += half * crq;
+            if (B.leafMinus >= 0) Y[r * D + 3 * B.leafMinus + comp] -= half * crq;
+          } else {
+            Row(Y + r * D).noalias() += (half * crq) * row(B, comp);
+          }
         }
       }
       if (!nonzero) continue;
-      // H's row of each column of Z_a on a's support += Z_a(·, column)ᵀ Y.
+      if (A.numInputs == 0) {  // a leaf: column 3v + r of Z_a is ±e_r
+        for (int r = 0; r < na; ++r) {
+          const auto y = Eigen::Map<const Eigen::Matrix<double, 1, D>>(Y + r * D);
+          Row(Hrow_ + (3 * A.leafPlus + r) * D).noalias() += y;
+          if (A.leafMinus >= 0) Row(Hrow_ + (3 * A.leafMinus + r) * D).noalias() -= y;
+        }
+        continue;
+      }
+      // P's row of each column of Z_a on a's support += Z_a(·, column)ᵀ Y.
       for (int t = 0; t < A.numSupport; ++t) {
         for (int cc = 0; cc < 3; ++cc) {
           const int hr = 3 * A.support[t] + cc;
@@ -279,7 +333,7 @@ class StageChain {
   int numNodes_ = 0;
   int root_ = -1;
   Node nodes_[kMaxNodes];
-  alignas(64) double Hrow_[D * D];  // the Hessian being accumulated, row-major
+  alignas(64) double Hrow_[D * D];  // P, half of the Hessian being accumulated (H = P + Pᵀ), row-major
   alignas(64) unsigned char arena_[1 << 16];
   std::size_t arenaUsed_ = 0;
 };

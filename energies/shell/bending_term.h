@@ -97,8 +97,7 @@ class BendingTerm : public EnergyTerm {
   void bindStages();
   void resizeStages();
   bool staged_ = false;
-  StageCache<FaceCrossStage> crosses_;
-  StageCache<UnitNormalStage> normals_;
+  StageCache<FaceNormalStage> normals_;
   StageCache<MeanNormalStage> meanNormals_;
   StageCache<KelvinStage> midEdgeNormals_;
   GhostMeanStage ghostMean_;

@@ -1,7 +1,8 @@
 // The bending term's staged evaluator (BendingTerm::setStaged). Per stencil f (the face's vertices 0, 1, 2, then
 // the opposite vertex across each edge i as 3 + i):
 //   e0 = x1 − x0, e1 = x2 − x0 (leaves)
-//   per face g of the stencil (f and its neighbours): n_g = UnitNormal(FaceCross(g's own e0, e1)), cached per face
+//   per face g of the stencil (f and its neighbours): n_g = UnitNormal(FaceCross(g's own e0, e1)), one composed
+//     stage (6 -> 3) cached per face
 //   per edge i: m_i = MeanNormal(n_A, n_B) in the edge's face order (cached per edge), or GhostMean(n_f) under
 //     the edge's rule on a boundary edge; n̄_i = Kelvin(m_i), cached per edge
 //   b = SecondForm(e0, e1, n̄0, n̄1, n̄2); energy = BendingDensity(b)
@@ -24,7 +25,6 @@ void BendingTerm::setStaged(bool staged) {
 
 void BendingTerm::resizeStages() {
   const int nf = static_cast<int>(F_.rows()), ne = topo_.numEdges();
-  crosses_.resize(nf);
   normals_.resize(nf);
   meanNormals_.resize(ne);
   midEdgeNormals_.resize(ne);
@@ -40,8 +40,7 @@ void BendingTerm::bindStages() {
 }
 
 int BendingTerm::stagedFaceNormal(StageChain<6>& chain, int face, const std::int8_t* local) {
-  const int c = chain.stage(crosses_, face, {chain.difference(local[0], local[1]), chain.difference(local[0], local[2])});
-  return chain.stage(normals_, face, {c});
+  return chain.stage(normals_, face, {chain.difference(local[0], local[1]), chain.difference(local[0], local[2])});
 }
 
 int BendingTerm::buildSecondForm(StageChain<6>& chain, int f) {

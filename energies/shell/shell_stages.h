@@ -6,6 +6,7 @@
 //
 //   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear
 //   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin
+//   FaceNormalStage       (e0, e1): the two above composed (core/stage.h) -> n                6 -> 3
 //   MeanNormalStage       (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B) 6 -> 3, linear
 //   GhostMeanStage        n of a boundary edge's face                   -> m = ½(n + n_ghost(n)), the edge's rule
 //   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin
@@ -52,6 +53,9 @@ struct UnitNormalStage {
     analytic::unitNormal(Eigen::Vector3d(c[0], c[1], c[2]), d.value, d.jacobian, d.hessians);
   }
 };
+
+/// The face normal as one node of a chain (cached per face): derivatives chained from the two stages' own.
+using FaceNormalStage = ComposedStage<FaceCrossStage, UnitNormalStage>;
 
 struct MeanNormalStage {
   static constexpr int kInputs = 6, kOutputs = 3;

@@ -1,6 +1,7 @@
 #include "core/stage_chain.h"
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <ceres/jet.h>
 
 using namespace jetshell;
@@ -53,17 +54,18 @@ T composed(const T* x, bool linearNormal) {
 }
 
 /// The chain's energy, gradient and Hessian.
+/// order 1 or 2 with a Hessian; order 0: the gradient alone (energy stage at order 1, H untouched).
 double chained(const double* x, int order, bool linearNormal, Eigen::Matrix<double, 9, 1>& g,
                Eigen::Matrix<double, 9, 9>& H) {
   static StageChain<3> chain;
   StageContext ctx;
-  ctx.order = order;
-  ctx.energyOrder = 2;
+  ctx.order = std::max(order, 1);
+  ctx.energyOrder = order == 0 ? 1 : 2;
   chain.begin(x, ctx);
   const int n = linearNormal ? chain.stage(Scale(), 0, {chain.difference(0, 1)})
                              : chain.stage(Normal(), 0, {chain.difference(0, 1), chain.difference(0, 2)});
   chain.energy(Energy(), 0, {n, chain.vertex(2)});
-  return chain.finish(true, true, g, H);
+  return chain.finish(true, order > 0, g, H);
 }
 
 }  // namespace
@@ -85,6 +87,10 @@ TEST_CASE("stage chain: gradient and Hessian through stages equal those of the c
     CHECK(g[i] == Approx(ref.a.v[i]).margin(1e-13));
     for (int j = 0; j < 9; ++j) CHECK(H(i, j) == Approx(ref.v[i].v[j]).margin(1e-12));
   }
+  // The gradient alone (reverse sweep, no forward rows) is the same gradient.
+  Eigen::Matrix<double, 9, 1> gAlone;
+  CHECK(chained(x, 0, false, gAlone, H) == Approx(ref.a.a).epsilon(1e-14));
+  for (int i = 0; i < 9; ++i) CHECK(gAlone[i] == Approx(ref.a.v[i]).margin(1e-13));
 }
 
 TEST_CASE("stage chain: Gauss-Newton drops the curvature of intermediate stages only", "[stages]") {

@@ -88,6 +88,24 @@ struct EntityLinear {
 
 }  // namespace
 
+TEST_CASE("stage: a composed stage chains its parts' derivatives and equals its own Jets", "[stages]") {
+  using Composed = ComposedStage<Plain, Twinned>;
+  STATIC_REQUIRE(IsComposedStage<Composed>::value);
+  STATIC_REQUIRE_FALSE(IsComposedStage<Plain>::value);
+  const double z[2] = {0.7, -1.3};
+  Composed good;
+  CHECK(composedStageDiscrepancy(good, z, 0, DerivativePath::AutoDiff) <= 1e-14);
+  CHECK(composedStageDiscrepancy(good, z, 0, DerivativePath::Analytic) <= 1e-14);
+  // The analytic path reaches the outer stage's twin: a wrong twin shows there, and on that path only.
+  Composed bad;
+  bad.outer.error = 1e-3;
+  CHECK(composedStageDiscrepancy(bad, z, 0, DerivativePath::AutoDiff) <= 1e-14);
+  CHECK(composedStageDiscrepancy(bad, z, 0, DerivativePath::Analytic) >= 1e-4);
+  StageDerivatives<2, 2> d;
+  evaluateStage(good, z, 0, 0, DerivativePath::AutoDiff, d);
+  CHECK(d.value[1] == Approx(std::sin(0.7 * 1.69)));
+}
+
 TEST_CASE("stage: constant Hessians are computed once and a false declaration shows against the Jets", "[stages]") {
   STATIC_REQUIRE(HasConstantHessian<Bilinear>::value);
   STATIC_REQUIRE_FALSE(HasConstantHessian<Plain>::value);

@@ -33,6 +33,9 @@ TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian decla
     // Twins, relative to the Jets' largest entry (measured <= 4e-16; limit 1e-12).
     randomInput<UnitNormalStage>(rng, z);
     CHECK(stageTwinDiscrepancy(UnitNormalStage(), z, 0) <= 1e-12);
+    randomInput<FaceNormalStage>(rng, z);
+    CHECK(composedStageDiscrepancy(FaceNormalStage(), z, 0, DerivativePath::AutoDiff) <= 1e-12);
+    CHECK(composedStageDiscrepancy(FaceNormalStage(), z, 0, DerivativePath::Analytic) <= 1e-12);
     randomInput<KelvinStage>(rng, z);
     CHECK(stageTwinDiscrepancy(KelvinStage(), z, 0) <= 1e-12);
     randomInput<BendingDensityStage>(rng, z);
