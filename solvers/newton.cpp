@@ -230,10 +230,9 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     // iteration reached). So a pass that is owed to the floor alone takes up to kFloorIterations more iterations
     // while each shrinks the residual by kFloorContraction.
     // If that iteration's solve or line search fails, the iterate that passed stands (x has not moved).
-    const bool floorPass = r <= residualThreshold && r > scaledTolerance;
+    floorPassed = r <= residualThreshold && r > scaledTolerance;
     const bool stillContracting = k > 0 && r * kFloorContraction <= previousResidual;
-    floorPassed = floorPass;
-    if (floorPass && stillContracting && floorIterations < kFloorIterations && k < o.maxIterations) {
+    if (floorPassed && stillContracting && floorIterations < kFloorIterations && k < o.maxIterations) {
       ++floorIterations;
     } else if (r <= residualThreshold) {
       s.assemblySeconds += rec.assemblySeconds;
