@@ -6,6 +6,7 @@
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "tools/validation/validation_plots.h"
+#include "solvers/linear_solver.h"
 #include "validation/benchmark.h"
 #include "validation/report.h"
 #include "validation/snap_through.h"
@@ -40,6 +41,7 @@ struct ValidateArgs {
   std::string freeEdge = "second_order_free";
   std::string solver;
   std::string projection = "none";
+  std::string linearSolver = "auto";
   double maxIncrement = 1.0;
   double initialIncrement = 0.005;
   int predictor = BenchmarkRunOptions{}.predictorOrder;
@@ -135,6 +137,11 @@ BenchmarkRunOptions runOptions(const ValidateArgs& a) {
     o.newton.projection = PsdProjection::Clamp;
   else
     throw InputError("--projection: '" + a.projection + "' is not one of: none, clamp");
+  try {
+    o.newton.linear.type = linearSolverTypeFromString(a.linearSolver);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--linear-solver: ") + e.what());
+  }
   o.maxIncrement = a.maxIncrement;
   o.initialIncrement = std::min(a.initialIncrement, a.maxIncrement);
   o.predictorOrder = a.predictor;
@@ -218,6 +225,8 @@ const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--free-edge", a->freeEdge, "Free edges' rule: second_order_free (default: no moment across the edge) or page_free");
   cmd->add_option("--solver", a->solver, "load-stepping or dynamic-relaxation (default: the benchmark's)");
   cmd->add_option("--projection", a->projection, "Newton's per-element PSD projection: none (default) or clamp");
+  cmd->add_option("--linear-solver", a->linearSolver,
+                  "Newton's linear solver: auto (default: CHOLMOD up to 300,000 unknowns, PCG above), cholmod, ldlt, pcg");
   cmd->add_option("--max-increment", a->maxIncrement, "Largest load-factor increment of one Newton solve")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--initial-increment", a->initialIncrement, "The first load-factor increment")

@@ -59,6 +59,7 @@ expect 3 "--mesh: 100000x100000 gives 10000200001 vertices, too many (at most 40
   "$js" validate cantilever-end-shear --mesh 100000x100000
 expect 3 "--mesh: '8x' is not N1xN2" -- "$js" validate cantilever-end-shear --mesh 8x
 expect 3 "--grading: 'x' is not one of: uniform, cosine" -- "$js" validate slit-annular-plate --grading x
+expect 3 "--linear-solver: linear solver 'x': expected auto, cholmod, ldlt or pcg" -- "$js" validate slit-annular-plate --linear-solver x
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures hostile command-line case(s) failed"
