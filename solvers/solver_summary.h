@@ -55,7 +55,8 @@ struct SolverSummary {
   double forceScale = 0.0;          // N: the force the residual is judged against (Objective::forceScale)
   std::string forceScaleSource;     // where forceScale came from
   double roundOffFloor = 0.0;       // N: the residual round-off alone can leave (0 while below the tolerance)
-  std::string convergenceTest;      // when converged: "residual", or "iterate" (a time step's update test, in m)
+  std::string convergenceTest;      // when converged: "residual", "round_off" (solvers/newton.h), or "iterate"
+                                    // (a time step's update test, in m)
 
   double assemblySeconds = 0.0;       // energy + gradient + Hessian at the iterates
   double factorizationSeconds = 0.0;  // symbolic + numeric factorization or preconditioner
