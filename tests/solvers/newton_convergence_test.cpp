@@ -180,6 +180,15 @@ ShellProblem offsetCantilever(double force, const Eigen::Vector3d& offset) {
   return p;
 }
 
+/// One Newton solve of p's statics from its rest positions; returns the displacements.
+Eigen::VectorXd solveStatic(const ShellProblem& p, SolverSummary& s) {
+  ShellSystem system(p, AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  NewtonSolver newton(system.objective(), NewtonOptions{});
+  s = newton.minimize(x);
+  return x - system.restPositions();
+}
+
 }  // namespace
 
 TEST_CASE("newton: a residual within the round-off floor passes only when the Newton decrement has vanished",
@@ -188,16 +197,9 @@ TEST_CASE("newton: a residual within the round-off floor passes only when the Ne
   // Measured on this problem: a pass at the floor on the residual alone left a relative displacement error of
   // 4.2e-8 after 23 iterations; one iteration more reached 7.7e-13.
   const Eigen::Vector3d offset(1e3, -5e2, 1.5e3);
-  auto solve = [](const ShellProblem& p, SolverSummary& s) {
-    ShellSystem system(p, AnalysisKind::Statics);
-    Eigen::VectorXd x = system.restPositions();
-    NewtonSolver newton(system.objective(), NewtonOptions{});
-    s = newton.minimize(x);
-    return Eigen::VectorXd(x - system.restPositions());
-  };
   SolverSummary near, far;
-  const Eigen::VectorXd uNear = solve(testing::cantileverPlate(8, 4, 1e-2), near);
-  const Eigen::VectorXd uFar = solve(offsetCantilever(1e-2, offset), far);
+  const Eigen::VectorXd uNear = solveStatic(testing::cantileverPlate(8, 4, 1e-2), near);
+  const Eigen::VectorXd uFar = solveStatic(offsetCantilever(1e-2, offset), far);
   checkClaim(near);
   checkClaim(far);
   REQUIRE(near.converged());
@@ -216,16 +218,9 @@ TEST_CASE("newton: a floor above 1% of the load still gives a round-off pass; a 
   // residual Newton reaches is 1.1e-4 of the load (measured), and the displacements equal those at the origin to
   // 1e-10. Without the round-off pass this solve ended as stalled.
   const Eigen::Vector3d offset = 1e5 * Eigen::Vector3d(1.0, -0.5, 1.5);
-  auto solve = [](const ShellProblem& p, SolverSummary& s) {
-    ShellSystem system(p, AnalysisKind::Statics);
-    Eigen::VectorXd x = system.restPositions();
-    NewtonSolver newton(system.objective(), NewtonOptions{});
-    s = newton.minimize(x);
-    return Eigen::VectorXd(x - system.restPositions());
-  };
   SolverSummary near, far, tiny;
-  const Eigen::VectorXd uNear = solve(testing::cantileverPlate(8, 4, 1e-2), near);
-  const Eigen::VectorXd uFar = solve(offsetCantilever(1e-2, offset), far);
+  const Eigen::VectorXd uNear = solveStatic(testing::cantileverPlate(8, 4, 1e-2), near);
+  const Eigen::VectorXd uFar = solveStatic(offsetCantilever(1e-2, offset), far);
   checkClaim(far);
   INFO("far: " << far.message);
   REQUIRE(far.roundOffFloor > 1e-2 * far.forceScale);
@@ -234,7 +229,7 @@ TEST_CASE("newton: a floor above 1% of the load still gives a round-off pass; a 
   CHECK((uFar - uNear).lpNorm<Eigen::Infinity>() <= 1e-8 * uNear.lpNorm<Eigen::Infinity>());
   // A load 1e4 times smaller moves the shell by less than rounding resolves there: its residual stays above 1% of
   // the load (measured 0.89), so it must not claim convergence.
-  solve(offsetCantilever(1e-6, offset), tiny);
+  solveStatic(offsetCantilever(1e-6, offset), tiny);
   INFO("tiny load: " << tiny.message);
   checkClaim(tiny);
   CHECK_FALSE(tiny.converged());
