@@ -84,7 +84,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   bool tryExact = false;     // the last step's full-step model agreed: try the unprojected Hessian
   int exactCooldown = 0;     // iterations to wait before the next try, growing with each fallback
   bool haveExact = false;    // the assembled Hessian is the unprojected one
-  double residualThreshold = 0.0, decrementThreshold = 0.0;
+  double decrementThreshold = 0.0;
+  // The residual test's tolerance [N]: residualTolerance × F, or a preset's looser one.
   double scaledTolerance = 0.0, forceScale = 0.0;
   constexpr double kRoundOffFactor = 64.0 * std::numeric_limits<double>::epsilon();
   constexpr double kFloorCeiling = 1e-2;  // a residual above this fraction of F never passes at round-off
@@ -116,7 +117,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   bool floorPassed = false;  // the current iterate's residual is above the scaled tolerance but within roundOffBound
   auto convergedOnResidual = [&]() {
     std::ostringstream m;
-    m << "residual " << r << " N <= " << residualThreshold << " N (" << o.residualTolerance << " x force scale "
+    m << "residual " << r << " N <= " << scaledTolerance << " N (" << o.residualTolerance << " x force scale "
       << forceScale << " N from " << s.forceScaleSource << ")";
     return finish(TerminationReason::Converged, m.str());
   };
@@ -207,9 +208,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       // residual) loosen the test to the larger one; the summary records which tolerance held.
       if (o.absoluteResidualTolerance > 0.0) scaledTolerance = std::max(scaledTolerance, o.absoluteResidualTolerance);
       if (o.relativeResidualTolerance > 0.0) scaledTolerance = std::max(scaledTolerance, o.relativeResidualTolerance * r);
-      residualThreshold = scaledTolerance;
       decrementThreshold = o.decrementTolerance * F.value * obj.scales().length;
-      s.residualThreshold = residualThreshold;
+      s.residualThreshold = scaledTolerance;
       s.decrementThreshold = decrementThreshold;
       if (have == Have::Hessian) updateFloor();
     }
@@ -220,7 +220,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     // 64x1024 quads stopped 0.16% off its equilibrium at a floor 40-500x above the residual that one more
     // iteration reached; on 96x1536, 11% off at λ = 0.1, residual 4.17e-5 N within a floor of 4.18e-5 N).
     floorPassed = r > scaledTolerance && r <= roundOffBound;
-    if (r <= residualThreshold) {
+    if (r <= scaledTolerance) {
       s.assemblySeconds += rec.assemblySeconds;
       return convergedOnResidual();
     }
@@ -238,7 +238,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     if (k >= o.maxIterations) {
       s.assemblySeconds += rec.assemblySeconds;
       std::ostringstream m;
-      m << "reached " << o.maxIterations << " iterations with residual " << r << " N > " << residualThreshold << " N";
+      m << "reached " << o.maxIterations << " iterations with residual " << r << " N > " << scaledTolerance << " N";
       if (r > kFloorCeiling * forceScale && s.roundOffFloor > kFloorCeiling * forceScale)
         m << "; the residual's round-off floor " << s.roundOffFloor << " N is above 1% of the force scale " << forceScale
           << " N: the loads move the shell by less than its positions' round-off";
@@ -360,28 +360,27 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       rec.lineSearchSeconds = ls.seconds();
       s.lineSearchSeconds += rec.lineSearchSeconds;
       s.trace.push_back(rec);
-      if (r <= residualThreshold) {
+      if (r <= scaledTolerance) {
         std::ostringstream m;
-        m << "residual " << r << " N <= " << residualThreshold << " N after a step with Newton decrement " << decrement
+        m << "residual " << r << " N <= " << scaledTolerance << " N after a step with Newton decrement " << decrement
           << " J";
         return finish(TerminationReason::Converged, m.str());
       }
       // Converged to round-off: the residual is within the round-off floor (an estimate that bounds rounding's
       // residual from above) and within kFloorCeiling × F, and Newton's next step would release no energy.
       // Nothing more can be gained in double precision.
-      if (s.roundOffFloor > 0.0 && r <= roundOffBound) {
+      if (r <= roundOffBound) {
         std::ostringstream m;
         m << "round-off: residual " << r << " N <= " << roundOffBound << " N (the residual's round-off floor "
           << s.roundOffFloor << " N, at most " << kFloorCeiling << " x force scale " << forceScale
           << " N) and Newton decrement " << decrement << " J <= " << std::max(decrementThreshold, noise) << " J";
-        residualThreshold = roundOffBound;
         s.residualThreshold = roundOffBound;
         s.convergenceTest = "round_off";
         return finish(TerminationReason::Converged, m.str());
       }
       std::ostringstream m;
       m << "stalled: Newton decrement " << decrement << " J <= " << decrementThreshold << " J"
-        << (moved ? "" : " (the step raised the energy)") << " but residual " << r << " N > " << residualThreshold
+        << (moved ? "" : " (the step raised the energy)") << " but residual " << r << " N > " << scaledTolerance
         << " N";
       return finish(TerminationReason::Stalled, m.str());
     }
