@@ -1,6 +1,7 @@
 #include "core/mesh_generators.h"
 
 #include "core/input_limits.h"
+#include "core/math_constants.h"
 
 #include <array>
 #include <cstdint>
@@ -11,8 +12,6 @@
 
 namespace jetshell {
 namespace {
-
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 
 [[noreturn]] void invalid(const char* generator, const std::string& what) {
   throw InputError(std::string(generator) + ": " + what);

@@ -10,6 +10,9 @@
 #include <sstream>
 
 namespace jetshell {
+
+double infNorm(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
+
 namespace {
 
 bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& b) {
@@ -18,8 +21,6 @@ bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& 
          a.maxRegularizations == b.maxRegularizations && a.ordering == b.ordering && a.blasThreads == b.blasThreads &&
          a.lagRefactorIterations == b.lagRefactorIterations && a.oneRing == b.oneRing;
 }
-
-double infNorm(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
 
 /// max_i Σ_j |H_ij| |x_j| over the free dofs, from the upper triangle of the symmetric H: the force error that
 /// rounding every position to ε|x| can cause, divided by ε.

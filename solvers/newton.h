@@ -115,6 +115,9 @@ struct NewtonOptions {
   bool overlapPreconditioner = true;
 };
 
+/// The largest absolute entry of v (0 for an empty vector): the residual norm of the convergence tests.
+double infNorm(const Eigen::VectorXd& v);
+
 /// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
 struct IterateTestResult {
   bool passed = false;

@@ -1,5 +1,6 @@
 #include "solvers/path_corrector.h"
 
+#include "solvers/newton.h"
 #include "solvers/statics.h"
 #include "solvers/timer.h"
 
@@ -8,11 +9,6 @@
 #include <sstream>
 
 namespace jetshell {
-namespace {
-
-double infNorm(const Eigen::VectorXd& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
-
-}  // namespace
 
 double freeDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::vector<char>& fixed) {
   double s = 0.0;

@@ -2,6 +2,8 @@
 
 #include "core/mesh_generators.h"
 
+#include <sys/resource.h>
+
 #include <ctime>
 #include <fstream>
 
@@ -37,6 +39,12 @@ double loadAverage() {
   double load = -1.0;
   if (!(f >> load)) return -1.0;
   return load;
+}
+
+double peakRssMb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;
 }
 
 }  // namespace jetshell::cli

@@ -13,6 +13,7 @@
 // Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
+#include "tools/bench_cloth.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
@@ -44,8 +45,6 @@ struct ContactBenchOptions {
   std::string json;
 };
 
-double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
-
 struct Variant {
   bool growOnly = false;  // the Hessian pattern grow-only, or exact (rebuilt to the current contacts)
   bool direct = false;    // CHOLMOD on the whole Hessian with every block projected, or the scene's solver
@@ -72,7 +71,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
               v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
   const auto start = std::chrono::steady_clock::now();
-  const double cpuStart = cpuSeconds();
+  const double cpuStart = processCpuSeconds();
   int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0, cg = 0;
   double factorSeconds = 0.0;
   double linear = 0.0;
@@ -92,10 +91,10 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   for (int s = 0; s < o.steps; ++s) {
     const StepReport r = solver.step();
     const auto guardStart = std::chrono::steady_clock::now();
-    const double guardCpuStart = cpuSeconds();
+    const double guardCpuStart = processCpuSeconds();
     guards(solver.positions());
     guardWall += std::chrono::duration<double>(std::chrono::steady_clock::now() - guardStart).count();
-    guardCpu += cpuSeconds() - guardCpuStart;
+    guardCpu += processCpuSeconds() - guardCpuStart;
     if (o.trace) {
       int stepCg = 0;
       for (const SolverSummary& solve : r.solves)
@@ -121,7 +120,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - guardWall;
-  const double cpu = cpuSeconds() - cpuStart - guardCpu;
+  const double cpu = processCpuSeconds() - cpuStart - guardCpu;
   const int steps = solver.stepCount();
   const std::vector<std::string> names = objective.activeTermNames();
   const std::vector<std::string> contactNames = system.contact.termNames();
@@ -224,7 +223,7 @@ int runContactBench(const ContactBenchOptions& o) {
   return failed ? kFailed : kOk;
 }
 
-const RegisterSubcommand reg("bench contact", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app, int& exitCode) {
   CLI::App* bench = benchCommand(app);
   auto opts = std::make_shared<ContactBenchOptions>();
   CLI::App* cmd = bench->add_subcommand("contact", "steps/s and time split of a contact scene (the T-shirt)");

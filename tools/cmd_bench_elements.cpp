@@ -10,11 +10,11 @@
 #include "core/topology.h"
 #include "energies/examples/hinge_bending.h"
 #include "energies/shell/shell_terms.h"
+#include "tools/bench_cloth.h"
 #include "tools/subcommand.h"
 
 #include <nlohmann/json.hpp>
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <ctime>
@@ -36,12 +36,6 @@ struct BenchOptions {
   int threads = 0;   // 0 = 1 and all
   bool staged = false;  // also the *_staged rows (the stage framework), in the same run
 };
-
-double peakRssMb() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_maxrss) / 1024.0;
-}
 
 struct Row {
   std::string term, path, hessian, what;
@@ -259,7 +253,7 @@ int runBench(const BenchOptions& o) {
   return kOk;
 }
 
-const RegisterSubcommand reg("bench elements", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerBenchElements("bench elements", [](CLI::App& app, int& exitCode) {
   CLI::App* bench = benchCommand(app);
   auto opts = std::make_shared<BenchOptions>();
   CLI::App* el = bench->add_subcommand("elements", "Per-face cost of the membrane and bending energies");

@@ -9,6 +9,9 @@
 // --dynamic adds the same comparison on a dynamic recovery (examples/fit_swinging_strip.json: mass damping and
 // density of a swinging strip from tip positions at eight times; each evaluation is one run of 16 time steps, the
 // derivatives forward sensitivities carried through them).
+#include "tools/bench_cloth.h"
+
+#include "core/math_constants.h"
 #include "tools/fit/fit_setup.h"
 #include "tools/output/atomic_file.h"
 #include "tools/subcommand.h"
@@ -39,23 +42,14 @@ struct Args {
   std::string json;
 };
 
-constexpr double kPi = 3.14159265358979323846;
-
-double cpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-
 /// Runs one example fit file with its own settings; prints and returns its figures.
 nlohmann::json runDemo(const std::string& name, const std::function<nlohmann::json(const FitFile&, const FitResult&)>& compare) {
   const std::string path = std::string(JETSHELL_SOURCE_DIR) + "/examples/" + name;
   const FitFile file = loadFitFile(path);
   FitSetup setup(file);
-  const double cpu0 = cpuSeconds();
+  const double cpu0 = processCpuSeconds();
   const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
-  const double cpu = cpuSeconds() - cpu0;
+  const double cpu = processCpuSeconds() - cpu0;
   nlohmann::json j = {{"fit_file", name},
                       {"algorithm", toString(r.algorithm)},
                       {"success", r.success},
@@ -134,9 +128,9 @@ int runSynthetic(const Args& a, nlohmann::json& out) {
     o.misfitTolerance = 0.0;  // stop on the parameter step only, the same rule for every algorithm
     FitSetup setup(file);
     const int levels = static_cast<int>(setup.problem().levels().size());
-    const double cpu0 = cpuSeconds();
+    const double cpu0 = processCpuSeconds();
     const FitResult r = runFit(setup.problem(), setup.variables(), o);
-    const double cpu = cpuSeconds() - cpu0;
+    const double cpu = processCpuSeconds() - cpu0;
     int reached = -1;
     for (const FitRecord& h : r.history)
       if (h.ok && maxRelativeError(h.q, truth) <= a.tolerance) {
@@ -219,7 +213,7 @@ int run(const Args& a) {
   return code;
 }
 
-const RegisterSubcommand reg("bench-fit", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerBenchFit("bench-fit", [](CLI::App& app, int& exitCode) {
   auto a = std::make_shared<Args>();
   CLI::App* cmd = benchCommand(app)->add_subcommand(
       "fit", "Fitting: derivative-free against gradient-based on a synthetic recovery (solves, time, misfit)");

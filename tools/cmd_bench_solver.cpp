@@ -19,7 +19,6 @@
 
 #include <nlohmann/json.hpp>
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <ctime>
@@ -58,12 +57,6 @@ struct SolverBenchOptions {
   int traceFrom = 0;  // > 0: print the Newton trace of every step that takes at least this many iterations
   std::string json;
 };
-
-double peakRssMb() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_maxrss) / 1024.0;
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -334,7 +327,7 @@ int runSolverBench(const SolverBenchOptions& o) {
   return run.completed ? kOk : kFailed;
 }
 
-const RegisterSubcommand reg("bench solver", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, int& exitCode) {
   CLI::App* bench = benchCommand(app);
   auto opts = std::make_shared<SolverBenchOptions>();
   CLI::App* cmd = bench->add_subcommand("solver", "Newton, linear solver and time stepping on a hanging cloth");

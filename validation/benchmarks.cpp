@@ -1,6 +1,7 @@
 // The benchmark definitions: Sze, Liu, Lo (2004) §3.1, §3.2, §3.3 and the Shell Actors page's scaled slit ring.
 #include "validation/benchmark.h"
 
+#include "core/math_constants.h"
 #include "core/mesh_generators.h"
 #include "energies/shell/material.h"
 #include "validation/line_load.h"
@@ -9,8 +10,6 @@
 
 namespace jetshell::validation {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 ShellProblem staticProblem(TriMesh mesh, const ShellMaterialParams& material) {
   ShellProblem p;

@@ -1,17 +1,13 @@
 #include "validation/report.h"
 
+#include "core/format.h"
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 namespace jetshell::validation {
 namespace {
-
-std::string format(const char* fmt, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, v);
-  return buffer;
-}
 
 nlohmann::json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -34,14 +30,14 @@ std::string formatSummary(const Benchmark& b, const BenchmarkResult& r) {
     << b.resolutionMeaning << "), "
     << r.vertices << " vertices, " << r.faces << " faces; clamp " << toString(r.clamp) << ", diagonals "
     << toString(r.diagonals) << ", " << toString(r.solver) << "\n"
-    << "  " << format("%.3f", r.wallSeconds) << " s wall, " << format("%.3f", r.cpuSeconds) << " s CPU, "
+    << "  " << formatNumber("%.3f", r.wallSeconds) << " s wall, " << formatNumber("%.3f", r.cpuSeconds) << " s CPU, "
     << r.newtonIterations << " Newton iterations, " << r.loadSteps << " steps, " << r.cuts << " cuts; "
     << r.message << "\n"
-    << "  max relative error " << format("%.3f", 100.0 * r.maxRelError) << "%, at lambda = 1 "
-    << format("%.3f", 100.0 * r.finalRelError) << "% (" << toString(b.errorMeasure) << ")\n";
+    << "  max relative error " << formatNumber("%.3f", 100.0 * r.maxRelError) << "%, at lambda = 1 "
+    << formatNumber("%.3f", 100.0 * r.finalRelError) << "% (" << toString(b.errorMeasure) << ")\n";
   if (r.maxRelErrorBeyondDigits < r.maxRelError)
     s << "  beyond the reference's printed digits (|q - q_ref| less half a unit of its last digit): max "
-      << format("%.3f", 100.0 * r.maxRelErrorBeyondDigits) << "%\n";
+      << formatNumber("%.3f", 100.0 * r.maxRelErrorBeyondDigits) << "%\n";
   return s.str();
 }
 
@@ -53,10 +49,10 @@ std::string formatTable(const BenchmarkResult& r) {
       << "  reference  error %";
   s << "\n";
   for (const BenchmarkRow& row : r.rows) {
-    s << format("%8.3f", row.lambda);
+    s << formatNumber("%8.3f", row.lambda);
     for (std::size_t q = 0; q < row.computed.size(); ++q)
-      s << " | " << format("%9.4f", row.computed[q]) << "  " << format("%9.4f", row.reference[q]) << "  "
-        << format("%+7.3f", 100.0 * (row.computed[q] >= row.reference[q] ? 1.0 : -1.0) * row.relError[q]);
+      s << " | " << formatNumber("%9.4f", row.computed[q]) << "  " << formatNumber("%9.4f", row.reference[q]) << "  "
+        << formatNumber("%+7.3f", 100.0 * (row.computed[q] >= row.reference[q] ? 1.0 : -1.0) * row.relError[q]);
     s << "\n";
   }
   return s.str();

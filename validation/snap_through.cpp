@@ -1,6 +1,7 @@
 // The hinged cylindrical roof (validation/snap_through.h): the case, the two traces and their comparison.
 #include "validation/snap_through.h"
 
+#include "core/format.h"
 #include "core/mesh.h"
 #include "core/mesh_generators.h"
 #include "energies/shell/material.h"
@@ -121,12 +122,6 @@ double loadAt(const RoofTrace& d, double w) {
   return std::nan("");
 }
 
-std::string format(const char* fmt, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, v);
-  return buffer;
-}
-
 nlohmann::json toJson(const RoofTrace& t) {
   nlohmann::json limits = nlohmann::json::array();
   for (const RoofLimit& l : t.limits)
@@ -206,19 +201,19 @@ std::string formatRoof(const RoofResult& r) {
   for (const RoofTrace* t : {&r.arc, &r.displacement}) {
     s << "  " << toString(t->control) << " control: " << (t->completed ? "completed" : "NOT completed") << ", "
       << t->pathPoints << " path points, " << t->newtonIterations << " Newton iterations, " << t->cuts << " cuts, "
-      << format("%.2f", t->wallSeconds) << " s wall, at most " << t->maxNegativePivots
+      << formatNumber("%.2f", t->wallSeconds) << " s wall, at most " << t->maxNegativePivots
       << " negative pivots; " << t->message << "\n";
     for (const RoofLimit& l : t->limits)
       s << "    limit point (" << (l.maximum ? "maximum: the load turns down" : "minimum: the load turns up")
-        << ") P = " << format("%.2f", l.load) << " N at w = " << format("%.3f", l.deflection) << " mm (path point "
+        << ") P = " << formatNumber("%.2f", l.load) << " N at w = " << formatNumber("%.3f", l.deflection) << " mm (path point "
         << l.step << ")\n";
   }
   s << "  both limit points passed by arc length: " << (r.bothLimitsPassed ? "yes" : "no") << "\n"
-    << "  arc length vs displacement control: limit loads " << format("%.4f", 100.0 * r.limitLoadDifference)
-    << "% of P_max, limit deflections " << format("%.4f", 100.0 * r.limitDeflectionDifference)
+    << "  arc length vs displacement control: limit loads " << formatNumber("%.4f", 100.0 * r.limitLoadDifference)
+    << "% of P_max, limit deflections " << formatNumber("%.4f", 100.0 * r.limitDeflectionDifference)
     << "% (" << r.comparedLimits << " limit points before the path turns back in w, if it does: "
     << r.singleValuedPoints << " of " << r.arc.pathPoints << " points)"
-    << "; load at the same deflection (" << r.comparedPoints << " points) " << format("%.2e", 100.0 * r.curveDifference)
+    << "; load at the same deflection (" << r.comparedPoints << " points) " << formatNumber("%.2e", 100.0 * r.curveDifference)
     << "% of P_max\n";
   return s.str();
 }

@@ -1,3 +1,4 @@
+#include "core/math_constants.h"
 #include "core/mesh_generators.h"
 #include "energies/end_moment_term.h"
 #include "tools/checks/term_check.h"
@@ -12,8 +13,6 @@
 using namespace jetshell;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// The tip edge (x = L) of a makeRectangleGrid strip, in order of increasing y.
 std::vector<int> tipChain(int nx, int ny) {

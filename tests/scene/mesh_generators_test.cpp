@@ -1,3 +1,4 @@
+#include "core/math_constants.h"
 #include "core/mesh_generators.h"
 #include "core/topology.h"
 
@@ -9,8 +10,6 @@
 using namespace jetshell;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double totalArea(const TriMesh& m) {
   double a = 0;

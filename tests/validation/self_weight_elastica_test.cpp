@@ -1,3 +1,4 @@
+#include "core/math_constants.h"
 #include "validation/self_weight_elastica.h"
 
 #include <catch2/catch.hpp>
@@ -5,10 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
+using jetshell::kPi;
 using namespace jetshell::validation;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 TEST_CASE("self-weight elastica: small deflections follow the linear cantilever w l^4 / (8 G)", "[validation]") {

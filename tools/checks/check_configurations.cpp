@@ -1,5 +1,6 @@
 #include "tools/checks/check_configurations.h"
 
+#include "core/math_constants.h"
 #include "core/mesh_generators.h"
 
 #include <Eigen/Geometry>
@@ -12,8 +13,6 @@
 
 namespace jetshell {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector3d vertex(const Eigen::VectorXd& x, int v) { return x.segment<3>(3 * v); }
 

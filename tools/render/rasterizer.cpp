@@ -1,5 +1,7 @@
 #include "tools/render/rasterizer.h"
 
+#include "core/math_constants.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -8,8 +10,6 @@
 
 namespace jetshell {
 namespace {
-
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 float srgbToLinear(double c) { return static_cast<float>(std::pow(c, 2.2)); }
 

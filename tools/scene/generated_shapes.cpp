@@ -1,6 +1,7 @@
 #include "tools/scene/generated_shapes.h"
 
 #include "core/garment_generator.h"
+#include "core/math_constants.h"
 #include "core/mesh_generators.h"
 
 #include <algorithm>
@@ -9,8 +10,6 @@
 
 namespace jetshell {
 namespace {
-
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 
 using Groups = std::map<std::string, std::vector<int>>;
 

@@ -1,5 +1,6 @@
 #include "tools/scene/run_scene.h"
 
+#include "core/format.h"
 #include "solvers/dynamic_relaxation.h"
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
@@ -44,12 +45,6 @@ void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
   recordResidualClaim(extra, s.finalResidual, s.residualThreshold, s.forceScale, s.forceScaleSource);
   if (s.roundOffFloor > 0.0) extra["round_off_floor"] = s.roundOffFloor;
   if (!s.convergenceTest.empty()) extra["convergence_test"] = s.convergenceTest;
-}
-
-std::string format(const char* fmt, double a) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, a);
-  return buffer;
 }
 
 /// The up axis for pictures: against gravity, else +z.
@@ -200,11 +195,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         remember(s.loadFactor, s.x);
       }
       std::ostringstream line;
-      line << "load step " << step << "  λ = " << format("%.4f", s.loadFactor) << "  Newton " << s.summary.iterations
-           << "  residual " << format("%.3e", s.summary.finalResidual) << " N  E_pot "
-           << format("%.6e", potentialEnergy(s.x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+      line << "load step " << step << "  λ = " << formatNumber("%.4f", s.loadFactor) << "  Newton " << s.summary.iterations
+           << "  residual " << formatNumber("%.3e", s.summary.finalResidual) << " N  E_pot "
+           << formatNumber("%.6e", potentialEnergy(s.x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       progress.log(line.str());
-      progress.update(s.loadFactor, "λ = " + format("%.3f", s.loadFactor));
+      progress.update(s.loadFactor, "λ = " + formatNumber("%.3f", s.loadFactor));
       return !shouldStop(level);
     });
     summary.steps = level;
@@ -224,7 +219,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         limits.push_back({{"load_step", l.step + 1}, {"load_factor", l.loadFactor},
                           {"kind", l.maximum ? "maximum" : "minimum"}});
         progress.log(std::string("limit point: the load factor ") + (l.maximum ? "turns down" : "turns back up") +
-                     " at lambda = " + format("%.6g", l.loadFactor) + " (load step " + std::to_string(l.step + 1) + ")");
+                     " at lambda = " + formatNumber("%.6g", l.loadFactor) + " (load step " + std::to_string(l.step + 1) + ")");
       }
       summary.extra["limit_points"] = limits;
     }
@@ -267,7 +262,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
       }
       progress.log("resumed from " + checkpointPath(options.outputDirectory) + " at step " +
-                   std::to_string(solver.stepCount()) + ", t = " + format("%.4f", solver.time()) + " s");
+                   std::to_string(solver.stepCount()) + ", t = " + formatNumber("%.4f", solver.time()) + " s");
     }
     int doneIterations = 0, doneCuts = 0;
     auto writeCheckpointNow = [&](const DynamicsSolver& d) {
@@ -309,11 +304,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(d.time() + o.timeStep));
       const double residual = s.solves.empty() ? 0.0 : s.solves.back().finalResidual;
       std::ostringstream line;
-      line << "step " << s.step << "  t = " << format("%.4f", d.time()) << " s  Newton " << s.newtonIterations
-           << "  residual " << format("%.3e", residual) << " N  E_pot " << format("%.6e", potentialEnergy(d.positions()))
-           << " J  E_kin " << format("%.6e", d.kineticEnergy()) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+      line << "step " << s.step << "  t = " << formatNumber("%.4f", d.time()) << " s  Newton " << s.newtonIterations
+           << "  residual " << formatNumber("%.3e", residual) << " N  E_pot " << formatNumber("%.6e", potentialEnergy(d.positions()))
+           << " J  E_kin " << formatNumber("%.6e", d.kineticEnergy()) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       progress.log(line.str());
-      progress.update(d.time() / duration, "t = " + format("%.3f", d.time()) + " s");
+      progress.update(d.time() / duration, "t = " + formatNumber("%.3f", d.time()) + " s");
       doneIterations += s.newtonIterations;
       doneCuts += s.cuts;
       if (options.checkpointEvery > 0 && s.step % options.checkpointEvery == 0) {
@@ -347,16 +342,16 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       remember(s.time, x);
       if (firstResidual < 0) firstResidual = staticResidual;
       std::ostringstream line;
-      line << "step " << s.step << "  t = " << format("%.4f", s.time) << " s  Newton " << s.newtonIterations
-           << "  static residual " << format("%.3e", staticResidual) << " N  E_pot "
-           << format("%.6e", potentialEnergy(x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+      line << "step " << s.step << "  t = " << formatNumber("%.4f", s.time) << " s  Newton " << s.newtonIterations
+           << "  static residual " << formatNumber("%.3e", staticResidual) << " N  E_pot "
+           << formatNumber("%.6e", potentialEnergy(x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       progress.log(line.str());
       // Progress in orders of magnitude of the residual still to go, or in steps when that says more.
       const double threshold = o.residualTolerance * objective.forceScale(x, firstResidual).value;
       const double byResidual = std::log(firstResidual / staticResidual) / std::log(firstResidual / threshold);
       const double bySteps = static_cast<double>(s.step) / o.maxSteps;
       progress.update(std::max(std::isfinite(byResidual) ? byResidual : 0.0, bySteps),
-                      "step " + std::to_string(s.step) + ", residual " + format("%.2e", staticResidual) + " N");
+                      "step " + std::to_string(s.step) + ", residual " + formatNumber("%.2e", staticResidual) + " N");
       return !shouldStop(s.step);
     });
     summary.steps = r.steps;

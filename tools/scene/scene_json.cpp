@@ -1,5 +1,6 @@
 #include "tools/scene/scene_json.h"
 
+#include "core/math_constants.h"
 #include "energies/contact/sdf_grid.h"
 #include "tools/scene/checks.h"
 #include "tools/scene/generated_shapes.h"
@@ -19,8 +20,6 @@ namespace {
 
 using json::Object;
 using json::Value;
-
-constexpr double kRadiansPerDegree = 3.14159265358979323846 / 180.0;
 
 /// Runs f and prefixes any InputError it throws with `pointer` (generator and mesh errors do not know it).
 template <typename F>

@@ -1,3 +1,4 @@
+#include "core/math_constants.h"
 #include "tools/checks/check_configurations.h"
 #include "tools/checks/derivative_check.h"
 
@@ -8,7 +9,6 @@
 using namespace jetshell;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 TEST_CASE("check configurations: each kind has the geometry it promises") {
