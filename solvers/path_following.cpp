@@ -10,7 +10,7 @@
 namespace jetshell {
 namespace {
 
-void check(bool ok, const char* field, double value, const char* rule) {
+void checkPathOption(bool ok, const char* field, double value, const char* rule) {
   if (ok) return;
   std::ostringstream s;
   s << "path following: " << field << " = " << value << ": " << rule;
@@ -72,17 +72,17 @@ StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eig
                          const LoadSteppingOptions& o, const LoadStepCallback& callback) {
   const PathFollowingOptions& po = o.path;
   const bool arc = po.control == PathControl::ArcLength;
-  check(po.control != PathControl::Load, "control", 0, "load control is not path following");
-  check(po.maxSteps >= 1 && po.maxSteps <= 10000000, "maxSteps", po.maxSteps, "must be in 1..1e7");
-  check(std::isfinite(po.loadScaling) && po.loadScaling >= 0.0, "loadScaling", po.loadScaling, "must be >= 0");
+  checkPathOption(po.control != PathControl::Load, "control", 0, "load control is not path following");
+  checkPathOption(po.maxSteps >= 1 && po.maxSteps <= 10000000, "maxSteps", po.maxSteps, "must be in 1..1e7");
+  checkPathOption(std::isfinite(po.loadScaling) && po.loadScaling >= 0.0, "loadScaling", po.loadScaling, "must be >= 0");
   if (!objective.finalized()) objective.finalize();
   const std::vector<char>& fixed = objective.fixedDof();
   if (!arc) {
-    check(po.controlledDof >= 0 && po.controlledDof < objective.numDofs(), "controlledDof", po.controlledDof,
+    checkPathOption(po.controlledDof >= 0 && po.controlledDof < objective.numDofs(), "controlledDof", po.controlledDof,
           "must be a dof of the shell (3 x vertex + component)");
-    check(!fixed[static_cast<std::size_t>(po.controlledDof)], "controlledDof", po.controlledDof,
+    checkPathOption(!fixed[static_cast<std::size_t>(po.controlledDof)], "controlledDof", po.controlledDof,
           "is a fixed dof: displacement control needs a free one");
-    check(std::isfinite(po.displacement) && po.displacement != 0.0, "displacement", po.displacement,
+    checkPathOption(std::isfinite(po.displacement) && po.displacement != 0.0, "displacement", po.displacement,
           "must be finite and non-zero");
   }
   const double start = o.startLoadFactor, target = o.targetLoadFactor;

@@ -376,7 +376,7 @@ int runStudy(bool quick, bool large, const std::string& jsonPath, const std::str
   return kOk;
 }
 
-const RegisterSubcommand reg("bench_accuracy", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerBenchAccuracy("bench_accuracy", [](CLI::App& app, int& exitCode) {
   struct Args {
     bool quick = false;
     bool large = false;

@@ -328,7 +328,7 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
   return kOk;
 }
 
-const RegisterSubcommand reg("bench dynamics", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& app, int& exitCode) {
   CLI::App* bench = benchCommand(app);
   auto opts = std::make_shared<DynamicsBenchOptions>();
   CLI::App* cmd = bench->add_subcommand("dynamics", "Trajectory error against run time for time stepping (hanging cloth)");

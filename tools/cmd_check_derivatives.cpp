@@ -308,7 +308,7 @@ int run(const CheckOptions& o) {
   return allPass ? kOk : kFailed;
 }
 
-const RegisterSubcommand reg("check-derivatives", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerCheckDerivatives("check-derivatives", [](CLI::App& app, int& exitCode) {
   auto o = std::make_shared<CheckOptions>();
   CLI::App* cmd = app.add_subcommand(
       "check-derivatives",

@@ -12,7 +12,7 @@
 namespace jetshell::cli {
 namespace {
 
-const RegisterSubcommand reg("fit", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerFit("fit", [](CLI::App& app, int& exitCode) {
   struct Args {
     std::string fit;
     std::string out;

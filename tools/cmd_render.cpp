@@ -57,7 +57,7 @@ Eigen::Vector3d axisFromName(const std::string& name) {
   return negative ? Eigen::Vector3d(-up) : up;
 }
 
-const RegisterSubcommand reg("render", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCode) {
   struct Args {
     std::vector<std::string> inputs;
     std::string png;

@@ -18,7 +18,7 @@
 namespace jetshell::cli {
 namespace {
 
-const RegisterSubcommand reg("run", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
   struct Args {
     std::string scene;
     std::string out;

@@ -72,7 +72,7 @@ int runStress(const StressArgs& a) {
   return defects == 0 ? kOk : kFailed;
 }
 
-const RegisterSubcommand reg("stress", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerStress("stress", [](CLI::App& app, int& exitCode) {
   auto a = std::make_shared<StressArgs>();
   CLI::App* cmd = app.add_subcommand("stress", "Run the stress matrix (STABILITY.md): every cell must end ok or failed_cleanly");
   cmd->add_flag("--quick", a->quick, "The reduced matrix (a few seconds; run by CTest)");

@@ -207,7 +207,7 @@ int runValidate(const ValidateArgs& a) {
   return ok ? kOk : kFailed;
 }
 
-const RegisterSubcommand reg("validate", [](CLI::App& app, int& exitCode) {
+const RegisterSubcommand registerValidate("validate", [](CLI::App& app, int& exitCode) {
   auto a = std::make_shared<ValidateArgs>();
   CLI::App* cmd = app.add_subcommand(
       "validate", "Run the nonlinear shell benchmarks (Sze et al. 2004, the page's slit ring) against their references");

@@ -1,6 +1,7 @@
 // Self-registering subcommands of the one `jetshell` program. Each tools/cmd_*.cpp adds itself with
-//   static const RegisterSubcommand reg("name", [](CLI::App& app, int& exitCode) { ... });
-// where the setup adds a CLI11 subcommand whose callback sets exitCode (see README: exit codes).
+//   static const RegisterSubcommand registerName("name", [](CLI::App& app, int& exitCode) { ... });
+// where the setup adds a CLI11 subcommand whose callback sets exitCode (see README: exit codes). Each registrar
+// has a name of its own: CI compiles the files in unity batches (scripts/test.sh), where two `reg` would collide.
 #pragma once
 
 #include "core/mesh.h"

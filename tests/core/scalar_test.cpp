@@ -8,8 +8,8 @@ using namespace jetshell;
 
 namespace {
 
-using J1 = ceres::Jet<double, 3>;
-using J2 = ceres::Jet<J1, 3>;  // Ceres' own nested Jet: constant<T> and V3 still serve it
+using ScalarJ1 = ceres::Jet<double, 3>;
+using ScalarJ2 = ceres::Jet<ScalarJ1, 3>;  // Ceres' own nested Jet: constant<T> and V3 still serve it
 using S2 = SecondOrderJet<3>;   // the framework's second-order scalar (core/jet_arithmetic.h)
 
 /// The helpers composed into one function of a 3-vector: f(p) = |p|² + 2·|p × q|·(p·q) − 0.5·|p|, q fixed.
@@ -26,7 +26,7 @@ double compositeValue(const double* p) { return composite(p); }
 
 }  // namespace
 
-TEMPLATE_TEST_CASE("scalar: helpers compile and agree in value for every scalar type", "", double, J1, J2, S2) {
+TEMPLATE_TEST_CASE("scalar: helpers compile and agree in value for every scalar type", "", double, ScalarJ1, ScalarJ2, S2) {
   const double p[3] = {0.4, 0.9, -0.5};
   TestType pt[3];
   for (int i = 0; i < 3; ++i) pt[i] = constant<TestType>(p[i]);
@@ -44,12 +44,12 @@ TEMPLATE_TEST_CASE("scalar: helpers compile and agree in value for every scalar 
 TEST_CASE("scalar: first and second Jet derivatives of the helpers match hand derivatives") {
   const double p[3] = {0.4, 0.9, -0.5};
   // norm: ∂|p|/∂p = p/|p|, ∂²|p|/∂p∂p = (I − n nᵀ)/|p|.
-  J2 x[3];
+  ScalarJ2 x[3];
   for (int i = 0; i < 3; ++i) {
-    x[i] = J2(J1(p[i], i));
-    x[i].v[i] = J1(1.0);
+    x[i] = ScalarJ2(ScalarJ1(p[i], i));
+    x[i].v[i] = ScalarJ1(1.0);
   }
-  const J2 r = norm(load3(x));
+  const ScalarJ2 r = norm(load3(x));
   const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
   for (int i = 0; i < 3; ++i) {
     CHECK(r.a.v[i] == Approx(p[i] / len).epsilon(1e-14));
@@ -60,9 +60,9 @@ TEST_CASE("scalar: first and second Jet derivatives of the helpers match hand de
     }
   }
   // The composite's Jet gradient against central differences (smooth, so 1e-6 steps give ~1e-9).
-  J1 y[3];
-  for (int i = 0; i < 3; ++i) y[i] = J1(p[i], i);
-  const J1 f = composite(y);
+  ScalarJ1 y[3];
+  for (int i = 0; i < 3; ++i) y[i] = ScalarJ1(p[i], i);
+  const ScalarJ1 f = composite(y);
   for (int i = 0; i < 3; ++i) {
     double pp[3] = {p[0], p[1], p[2]}, pm[3] = {p[0], p[1], p[2]};
     pp[i] += 1e-6;

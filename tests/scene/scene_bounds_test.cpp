@@ -21,7 +21,7 @@ using Json = nlohmann::json;
 
 namespace {
 
-Json baseScene() {
+Json boundsScene() {
   return Json::parse(R"({
     "gravity": [0, 0, -9.81],
     "actors": [{
@@ -35,7 +35,7 @@ Json baseScene() {
   })");
 }
 
-std::string errorOf(const Json& scene) {
+std::string boundsErrorOf(const Json& scene) {
   try {
     buildSceneModel(sceneFromJson(scene, "."));
   } catch (const InputError& e) {
@@ -45,13 +45,13 @@ std::string errorOf(const Json& scene) {
 }
 
 template <typename Edit>
-std::string errorAfter(Edit edit) {
-  Json s = baseScene();
+std::string boundsErrorAfter(Edit edit) {
+  Json s = boundsScene();
   edit(s);
-  return errorOf(s);
+  return boundsErrorOf(s);
 }
 
-std::string errorOfText(const std::string& text) {
+std::string boundsErrorOfText(const std::string& text) {
   try {
     buildSceneModel(sceneFromJson(json::parse(text, "s.json"), "."));
   } catch (const InputError& e) {
@@ -60,7 +60,7 @@ std::string errorOfText(const std::string& text) {
   return "no error";
 }
 
-std::string fileErrorOf(const std::string& path) {
+std::string boundsFileErrorOf(const std::string& path) {
   try {
     loadSceneFile(path);
   } catch (const InputError& e) {
@@ -69,16 +69,16 @@ std::string fileErrorOf(const std::string& path) {
   return "no error";
 }
 
-struct LimitOverride {
+struct BoundsLimitOverride {
   InputLimits saved = inputLimits();
-  ~LimitOverride() { inputLimits() = saved; }
+  ~BoundsLimitOverride() { inputLimits() = saved; }
 };
 
 Json rectangle(Json nx, Json ny) {
   return {{"generator", "rectangle"}, {"width", 1}, {"height", 1}, {"nx", nx}, {"ny", ny}};
 }
 
-std::string tempPath(const std::string& name) {
+std::string boundsTempPath(const std::string& name) {
   const auto dir = test::scratchDirectory("scene_bounds");
   std::filesystem::create_directories(dir);
   return (dir / name).string();
@@ -87,31 +87,31 @@ std::string tempPath(const std::string& name) {
 }  // namespace
 
 TEST_CASE("scene bounds: generator resolutions are bounded before anything is allocated", "[scene][hostile]") {
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(65535, 65535); }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(65535, 65535); }) ==
         "/actors/0/shape: rectangle grid: the resolution gives 4294967296 vertices and 8589672450 faces, too many "
         "(at most 4000000 vertices and 8000000 faces)");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(2147483647, 1); }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(2147483647, 1); }) ==
         "/actors/0/shape/nx = 2147483647: too large (at most 4000000)");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(1e12, 1); }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(1e12, 1); }) ==
         "/actors/0/shape/nx = 1000000000000.0: too large (at most 4000000)");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(-3, 1); }) == "/actors/0/shape/nx = -3: must be >= 1");
-  CHECK(errorAfter([](Json& s) {
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["shape"] = rectangle(-3, 1); }) == "/actors/0/shape/nx = -3: must be >= 1");
+  CHECK(boundsErrorAfter([](Json& s) {
           s["actors"][0]["shape"] = {{"generator", "slitAnnulus"}, {"innerRadius", 1}, {"outerRadius", 2},
                                      {"rings", 3000}, {"nodesPerRing", 3000}};
         }) == "/actors/0/shape: slit annulus: the resolution gives 9000000 vertices and 17988002 faces, too many (at "
               "most 4000000 vertices and 8000000 faces)");
-  CHECK(errorAfter([](Json& s) {
+  CHECK(boundsErrorAfter([](Json& s) {
           s["actors"][0]["shape"] = {{"generator", "cylinder"}, {"radius", 1}, {"length", 2}, {"nAround", 4000000},
                                      {"nAlong", 4000000}};
         }).rfind("/actors/0/shape: cylinder: the resolution gives 16000008000001 vertices", 0) == 0);
-  CHECK(errorAfter([](Json& s) {
+  CHECK(boundsErrorAfter([](Json& s) {
           s["actors"][0]["shape"] = {{"generator", "hemisphere"}, {"radius", 1}, {"rings", 4000000}, {"segments", 3}};
         }).rfind("/actors/0/shape: hemisphere: the resolution gives 16000005 vertices", 0) == 0);
 }
 
 TEST_CASE("scene bounds: selections, steps, iterations and threads", "[scene][hostile]") {
   auto select = [](Json selector) {
-    return errorAfter([&](Json& s) { s["actors"][0]["fixed"][0]["select"] = selector; });
+    return boundsErrorAfter([&](Json& s) { s["actors"][0]["fixed"][0]["select"] = selector; });
   };
   CHECK(select({{"range", {0, 2000000000}}}) == "/actors/0/fixed/0/select/range/1 = 2000000000: too large (at most 4000000)");
   CHECK(select({{"range", {0, 5, 1e10}}}) == "/actors/0/fixed/0/select/range/2 = 10000000000.0: too large (at most 2147483647)");
@@ -121,25 +121,25 @@ TEST_CASE("scene bounds: selections, steps, iterations and threads", "[scene][ho
   CHECK(select({{"range", {0, 100}}}) == "/actors/0/fixed/0/select/indices/15 = 15: out of range [0, 15)");
   CHECK(select({{"indices", {0, 3000000000.0}}}) ==
         "/actors/0/fixed/0/select/indices/1 = 3000000000.0: too large (at most 2147483647)");
-  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", 1e-300}, {"duration", 1}}; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", 1e-300}, {"duration", 1}}; }) ==
         "/analysis/timeStep = 1e-300: 1e+300 steps over the duration 1 s, too many (at most 10000000)");
-  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", 1e-7}, {"duration", 10}}; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", 1e-7}, {"duration", 10}}; }) ==
         "/analysis/timeStep = 1e-07: 1e+08 steps over the duration 10 s, too many (at most 10000000)");
-  CHECK(errorAfter([](Json& s) { s["analysis"]["loadSteps"] = 1e12; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["analysis"]["loadSteps"] = 1e12; }) ==
         "/analysis/loadSteps = 1000000000000.0: too large (at most 10000000)");
-  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamicRelaxation"}, {"timeStep", 0.1}, {"maxSteps", 1e8}}; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["analysis"] = {{"type", "dynamicRelaxation"}, {"timeStep", 0.1}, {"maxSteps", 1e8}}; }) ==
         "/analysis/maxSteps = 100000000.0: too large (at most 10000000)");
-  CHECK(errorAfter([](Json& s) { s["solver"] = {{"threads", 1000000}}; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["solver"] = {{"threads", 1000000}}; }) ==
         "/solver/threads = 1000000: too large (at most 256)");
-  CHECK(errorAfter([](Json& s) { s["solver"] = {{"threads", -1}}; }) == "/solver/threads = -1: must be >= 0");
-  CHECK(errorAfter([](Json& s) { s["solver"] = {{"maxIterations", 1e9}}; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["solver"] = {{"threads", -1}}; }) == "/solver/threads = -1: must be >= 0");
+  CHECK(boundsErrorAfter([](Json& s) { s["solver"] = {{"maxIterations", 1e9}}; }) ==
         "/solver/maxIterations = 1000000000.0: too large (at most 1000000)");
-  CHECK(errorAfter([](Json& s) { s["outputs"] = {{"frameStride", 1e8}}; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["outputs"] = {{"frameStride", 1e8}}; }) ==
         "/outputs/frameStride = 100000000.0: too large (at most 10000000)");
 }
 
 TEST_CASE("scene bounds: the C++ scene API checks the same bounds", "[scene][hostile]") {
-  Scene scene = sceneFromJson(baseScene(), ".");
+  Scene scene = sceneFromJson(boundsScene(), ".");
   scene.solver.threads = 1000000;
   CHECK_THROWS_WITH(validate(scene), "/solver/threads = 1000000: too large (at most 256)");
   scene.solver.threads = 0;
@@ -151,51 +151,51 @@ TEST_CASE("scene bounds: the C++ scene API checks the same bounds", "[scene][hos
   scene.analysis.loadSteps = 2000000000;
   CHECK_THROWS_WITH(validate(scene), "/analysis/loadSteps = 2000000000: too large (at most 10000000)");
   scene.analysis.loadSteps = 1;
-  LimitOverride restore;
+  BoundsLimitOverride restore;
   inputLimits().maxVertices = 20;  // the strip has 15 vertices: one actor fits, two do not
-  Json two = baseScene();
+  Json two = boundsScene();
   two["actors"].push_back(two["actors"][0]);
   two["actors"][1]["name"] = "second";
   two["actors"][1]["probes"][0]["name"] = "tip2";
-  CHECK(errorOf(two) == "scene: vertices of all shell actors = 30: too large (at most 20)");
+  CHECK(boundsErrorOf(two) == "scene: vertices of all shell actors = 30: too large (at most 20)");
 }
 
 TEST_CASE("scene bounds: inline meshes and index lists are bounded", "[scene][hostile]") {
-  LimitOverride restore;
+  BoundsLimitOverride restore;
   inputLimits().maxVertices = 2;
-  CHECK(errorAfter([](Json& s) {
+  CHECK(boundsErrorAfter([](Json& s) {
           s["actors"][0]["shape"] = {{"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, {"faces", {{0, 1, 2}}}};
         }) == "/actors/0/shape/vertices (count) = 3: too large (at most 2)");
   inputLimits().maxVertices = 100;
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["fixed"][0]["select"] = {{"indices", Json(std::vector<int>(101, 0))}}; }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["fixed"][0]["select"] = {{"indices", Json(std::vector<int>(101, 0))}}; }) ==
         "/actors/0/fixed/0/select/indices (count) = 101: too large (at most 100)");
 }
 
 TEST_CASE("scene bounds: deep nesting, huge strings and keys, huge numbers, wrong types", "[scene][hostile]") {
   const std::string deep = std::string(100000, '[') + std::string(100000, ']');
-  CHECK(errorOfText(deep) == "s.json: nested too deeply (at most 64 levels of arrays and objects)");
-  CHECK(errorOfText("{\"description\": " + std::string(70, '[') + std::string(70, ']') + "}") ==
+  CHECK(boundsErrorOfText(deep) == "s.json: nested too deeply (at most 64 levels of arrays and objects)");
+  CHECK(boundsErrorOfText("{\"description\": " + std::string(70, '[') + std::string(70, ']') + "}") ==
         "s.json: nested too deeply (at most 64 levels of arrays and objects)");
-  CHECK(errorAfter([](Json& s) { s["description"] = std::string(5000, 'x'); }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["description"] = std::string(5000, 'x'); }) ==
         "/description: a string of 5000 bytes is too long (at most 4096)");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["probes"][0]["name"] = std::string(100000, 'p'); }) ==
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["probes"][0]["name"] = std::string(100000, 'p'); }) ==
         "/actors/0/probes/0/name: a string of 100000 bytes is too long (at most 4096)");
-  CHECK(errorOfText("{\"" + std::string(10000, 'k') + "\": 1}") == "s.json: a key of 10000 bytes is too long (at most 4096)");
-  CHECK(errorOfText(R"({"gravity": [0, 0, -1e400]})") == "s.json:1:20: invalid JSON: number overflow parsing '-1e400'");
-  CHECK(errorAfter([](Json& s) { s["gravity"] = {0, 0, 1e308}; }) == "no error");
-  CHECK(errorAfter([](Json& s) { s["actors"] = "shell"; }) == "/actors: expected an array, got a string");
-  CHECK(errorAfter([](Json& s) { s["actors"][0] = 7; }) == "/actors/0: expected an object (an actor), got a number");
-  CHECK(errorAfter([](Json& s) { s["analysis"] = Json::array(); }) == "/analysis: expected an object (the analysis), got an array");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["hasGravity"] = 1; }) == "/actors/0/hasGravity: expected true or false, got a number");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["name"] = nullptr; }) == "/actors/0/name: expected a string, got null");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"]["nx"] = "8"; }) == "/actors/0/shape/nx: expected an integer, got a string");
-  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"]["nx"] = true; }) == "/actors/0/shape/nx: expected an integer, got a boolean");
-  CHECK(errorOfText("[1, 2]") == "(root): expected an object (a scene), got an array");
-  CHECK(errorOfText("\"just a string\"") == "(root): expected an object (a scene), got a string");
+  CHECK(boundsErrorOfText("{\"" + std::string(10000, 'k') + "\": 1}") == "s.json: a key of 10000 bytes is too long (at most 4096)");
+  CHECK(boundsErrorOfText(R"({"gravity": [0, 0, -1e400]})") == "s.json:1:20: invalid JSON: number overflow parsing '-1e400'");
+  CHECK(boundsErrorAfter([](Json& s) { s["gravity"] = {0, 0, 1e308}; }) == "no error");
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"] = "shell"; }) == "/actors: expected an array, got a string");
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0] = 7; }) == "/actors/0: expected an object (an actor), got a number");
+  CHECK(boundsErrorAfter([](Json& s) { s["analysis"] = Json::array(); }) == "/analysis: expected an object (the analysis), got an array");
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["hasGravity"] = 1; }) == "/actors/0/hasGravity: expected true or false, got a number");
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["name"] = nullptr; }) == "/actors/0/name: expected a string, got null");
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["shape"]["nx"] = "8"; }) == "/actors/0/shape/nx: expected an integer, got a string");
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["shape"]["nx"] = true; }) == "/actors/0/shape/nx: expected an integer, got a boolean");
+  CHECK(boundsErrorOfText("[1, 2]") == "(root): expected an object (a scene), got an array");
+  CHECK(boundsErrorOfText("\"just a string\"") == "(root): expected an object (a scene), got a string");
 }
 
 TEST_CASE("scene bounds: materials must have positive-definite energies", "[scene][hostile]") {
-  auto material = [](Json m) { return errorAfter([&](Json& s) { s["actors"][0]["material"] = m; }); };
+  auto material = [](Json m) { return boundsErrorAfter([&](Json& s) { s["actors"][0]["material"] = m; }); };
   CHECK(material({{"membraneLambda", -100}, {"membraneMu", 0}}) == "/actors/0/material/membraneMu = 0: must be finite and > 0");
   CHECK(material({{"membraneLambda", -500}, {"membraneMu", 400}}) ==
         "/actors/0/material: material.membraneLambda = -500: must satisfy membraneLambda + membraneMu > 0");
@@ -206,27 +206,27 @@ TEST_CASE("scene bounds: materials must have positive-definite energies", "[scen
 }
 
 TEST_CASE("scene bounds: only regular scene files of bounded size are read", "[scene][hostile]") {
-  CHECK(fileErrorOf("/dev/zero") ==
+  CHECK(boundsFileErrorOf("/dev/zero") ==
         "/dev/zero: not a regular file (a directory, FIFO or device): cannot read it as a scene file");
-  const std::string fifo = tempPath("scene.fifo");
+  const std::string fifo = boundsTempPath("scene.fifo");
   std::filesystem::remove(fifo);
   REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
-  CHECK(fileErrorOf(fifo) == fifo + ": not a regular file (a directory, FIFO or device): cannot read it as a scene file");
+  CHECK(boundsFileErrorOf(fifo) == fifo + ": not a regular file (a directory, FIFO or device): cannot read it as a scene file");
   std::filesystem::remove(fifo);
-  const std::string big = tempPath("big.json");
-  std::ofstream(big) << baseScene().dump();
-  LimitOverride restore;
+  const std::string big = boundsTempPath("big.json");
+  std::ofstream(big) << boundsScene().dump();
+  BoundsLimitOverride restore;
   inputLimits().maxJsonBytes = 100;
-  CHECK(fileErrorOf(big).rfind(big + ": scene file of ", 0) == 0);
-  CHECK(fileErrorOf(big).find("bytes is too large (at most 100)") != std::string::npos);
+  CHECK(boundsFileErrorOf(big).rfind(big + ": scene file of ", 0) == 0);
+  CHECK(boundsFileErrorOf(big).find("bytes is too large (at most 100)") != std::string::npos);
   std::filesystem::remove(big);
 }
 
 TEST_CASE("scene bounds: a rest mesh folded flat or with a reversed duplicate face names the faces", "[scene][hostile]") {
-  CHECK(errorAfter([](Json& s) {
+  CHECK(boundsErrorAfter([](Json& s) {
           s["actors"][0]["shape"] = {{"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, {"faces", {{0, 1, 2}, {0, 2, 1}}}};
         }) == "/actors/0/shape: mesh: face 1 (0, 2, 1) is face 0 (0, 1, 2) reversed (two faces on the same three vertices)");
-  CHECK(errorAfter([](Json& s) {
+  CHECK(boundsErrorAfter([](Json& s) {
           s["actors"][0]["shape"] = {{"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.2, 0}}},
                                      {"faces", {{0, 1, 2}, {0, 2, 3}}}};
         }) == "/actors/0/shape: mesh: face 1 (0, 2, 3) is folded flat onto face 0 (0, 1, 2) across the edge between "

@@ -34,7 +34,7 @@ nlohmann::json stripScene() {
   })");
 }
 
-std::string errorOf(const nlohmann::json& scene) {
+std::string pathErrorOf(const nlohmann::json& scene) {
   try {
     buildSceneModel(sceneFromJson(scene, test::scratchDirectory("path_control_scenes").string()));
   } catch (const InputError& e) {
@@ -93,7 +93,7 @@ TEST_CASE("scene path control: bad path controls are refused with the field's po
   auto edited = [](auto edit) {
     nlohmann::json s = stripScene();
     edit(s["analysis"]["pathControl"]);
-    return errorOf(s);
+    return pathErrorOf(s);
   };
   CHECK(edited([](nlohmann::json& c) { c["type"] = "riks"; }) ==
         "/analysis/pathControl/type: \"riks\" is not one of \"load\", \"arcLength\", \"displacement\"");

@@ -52,13 +52,13 @@ void advance(DynamicsSolver& solver, TimeStepSensitivity& sensitivity, int steps
   }
 }
 
-struct Run {
+struct SensitivityRun {
   Eigen::VectorXd x;
   Eigen::MatrixXd S;
   int inexact = 0;
 };
 
-Run run(const Eigen::VectorXd& q, TimeIntegrator integrator, int steps, bool sensitivities) {
+SensitivityRun run(const Eigen::VectorXd& q, TimeIntegrator integrator, int steps, bool sensitivities) {
   ShellSystem system(dampedCantilever(), AnalysisKind::Dynamics);
   const std::vector<Group> g = groups();
   std::vector<TermParameter> parameters;
@@ -89,7 +89,7 @@ void checkAgainstDifferences(TimeIntegrator integrator) {
   testing::SingleThread single;
   const int Q = 5, steps = 6;
   const Eigen::VectorXd q = Eigen::VectorXd::Ones(Q);
-  const Run base = run(q, integrator, steps, true);
+  const SensitivityRun base = run(q, integrator, steps, true);
   CHECK(base.inexact == 0);
   const double moved = (base.x - ShellSystem(dampedCantilever(), AnalysisKind::Dynamics).restPositions()).norm();
   REQUIRE(moved > 1e-3);  // the plate has moved: the test is not trivially passed at rest

@@ -15,7 +15,7 @@
 namespace jetshell {
 namespace {
 
-using nlohmann::json;
+using Json = nlohmann::json;
 
 std::string sci(double v) {
   char b[32];
@@ -23,64 +23,64 @@ std::string sci(double v) {
   return b;
 }
 
-json rectangle(double w, double h, int nx, int ny) {
+Json rectangle(double w, double h, int nx, int ny) {
   return {{"generator", "rectangle"}, {"width", w}, {"height", h}, {"nx", nx}, {"ny", ny}};
 }
 
-json plate(double E, double nu, double h, double rho = 1000.0) {
+Json plate(double E, double nu, double h, double rho = 1000.0) {
   return {{"youngsModulus", E}, {"poissonRatio", nu}, {"thickness", h}, {"volumeDensity", rho}};
 }
 
-json shell(const json& shape, const json& material, const json& fixed, const json& loads) {
+Json shell(const Json& shape, const Json& material, const Json& fixed, const Json& loads) {
   return {{"type", "shell"},         {"name", "sheet"},  {"shape", shape},  {"material", material},
           {"colliderType", "None"}, {"fixed", fixed},   {"loads", loads}, {"probes", {{{"name", "P"}, {"select", {{"nearest", {1.0, 1.0, 0.0}}}}}}}};
 }
 
-json scene(const json& actor, const json& analysis, const json& gravity = {0.0, 0.0, -9.81}, json solver = json::object()) {
+Json scene(const Json& actor, const Json& analysis, const Json& gravity = {0.0, 0.0, -9.81}, Json solver = Json::object()) {
   solver["threads"] = 1;
   return {{"description", "stress cell"}, {"gravity", gravity}, {"actors", {actor}},
           {"analysis", analysis},         {"solver", solver},   {"outputs", {{"png", false}, {"plots", false}}}};
 }
 
-const json kClampLeft = {{{"select", {{"group", "left"}}}, {"clampRotation", true}}};
+const Json kClampLeft = {{{"select", {{"group", "left"}}}, {"clampRotation", true}}};
 /// The same for inline meshes (no groups): the vertices at x = 0.
-const json kClampLeftArrays = {{{"select", {{"box", {{"min", {-1e-9, -10.0, -10.0}}, {"max", {1e-9, 10.0, 10.0}}}}}}, {"clampRotation", true}}};
-json staticSteps(int n) { return {{"type", "static"}, {"loadSteps", n}}; }
-json dynamic(double dt, int steps, const char* integrator = "backwardEuler") {
+const Json kClampLeftArrays = {{{"select", {{"box", {{"min", {-1e-9, -10.0, -10.0}}, {"max", {1e-9, 10.0, 10.0}}}}}}, {"clampRotation", true}}};
+Json staticSteps(int n) { return {{"type", "static"}, {"loadSteps", n}}; }
+Json dynamic(double dt, int steps, const char* integrator = "backwardEuler") {
   return {{"type", "dynamic"}, {"timeStep", dt}, {"duration", dt * steps}, {"integrator", integrator}};
 }
-json tipLoad(double fz) { return {{{"select", {{"group", "right"}}}, {"force", {0.0, 0.0, fz}}, {"distribution", "edgeLength"}}}; }
+Json tipLoad(double fz) { return {{{"select", {{"group", "right"}}}, {"force", {0.0, 0.0, fz}}, {"distribution", "edgeLength"}}}; }
 
 /// A cantilever: 1 m × 1 m, 6 × 6 quads, clamped on the left, under its weight and a tip load.
-json cantilever(const json& material, double tip, const json& analysis, const json& gravity = {0.0, 0.0, -9.81}) {
-  return scene(shell(rectangle(1.0, 1.0, 6, 6), material, kClampLeft, tip != 0.0 ? tipLoad(tip) : json::array()), analysis,
+Json cantilever(const Json& material, double tip, const Json& analysis, const Json& gravity = {0.0, 0.0, -9.81}) {
+  return scene(shell(rectangle(1.0, 1.0, 6, 6), material, kClampLeft, tip != 0.0 ? tipLoad(tip) : Json::array()), analysis,
                gravity);
 }
 
 /// A cloth 0.1 m above a floor plane (z = 0), falling under `g` (m/s²) into it, with point-cloud self-contact.
-json clothOnFloor(double g, double radius, int n, const json& analysis) {
-  json cloth = shell(rectangle(1.0, 1.0, n, n), plate(1e5, 0.25, 0.002), json::array(), json::array());
+Json clothOnFloor(double g, double radius, int n, const Json& analysis) {
+  Json cloth = shell(rectangle(1.0, 1.0, n, n), plate(1e5, 0.25, 0.002), Json::array(), Json::array());
   cloth["colliderType"] = "PointCloud";
   cloth["pointCloudCollider"] = {{"radius", radius}, {"selfContact", true}};
   cloth["worldFromLocalTransform"] = {{"translation", {0.0, 0.0, 0.1}}};
-  const json floor = {{"type", "plane"}, {"name", "floor"}, {"point", {0.0, 0.0, 0.0}}, {"normal", {0.0, 0.0, 1.0}},
+  const Json floor = {{"type", "plane"}, {"name", "floor"}, {"point", {0.0, 0.0, 0.0}}, {"normal", {0.0, 0.0, 1.0}},
                       {"contact", {{"penaltyStiffness", 1e6}}}};
-  json s = scene(cloth, analysis, {0.0, 0.0, -g});
+  Json s = scene(cloth, analysis, {0.0, 0.0, -g});
   s["actors"].push_back(floor);
   return s;
 }
 
 /// A cloth pinned at its two top corners.
-json hangingCloth(const json& shape, const json& analysis, json solver = json::object()) {
-  const json pins = {{{"select", {{"nearest", {0.0, 1.0, 0.0}}}}}, {{"select", {{"nearest", {1.0, 1.0, 0.0}}}}}};
-  return scene(shell(shape, plate(1e6, 0.3, 1e-3, 200.0), pins, json::array()), analysis, {0.0, -9.81, 0.0}, std::move(solver));
+Json hangingCloth(const Json& shape, const Json& analysis, Json solver = Json::object()) {
+  const Json pins = {{{"select", {{"nearest", {0.0, 1.0, 0.0}}}}}, {{"select", {{"nearest", {1.0, 1.0, 0.0}}}}}};
+  return scene(shell(shape, plate(1e6, 0.3, 1e-3, 200.0), pins, Json::array()), analysis, {0.0, -9.81, 0.0}, std::move(solver));
 }
 
 /// Two 1 m squares (nx × n quads each) joined along x = 1, the right one folded back by `degrees` about that
 /// line (180° would lay it onto the left one).
-json foldedSheet(double degrees, int n) {
+Json foldedSheet(double degrees, int n) {
   const double phi = degrees * M_PI / 180.0;
-  json V = json::array(), F = json::array();
+  Json V = Json::array(), F = Json::array();
   const int columns = 2 * n + 1;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i < columns; ++i) {
@@ -102,9 +102,9 @@ json foldedSheet(double degrees, int n) {
 }
 
 /// A 6 × 6 sheet crumpled at rest: a deterministic out-of-plane pattern of about half the edge length.
-json crumpledSheet() {
+Json crumpledSheet() {
   const int n = 6;
-  json V = json::array(), F = json::array();
+  Json V = Json::array(), F = Json::array();
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
       const double x = static_cast<double>(i) / n, y = static_cast<double>(j) / n;
@@ -119,7 +119,7 @@ json crumpledSheet() {
   return {{"vertices", V}, {"faces", F}};
 }
 
-void add(std::vector<StressCell>& cells, bool quickOnly, bool quick, std::string name, std::string what, json s,
+void add(std::vector<StressCell>& cells, bool quickOnly, bool quick, std::string name, std::string what, Json s,
          int stepLimit = 0) {
   if (quickOnly && !quick) return;
   cells.push_back({std::move(name), std::move(what), std::move(s), stepLimit, quick});
@@ -141,7 +141,7 @@ bool hasNonFiniteToken(const std::string& text) {
   return false;
 }
 
-std::string firstNull(const json& j, const std::string& pointer) {
+std::string firstNull(const Json& j, const std::string& pointer) {
   if (j.is_null()) return pointer.empty() ? "/" : pointer;
   if (j.is_object() || j.is_array()) {
     for (auto it = j.begin(); it != j.end(); ++it) {
@@ -184,7 +184,7 @@ std::vector<StressCell> stressCells(bool q) {
       hangingCloth(rectangle(1.0, 0.02, 2, 4), dynamic(0.01, 5)));
   for (double fold : {170.0, 179.0, 179.9})
     add(c, q, fold == 179.9, "fold/rest_" + sci(fold) + "deg", "rest mesh folded back by this angle, clamped, weight",
-        scene(shell(foldedSheet(fold, 3), plate(1e6, 0.3, 0.01), kClampLeftArrays, json::array()), staticSteps(2)));
+        scene(shell(foldedSheet(fold, 3), plate(1e6, 0.3, 0.01), kClampLeftArrays, Json::array()), staticSteps(2)));
   add(c, q, false, "fold/dynamic_179deg", "rest mesh folded back by 179 deg, falling, 5 steps of 0.01 s",
       hangingCloth(foldedSheet(179.0, 3), dynamic(0.01, 5)));
   add(c, q, true, "crumpled/rest_dynamic", "crumpled rest mesh, pinned, 5 steps of 0.01 s",
@@ -196,12 +196,12 @@ std::vector<StressCell> stressCells(bool q) {
       scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01),
                   {{{"select", {{"group", "left"}}}, {"clampRotation", true}},
                    {{"select", {{"group", "right"}}}, {"displacement", {-0.8, 0.0, 0.0}}, {"clampRotation", true}}},
-                  json::array()),
+                  Json::array()),
             staticSteps(8)));
   add(c, q, true, "singular/no_supports", "static, no fixed vertex, under its weight: a rigid-body mode",
-      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), json::array(), json::array()), staticSteps(4)));
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), Json::array(), Json::array()), staticSteps(4)));
   add(c, q, false, "singular/no_supports_pcg_jacobi", "the same with PCG + Jacobi",
-      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), json::array(), json::array()), staticSteps(4),
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), Json::array(), Json::array()), staticSteps(4),
             {0.0, 0.0, -9.81}, {{"linearSolver", "pcg"}, {"preconditioner", "jacobi"}}));
   add(c, q, false, "singular/x_free", "static, fixed in z only, pushed along x",
       scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), {{{"select", {{"group", "left"}}}, {"components", "z"}}},
@@ -210,7 +210,7 @@ std::vector<StressCell> stressCells(bool q) {
   add(c, q, true, "invert/pushed_vertex", "membrane with a fixed rim, one inner vertex dragged past its neighbours",
       scene(shell(rectangle(1.0, 1.0, 4, 4), {{"membraneLambda", 100.0}, {"membraneMu", 100.0}, {"bendingAlpha", 0.0}, {"bendingBeta", 1e-6}},
                   {{{"select", {{"boundary", true}}}}, {{"select", {{"indices", {6}}}}, {"displacement", {0.6, 0.6, 0.0}}}},
-                  json::array()),
+                  Json::array()),
             staticSteps(4), {0.0, 0.0, 0.0}));
   add(c, q, false, "invert/crushing_load", "a 1e4 N in-plane load on one corner of a soft clamped sheet",
       scene(shell(rectangle(1.0, 1.0, 4, 4), plate(1e4, 0.3, 0.001), kClampLeft,
@@ -219,7 +219,7 @@ std::vector<StressCell> stressCells(bool q) {
   add(c, q, false, "extreme/twist_720deg", "a strip's end twisted by 720 deg in 4 load steps",
       scene(shell(rectangle(1.0, 0.2, 10, 2), plate(1e6, 0.3, 0.01), {{{"select", {{"group", "left"}}}, {"clampRotation", true}},
                   {{"select", {{"group", "right"}}}, {"rotation", {{"axis", {1.0, 0.0, 0.0}}, {"center", {1.0, 0.1, 0.0}}, {"degrees", 720.0}}}}},
-                  json::array()),
+                  Json::array()),
             staticSteps(4), {0.0, 0.0, 0.0}));
   add(c, q, true, "contact/fast_impact_plane", "cloth hitting a floor plane at about 6 m/s (200 m/s^2 gravity), 60 Hz",
       clothOnFloor(200.0, 0.02, 8, dynamic(1.0 / 60.0, 8)));
@@ -231,7 +231,7 @@ std::vector<StressCell> stressCells(bool q) {
       scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01),
                   {{{"select", {{"group", "left"}}}, {"clampRotation", true}},
                    {{"select", {{"group", "right"}}}, {"displacement", {0.0, 0.0, 1e3}}}},
-                  json::array()),
+                  Json::array()),
             staticSteps(4)));
   return c;
 }
@@ -247,7 +247,7 @@ std::string findNonFinite(const std::string& directory) {
     text << in.rdbuf();
     const std::string ext = p.extension().string();
     if (p.filename() == "summary.json") {
-      const json j = json::parse(text.str(), nullptr, false);
+      const Json j = Json::parse(text.str(), nullptr, false);
       if (j.is_discarded()) return p.string() + " (not valid JSON)";
       const std::string pointer = firstNull(j, "");
       if (!pointer.empty()) return p.string() + " (null at " + pointer + ")";
@@ -259,7 +259,7 @@ std::string findNonFinite(const std::string& directory) {
 }
 
 nlohmann::json runStressCell(const StressCell& cell, const std::string& outputDirectory) {
-  json r = {{"name", cell.name}, {"what", cell.what}};
+  Json r = {{"name", cell.name}, {"what", cell.what}};
   try {
     const Scene scene = sceneFromJson(cell.scene, ".");
     RunOptions o;

@@ -48,7 +48,7 @@ nlohmann::json fitJson() {
   return j;
 }
 
-std::string errorOf(const nlohmann::json& j) {
+std::string fitErrorOf(const nlohmann::json& j) {
   try {
     fitFromJson(j, directory().string(), "fit.json");
   } catch (const InputError& e) {
@@ -75,73 +75,73 @@ TEST_CASE("fit file: a valid file is read with its defaults", "[fit]") {
 TEST_CASE("fit file: bad fields give one-line errors naming the JSON pointer", "[fit]") {
   nlohmann::json j = fitJson();
   j["parametrs"] = 1;
-  CHECK_THAT(errorOf(j), Catch::Contains("parametrs") && Catch::Contains("parameters"));
+  CHECK_THAT(fitErrorOf(j), Catch::Contains("parametrs") && Catch::Contains("parameters"));
 
   j = fitJson();
   j["parameters"][0]["name"] = "youngModulus";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/name") && Catch::Contains("youngsModulus"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/name") && Catch::Contains("youngsModulus"));
 
   j = fitJson();
   j["parameters"][0]["name"] = "membraneLambda";  // the scene gives E, nu, h: lambda is not a free input
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/name") && Catch::Contains("not a fittable"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/name") && Catch::Contains("not a fittable"));
 
   j = fitJson();
   j["parameters"][0]["upper"] = 1e3;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/upper"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/upper"));
 
   j = fitJson();
   j["parameters"][0]["lower"] = -1.0;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/lower"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/lower"));
 
   j = fitJson();
   j["parameters"][0]["actor"] = "cloth";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/actor"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/actor"));
 
   j = fitJson();
   j["observations"][0]["probe"] = "tipp";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/probe") && Catch::Contains("did you mean \"tip\""));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/probe") && Catch::Contains("did you mean \"tip\""));
 
   j = fitJson();
   j["observations"][0]["component"] = "w";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/component"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/component"));
 
   j = fitJson();
   j["observations"][0]["time"] = 0.5;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/time"));
 
   j = fitJson();
   j["observations"][0]["loadFactor"] = -1;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/loadFactor"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/loadFactor"));
 
   j = fitJson();
   j["observations"][0]["weight"] = "heavy";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/weight"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/weight"));
 
   j = fitJson();
   j["algorithm"] = "newton";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/algorithm"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/algorithm"));
 
   j = fitJson();
   j["maxEvaluations"] = 1000000;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/maxEvaluations"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/maxEvaluations"));
 
   j = fitJson();
   j["scene"]["actors"][0]["material"]["poissonRatio"] = 0.7;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/scene/actors/0/material/poissonRatio"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/scene/actors/0/material/poissonRatio"));
 
   j = fitJson();
   j["scene"]["analysis"] = nlohmann::json::parse(R"({ "type": "dynamicRelaxation", "timeStep": 0.01 })");
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/scene") && Catch::Contains("static"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/scene") && Catch::Contains("static"));
 
   j = fitJson();
   j["observations"][0].erase("loadFactor");
   j["observations"][0]["time"] = 0.1;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time") && Catch::Contains("dynamic scene"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/time") && Catch::Contains("dynamic scene"));
 
   j = fitJson();
   j["parameters"] = nlohmann::json::array();
   for (int k = 0; k < 9; ++k) j["parameters"].push_back(fitJson()["parameters"][0]);
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters") && Catch::Contains("at most 8"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters") && Catch::Contains("at most 8"));
 }
 
 TEST_CASE("fit file: CSV curves and target shapes are read and checked", "[fit]") {
@@ -155,23 +155,23 @@ TEST_CASE("fit file: CSV curves and target shapes are read and checked", "[fit]"
 
   write(d / "bad_curve.csv", "0.5,0.01\n0.4,0.02\n");
   j["observations"][0]["csv"] = "bad_curve.csv";
-  CHECK_THAT(errorOf(j), Catch::Contains("bad_curve.csv:2") && Catch::Contains("increase"));
+  CHECK_THAT(fitErrorOf(j), Catch::Contains("bad_curve.csv:2") && Catch::Contains("increase"));
   write(d / "bad_curve.csv", "0.5,0.01\n1.0,x\n");
-  CHECK_THAT(errorOf(j), Catch::Contains("bad_curve.csv:2") && Catch::Contains("at least 2 numbers"));
+  CHECK_THAT(fitErrorOf(j), Catch::Contains("bad_curve.csv:2") && Catch::Contains("at least 2 numbers"));
   write(d / "table.tsv", "# lambda W_A W_B\n0.5\t1\t2\n1.0\t3\t4\n");
   j["observations"][0]["csv"] = "table.tsv";
   j["observations"][0]["displacementColumn"] = 2;
   CHECK(fitFromJson(j, d.string(), "fit.json").observations[0].displacements[1].z() == 4.0);
   j["observations"][0]["displacementColumn"] = 0;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/displacementColumn"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/displacementColumn"));
   j["observations"][0].erase("displacementColumn");
   j["observations"][0]["csv"] = "missing.csv";
-  CHECK_THAT(errorOf(j), Catch::Contains("missing.csv") && Catch::Contains("cannot open"));
+  CHECK_THAT(fitErrorOf(j), Catch::Contains("missing.csv") && Catch::Contains("cannot open"));
 
   write(d / "target.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   j = fitJson();
   j["observations"] = nlohmann::json::parse(R"([{ "type": "shape", "actor": "strip", "loadFactor": 1, "obj": "target.obj" }])");
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/obj") && Catch::Contains("has 3 vertices"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/obj") && Catch::Contains("has 3 vertices"));
 }
 
 TEST_CASE("fit file: every example fit file (examples/fit_*.json) reads", "[fit]") {
@@ -207,32 +207,32 @@ TEST_CASE("fit file: a dynamic scene's observations are at step times, bad times
 
   j = dynamic();
   j["observations"][0]["time"] = 0.055;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time = 0.055: not a step time"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/time = 0.055: not a step time"));
   j["observations"][0]["time"] = 0.11;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time = 0.11: beyond the end"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/time = 0.11: beyond the end"));
   j["observations"][0]["time"] = 0.0;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/time"));
   j["observations"][0]["time"] = -0.01;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/time"));
   j["observations"][0]["time"] = "soon";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/time"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/time"));
 
   j = dynamic();
   j["observations"][0].erase("time");
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0") && Catch::Contains("time"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0") && Catch::Contains("time"));
   j["observations"][0]["loadFactor"] = 1.0;
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/loadFactor") && Catch::Contains("dynamic"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/loadFactor") && Catch::Contains("dynamic"));
 
   j = dynamic();
   j["observations"][0] = nlohmann::json::parse(R"({ "type": "curve", "probe": "tip", "component": "z", "csv": "c.csv" })");
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/observations/0/type") && Catch::Contains("static"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/type") && Catch::Contains("static"));
 
   j = dynamic();
   j["parameters"][0] = nlohmann::json::parse(
       R"({ "actor": "strip", "name": "massDampingCoefficient", "initial": 1, "lower": -1, "upper": 10 })");
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/lower"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/lower"));
   j["parameters"][0]["name"] = "massDamping";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/name") && Catch::Contains("massDampingCoefficient"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/name") && Catch::Contains("massDampingCoefficient"));
   j["parameters"][0] = nlohmann::json::parse(
       R"({ "actor": "strip", "name": "gravityScale", "lower": 0.5, "upper": 2 })");
   const FitFile g = fitFromJson(j, directory().string(), "fit.json");
@@ -245,12 +245,12 @@ TEST_CASE("fit file: a dynamic scene's observations are at step times, bad times
       R"({ "actor": "strip", "name": "loadScale", "load": "push", "lower": 0.5, "upper": 2 })");
   CHECK(fitFromJson(j, directory().string(), "fit.json").parameters[0].load == "push");
   j["parameters"][0]["load"] = "puhs";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/load") && Catch::Contains("did you mean \"push\""));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/load") && Catch::Contains("did you mean \"push\""));
   j["parameters"][0]["load"] = "push";
   j["parameters"][0]["name"] = "gravityScale";
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/parameters/0/load") && Catch::Contains("loadScale"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters/0/load") && Catch::Contains("loadScale"));
   j = dynamic();
   j["scene"]["actors"][0]["loads"][0]["name"] = "push";
   j["scene"]["actors"][0]["loads"].push_back(j["scene"]["actors"][0]["loads"][0]);
-  CHECK_THAT(errorOf(j), Catch::StartsWith("/scene/actors/0/loads/1/name") && Catch::Contains("duplicate"));
+  CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/scene/actors/0/loads/1/name") && Catch::Contains("duplicate"));
 }

@@ -13,12 +13,12 @@ using namespace jetshell;
 
 namespace {
 
-std::string example(const std::string& name) { return std::string(JETSHELL_SOURCE_DIR) + "/examples/" + name; }
+std::string examplePath(const std::string& name) { return std::string(JETSHELL_SOURCE_DIR) + "/examples/" + name; }
 
 }  // namespace
 
 TEST_CASE("fit: the adjoint gradient of a shell fit matches central differences of whole solves", "[fit]") {
-  FitSetup setup(loadFitFile(example("fit_synthetic_plate.json")));
+  FitSetup setup(loadFitFile(examplePath("fit_synthetic_plate.json")));
   FitProblem& p = setup.problem();
   Eigen::VectorXd q(4);
   q << 200.0, 500.0, 3e-5, 5e-5;
@@ -31,7 +31,7 @@ TEST_CASE("fit: the adjoint gradient of a shell fit matches central differences 
 }
 
 TEST_CASE("fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta of the synthetic plate to 1e-6", "[fit]") {
-  const FitFile file = loadFitFile(example("fit_synthetic_plate.json"));
+  const FitFile file = loadFitFile(examplePath("fit_synthetic_plate.json"));
   FitSetup setup(file);
   const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
   INFO(r.termination << " " << r.message << ", " << r.counters.evaluations << " evaluations, q = " << r.q.transpose());
@@ -54,14 +54,14 @@ TEST_CASE("fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta of the synt
 
 TEST_CASE("fit: the cloth overhang's fitted flexural rigidity matches the self-weight elastica's", "[fit]") {
   // examples/fit_cloth_overhang.json: a 50 mm strip whose tip chord drops 41.5°; D = β per width (α = 0).
-  const FitFile file = loadFitFile(example("fit_cloth_overhang.json"));
+  const FitFile file = loadFitFile(examplePath("fit_cloth_overhang.json"));
   FitSetup setup(file);
   const FitResult r = runFit(setup.problem(), setup.variables(), file.options);
   INFO(r.termination << " " << r.message << ", q = " << r.q.transpose());
   REQUIRE(r.success);
   const double pi = 3.14159265358979323846;
   const double elastica = validation::rigidityForChordAngle(0.05, file.material.shell.density * 9.81, 41.5 * pi / 180.0);
-  // Measured −0.011% on the example's 40 × 4 mesh with the mirrored clamp (18.6% with the reference-normal
+  // Measured −0.011% on the examplePath's 40 × 4 mesh with the mirrored clamp (18.6% with the reference-normal
   // clamp, FITTING.md); the target is 1%.
   CHECK(std::abs(r.q[0] / elastica - 1.0) < 2e-4);
 }

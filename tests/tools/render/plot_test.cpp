@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDirectory(const std::string& name) {
+fs::path freshPlotDirectory(const std::string& name) {
   const fs::path dir = test::scratchDirectory("plot_tests") / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -59,7 +59,7 @@ TEST_CASE("plot: user text becomes one single-quoted gnuplot literal") {
 TEST_CASE("plot: colours other than #rrggbb are refused, not passed on") {
   PlotSpec spec;
   spec.series.push_back({"a", {0, 1}, {0, 1}, "lines", "red' . system('id') . '"});
-  CHECK_THROWS_WITH(plotPng(spec, (freshDirectory("colour") / "p.png").string()),
+  CHECK_THROWS_WITH(plotPng(spec, (freshPlotDirectory("colour") / "p.png").string()),
                     Catch::Contains("colour") && Catch::Contains("expected #rrggbb"));
 }
 
@@ -72,7 +72,7 @@ TEST_CASE("plot: gnuplot curves become a PNG") {
   spec.width = 320;
   spec.height = 240;
   spec.series.push_back({"bad", {0, 1}, {0}, "lines"});
-  const fs::path dir = freshDirectory("png");
+  const fs::path dir = freshPlotDirectory("png");
   CHECK_THROWS_WITH(plotPng(spec, (dir / "bad.png").string()), Catch::EndsWith("series 'bad' has 2 x values and 1 y values"));
   spec.series.pop_back();
   if (!gnuplotAvailable()) return;
@@ -86,7 +86,7 @@ TEST_CASE("plot: gnuplot curves become a PNG") {
 
 TEST_CASE("plot: injected titles, labels, series names and paths run nothing") {
   if (!gnuplotAvailable()) return;
-  const fs::path dir = freshDirectory("injection");
+  const fs::path dir = freshPlotDirectory("injection");
   const fs::path canary = dir / "canary";
   int drawn = 0;
   for (const std::string& text : injections(canary)) {
@@ -111,7 +111,7 @@ TEST_CASE("plot: injected titles, labels, series names and paths run nothing") {
 
 TEST_CASE("plot: a hostile scene's description and probe names run nothing and keep probes.csv parseable") {
   if (!gnuplotAvailable()) return;
-  const fs::path dir = freshDirectory("scene");
+  const fs::path dir = freshPlotDirectory("scene");
   const fs::path canary = dir / "canary";
   const std::vector<std::string> texts = injections(canary);
   nlohmann::json probes = nlohmann::json::array();
