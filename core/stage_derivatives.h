@@ -28,6 +28,18 @@ void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::M
   }
 }
 
+/// f: T[N] -> T (scalar stage): value and gradient only, with first-order Jet<double, N> (a gradient-only
+/// evaluation has no use for the Hessian that scalarStageDerivatives' nested Jets carry).
+template <int N, typename F>
+void scalarStageGradient(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient) {
+  using J1 = ceres::Jet<double, N>;
+  J1 zj[N];
+  for (int i = 0; i < N; ++i) zj[i] = J1(z[i], i);
+  const J1 y = f(static_cast<const J1*>(zj));
+  value = y.a;
+  gradient = y.v;
+}
+
 /// f: V3<T> -> V3<T> (vector stage with 3 inputs). Fills value, Jacobian J(k, i) = ∂y_k/∂z_i and the
 /// Hessian of each output component.
 template <typename F>

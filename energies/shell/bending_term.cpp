@@ -405,7 +405,10 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     Mat3 Wbb;
     if (ad) {
       auto density = [&](const auto* z) { return ruledBendingDensity(z, B, P, alpha_, beta_, minimized); };
-      scalarStageDerivatives<3>(density, b, W, w, Wbb);
+      if (wantH)
+        scalarStageDerivatives<3>(density, b, W, w, Wbb);
+      else
+        scalarStageGradient<3>(density, b, W, w);
     } else if (reduced) {
       const Vec3 d(b[0] - B[0], b[1] - B[1], b[2] - B[2]);
       Wbb = ruledQuadratic_[f];

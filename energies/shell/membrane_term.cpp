@@ -76,7 +76,10 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
     Eigen::Matrix3d Waa;
     if (ad) {
       auto density = [&](const auto* z) { return membraneDensity(z, A, P, lambda_, mu_); };
-      scalarStageDerivatives<3>(density, a, W, w, Waa);
+      if (wantH)
+        scalarStageDerivatives<3>(density, a, W, w, Waa);
+      else
+        scalarStageGradient<3>(density, a, W, w);
     } else {
       const double d[3] = {a[0] - A[0], a[1] - A[1], a[2] - A[2]};
       analytic::stvkQuadratic(P, 0.25 * lambda_, 0.25 * mu_, d, W, w, Waa);
