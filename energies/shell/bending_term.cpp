@@ -298,14 +298,15 @@ Vec3 BendingTerm::meanNormal(int e, int order) {
   return 0.5 * (n + g);
 }
 
-void BendingTerm::updateRuledQuadratics() {
-  if (!quadraticStale_ && quadraticAlpha_ == alpha_ && quadraticBeta_ == beta_) return;
+void BendingTerm::updateRuledQuadratics(bool everyFace) {
+  if (!quadraticStale_ && quadraticAlpha_ == alpha_ && quadraticBeta_ == beta_ && (quadraticEveryFace_ || !everyFace))
+    return;
   const int nf = static_cast<int>(F_.rows());
   ruledQuadratic_.assign(static_cast<std::size_t>(nf), Mat3::Zero());
   const double zero[3] = {0.0, 0.0, 0.0};
   for (int f = 0; f < nf; ++f) {
     const bool* m = minimized_[f].data();
-    if (!(m[0] || m[1] || m[2])) continue;
+    if (!everyFace && !(m[0] || m[1] || m[2])) continue;
     const double* P = ref_.inverseMetric[f].data();
     auto density = [&](const auto* z) { return ruledBendingDensity(z, zero, P, alpha_, beta_, m); };
     double W;
@@ -315,6 +316,7 @@ void BendingTerm::updateRuledQuadratics() {
   quadraticAlpha_ = alpha_;
   quadraticBeta_ = beta_;
   quadraticStale_ = false;
+  quadraticEveryFace_ = everyFace;
 }
 
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
@@ -323,7 +325,7 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
     const bool exact = options.bendingHessian == BendingHessian::Exact;
     // Stage order: 0 values, 1 Jacobians, 2 Hessians (only the exact bending Hessian needs them).
     const int order = request.hessian != nullptr && exact ? 2 : request.gradient != nullptr || request.hessian ? 1 : 0;
-    if (!ad && order > 0) updateRuledQuadratics();
+    if (ad ? request.hessian != nullptr : order > 0) updateRuledQuadratics(ad);
     computeFaceStages(x, order, ad);
     computeEdgeStages(order, ad);
     return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
@@ -405,10 +407,8 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     Mat3 Wbb;
     if (ad) {
       auto density = [&](const auto* z) { return ruledBendingDensity(z, B, P, alpha_, beta_, minimized); };
-      if (wantH)
-        scalarStageDerivatives<3>(density, b, W, w, Wbb);
-      else
-        scalarStageGradient<3>(density, b, W, w);
+      scalarStageGradient<3>(density, b, W, w);
+      if (wantH) Wbb = ruledQuadratic_[static_cast<std::size_t>(f)];
     } else if (reduced) {
       const Vec3 d(b[0] - B[0], b[1] - B[1], b[2] - B[2]);
       Wbb = ruledQuadratic_[f];

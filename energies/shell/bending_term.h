@@ -137,8 +137,9 @@ class BendingTerm : public EnergyTerm {
   Eigen::Vector3d meanNormal(int edge, int order);
   /// After a rule change: the counts, the per-face moment-free flags and (origin not moved) the rest origin.
   void updateRuleState();
-  /// Brings ruledQuadratic_ up to date with α, β and the rules (before a derivative pass of the analytic path).
-  void updateRuledQuadratics();
+  /// Brings ruledQuadratic_ up to date with α, β and the rules: for the faces with moment-free edges (before a
+  /// derivative pass of the analytic path), or for every face (before a Hessian pass of the AD path).
+  void updateRuledQuadratics(bool everyFace);
   StencilEdges stencilEdges(int f) const;
   /// scale_, times β_R / β_R(reference) for a stiffness-damping term.
   double energyScale() const { return dampingReference_ > 0.0 ? scale_ * dampingValue_ / dampingReference_ : scale_; }
@@ -163,10 +164,14 @@ class BendingTerm : public EnergyTerm {
   // A face with moment-free edges has a density that is a constant quadratic form in b (a Schur complement of
   // W_b's form, edge_rules.h): W = ½ (b − B)ᵀ A_f (b − B). The analytic path takes w and W'' from A_f, taken
   // once from Jets of the rule's density, instead of nested Jets per face and evaluation (measured: a third of
-  // the slit ring's gradient). Kept for the α, β and rules it was taken with.
+  // the slit ring's gradient). Every face's density is such a quadratic form (A_f = W_b'' for the other faces), so
+  // the AD path takes W'' of every face from here and only w from first-order Jets per evaluation; the derivative
+  // checks compare it with the finite-difference Jacobian of that gradient. Kept for the α, β and rules it was
+  // taken with.
   std::vector<Eigen::Matrix3d> ruledQuadratic_;
   double quadraticAlpha_ = 0.0, quadraticBeta_ = 0.0;
   bool quadraticStale_ = true;
+  bool quadraticEveryFace_ = false;
   Eigen::VectorXd restPositions_;                          // X (the symmetry plane's rest origin)
   std::vector<Sym2> givenForm_;                       // B as given (the page's free rule at every edge)
   std::vector<GhostStage> ghosts_;                         // per edge (boundary edges only)

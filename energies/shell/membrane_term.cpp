@@ -35,6 +35,7 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
                               [&](StageChain<3>& chain, int f) { chain.energy(density_, f, {buildMetric(chain)}); });
   }
   const bool ad = options.path == DerivativePath::AutoDiff;
+  if (ad && request.hessian != nullptr) updateDensityHessians();
   return runElementLoop<3>(table_, schedule_, x, request, options.projection, elementEnergy_,
                            [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
                                Eigen::Matrix<double, 9, 9>& H) { return element(x, f, ids, wantG, wantH, ad, g, H); });
@@ -76,10 +77,8 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
     Eigen::Matrix3d Waa;
     if (ad) {
       auto density = [&](const auto* z) { return membraneDensity(z, A, P, lambda_, mu_); };
-      if (wantH)
-        scalarStageDerivatives<3>(density, a, W, w, Waa);
-      else
-        scalarStageGradient<3>(density, a, W, w);
+      scalarStageGradient<3>(density, a, W, w);
+      if (wantH) Waa = densityHessian_[static_cast<std::size_t>(f)];
     } else {
       const double d[3] = {a[0] - A[0], a[1] - A[1], a[2] - A[2]};
       analytic::stvkQuadratic(P, 0.25 * lambda_, 0.25 * mu_, d, W, w, Waa);
@@ -109,6 +108,22 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
       H.block<3, 3>(0, 0) = -(H.block<3, 3>(0, 3) + H.block<3, 3>(0, 6));
     }
   return area * W;
+}
+
+void MembraneTerm::updateDensityHessians() {
+  const std::size_t nf = ref_.inverseMetric.size();
+  if (densityHessian_.size() == nf && hessianLambda_ == lambda_ && hessianMu_ == mu_) return;
+  densityHessian_.resize(nf);
+  const double zero[3] = {0.0, 0.0, 0.0};
+  for (std::size_t f = 0; f < nf; ++f) {
+    const double* P = ref_.inverseMetric[f].data();
+    auto density = [&](const auto* z) { return membraneDensity(z, zero, P, lambda_, mu_); };
+    double W;
+    Eigen::Vector3d w;
+    scalarStageDerivatives<3>(density, zero, W, w, densityHessian_[f]);
+  }
+  hessianLambda_ = lambda_;
+  hessianMu_ = mu_;
 }
 
 void MembraneTerm::makeStiffnessDamping(double betaR) {

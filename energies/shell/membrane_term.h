@@ -58,6 +58,15 @@ class MembraneTerm : public EnergyTerm {
 
   double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
                  Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
+  /// Brings densityHessian_ up to date with λ and μ (before a Hessian pass of the AD path).
+  void updateDensityHessians();
+  // W_m is a quadratic form in the metric a, so its 3×3 Hessian W'' is constant per face (it depends on A⁻¹, λ
+  // and μ only). The AD path takes it once per face from nested Jets and, per evaluation, only w from first-order
+  // Jets: the nested Jets per face and evaluation were half of the AD path's Hessian cost. The derivative checks
+  // compare this Hessian with the finite-difference Jacobian of the per-evaluation gradient, so a density that
+  // was not quadratic would fail them. Kept for the λ, μ it was taken with.
+  std::vector<Eigen::Matrix3d> densityHessian_;
+  double hessianLambda_ = 0.0, hessianMu_ = 0.0;
 
   std::string name_ = "membrane";
   StencilTable table_;
