@@ -17,7 +17,7 @@ jobs="$(nproc)"
 fuzzSeconds="${FUZZ_SECONDS:-30}"
 # Unity batches of 16 files: each batch parses the shared headers and instantiates the shared templates (Eigen,
 # Jet, nlohmann-json, Catch2) once instead of once per file, which halves a clean build (8 min 45 s to 4 min 2 s
-# on 2 cores, BENCHMARKS.md "Build time"). Both CI builds are clean builds. Incremental builds in a development
+# on 2 cores, BENCHMARKS.md "CI time"). Both CI builds are clean builds. Incremental builds in a development
 # tree are better without it (an edit recompiles one file, not its batch): the README's build leaves it off.
 unity=(-DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=16)
 

@@ -10,13 +10,6 @@ using namespace jetshell;
 
 namespace {
 
-Eigen::MatrixXd denseOneRing(const Eigen::SparseMatrix<double>& upper) {
-  const Eigen::MatrixXd U(upper);
-  Eigen::MatrixXd full = U + U.transpose();
-  full.diagonal() -= U.diagonal();
-  return full;
-}
-
 /// The hanging cloth's first-step Hessian (inertia at Δt = 1/60 plus membrane and two-ring bending), bent.
 struct ClothHessian {
   ShellSystem shell{testing::hangingCloth(0.3, 0.3, 5, 5), AnalysisKind::Dynamics};
@@ -52,7 +45,7 @@ TEST_CASE("one-ring pattern: keeps the one-ring entries, moves the dropped ones'
   filter.apply(c.H(), P);
   REQUIRE(P.rows() == c.H().rows());
   CHECK(P.nonZeros() < c.H().nonZeros());  // bending couples two-rings: some entries go
-  const Eigen::MatrixXd H = denseOneRing(c.H()), Pd = denseOneRing(P);
+  const Eigen::MatrixXd H = testing::symmetricFromUpper(c.H()), Pd = testing::symmetricFromUpper(P);
   for (Eigen::Index i = 0; i < H.rows(); ++i) {
     double droppedSum = 0.0;
     for (Eigen::Index j = 0; j < H.cols(); ++j) {
@@ -75,7 +68,7 @@ TEST_CASE("one-ring pattern: CG preconditioned by the one-ring factor solves the
   testing::SingleThread single;
   ClothHessian c;
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(c.H().rows(), -1.0, 1.0);
-  const Eigen::VectorXd reference = denseOneRing(c.H()).ldlt().solve(b);
+  const Eigen::VectorXd reference = testing::symmetricFromUpper(c.H()).ldlt().solve(b);
   LinearSolverOptions o = oneRingCg(c);
   auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
   Eigen::VectorXd x;
@@ -113,7 +106,7 @@ TEST_CASE("one-ring pattern: a new Hessian pattern with the same one-ring part k
     withPair.coeffRef(3 * far + k, 3 * far + k) += 1.0;
   }
   withPair.makeCompressed();
-  const Eigen::VectorXd reference = denseOneRing(withPair).ldlt().solve(b);
+  const Eigen::VectorXd reference = testing::symmetricFromUpper(withPair).ldlt().solve(b);
   const LinearSolveReport r = solver->solve(withPair, 2, b, x);
   REQUIRE(r.success);
   CHECK_FALSE(r.symbolicAnalysis);

@@ -4,6 +4,8 @@
 #include "core/mesh_generators.h"
 #include "solvers/shell_system.h"
 
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <omp.h>
 
 namespace jetshell::testing {
@@ -61,6 +63,14 @@ inline ShellProblem freeCloth() {
   p.mesh = makeRectangleGrid(0.2, 0.2, 3, 3);
   p.gravity = Eigen::Vector3d(0.0, -9.81, 0.0);
   return p;
+}
+
+/// The dense symmetric matrix whose upper triangle is stored in `upper` (the assembler's and solvers' layout).
+inline Eigen::MatrixXd symmetricFromUpper(const Eigen::SparseMatrix<double>& upper) {
+  const Eigen::MatrixXd U(upper);
+  Eigen::MatrixXd full = U + U.transpose();
+  full.diagonal() -= U.diagonal();
+  return full;
 }
 
 }  // namespace jetshell::testing

@@ -2,16 +2,12 @@
 // quadratic forms in their stage inputs) and must renew it when a material parameter changes.
 #include "energies/shell/bending_term.h"
 #include "energies/shell/membrane_term.h"
-#include "tests/test_util.h"
 #include "tools/checks/check_configurations.h"
 #include "tools/checks/derivative_check.h"
 
 #include <catch2/catch.hpp>
 
-#include <memory>
-
 using namespace jetshell;
-using namespace jetshell::test;
 
 namespace {
 
