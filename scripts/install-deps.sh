@@ -6,7 +6,7 @@
 # BLAS: this only makes the factorizations faster (about 2× against Debian's default reference/ATLAS BLAS).
 set -euo pipefail
 pkgs=(build-essential cmake libeigen3-dev libceres-dev libsuitesparse-dev libnlopt-dev libnlopt-cxx-dev
-      catch2 nlohmann-json3-dev libcli11-dev gnuplot-nox libpng-dev libopenblas0-openmp)
+      catch2 nlohmann-json3-dev libcli11-dev libcairo2-dev fonts-dejavu-core libpng-dev libopenblas0-openmp)
 missing=()
 for p in "${pkgs[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
 SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"

@@ -147,10 +147,16 @@ std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::st
   writeFileAtomically(jsonPath, fitReportJson(in).dump(2) + "\n");
   written.push_back(jsonPath);
   if (!plots) return written;
-  if (!gnuplotAvailable()) {
-    notes.push_back("gnuplot not found: no plots");
-    return written;
-  }
+  // A plot that cannot be drawn is a note: fit.json, the result, is already written.
+  const auto draw = [&](const PlotSpec& spec, const std::string& name) {
+    const std::string path = (fs::path(directory) / name).string();
+    try {
+      plotPng(spec, path);
+      written.push_back(path);
+    } catch (const InputError& e) {
+      notes.push_back(name + " not drawn: " + e.what());
+    }
+  };
   const FitResult& r = *in.result;
   {
     PlotSpec p;
@@ -169,11 +175,7 @@ std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::st
       best.y.push_back(bestValue);
     }
     p.series = {all, best};
-    const std::string path = (fs::path(directory) / "misfit_history.png").string();
-    if (!all.x.empty()) {
-      plotPng(p, path);
-      written.push_back(path);
-    }
+    if (!all.x.empty()) draw(p, "misfit_history.png");
   }
   const Displacements d = displacements(in);
   if (!d.fitted.empty()) {
@@ -185,9 +187,7 @@ std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::st
     for (double v : d.observed) lo = std::min(lo, v), hi = std::max(hi, v);
     p.series = {PlotSeries("y = x", {lo, hi}, {lo, hi}, "lines", "#7f7f7f", 2),
                 PlotSeries("observed coordinates", d.observed, d.fitted, "points", "#d62728")};
-    const std::string path = (fs::path(directory) / "fit_vs_observed.png").string();
-    plotPng(p, path);
-    written.push_back(path);
+    draw(p, "fit_vs_observed.png");
     // Load–displacement curves of the observations that span several levels.
     PlotSpec c;
     c.title = "Load-displacement: observed (points) and fitted (lines)";
@@ -211,11 +211,7 @@ std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::st
       c.series.push_back(obs);
       c.series.push_back(fit);
     }
-    if (!c.series.empty()) {
-      const std::string curves = (fs::path(directory) / "curves.png").string();
-      plotPng(c, curves);
-      written.push_back(curves);
-    }
+    if (!c.series.empty()) draw(c, "curves.png");
   }
   return written;
 }

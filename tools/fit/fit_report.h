@@ -1,5 +1,5 @@
 // What a fit writes: fit.json (atomically) with the fitted values, their Gauss–Newton uncertainty, the
-// termination reason, the cost counters and the history of every evaluation; and PNG plots (gnuplot): the
+// termination reason, the cost counters and the history of every evaluation; and PNG plots (tools/render/plot.h): the
 // misfit history and the fitted against the observed displacements (plus load–displacement curves when an
 // observation spans several load levels).
 //
@@ -27,9 +27,9 @@ struct FitReportInputs {
 /// fit.json's content. Non-finite values (an evaluation that failed) are written as null.
 nlohmann::json fitReportJson(const FitReportInputs& in);
 
-/// Writes fit.json and, when `plots` and gnuplot is available, misfit_history.png, fit_vs_observed.png and
-/// (for multi-level observations) curves.png into `directory` (created). Returns the files written; notes
-/// (a missing gnuplot) go to `notes`.
+/// Writes fit.json and, when `plots`, misfit_history.png, fit_vs_observed.png and (for multi-level observations)
+/// curves.png into `directory` (created). Returns the files written; remarks on what was not written go to
+/// `notes`.
 std::vector<std::string> writeFitReport(const FitReportInputs& in, const std::string& directory, bool plots,
                                         std::vector<std::string>& notes);
 

@@ -46,11 +46,18 @@ void writePng(const std::string& path, const Image& image) {
     rgb[3 * k + 1] = toSrgb8(image.pixels[k].g);
     rgb[3 * k + 2] = toSrgb8(image.pixels[k].b);
   }
+  writePngRgb8(path, image.width, image.height, rgb);
+}
+
+void writePngRgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != static_cast<std::size_t>(width) * height * 3)
+    throw InputError(path + ": PNG encoding failed (" + std::to_string(rgb.size()) + " bytes for a " +
+                     std::to_string(width) + "x" + std::to_string(height) + " RGB image)");
   // libpng's simplified API reports errors by return value (no setjmp, no callbacks).
   png_image img{};
   img.version = PNG_IMAGE_VERSION;
-  img.width = static_cast<png_uint_32>(image.width);
-  img.height = static_cast<png_uint_32>(image.height);
+  img.width = static_cast<png_uint_32>(width);
+  img.height = static_cast<png_uint_32>(height);
   img.format = PNG_FORMAT_RGB;
   png_alloc_size_t bytes = 0;
   if (!png_image_write_to_memory(&img, nullptr, &bytes, 0, rgb.data(), 0, nullptr))

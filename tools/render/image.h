@@ -27,6 +27,10 @@ struct Image {
 /// cannot be written.
 void writePng(const std::string& path, const Image& image);
 
+/// Writes 8-bit sRGB bytes (row-major RGB, width × height × 3) as a PNG, atomically. Throws InputError naming
+/// the path when it cannot be encoded or written.
+void writePngRgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+
 /// Decodes a PNG (any bit depth or colour type libpng reads) into width, height and 8-bit RGB bytes (tests).
 /// Throws InputError when the file is not a readable PNG.
 std::vector<std::uint8_t> readPngRgb(const std::string& path, int& width, int& height);

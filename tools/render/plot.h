@@ -1,7 +1,10 @@
-// PNG plots of curves through gnuplot (Debian's gnuplot-nox, pngcairo terminal): used for probe histories,
-// validation curves and fits.
+// PNG plots of curves (probe histories, validation curves, fits), drawn in-process with cairo. Titles, axis
+// labels and series names, which may come from a scene, are only ever drawn as glyphs: no text is handed to
+// another program or interpreter.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -15,10 +18,10 @@ struct PlotSeries {
       : label(std::move(label_)), x(std::move(x_)), y(std::move(y_)), style(std::move(style_)),
         color(std::move(color_)), dashType(dashType_) {}
   std::string label;
-  std::vector<double> x, y;
-  std::string style = "lines";  // lines | points | linespoints
-  std::string color;            // "#rrggbb", or "" for gnuplot's sequence
-  int dashType = 1;             // gnuplot dash type: 1 solid, 2 dashed, 3 dotted, ...
+  std::vector<double> x, y;         // a non-finite value (or one ≤ 0 on a log axis) breaks the curve
+  std::string style = "lines";      // lines | points | linespoints
+  std::string color;                // "#rrggbb", or "" for the next colour of the default sequence
+  int dashType = 1;                 // 1 solid, 2 dashed, 3 dotted, 4 dash-dot, 5 dash-dot-dot (cycles beyond)
 };
 
 struct PlotSpec {
@@ -28,14 +31,22 @@ struct PlotSpec {
   int width = 1000, height = 700;
 };
 
-/// True when a gnuplot executable is on the PATH.
-bool gnuplotAvailable();
+/// Bounds on what a plot accepts; text beyond kMaxPlotText code points is cut.
+constexpr int kMinPlotSize = 16, kMaxPlotSize = 4096;
+constexpr std::size_t kMaxPlotSeries = 1000;
+constexpr std::size_t kMaxPlotPoints = 50'000'000;  // over all series
+constexpr std::size_t kMaxPlotText = 200;
 
-/// Draws the series into a PNG (written atomically). Throws InputError when a series has mismatched x and y,
-/// when gnuplot is missing, or when it fails (its first error line is quoted).
+/// Draws the plot into 8-bit sRGB bytes (row-major RGB, width × height × 3). Axes are scaled to the data; series
+/// beyond what the legend can show are drawn but not listed. Throws InputError, naming `where`, when a series has
+/// mismatched x and y, an unknown style or a colour that is not #rrggbb, or when a bound above is exceeded.
+std::vector<std::uint8_t> drawPlot(const PlotSpec& spec, const std::string& where);
+
+/// drawPlot, written atomically as a PNG.
 void plotPng(const PlotSpec& spec, const std::string& pngPath);
 
-/// The gnuplot script plotPng runs (data files named by `dataFiles`, one per series), for inspection and tests.
-std::string gnuplotScript(const PlotSpec& spec, const std::vector<std::string>& dataFiles, const std::string& pngPath);
+/// Text as a plot draws it: valid UTF-8 (each invalid byte becomes U+FFFD), control characters as spaces, at
+/// most kMaxPlotText code points.
+std::string drawableText(const std::string& text);
 
 }  // namespace jetshell

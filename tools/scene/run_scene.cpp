@@ -424,7 +424,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         plot.series.push_back({model.probes[p].name + " u" + std::string(1, static_cast<char>('x' + c)),
                                history.abscissa, u, "lines", colors[c], 1 + static_cast<int>(p % 5)});
       }
-    if (!plot.series.empty() && gnuplotAvailable()) {
+    if (!plot.series.empty()) {
       try {
         result.probesPng = (fs::path(options.outputDirectory) / "probes.png").string();
         plotPng(plot, result.probesPng);
@@ -432,8 +432,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         result.notes.push_back(std::string("probes.png not drawn: ") + e.what());
         result.probesPng.clear();
       }
-    } else if (!gnuplotAvailable()) {
-      result.notes.push_back("probes.png not drawn: gnuplot is not installed");
     }
   }
   summary.extra["pictures"] = {{"final_png", result.finalPng.empty() ? "" : "final.png"},

@@ -109,7 +109,7 @@ struct OutputSettings {
   int frameStride = 1;    // write every n-th step (the last step is always written)
   bool probesCsv = true;  // probes.csv
   bool png = true;        // final.png: a shaded picture of the last frame
-  bool plots = true;      // probes.png: probe displacement over the run (gnuplot)
+  bool plots = true;      // probes.png: probe displacement over the run
 };
 
 /// How the bending term treats boundary edges (VALIDATION.md, "Boundary rules"; SCENES.md).
