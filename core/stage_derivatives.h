@@ -4,6 +4,7 @@
 // so the cost of nesting never grows with the stencil's dof count.
 #pragma once
 
+#include "core/flatten.h"
 #include "core/scalar.h"
 
 #include <Eigen/Core>
@@ -15,7 +16,7 @@ namespace jetshell {
 
 /// f: T[N] -> T (scalar stage). Fills value, gradient and symmetric Hessian.
 template <int N, typename F>
-void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient,
+JETSHELL_FLATTEN void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient,
                             Eigen::Matrix<double, N, N>& hessian) {
   using J2 = SecondOrderJet<N>;
   J2 zj[N];
@@ -31,7 +32,7 @@ void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::M
 /// f: T[N] -> T (scalar stage): value and gradient only, with first-order Jet<double, N> (a gradient-only
 /// evaluation has no use for the Hessian that scalarStageDerivatives' nested Jets carry).
 template <int N, typename F>
-void scalarStageGradient(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient) {
+JETSHELL_FLATTEN void scalarStageGradient(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient) {
   using J1 = ceres::Jet<double, N>;
   J1 zj[N];
   for (int i = 0; i < N; ++i) zj[i] = J1(z[i], i);
@@ -43,7 +44,7 @@ void scalarStageGradient(const F& f, const double* z, double& value, Eigen::Matr
 /// f: V3<T> -> V3<T> (vector stage with 3 inputs). Fills value, Jacobian J(k, i) = ∂y_k/∂z_i and the
 /// Hessian of each output component.
 template <typename F>
-void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian,
+JETSHELL_FLATTEN void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian,
                             std::array<Eigen::Matrix3d, 3>& hessians) {
   using J2 = SecondOrderJet<3>;
   V3<J2> zj;
@@ -60,7 +61,7 @@ void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3
 
 /// f: V3<T> -> V3<T>: value and Jacobian only, with first-order Jet<double,3>.
 template <typename F>
-void vectorStageJacobian(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian) {
+JETSHELL_FLATTEN void vectorStageJacobian(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian) {
   using J1 = ceres::Jet<double, 3>;
   V3<J1> zj;
   for (int i = 0; i < 3; ++i) zj[i] = J1(z[i], i);

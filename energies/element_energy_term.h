@@ -23,6 +23,7 @@
 #include "core/assembly.h"
 #include "core/element_loop.h"
 #include "core/fixed_stencil_term.h"
+#include "core/flatten.h"
 #include "core/parameter_derivatives.h"
 #include "core/scalar.h"
 #include "core/term.h"
@@ -34,6 +35,9 @@
 #include <utility>
 
 namespace jetshell {
+
+/// Elements of up to this many degrees of freedom evaluate their Jets with every call inlined.
+inline constexpr int kFlattenedElementDofs = 6;
 
 /// Functor::kParameters, or 0 for a functor without parameters.
 template <typename Functor, typename = void>
@@ -113,6 +117,23 @@ class ElementEnergyTerm : public FixedStencilTerm {
     double xe[M];
     for (int k = 0; k < K; ++k)
       for (int c = 0; c < 3; ++c) xe[3 * k + c] = ids[k] >= 0 ? x[3 * ids[k] + c] : 0.0;
+    // Small elements (contact pairs and points, hinges) get the Jet arithmetic inlined (core/flatten.h); for
+    // larger ones the flattened body costs more compile time than it saves.
+    if constexpr (M <= kFlattenedElementDofs) {
+      return derivativesInlined(xe, e, wantG, wantH, g, H);
+    } else {
+      return derivatives(xe, e, wantG, wantH, g, H);
+    }
+  }
+
+  JETSHELL_FLATTEN double derivativesInlined(const double* xe, int e, bool wantG, bool wantH,
+                                             Eigen::Matrix<double, M, 1>& g, Eigen::Matrix<double, M, M>& H) const {
+    return derivatives(xe, e, wantG, wantH, g, H);
+  }
+
+  /// Value, and gradient and Hessian when asked, of element e at its positions xe.
+  double derivatives(const double* xe, int e, bool wantG, bool wantH, Eigen::Matrix<double, M, 1>& g,
+                     Eigen::Matrix<double, M, M>& H) const {
     if (wantH) {
       J2 xj[M];
       for (int i = 0; i < M; ++i) xj[i] = secondOrderVariable<M>(xe[i], i);

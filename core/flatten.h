@@ -1,0 +1,16 @@
+// JETSHELL_FLATTEN: inline every call in a function's body, recursively, into that function.
+//
+// Ceres' Jet arithmetic is a chain of small inline functions (each operator builds an Eigen expression for the
+// dual part, and Eigen assigns it in a loop function of its own). In a translation unit that instantiates many
+// templates, g++ runs out of its unit-wide inlining budget and leaves these as calls: in the bending term's
+// stages a profile showed Eigen's 3-vector assignment loop, called once per Jet operation, as the single
+// hottest function of the AD path. The framework's stage evaluators (core/stage.h, core/stage_derivatives.h)
+// are small, so flattening them costs little code and makes a user's stage function, and every Jet operation
+// in it, one straight-line body — without touching the user's code or the unit's optimisation flags.
+#pragma once
+
+#if defined(__GNUC__) || defined(__clang__)
+#define JETSHELL_FLATTEN __attribute__((flatten))
+#else
+#define JETSHELL_FLATTEN
+#endif
