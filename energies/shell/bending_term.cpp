@@ -328,9 +328,11 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
     if (ad ? request.hessian != nullptr : order > 0) updateRuledQuadratics(ad);
     computeFaceStages(x, order, ad);
     computeEdgeStages(order, ad);
+    // Assembly reads the upper triangle of each stencil block; only a projection needs the whole block.
+    const bool upper = options.projection == PsdProjection::None;
     return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 18, 1>& g,
-                                 Mat18& H) { return stencil(x, f, ids, wantG, wantH, ad, exact, g, H); });
+                                 Mat18& H) { return stencil(x, f, ids, wantG, wantH, ad, exact, upper, g, H); });
   }
 
 void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad) {
@@ -384,7 +386,7 @@ void BendingTerm::computeEdgeStages(int order, bool ad) {
   }
 
 double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
-                 Eigen::Matrix<double, 18, 1>& g, Mat18& H) const {
+                 bool upper, Eigen::Matrix<double, 18, 1>& g, Mat18& H) const {
     const Vec3 p0 = position(x, ids[0]);
     const Vec3 e0 = position(x, ids[1]) - p0, e1 = position(x, ids[2]) - p0;
     const EdgeStage* edge[3];
@@ -476,8 +478,14 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     if (!wantH) return area * W;
 
     const Mat3x18 WJ = (area * Wbb).lazyProduct(Jb);
-    H.noalias() = Jb.transpose().lazyProduct(WJ);
-    if (exact) addCurvatureOfB(f, e0, e1, w, M, N, nloc, fn, C, H);
+    if (upper) {
+      for (int c = 0; c < 6; ++c)
+        for (int r = 0; r <= c; ++r)
+          H.block<3, 3>(3 * r, 3 * c).noalias() = Jb.middleCols<3>(3 * r).transpose().lazyProduct(WJ.middleCols<3>(3 * c));
+    } else {
+      H.noalias() = Jb.transpose().lazyProduct(WJ);
+    }
+    if (exact) addCurvatureOfB(f, e0, e1, w, M, N, nloc, fn, C, upper, H);
     return area * W;
   }
 
@@ -523,7 +531,7 @@ void BendingTerm::gradientByAdjoints(const Eigen::VectorXd& x, int f, const int*
 
 void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
                                   const Vec3& w, const Mat3x12* M, const Mat3x12* N, const std::int8_t* nloc,
-                                  const int* fn, const Mat39* crossJacobians, Mat18& H) const {
+                                  const int* fn, const Mat39* crossJacobians, bool upper, Mat18& H) const {
     // s = w·b = Σ c_ai e_a·n̄_i with c_00 = −2w0, c_01 = 2w0, c_10 = −2(w1 + w2), c_12 = 2w2.
     // The e–n̄ coupling: E_aᵀ R_a + R_aᵀ E_a with R_a = Σ_i c_ai N_i, e0 = x1 − x0, e1 = x2 − x0.
     Mat3x18 R0 = Mat3x18::Zero(), R1 = Mat3x18::Zero();
@@ -534,12 +542,23 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       addCompact(R1.row(r), 2.0 * w[2] * N[2].row(r), 2);
     }
     const Mat3x18 R01 = R0 + R1;
-    H.middleRows<3>(3) += R0;
-    H.middleRows<3>(6) += R1;
-    H.middleRows<3>(0) -= R01;
-    H.middleCols<3>(3) += R0.transpose();
-    H.middleCols<3>(6) += R1.transpose();
-    H.middleCols<3>(0) -= R01.transpose();
+    if (upper) {
+      // Row block b gets R (its columns c >= b), and column block b gets Rᵀ (its rows c <= b).
+      const Mat3x18* R[3] = {&R01, &R0, &R1};
+      const double sign[3] = {-1.0, 1.0, 1.0};
+      for (int b = 0; b < 3; ++b)
+        for (int c = 0; c < 6; ++c) {
+          if (c >= b) H.block<3, 3>(3 * b, 3 * c) += sign[b] * R[b]->middleCols<3>(3 * c);
+          if (c <= b) H.block<3, 3>(3 * c, 3 * b) += sign[b] * R[b]->middleCols<3>(3 * c).transpose();
+        }
+    } else {
+      H.middleRows<3>(3) += R0;
+      H.middleRows<3>(6) += R1;
+      H.middleRows<3>(0) -= R01;
+      H.middleCols<3>(3) += R0.transpose();
+      H.middleCols<3>(6) += R1.transpose();
+      H.middleCols<3>(0) -= R01.transpose();
+    }
 
     const Vec3 gnb[3] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};
     Vec3 hFace[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // this face, neighbours 0..2
@@ -551,10 +570,10 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       const StageHessian& hs = edgeHessian_[e];
       const Mat3 Hm = gnb[i][0] * hs[0] + gnb[i][1] * hs[1] + gnb[i][2] * hs[2];
       const Mat3x12 HmM = Hm.lazyProduct(M[i]);
-      const Eigen::Matrix<double, 12, 12> He = M[i].transpose().lazyProduct(HmM);
-      const int vertex[4] = {0, 1, 2, 3 + i};
+      const int vertex[4] = {0, 1, 2, 3 + i};  // increasing: r <= c keeps the block upper
       for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) H.block<3, 3>(3 * vertex[r], 3 * vertex[c]) += He.block<3, 3>(3 * r, 3 * c);
+        for (int r = 0; r < (upper ? c + 1 : 4); ++r)
+          H.block<3, 3>(3 * vertex[r], 3 * vertex[c]) += M[i].middleCols<3>(3 * r).transpose().lazyProduct(HmM.middleCols<3>(3 * c));
       const Vec3 gm = s.dndm.transpose() * gnb[i];
       if (fn[i] >= 0) {
         hFace[0] += 0.5 * gm;
@@ -590,7 +609,8 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       Hf.block<3, 3>(3, 0) -= Q;
       Hf.block<3, 3>(0, 3) -= Q.transpose();
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) H.block<3, 3>(3 * local[r], 3 * local[c]) += Hf.block<3, 3>(3 * r, 3 * c);
+        for (int c = 0; c < 3; ++c)
+          if (!upper || local[r] <= local[c]) H.block<3, 3>(3 * local[r], 3 * local[c]) += Hf.block<3, 3>(3 * r, 3 * c);
     }
   }
 

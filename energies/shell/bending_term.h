@@ -124,8 +124,10 @@ class BendingTerm : public EnergyTerm {
 
   void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad);
   void computeEdgeStages(int order, bool ad);
+  /// upper: fill only the upper vertex blocks of H (r <= c, in stencil order), all that assembly reads; the
+  /// others are left unset. Used when no projection needs the whole block.
   double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
-                 Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
+                 bool upper, Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
   /// The stencil's gradient J_bᵀ w by adjoints (gradient-only evaluations; w already scaled by the area).
   void gradientByAdjoints(const Eigen::VectorXd& x, int f, const int* ids, const Eigen::Vector3d& e0,
                           const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const std::int8_t* nloc, const int* fn,
@@ -133,7 +135,8 @@ class BendingTerm : public EnergyTerm {
   void addCurvatureOfB(int f, const Eigen::Vector3d& e0,
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 12>* M,
                        const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
-                       const Eigen::Matrix<double, 3, 9>* crossJacobians, Eigen::Matrix<double, 18, 18>& H) const;
+                       const Eigen::Matrix<double, 3, 9>* crossJacobians, bool upper,
+                       Eigen::Matrix<double, 18, 18>& H) const;
   Eigen::Vector3d meanNormal(int edge, int order);
   /// After a rule change: the counts, the per-face moment-free flags and (origin not moved) the rest origin.
   void updateRuleState();
