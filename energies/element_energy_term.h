@@ -117,8 +117,9 @@ class ElementEnergyTerm : public FixedStencilTerm {
     double xe[M];
     for (int k = 0; k < K; ++k)
       for (int c = 0; c < 3; ++c) xe[3 * k + c] = ids[k] >= 0 ? x[3 * ids[k] + c] : 0.0;
-    // Small elements (contact pairs and points, hinges) get the Jet arithmetic inlined (core/flatten.h); for
-    // larger ones the flattened body costs more compile time than it saves.
+    // Small elements (point-pair and point-plane contact: 6 and 3 dofs) get the Jet arithmetic inlined
+    // (core/flatten.h); for 9 dofs and more the flattened body cost minutes of compile time across the contact
+    // terms (BENCHMARKS.md, "Jet arithmetic inlined").
     if constexpr (M <= kFlattenedElementDofs) {
       return derivativesInlined(xe, e, wantG, wantH, g, H);
     } else {

@@ -249,8 +249,13 @@ int runBench(const BenchOptions& o) {
     std::printf("  %s, 1 thread: %.2f (median of %d interleaved pairs, range %.2f-%.2f; target <= 1.2)\n", what,
                 p.median, p.pairs, p.low, p.high);
   };
+  auto termsOf = [&](const std::string& name) {
+    for (const Case& c : cases)
+      if (name == c.term) return c.terms;
+    return std::vector<std::pair<EnergyTerm*, int>>{};
+  };
   if (bothPaths && (o.term.empty() || o.term == "shell")) {
-    handRatio = pairedRatio(cases[2].terms);
+    handRatio = pairedRatio(termsOf("shell"));
     printPaired("AD / analytic", handRatio);
   }
   if (threadCounts.size() > 1) {
@@ -272,7 +277,7 @@ int runBench(const BenchOptions& o) {
     std::printf("  stage framework, AD / analytic twins, 1 thread, ratio of the table's medians: %.2f\n",
                 stagedAd / stagedAn);
     if (bothPaths) {
-      stagedRatio = pairedRatio(cases[5].terms);
+      stagedRatio = pairedRatio(termsOf("shell_staged"));
       printPaired("stage framework, AD / analytic twins", stagedRatio);
     }
   }

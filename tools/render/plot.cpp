@@ -36,6 +36,9 @@ Colour parseColour(const std::string& hex) {
   return {((v >> 16) & 0xff) / 255.0, ((v >> 8) & 0xff) / 255.0, (v & 0xff) / 255.0};
 }
 
+/// A value an axis can show: finite, and positive on a log axis.
+bool drawable(double v, bool log) { return std::isfinite(v) && (!log || v > 0.0); }
+
 /// One axis: its range (rounded out to ticks), whether it is logarithmic, and its ticks.
 struct Axis {
   double lo = 0.0, hi = 1.0;
@@ -43,7 +46,7 @@ struct Axis {
   std::vector<double> ticks;
   int digits = 6;  // significant digits of the tick labels
 
-  bool accepts(double v) const { return std::isfinite(v) && (!log || v > 0.0); }
+  bool accepts(double v) const { return drawable(v, log); }
   /// 0 at lo, 1 at hi.
   double unit(double v) const {
     return log ? (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo)) : (v - lo) / (hi - lo);
@@ -228,13 +231,10 @@ std::vector<std::uint8_t> drawPlot(const PlotSpec& spec, const std::string& wher
   const int width = spec.width, height = spec.height;
 
   // The data's range on each axis (only what the axis can show: finite, and positive on a log axis).
-  Axis probeX, probeY;
-  probeX.log = spec.logX;
-  probeY.log = spec.logY;
   double xLo = HUGE_VAL, xHi = -HUGE_VAL, yLo = HUGE_VAL, yHi = -HUGE_VAL;
   for (const PlotSeries& s : spec.series)
     for (std::size_t i = 0; i < s.x.size(); ++i) {
-      if (!probeX.accepts(s.x[i]) || !probeY.accepts(s.y[i])) continue;
+      if (!drawable(s.x[i], spec.logX) || !drawable(s.y[i], spec.logY)) continue;
       xLo = std::min(xLo, s.x[i]), xHi = std::max(xHi, s.x[i]);
       yLo = std::min(yLo, s.y[i]), yHi = std::max(yHi, s.y[i]);
     }
@@ -346,11 +346,11 @@ std::vector<std::uint8_t> drawPlot(const PlotSpec& spec, const std::string& wher
   const double row = 1.4 * font;
   const std::size_t rows = static_cast<std::size_t>(std::max(0.0, std::floor((f.y1 - f.y0) / row)));
   const std::size_t shown = spec.series.size() <= rows ? spec.series.size() : (rows > 0 ? rows - 1 : 0);
+  const Axis unitAxis = makeAxis(0.0, 1.0, false);  // a key sample spans [0, 1] of its own little frame
   for (std::size_t k = 0; k < shown; ++k) {
     const double y = f.y0 + (static_cast<double>(k) + 0.7) * row;
     PlotSeries mark("", {}, {}, spec.series[k].style, "", spec.series[k].dashType);
-    Axis unitX = makeAxis(0.0, 1.0, false), unitY = makeAxis(0.0, 1.0, false);
-    Frame key{keyX, y, keyX + sample, y, &unitX, &unitY};
+    Frame key{keyX, y, keyX + sample, y, &unitAxis, &unitAxis};
     mark.x = spec.series[k].style == "points" ? std::vector<double>{0.5} : std::vector<double>{0.0, 1.0};
     if (spec.series[k].style == "linespoints") mark.x = {0.0, 0.5, 1.0};
     mark.y.assign(mark.x.size(), 0.0);
