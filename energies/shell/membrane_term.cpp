@@ -6,6 +6,7 @@
 #include "core/origin_derivatives.h"
 #include "core/parameter_derivatives.h"
 #include "energies/shell/analytic_stages.h"
+#include "energies/shell/membrane_projection.h"
 #include "energies/shell/shell_geometry.h"
 #include "energies/shell/shell_terms.h"
 #include "core/stage_derivatives.h"
@@ -36,9 +37,13 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
   }
   const bool ad = options.path == DerivativePath::AutoDiff;
   if (ad && request.hessian != nullptr) updateDensityHessians();
-  return runElementLoop<3>(table_, schedule_, x, request, options.projection, elementEnergy_,
+  // The element projects its own block (energies/shell/membrane_projection.h), so the loop projects nothing.
+  const PsdProjection projection = options.projection;
+  return runElementLoop<3>(table_, schedule_, x, request, PsdProjection::None, elementEnergy_,
                            [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
-                               Eigen::Matrix<double, 9, 9>& H) { return element(x, f, ids, wantG, wantH, ad, g, H); });
+                               Eigen::Matrix<double, 9, 9>& H) {
+                             return element(x, f, ids, wantG, wantH, ad, projection, g, H);
+                           });
 }
 
 void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale) {
@@ -63,7 +68,8 @@ void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale)
 }
 
 double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
-                             Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const {
+                             PsdProjection projection, Eigen::Matrix<double, 9, 1>& g,
+                             Eigen::Matrix<double, 9, 9>& H) const {
     const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]), x1 = x.segment<3>(3 * ids[1]), x2 = x.segment<3>(3 * ids[2]);
     const Eigen::Vector3d e0 = x1 - x0, e1 = x2 - x0;
     const double a[3] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
@@ -98,6 +104,7 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
       He.topRightCorner<3, 3>().diagonal().array() += w[1];
       He.bottomLeftCorner<3, 3>().diagonal().array() += w[1];
       He *= area;
+      const MembraneProjection projected = projectMembraneEdgeBlock(He, e0, e1, projection);
       // e0 = x1 − x0, e1 = x2 − x0: H_x = Lᵀ H_e L.
       H.block<6, 6>(3, 3) = He;
       for (int j = 0; j < 2; ++j) {
@@ -106,6 +113,7 @@ double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bo
         H.block<3, 3>(3 + 3 * j, 0) = s.transpose();
       }
       H.block<3, 3>(0, 0) = -(H.block<3, 3>(0, 3) + H.block<3, 3>(0, 6));
+      if (projected == MembraneProjection::Degenerate) projectPsd<9>(H, projection);
     }
   return area * W;
 }

@@ -56,8 +56,9 @@ class MembraneTerm : public EnergyTerm {
   MembraneDensityStage density_;
   StagedElements<3> elements_;
 
+  /// One face; with a projection its block comes back projected (energies/shell/membrane_projection.h).
   double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
-                 Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
+                 PsdProjection projection, Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
   /// Brings densityHessian_ up to date with λ and μ (before a Hessian pass of the AD path).
   void updateDensityHessians();
   // W_m is a quadratic form in the metric a, so its 3×3 Hessian W'' is constant per face (it depends on A⁻¹, λ
