@@ -71,6 +71,39 @@ void addCompact(Row&& row, const Compact& v, int i) {
   row.template segment<3>(9 + 3 * i) += v.template tail<3>();
 }
 
+
+/// Adds Jᵀ X J (X symmetric 3×3) to the stencil block H, for the Jacobian J = [J_0, J_1, …, J_{K−1}] (3 × 3K)
+/// of a translation-invariant quantity (Σ_k J_k = 0), given by its last K − 1 blocks. Only the blocks among
+/// vertices 1..K−1 are products; those of vertex 0 follow from the zero row and column sums. coupling (or
+/// null): an antisymmetric 3×3 added to the (1, 2) block and its transpose to (2, 1); the vertex-0 blocks carry
+/// its share the same way. vertex[k]: vertex k's stencil index. upper: only the blocks with
+/// vertex[r] <= vertex[c] are added (assembly reads the upper triangle).
+template <int K, typename Tail, typename Index>
+void addTranslationInvariant(const Tail& tail, const Mat3& X, const Index* vertex, bool upper, Mat18& H,
+                             const Mat3* coupling = nullptr) {
+  constexpr int T = K - 1;
+  const Eigen::Matrix<double, 3, 3 * T> XJ = X.lazyProduct(tail);
+  Mat3 B[K][K];
+  for (int c = 1; c < K; ++c)
+    for (int r = 1; r <= c; ++r)
+      B[r][c].noalias() =
+          tail.template middleCols<3>(3 * (r - 1)).transpose().lazyProduct(XJ.template middleCols<3>(3 * (c - 1)));
+  if (coupling != nullptr) B[1][2] += *coupling;
+  for (int c = 1; c < K; ++c)
+    for (int r = c + 1; r < K; ++r) B[r][c] = B[c][r].transpose();
+  Mat3 corner = Mat3::Zero();
+  for (int c = 1; c < K; ++c) {
+    B[0][c] = -B[1][c];
+    for (int r = 2; r < K; ++r) B[0][c] -= B[r][c];
+    B[c][0] = B[0][c].transpose();
+    corner -= B[0][c];
+  }
+  B[0][0] = 0.5 * (corner + corner.transpose());
+  for (int r = 0; r < K; ++r)
+    for (int c = 0; c < K; ++c)
+      if (!upper || vertex[r] <= vertex[c]) H.block<3, 3>(3 * vertex[r], 3 * vertex[c]) += B[r][c];
+}
+
 }  // namespace
 
 BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellReference& ref, double alpha,
@@ -569,11 +602,8 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       const EdgeStage& s = edges_[e];
       const StageHessian& hs = edgeHessian_[e];
       const Mat3 Hm = gnb[i][0] * hs[0] + gnb[i][1] * hs[1] + gnb[i][2] * hs[2];
-      const Mat3x12 HmM = Hm.lazyProduct(M[i]);
       const int vertex[4] = {0, 1, 2, 3 + i};  // increasing: r <= c keeps the block upper
-      for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < (upper ? c + 1 : 4); ++r)
-          H.block<3, 3>(3 * vertex[r], 3 * vertex[c]) += M[i].middleCols<3>(3 * r).transpose().lazyProduct(HmM.middleCols<3>(3 * c));
+      addTranslationInvariant<4>(M[i].rightCols<9>(), Hm, vertex, upper, H);
       const Vec3 gm = s.dndm.transpose() * gnb[i];
       if (fn[i] >= 0) {
         hFace[0] += 0.5 * gm;
@@ -592,25 +622,13 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       const FaceStage& s = faces_[face];
       const StageHessian& hs = faceHessian_[face];
       const Vec3& h = hFace[j];
-      const Mat39& C = crossJacobians[j];
-      const Mat3 Hc = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
-      const Mat39 HcC = Hc.lazyProduct(C);
-      Eigen::Matrix<double, 9, 9> Hf = C.transpose().lazyProduct(HcC);
-      if (j == 0 && anyGhost) {
-        const Mat39 D = s.dndc.lazyProduct(C);
-        Hf.noalias() += D.transpose().lazyProduct(ghostCurvature.lazyProduct(D));
-      }
-      // k·c = k·(e0 × e1) = e0ᵀ Q e1 with Q = −[k]×, k = (∂n/∂c)ᵀ h.
+      Mat3 Hc = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
+      // The ghost rules' curvature, Dᵀ G D with D = (∂n/∂c) C, joins the curvature in c.
+      if (j == 0 && anyGhost) Hc.noalias() += s.dndc.transpose() * ghostCurvature * s.dndc;
+      // k·c = k·(e0 × e1) = e0ᵀ Q e1 with Q = −[k]×, k = (∂n/∂c)ᵀ h: the (x1, x2) block gets Q; Q is
+      // antisymmetric, so the blocks of x0 that translation invariance gives carry its share.
       const Mat3 Q = -skew(s.dndc.transpose() * h);
-      Hf.block<3, 3>(3, 6) += Q;
-      Hf.block<3, 3>(6, 3) += Q.transpose();
-      Hf.block<3, 3>(0, 6) -= Q;
-      Hf.block<3, 3>(6, 0) -= Q.transpose();
-      Hf.block<3, 3>(3, 0) -= Q;
-      Hf.block<3, 3>(0, 3) -= Q.transpose();
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-          if (!upper || local[r] <= local[c]) H.block<3, 3>(3 * local[r], 3 * local[c]) += Hf.block<3, 3>(3 * r, 3 * c);
+      addTranslationInvariant<3>(crossJacobians[j].rightCols<6>(), Hc, local, upper, H, &Q);
     }
   }
 
