@@ -71,12 +71,11 @@ void addCompact(Row&& row, const Compact& v, int i) {
   row.template segment<3>(9 + 3 * i) += v.template tail<3>();
 }
 
-
 /// Adds Jᵀ X J (X symmetric 3×3) to the stencil block H, for the Jacobian J = [J_0, J_1, …, J_{K−1}] (3 × 3K)
 /// of a translation-invariant quantity (Σ_k J_k = 0), given by its last K − 1 blocks. Only the blocks among
 /// vertices 1..K−1 are products; those of vertex 0 follow from the zero row and column sums. coupling (or
-/// null): an antisymmetric 3×3 added to the (1, 2) block and its transpose to (2, 1); the vertex-0 blocks carry
-/// its share the same way. vertex[k]: vertex k's stencil index. upper: only the blocks with
+/// null; K = 3): an antisymmetric 3×3 added to the (1, 2) block and its transpose to (2, 1); the vertex-0
+/// blocks carry its share the same way. vertex[k]: vertex k's stencil index. upper: only the blocks with
 /// vertex[r] <= vertex[c] are added (assembly reads the upper triangle).
 template <int K, typename Tail, typename Index>
 void addTranslationInvariant(const Tail& tail, const Mat3& X, const Index* vertex, bool upper, Mat18& H,
@@ -602,7 +601,7 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       const EdgeStage& s = edges_[e];
       const StageHessian& hs = edgeHessian_[e];
       const Mat3 Hm = gnb[i][0] * hs[0] + gnb[i][1] * hs[1] + gnb[i][2] * hs[2];
-      const int vertex[4] = {0, 1, 2, 3 + i};  // increasing: r <= c keeps the block upper
+      const int vertex[4] = {0, 1, 2, 3 + i};  // edge i's compact vertices in the stencil
       addTranslationInvariant<4>(M[i].rightCols<9>(), Hm, vertex, upper, H);
       const Vec3 gm = s.dndm.transpose() * gnb[i];
       if (fn[i] >= 0) {
