@@ -89,26 +89,31 @@ void addBlockRowSums(Eigen::Matrix<double, R, R>& X, double coef) {
   for (int i = 0; i < R / 3; ++i) X.template middleRows<3>(3 * i) += sum;
 }
 
+/// S ← M S M for an edge-space block S (R/3 edge groups), M = (I + 11ᵀ)^{1/2} ⊗ I₃ the metric of
+/// projectPsdTranslationInvariant, or M⁻¹ S M⁻¹ (inverse). M^{±1} = I + c 11ᵀ (⊗ I₃) in closed form: 11ᵀ has the
+/// one non-zero eigenvalue m = R/3. A rotation of every group by one 3×3 commutes with it.
+template <int R>
+void applyEdgeMetric(Eigen::Matrix<double, R, R>& S, bool inverse) {
+  constexpr double m = R / 3;
+  const double root = std::sqrt(1.0 + m);
+  const double c = inverse ? (1.0 / root - 1.0) / m : (root - 1.0) / m;
+  addBlockRowSums(S, c);
+  S.transposeInPlace();
+  addBlockRowSums(S, c);
+}
+
 /// The projection of a translation-invariant block, computed at (N − 3)³ cost and equal to the projection of
 /// the whole block. With H = Lᵀ H_e L and L Lᵀ = (I + 11ᵀ) ⊗ I₃ =: M², the vectors u = Lᵀ M⁻¹ v, v the
 /// eigenvectors of S = M H_e M, are orthonormal eigenvectors of H with S's eigenvalues, and the rest of H's
-/// spectrum is the translations' zeros. So P(H) = Lᵀ M⁻¹ P(S) M⁻¹ L. M^{±1} = I + c 11ᵀ (⊗ I₃) in closed form:
-/// 11ᵀ has the one non-zero eigenvalue m = (N − 3)/3.
+/// spectrum is the translations' zeros. So P(H) = Lᵀ M⁻¹ P(S) M⁻¹ L.
 template <int N>
 void projectPsdTranslationInvariant(Eigen::Matrix<double, N, N>& H, PsdProjection mode) {
   constexpr int R = N - 3;
-  constexpr double m = R / 3;
   using Reduced = Eigen::Matrix<double, R, R>;
-  const double root = std::sqrt(1.0 + m);
-  const double cRoot = (root - 1.0) / m, cInverseRoot = (1.0 / root - 1.0) / m;
   Reduced S = H.template bottomRightCorner<R, R>();
-  addBlockRowSums(S, cRoot);
-  S.transposeInPlace();
-  addBlockRowSums(S, cRoot);
+  applyEdgeMetric(S, false);
   projectSpectrum(S, mode);
-  addBlockRowSums(S, cInverseRoot);
-  S.transposeInPlace();
-  addBlockRowSums(S, cInverseRoot);
+  applyEdgeMetric(S, true);
   H.template bottomRightCorner<R, R>() = S;
   Eigen::Matrix3d corner = Eigen::Matrix3d::Zero();
   for (int j = 0; j < R / 3; ++j) {

@@ -2,8 +2,6 @@
 
 #include <Eigen/Cholesky>
 
-#include <cmath>
-
 namespace jetshell {
 
 namespace {
@@ -39,16 +37,11 @@ MembraneProjection projectMembraneEdgeBlock(Matrix6d& He, const Eigen::Vector3d&
   Eigen::Matrix3d Q;
   Q << t1, t2, t1.cross(t2);
 
-  // S = M (I₂ ⊗ Q)ᵀ He (I₂ ⊗ Q) M with the metric M = (I + c 11ᵀ) ⊗ I₃ of projectPsdTranslationInvariant<9>.
-  constexpr double m = 2.0;  // two edge groups: 11ᵀ has the eigenvalue 2
-  const double root = std::sqrt(1.0 + m);
-  const double cRoot = (root - 1.0) / m, cInverseRoot = (1.0 / root - 1.0) / m;
+  // S = M (I₂ ⊗ Q)ᵀ He (I₂ ⊗ Q) M with the metric M of projectPsdTranslationInvariant<9>.
   Matrix6d S;
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) S.block<3, 3>(3 * i, 3 * j) = Q.transpose() * He.block<3, 3>(3 * i, 3 * j) * Q;
-  addBlockRowSums(S, cRoot);
-  S.transposeInPlace();
-  addBlockRowSums(S, cRoot);
+  applyEdgeMetric(S, false);
 
   Eigen::Matrix4d inPlane;
   Eigen::Matrix2d normal;
@@ -64,9 +57,7 @@ MembraneProjection projectMembraneEdgeBlock(Matrix6d& He, const Eigen::Vector3d&
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) S(kNormal[i], kNormal[j]) = normal(i, j);
 
-  addBlockRowSums(S, cInverseRoot);
-  S.transposeInPlace();
-  addBlockRowSums(S, cInverseRoot);
+  applyEdgeMetric(S, true);
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) He.block<3, 3>(3 * i, 3 * j) = Q * S.block<3, 3>(3 * i, 3 * j) * Q.transpose();
   return MembraneProjection::Projected;
