@@ -22,6 +22,10 @@ namespace jetshell {
 enum class DerivativePath { AutoDiff, Analytic };
 /// Exact bending Hessian, or Gauss–Newton J_bᵀ W'' J_b without the second derivatives of b.
 enum class BendingHessian { Exact, GaussNewton };
+/// Exact friction Hessian, or the majorizer's: along the slip the curvature of the regularized Coulomb
+/// potential is replaced by its secant value f₁(y)/y (energies/contact/contact_ramp.h), with the same energy and
+/// gradient.
+enum class FrictionHessian { Exact, Majorizer };
 
 struct EvalOptions {
   DerivativePath path = DerivativePath::Analytic;
@@ -30,6 +34,7 @@ struct EvalOptions {
   /// With a projection: only element blocks of at most this many dofs are projected (0: every block). Read by
   /// the Objective, which evaluates the terms with wider stencils unprojected.
   int projectionMaxBlockDofs = 0;
+  FrictionHessian frictionHessian = FrictionHessian::Exact;
 };
 
 /// What to compute. gradient and hessian may be null; the energy is always returned.

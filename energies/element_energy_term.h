@@ -18,6 +18,12 @@
 // gets parameterNames()/parameterValues()/setParameterValues() and evaluateParameterDerivatives() (∂E/∂p and
 // ∂²E/∂x∂p from duals seeded on p, core/parameter_derivatives.h). Functors without kParameters keep the
 // two-argument form.
+//
+// The evaluation's options (optional, detected at compile time): a functor with a member
+//     EvalOptions options;
+// gets the options of each evaluate() call copied there before its elements run, for terms that offer a model
+// Hessian beside the exact one (the friction terms read options.frictionHessian). The exact Hessian must stay
+// the default options' (EvalOptions{}), which is what the conformance suite and check-derivatives evaluate.
 #pragma once
 
 #include "core/assembly.h"
@@ -45,6 +51,13 @@ struct FunctorParameterCount : std::integral_constant<int, 0> {};
 template <typename Functor>
 struct FunctorParameterCount<Functor, std::void_t<decltype(Functor::kParameters)>>
     : std::integral_constant<int, Functor::kParameters> {};
+
+/// Whether Functor has a member `EvalOptions options` (set before each evaluation).
+template <typename Functor, typename = void>
+struct FunctorTakesOptions : std::false_type {};
+template <typename Functor>
+struct FunctorTakesOptions<Functor, std::void_t<decltype(std::declval<Functor&>().options)>>
+    : std::is_same<std::decay_t<decltype(std::declval<Functor&>().options)>, EvalOptions> {};
 
 template <typename Functor>
 class ElementEnergyTerm : public FixedStencilTerm {
@@ -87,6 +100,7 @@ class ElementEnergyTerm : public FixedStencilTerm {
   }
 
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
+    if constexpr (FunctorTakesOptions<Functor>::value) functor_.options = options;
     // Nested-Jet Hessians over 15 or more dofs are costly elements (core/element_loop.h).
     const int parallelMin =
         request.hessian != nullptr && M >= 15 ? kParallelMinCostlyElements : kParallelMinElements;

@@ -68,11 +68,12 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   s.minimizer = "newton";
   s.linearSolver = linear_->name();
   const int analysesBefore = linear_->symbolicAnalyses();
-  const EvalOptions projected{o.derivatives, o.projection, o.bendingHessian};
+  const EvalOptions projected{o.derivatives, o.projection, o.bendingHessian, 0, o.frictionHessian};
   // The "exact" Hessian: unprojected, or with exactHessianFirst only the small blocks projected.
-  const EvalOptions exact = o.exactHessianFirst && o.exactFirstProjectedDofs > 0
-                                ? EvalOptions{o.derivatives, o.projection, o.bendingHessian, o.exactFirstProjectedDofs}
-                                : EvalOptions{o.derivatives, PsdProjection::None, o.bendingHessian};
+  const EvalOptions exact =
+      o.exactHessianFirst && o.exactFirstProjectedDofs > 0
+          ? EvalOptions{o.derivatives, o.projection, o.bendingHessian, o.exactFirstProjectedDofs, o.frictionHessian}
+          : EvalOptions{o.derivatives, PsdProjection::None, o.bendingHessian, 0, o.frictionHessian};
   const bool adaptive = o.exactHessianNearSolution && o.projection != PsdProjection::None;
   Objective& obj = objective_;
 

@@ -68,6 +68,11 @@ struct NewtonOptions {
   bool exactHessianFirst = false;
   int exactFirstProjectedDofs = 12;  // 0: no block projected first
   BendingHessian bendingHessian = BendingHessian::Exact;
+  /// The friction terms' Hessian (core/term.h, energies/contact/contact_ramp.h). The majorizer's full step never
+  /// flips a sliding contact's slip across its stick region, which helps runs that move on at an iteration cap;
+  /// solved to tolerance it converges linearly where contacts stick near their Coulomb limit (the exact one
+  /// quadratically), hence the default.
+  FrictionHessian frictionHessian = FrictionHessian::Exact;
   DerivativePath derivatives = DerivativePath::Analytic;
   LineSearchType lineSearch = LineSearchType::BacktrackingArmijo;
   int maxLineSearchEvaluations = 30;

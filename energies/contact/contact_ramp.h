@@ -10,6 +10,9 @@
 #pragma once
 
 #include "core/scalar.h"
+#include "core/term.h"
+
+#include <cmath>
 
 namespace jetshell {
 
@@ -42,10 +45,28 @@ T contactRampMoment(const T& p, double delta) {
 /// slip length y ≥ 0 given as y² (so zero slip stays differentiable) and the slip regularization ε_v > 0 [m]:
 ///   f₀(y) = −y³/(3ε_v²) + y²/ε_v   (y < ε_v),   y − ε_v/3   (y ≥ ε_v).
 /// Its derivative f₁ = f₀' rises from 0 to 1 over [0, ε_v]: friction force μλ f₁(y) in the slip direction.
+///
+/// FrictionHessian::Majorizer returns the same value and first derivatives but the second derivatives of the
+/// tangent of f₀ as a function of s = y², F(s₀) + F'(s₀)(s − s₀) with F'(s₀) = f₁(y₀)/(2y₀): F is concave in s,
+/// so this quadratic in the slip majorizes the potential and touches it at the iterate (the half-quadratic, or
+/// IRLS, model of |u|). Its Hessian in the tangent plane is (f₁(y)/y) I: along the slip the secant curvature
+/// f₁/y instead of the exact f₀''(y), which is 0 once sliding (y ≥ ε_v). Measured on the T-shirt: with the exact
+/// curvature a vertex held by friction just below its Coulomb limit flips its slip from side to side at every
+/// Newton iteration (the exact model sees no friction stiffness once it slides, so each full step overshoots,
+/// and one vertex does not move the whole shell's line search); the majorizer's full step stays on its side.
+/// The price: a secant model converges linearly, slowly where a contact sticks near its Coulomb limit
+/// (BENCHMARKS.md, Contact).
 template <typename T>
-T frictionPrimitive(const T& y2, double epsV) {
+T frictionPrimitive(const T& y2, double epsV, FrictionHessian model = FrictionHessian::Exact) {
   using std::sqrt;
   const double v2 = valueOf(y2);
+  if (model == FrictionHessian::Majorizer) {
+    const double y = std::sqrt(v2);
+    const bool sliding = v2 >= epsV * epsV;
+    const double value = sliding ? y - epsV / 3.0 : v2 / epsV - v2 * y / (3.0 * epsV * epsV);
+    const double slope = sliding ? 0.5 / y : 1.0 / epsV - y / (2.0 * epsV * epsV);  // F'(s) = f₁(y)/(2y)
+    return constant<T>(slope) * (y2 - constant<T>(v2)) + constant<T>(value);
+  }
   if (v2 >= epsV * epsV) return sqrt(y2) - constant<T>(epsV / 3.0);
   // y³ = y²·y has zero first and second derivatives at y = 0, where sqrt's derivative is not finite.
   const T cubic = v2 > 1e-300 ? y2 * sqrt(y2) : constant<T>(0.0);

@@ -29,7 +29,9 @@ struct PointPairPenaltyEnergy {
 
 struct PointPairFrictionEnergy {
   static constexpr int kVertices = 2;
+  explicit PointPairFrictionEnergy(std::shared_ptr<const PointPairData> d) : data(std::move(d)) {}
   std::shared_ptr<const PointPairData> data;
+  EvalOptions options;  // options.frictionHessian (energies/element_energy_term.h)
   template <typename T>
   T operator()(const T* x, int e) const {
     if (data->frictionForce[e] == 0.0) return constant<T>(0.0);  // not in contact at the step start
@@ -40,7 +42,7 @@ struct PointPairFrictionEnergy {
     const T un = constant<T>(n[0]) * u[0] + constant<T>(n[1]) * u[1] + constant<T>(n[2]) * u[2];
     V3<T> ut;
     for (int k = 0; k < 3; ++k) ut[k] = u[k] - constant<T>(n[k]) * un;
-    return constant<T>(data->frictionForce[e]) * frictionPrimitive(squaredNorm(ut), data->slipRegularization);
+    return constant<T>(data->frictionForce[e]) * frictionPrimitive(squaredNorm(ut), data->slipRegularization, options.frictionHessian);
   }
 };
 

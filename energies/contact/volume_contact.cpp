@@ -76,7 +76,9 @@ struct VolumeDampingEnergy {
 template <int K>
 struct VolumeFrictionEnergy {
   static constexpr int kVertices = K;
+  explicit VolumeFrictionEnergy(std::shared_ptr<const VolumeContactState> state) : s(std::move(state)) {}
   std::shared_ptr<const VolumeContactState> s;
+  EvalOptions options;  // options.frictionHessian (energies/element_energy_term.h)
   template <typename T>
   T operator()(const T* x, int e) const {
     const ContactParams& c = s->params;
@@ -94,7 +96,7 @@ struct VolumeFrictionEnergy {
       const T un = constant<T>(n[0]) * u[0] + constant<T>(n[1]) * u[1] + constant<T>(n[2]) * u[2];
       V3<T> ut;
       for (int k = 0; k < 3; ++k) ut[k] = u[k] - constant<T>(n[k]) * un;
-      energy += constant<T>(c.frictionCoefficient * lambda) * frictionPrimitive(squaredNorm(ut), epsV);
+      energy += constant<T>(c.frictionCoefficient * lambda) * frictionPrimitive(squaredNorm(ut), epsV, options.frictionHessian);
     }
     return energy;
   }

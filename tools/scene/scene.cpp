@@ -159,6 +159,7 @@ void validate(const Scene& scene) {
   requireOneOf(s.psdProjection, {"auto", "none", "clamp", "abs"}, "/solver/psdProjection");
   requireOneOf(s.derivatives, {"analytic", "autodiff"}, "/solver/derivatives");
   requireOneOf(s.bendingHessian, {"exact", "gaussNewton"}, "/solver/bendingHessian");
+  requireOneOf(s.frictionHessian, {"exact", "majorizer"}, "/solver/frictionHessian");
   check::atLeast(s.threads, 0, "/solver/threads");
   check::atMost(s.threads, limits.maxThreads, "/solver/threads");
   check::atLeast(scene.outputs.frameStride, 1, "/outputs/frameStride");

@@ -483,8 +483,8 @@ AnalysisSettings readAnalysis(const Value& v) {
 
 SolverSettings readSolver(const Value& v) {
   const Object o = v.object({"maxIterations", "residualTolerance", "decrementTolerance", "lineSearch", "linearSolver",
-                             "preconditioner", "psdProjection", "derivatives", "bendingHessian", "threads",
-                             "acceptIterationCap"},
+                             "preconditioner", "psdProjection", "derivatives", "bendingHessian", "frictionHessian",
+                             "threads", "acceptIterationCap"},
                             "solver settings");
   SolverSettings s;
   if (const auto m = o.find("maxIterations")) {
@@ -504,6 +504,7 @@ SolverSettings readSolver(const Value& v) {
   s.psdProjection = o.choice("psdProjection", {"auto", "none", "clamp", "abs"}, s.psdProjection);
   s.derivatives = o.choice("derivatives", {"analytic", "autodiff"}, s.derivatives);
   s.bendingHessian = o.choice("bendingHessian", {"exact", "gaussNewton"}, s.bendingHessian);
+  s.frictionHessian = o.choice("frictionHessian", {"exact", "majorizer"}, s.frictionHessian);
   s.acceptIterationCap = o.boolean("acceptIterationCap", s.acceptIterationCap);
   s.threads = o.integer("threads", s.threads, 0, inputLimits().maxThreads);
   return s;
