@@ -68,8 +68,9 @@ struct NewtonOptions {
   bool exactHessianFirst = false;
   int exactFirstProjectedDofs = 12;  // 0: no block projected first
   BendingHessian bendingHessian = BendingHessian::Exact;
-  /// The friction terms' Hessian (core/term.h, energies/contact/contact_ramp.h). The majorizer's full step never
-  /// flips a sliding contact's slip across its stick region, which helps runs that move on at an iteration cap;
+  /// The friction terms' Hessian (core/term.h, energies/contact/contact_ramp.h). The majorizer's model lies above
+  /// the friction potential, so its step does not throw a held contact past its stick region, which helps runs
+  /// that move on at an iteration cap;
   /// solved to tolerance it converges linearly where contacts stick near their Coulomb limit (the exact one
   /// quadratically), hence the default.
   FrictionHessian frictionHessian = FrictionHessian::Exact;

@@ -53,7 +53,8 @@ T contactRampMoment(const T& p, double delta) {
 /// f₁/y instead of the exact f₀''(y), which is 0 once sliding (y ≥ ε_v). Measured on the T-shirt: with the exact
 /// curvature a vertex held by friction just below its Coulomb limit flips its slip from side to side at every
 /// Newton iteration (the exact model sees no friction stiffness once it slides, so each full step overshoots,
-/// and one vertex does not move the whole shell's line search); the majorizer's full step stays on its side.
+/// and one vertex does not move the whole shell's line search); the majorizer's model lies above the potential,
+/// so its step does not throw a held vertex past its stick region.
 /// The price: a secant model converges linearly, slowly where a contact sticks near its Coulomb limit
 /// (BENCHMARKS.md, Contact).
 template <typename T>
@@ -62,10 +63,8 @@ T frictionPrimitive(const T& y2, double epsV, FrictionHessian model = FrictionHe
   const double v2 = valueOf(y2);
   if (model == FrictionHessian::Majorizer) {
     const double y = std::sqrt(v2);
-    const bool sliding = v2 >= epsV * epsV;
-    const double value = sliding ? y - epsV / 3.0 : v2 / epsV - v2 * y / (3.0 * epsV * epsV);
-    const double slope = sliding ? 0.5 / y : 1.0 / epsV - y / (2.0 * epsV * epsV);  // F'(s) = f₁(y)/(2y)
-    return constant<T>(slope) * (y2 - constant<T>(v2)) + constant<T>(value);
+    const double slope = v2 >= epsV * epsV ? 0.5 / y : 1.0 / epsV - y / (2.0 * epsV * epsV);  // F'(s) = f₁(y)/(2y)
+    return constant<T>(slope) * (y2 - constant<T>(v2)) + constant<T>(frictionPrimitive(v2, epsV));
   }
   if (v2 >= epsV * epsV) return sqrt(y2) - constant<T>(epsV / 3.0);
   // y³ = y²·y has zero first and second derivatives at y = 0, where sqrt's derivative is not finite.
