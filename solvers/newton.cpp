@@ -13,6 +13,12 @@ namespace jetshell {
 
 double infNorm(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.lpNorm<Eigen::Infinity>(); }
 
+double largestVertexNorm(const Eigen::VectorXd& v) {
+  double largest = 0.0;
+  for (Eigen::Index i = 0; i + 2 < v.size(); i += 3) largest = std::max(largest, v.segment<3>(i).norm());
+  return largest;
+}
+
 namespace {
 
 bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& b) {
@@ -356,6 +362,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
         g = gTrial;
         r = infNorm(g);
         rec.stepLength = 1.0;
+        rec.largestMove = largestVertexNorm(d);
         ++s.iterations;
         moved = true;
       }
@@ -422,6 +429,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     const double alpha = res.point.alpha;
     newtonStepFraction = newtonDirection ? alpha * std::min(bound, 1.0) : 0.0;
     rec.stepLength = alpha;
+    rec.largestMove = alpha * largestVertexNorm(d);
     s.trace.push_back(rec);
     ++s.iterations;
     lastStepReused = reused;

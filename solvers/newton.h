@@ -123,6 +123,8 @@ struct NewtonOptions {
 
 /// The largest absolute entry of v (0 for an empty vector): the residual norm of the convergence tests.
 double infNorm(const Eigen::VectorXd& v);
+/// The largest Euclidean norm of v's 3-vectors (v stacks one per vertex; 0 for an empty vector).
+double largestVertexNorm(const Eigen::VectorXd& v);
 
 /// The outcome of an iterate test: passed, the estimate [m] and the threshold [m] it was compared with.
 struct IterateTestResult {

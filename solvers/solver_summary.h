@@ -26,6 +26,9 @@ struct IterationRecord {
   double residual = 0.0;   // ‖g_free‖∞ [N]
   double decrement = 0.0;  // ½ gᵀH⁻¹g [J] (Newton) or 0
   double stepLength = 0.0;  // the accepted α
+  /// The largest vertex displacement of the accepted step, max_v ‖α d_v‖ [m] (0 when no step was taken): how far
+  /// Newton still moved some vertex, the iterate's error scale while Newton contracts.
+  double largestMove = 0.0;
   int lineSearchEvaluations = 0;
   int regularizations = 0;  // linear-solver retries with a diagonal shift
   double shift = 0.0;

@@ -9,7 +9,9 @@
 // (CHOLMOD on the whole Hessian, every element block projected), and prints their ratio.
 // It ends with the guards of the T-shirt's checks over the run: the deepest sample inside a volume collider, the
 // closest interacting point-cloud pair (in units of their contact distance 2r), the final kinetic energy;
-// `--trace` prints them, the Newton and CG iterations and how the solve ended for every step.
+// `--trace` prints them, the Newton and CG iterations and how the solve ended for every step, and then each
+// Newton iteration of the step: the residual it started from, its accepted step length α, its CG iterations and
+// the largest vertex move of its step (how far Newton still moved some vertex when the step ended).
 // Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
@@ -102,6 +104,10 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
       std::printf("step %d: %d Newton iterations, %d CG, deepest %.2f mm, closest %.3f x 2r: %s\n", s + 1,
                   r.newtonIterations, stepCg, 1e3 * lastDeepest, lastClosest,
                   r.solves.empty() ? "" : r.solves.back().message.c_str());
+      for (const SolverSummary& solve : r.solves)
+        for (const IterationRecord& it : solve.trace)
+          std::printf("  iteration %d: residual %.3g N, alpha %.3g, %d CG, largest move %.3f mm\n", it.iteration + 1,
+                      it.residual, it.stepLength, it.cgIterations, 1e3 * it.largestMove);
     }
     iterations += r.newtonIterations;
     linear += r.factorizationSeconds + r.solveSeconds;
@@ -240,7 +246,9 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
       ->check(CLI::IsMember({"scene", "direct", "both"}));
   cmd->add_flag("--no-overlap", opts->noOverlap,
                 "Factor the one-ring preconditioner after the whole assembly, never during the bending assembly");
-  cmd->add_flag("--trace", opts->trace, "One line per step: Newton and CG iterations, the guards, how it ended");
+  cmd->add_flag("--trace", opts->trace,
+                "Per step: Newton and CG iterations, the guards, how it ended; then per Newton iteration: residual, "
+                "step length, CG iterations, largest vertex move");
   cmd->add_option("--json", opts->json, "Write the figures as JSON");
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

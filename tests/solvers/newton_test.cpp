@@ -352,3 +352,27 @@ TEST_CASE("newton: the iterate test sees each iterate with the fraction of the N
     CHECK(fractions[k] == s.trace[k - 1].stepLength);  // no step bound in statics without contact
   }
 }
+
+TEST_CASE("newton: each iteration records the largest vertex move of its accepted step") {
+  ShellSystem system(testing::cantileverPlate(8, 3, 0.02), AnalysisKind::Statics);
+  // The same deterministic solve stopped after one and after two iterations: the second iteration's record is
+  // the largest vertex displacement between the two iterates.
+  auto solveFor = [&](int iterations, SolverSummary& summary) {
+    NewtonOptions o;
+    o.maxIterations = iterations;
+    NewtonSolver newton(system.objective(), o);
+    Eigen::VectorXd x = system.restPositions();
+    summary = newton.minimize(x);
+    return x;
+  };
+  SolverSummary one, two;
+  const Eigen::VectorXd x1 = solveFor(1, one), x2 = solveFor(2, two);
+  REQUIRE(one.trace.size() == 1);
+  REQUIRE(two.trace.size() == 2);
+  const Eigen::VectorXd x0 = system.restPositions();
+  CHECK(one.trace[0].largestMove > 0.0);
+  CHECK(one.trace[0].largestMove == Approx(largestVertexNorm(x1 - x0)).epsilon(1e-12));
+  CHECK(two.trace[1].largestMove == Approx(largestVertexNorm(x2 - x1)).epsilon(1e-12));
+  // Not the largest coordinate: a vertex's whole displacement.
+  CHECK(largestVertexNorm(x1 - x0) >= (x1 - x0).lpNorm<Eigen::Infinity>());
+}
