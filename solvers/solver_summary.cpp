@@ -31,11 +31,14 @@ std::string SolverSummary::fullReport() const {
   std::ostringstream s;
   s << briefReport() << "\n";
   if (!message.empty()) s << "  " << message << "\n";
-  s << "  iter        energy      residual     decrement   alpha  ls  shift  H   assembly    factor     solve  linesearch\n";
+  s << "  iter        energy      residual     decrement   alpha   move [m]  ls  shift  H   assembly    factor     solve  "
+       "linesearch\n";
   char buf[256];
   for (const IterationRecord& r : trace) {
-    std::snprintf(buf, sizeof buf, "  %4d  %12.6e  %12.4e  %12.4e  %6.3f  %2d  %5.0e  %c  %8.2fms  %6.2fms  %6.2fms  %8.2fms\n",
-                  r.iteration, r.energy, r.residual, r.decrement, r.stepLength, r.lineSearchEvaluations, r.shift,
+    std::snprintf(buf, sizeof buf,
+                  "  %4d  %12.6e  %12.4e  %12.4e  %6.3f  %9.3e  %2d  %5.0e  %c  %8.2fms  %6.2fms  %6.2fms  %8.2fms\n",
+                  r.iteration, r.energy, r.residual, r.decrement, r.stepLength, r.largestMove, r.lineSearchEvaluations,
+                  r.shift,
                   r.exactHessian ? 'e' : 'p',
                   1e3 * r.assemblySeconds, 1e3 * r.factorizationSeconds, 1e3 * r.solveSeconds,
                   1e3 * r.lineSearchSeconds);
@@ -89,6 +92,7 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                    {"residual", r.residual},
                    {"decrement", r.decrement},
                    {"step_length", r.stepLength},
+                   {"largest_move", r.largestMove},
                    {"line_search_evaluations", r.lineSearchEvaluations},
                    {"regularizations", r.regularizations},
                    {"shift", r.shift},

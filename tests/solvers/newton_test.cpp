@@ -4,6 +4,7 @@
 #include "test_problems.h"
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <iostream>
@@ -375,4 +376,9 @@ TEST_CASE("newton: each iteration records the largest vertex move of its accepte
   CHECK(two.trace[1].largestMove == Approx(largestVertexNorm(x2 - x1)).epsilon(1e-12));
   // Not the largest coordinate: a vertex's whole displacement.
   CHECK(largestVertexNorm(x1 - x0) >= (x1 - x0).lpNorm<Eigen::Infinity>());
+  // The JSON trace carries it, per iteration.
+  const nlohmann::json j = toJson(two, true);
+  REQUIRE(j.at("trace").size() == 2);
+  CHECK(j.at("trace")[1].at("largest_move").get<double>() == two.trace[1].largestMove);
+  CHECK(two.fullReport().find("move [m]") != std::string::npos);
 }
