@@ -70,9 +70,8 @@ struct NewtonOptions {
   BendingHessian bendingHessian = BendingHessian::Exact;
   /// The friction terms' Hessian (core/term.h, energies/contact/contact_ramp.h). The majorizer's model lies above
   /// the friction potential, so its step does not throw a held contact past its stick region, which helps runs
-  /// that move on at an iteration cap;
-  /// solved to tolerance it converges linearly where contacts stick near their Coulomb limit (the exact one
-  /// quadratically), hence the default.
+  /// that move on at an iteration cap; solved to tolerance it converges linearly where contacts stick near their
+  /// Coulomb limit (the exact one quadratically), hence the default.
   FrictionHessian frictionHessian = FrictionHessian::Exact;
   DerivativePath derivatives = DerivativePath::Analytic;
   LineSearchType lineSearch = LineSearchType::BacktrackingArmijo;

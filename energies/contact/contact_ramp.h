@@ -12,6 +12,8 @@
 #include "core/scalar.h"
 #include "core/term.h"
 
+#include <ceres/jet.h>
+
 #include <cmath>
 
 namespace jetshell {
@@ -62,9 +64,9 @@ T frictionPrimitive(const T& y2, double epsV, FrictionHessian model = FrictionHe
   using std::sqrt;
   const double v2 = valueOf(y2);
   if (model == FrictionHessian::Majorizer) {
-    const double y = std::sqrt(v2);
-    const double slope = v2 >= epsV * epsV ? 0.5 / y : 1.0 / epsV - y / (2.0 * epsV * epsV);  // F'(s) = f₁(y)/(2y)
-    return constant<T>(slope) * (y2 - constant<T>(v2)) + constant<T>(frictionPrimitive(v2, epsV));
+    // The tangent at s = v2: F(s) and F'(s) = f₁(y)/(2y) from the exact formula below, on one first-order dual.
+    const ceres::Jet<double, 1> F = frictionPrimitive(ceres::Jet<double, 1>(v2, 0), epsV);
+    return constant<T>(F.v[0]) * (y2 - constant<T>(v2)) + constant<T>(F.a);
   }
   if (v2 >= epsV * epsV) return sqrt(y2) - constant<T>(epsV / 3.0);
   // y³ = y²·y has zero first and second derivatives at y = 0, where sqrt's derivative is not finite.

@@ -42,7 +42,8 @@ struct PointPairFrictionEnergy {
     const T un = constant<T>(n[0]) * u[0] + constant<T>(n[1]) * u[1] + constant<T>(n[2]) * u[2];
     V3<T> ut;
     for (int k = 0; k < 3; ++k) ut[k] = u[k] - constant<T>(n[k]) * un;
-    return constant<T>(data->frictionForce[e]) * frictionPrimitive(squaredNorm(ut), data->slipRegularization, options.frictionHessian);
+    return constant<T>(data->frictionForce[e]) *
+           frictionPrimitive(squaredNorm(ut), data->slipRegularization, options.frictionHessian);
   }
 };
 

@@ -96,7 +96,8 @@ struct VolumeFrictionEnergy {
       const T un = constant<T>(n[0]) * u[0] + constant<T>(n[1]) * u[1] + constant<T>(n[2]) * u[2];
       V3<T> ut;
       for (int k = 0; k < 3; ++k) ut[k] = u[k] - constant<T>(n[k]) * un;
-      energy += constant<T>(c.frictionCoefficient * lambda) * frictionPrimitive(squaredNorm(ut), epsV, options.frictionHessian);
+      energy += constant<T>(c.frictionCoefficient * lambda) *
+                frictionPrimitive(squaredNorm(ut), epsV, options.frictionHessian);
     }
     return energy;
   }
