@@ -15,47 +15,6 @@ T linearLoad(const T* x, const T& s, const double* w) {
   return -s * (constant<T>(w[0]) * x[0] + constant<T>(w[1]) * x[1] + constant<T>(w[2]) * x[2]);
 }
 
-class GravityTerm : public EnergyTerm {
- public:
-  /// mass: per vertex at the density `density` (> 0); the parameter "density" scales the masses by
-  /// density'/density.
-  GravityTerm(const Eigen::VectorXd& mass, const Eigen::Vector3d& g, double density)
-      : weight_(mass.size() * 3), referenceDensity_(density), density_(density) {
-    if (!(std::isfinite(density) && density > 0.0)) throw InputError("gravity: density must be finite and > 0");
-    for (Eigen::Index v = 0; v < mass.size(); ++v) weight_.segment<3>(3 * v) = mass[v] * g;
-  }
-  std::string name() const override { return "gravity"; }
-  StencilTable stencils() const override { return {}; }
-  bool hasAnalytic() const override { return true; }
-  bool zeroAtRest() const override { return false; }
-  bool rigidInvariant() const override { return false; }
-  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions&) override {
-    const double s = density_ / referenceDensity_;
-    if (request.gradient) *request.gradient -= s * weight_;
-    return -s * weight_.dot(x);
-  }
-  std::vector<std::string> parameterNames() const override { return {"density"}; }
-  std::vector<double> parameterValues() const override { return {density_}; }
-  void setParameterValues(const std::vector<double>& values) override {
-    validateParameterValues(name(), parameterNames(), values);
-    density_ = values[0];
-  }
-  void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override {
-    resetParameterDerivatives(out, x.size(), 1);
-    const double inv = 1.0 / referenceDensity_;
-    addParameterDerivatives<1, 1>(vertexStencils(static_cast<int>(x.size() / 3)), x, &density_,
-                                  [&](const auto* xv, const auto* p, int v) {
-                                    using T = std::remove_const_t<std::remove_pointer_t<decltype(xv)>>;
-                                    return linearLoad(xv, constant<T>(inv) * p[0], weight_.data() + 3 * v);
-                                  },
-                                  out);
-  }
-
- private:
-  Eigen::VectorXd weight_;  // m_v g per dof, at the reference density
-  double referenceDensity_, density_;
-};
-
 }  // namespace
 
 Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference, double density) {
@@ -65,7 +24,41 @@ Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference,
   return m;
 }
 
-EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity, double density) {
+GravityTerm::GravityTerm(const Eigen::VectorXd& mass, const Eigen::Vector3d& g, double density)
+    : weight_(mass.size() * 3), referenceDensity_(density), density_(density) {
+  if (!(std::isfinite(density) && density > 0.0)) throw InputError("gravity: density must be finite and > 0");
+  for (Eigen::Index v = 0; v < mass.size(); ++v) weight_.segment<3>(3 * v) = mass[v] * g;
+}
+
+double GravityTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions&) {
+  const double s = loadFactor_ * density_ / referenceDensity_;
+  if (request.gradient) *request.gradient -= s * weight_;
+  return -s * weight_.dot(x);
+}
+
+void GravityTerm::setParameterValues(const std::vector<double>& values) {
+  validateParameterValues(name(), parameterNames(), values);
+  density_ = values[0];
+}
+
+void GravityTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) {
+  resetParameterDerivatives(out, x.size(), 1);
+  const double inv = loadFactor_ / referenceDensity_;
+  addParameterDerivatives<1, 1>(vertexStencils(static_cast<int>(x.size() / 3)), x, &density_,
+                                [&](const auto* xv, const auto* p, int v) {
+                                  using T = std::remove_const_t<std::remove_pointer_t<decltype(xv)>>;
+                                  return linearLoad(xv, constant<T>(inv) * p[0], weight_.data() + 3 * v);
+                                },
+                                out);
+}
+
+void GravityTerm::setLoadFactor(double lambda) {
+  if (!(std::isfinite(lambda) && lambda >= 0.0)) throw InputError("gravity: load factor must be finite and >= 0");
+  loadFactor_ = lambda;
+}
+
+std::shared_ptr<GravityTerm> makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity,
+                                             double density) {
   return std::make_shared<GravityTerm>(vertexMass, gravity, density);
 }
 

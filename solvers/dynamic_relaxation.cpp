@@ -29,6 +29,7 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   DynamicsSolver solver(system, d);
   solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
   if (system.nodalForces) system.nodalForces->setLoadFactor(o.loadFactor);
+  if (system.gravity) system.gravity->setLoadFactor(o.loadFactor);
 
   RelaxationResult result;
   result.activeTerms = system.objective().activeTermNames();

@@ -21,7 +21,7 @@ struct RelaxationOptions {
   double massDamping = 0.0;      // α [1/s]; 0 takes the material's α_R (one of the two must be > 0)
   int maxSteps = 10000;
   double residualTolerance = 1e-6;  // static residual ‖g‖∞ ≤ tolerance × force scale [N]
-  double loadFactor = 1.0;          // λ for the nodal forces
+  double loadFactor = 1.0;          // λ for the nodal forces and the weight
   /// Take each step's static residual from the gradient the step's Newton solve already evaluated at its last
   /// iterate (Objective::lastPotentialGradient) instead of evaluating the potential terms again; false: always
   /// evaluate them (the same residual, one more gradient per step).

@@ -141,7 +141,10 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
   }
   const bool gravityActive = p.gravity.squaredNorm() > 0.0 && gravityMass.maxCoeff() > 0.0;
   // Masses are given at the lead material's density (the gravity term's differentiable parameter).
-  if (gravityActive) objective_.addTerm(makeGravityTerm(gravityMass, p.gravity, material_.density > 0.0 ? material_.density : 1.0));
+  if (gravityActive) {
+    gravity = makeGravityTerm(gravityMass, p.gravity, material_.density > 0.0 ? material_.density : 1.0);
+    objective_.addTerm(gravity);
+  }
   if (p.nodalForces.size() != 0 && p.nodalForces.cwiseAbs().maxCoeff() > 0.0) {
     nodalForces = makeNodalForceTerm(p.nodalForces);
     objective_.addTerm(nodalForces);

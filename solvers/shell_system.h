@@ -95,6 +95,7 @@ class ShellSystem {
   std::shared_ptr<MembraneTerm> membrane;
   std::shared_ptr<BendingTerm> bending;
   std::shared_ptr<NodalForceTerm> nodalForces;
+  std::shared_ptr<GravityTerm> gravity;
   std::shared_ptr<DiagonalQuadraticTerm> inertia;
   std::shared_ptr<DiagonalQuadraticTerm> massDamping;
   StiffnessDampingTerms stiffnessDamping;

@@ -21,6 +21,7 @@ void check(bool ok, const char* field, double value, const char* rule) {
 
 void LoadFactorHooks::set(double lambda) const {
   if (nodalForces != nullptr) nodalForces->setLoadFactor(lambda);
+  if (gravity != nullptr) gravity->setLoadFactor(lambda);
   for (const Hook& h : others)
     if (h.set) h.set(lambda);
 }
@@ -157,21 +158,19 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   return result;
 }
 
-StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd& x,
-                           const LoadSteppingOptions& options, const LoadStepCallback& callback) {
+LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFactorHooks::Hook>& extra) {
   LoadFactorHooks hooks;
-  hooks.nodalForces = loads;
-  return solveStatics(objective, hooks, x, options, callback);
+  hooks.nodalForces = system.nodalForces.get();
+  hooks.gravity = system.gravity.get();
+  hooks.others = extra;
+  return hooks;
 }
 
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
                            const LoadStepCallback& callback, const std::vector<LoadFactorHooks::Hook>& extra) {
   if (system.kind() != AnalysisKind::Statics)
     throw InputError(std::string("solveStatics: the system was built for ") + toString(system.kind()));
-  LoadFactorHooks hooks;
-  hooks.nodalForces = system.nodalForces.get();
-  hooks.others = extra;
-  return solveStatics(system.objective(), hooks, x, options, callback);
+  return solveStatics(system.objective(), loadFactorHooks(system, extra), x, options, callback);
 }
 
 }  // namespace jetshell

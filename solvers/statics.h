@@ -1,7 +1,7 @@
 // Static equilibrium along a load path: the one statics path of jetshell (`jetshell run` and `jetshell validate`).
 //
-// Inputs: an Objective, the load factor's targets (LoadFactorHooks: the nodal forces, and any other term whose
-// load scales with λ, such as an end moment; prescribed positions are evaluated at "time" λ, so a prescribed
+// Inputs: an Objective, the load factor's targets (LoadFactorHooks: the nodal forces, the weight, and any other
+// term whose load scales with λ, such as an end moment; the path starts from the unloaded rest state; prescribed positions are evaluated at "time" λ, so a prescribed
 // motion ramps with the loads), the start x (3N), and the options. Output: every accepted equilibrium (λ, x,
 // the Newton summary), flagged when it sits on a requested level.
 //
@@ -30,9 +30,10 @@
 
 namespace jetshell {
 
-/// The terms λ reaches besides the prescribed positions.
+/// The terms λ reaches besides the prescribed positions: every load-carrying term.
 struct LoadFactorHooks {
   NodalForceTerm* nodalForces = nullptr;  // scaled by λ (may be null)
+  GravityTerm* gravity = nullptr;         // the weight, scaled by λ (may be null)
   /// Other load-carrying terms: set(λ) before a solve, accept(x) after an equilibrium is accepted (terms
   /// with path state, such as the end moment's unwrapped angle). Either may be empty.
   struct Hook {
@@ -98,10 +99,9 @@ using LoadStepCallback = std::function<bool(const LoadStepResult&)>;
 /// Throws InputError for invalid options.
 StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
                            const LoadSteppingOptions& options, const LoadStepCallback& callback = {});
-/// The same with the nodal forces as the only load term (may be null).
-StaticsResult solveStatics(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd& x,
-                           const LoadSteppingOptions& options, const LoadStepCallback& callback = {});
-/// The same on a ShellSystem built for AnalysisKind::Statics (its nodal forces plus `extra` hooks).
+/// The load-carrying terms of a system (its nodal forces and its weight; either may be absent), plus `extra`.
+LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFactorHooks::Hook>& extra = {});
+/// The same on a ShellSystem built for AnalysisKind::Statics (its loadFactorHooks plus `extra` hooks).
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
                            const LoadStepCallback& callback = {}, const std::vector<LoadFactorHooks::Hook>& extra = {});
 

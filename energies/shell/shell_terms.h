@@ -41,11 +41,37 @@ StiffnessDampingTerms makeStiffnessDampingTerms(const TriMesh& mesh, const Topol
 /// Lumped mass per vertex: each face gives a third of ρ_A0 · area to each of its vertices.
 Eigen::VectorXd lumpedMass(const TriMesh& mesh, const ShellReference& reference, double density);
 
-/// Gravity: −(ρ/ρ₀) Σ_v m_v g·x_v with the per-vertex masses m_v given at the density ρ₀ = `density` (> 0).
+/// Gravity: −λ (ρ/ρ₀) Σ_v m_v g·x_v with the per-vertex masses m_v given at the density ρ₀ = `density` (> 0).
 /// Its parameter "density" is ρ (initially ρ₀): a mass scale per unit density, so that ∂E/∂ρ is the
-/// sensitivity to the material density when the masses come from lumpedMass(mesh, reference, ρ₀).
-EnergyTermPtr makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity,
-                              double density = 1.0);
+/// sensitivity to the material density when the masses come from lumpedMass(mesh, reference, ρ₀). λ is the
+/// load factor (1 unless set): load stepping ramps the weight with the other loads (solvers/statics.h,
+/// LoadFactorHooks); dynamics keeps it at 1 (a body force, not a load to ramp).
+class GravityTerm;
+std::shared_ptr<GravityTerm> makeGravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity,
+                                             double density = 1.0);
+
+class GravityTerm : public EnergyTerm {
+ public:
+  GravityTerm(const Eigen::VectorXd& vertexMass, const Eigen::Vector3d& gravity, double density);
+  std::string name() const override { return "gravity"; }
+  StencilTable stencils() const override { return {}; }
+  bool hasAnalytic() const override { return true; }
+  bool zeroAtRest() const override { return false; }
+  bool rigidInvariant() const override { return false; }
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override;
+  std::vector<std::string> parameterNames() const override { return {"density"}; }
+  std::vector<double> parameterValues() const override { return {density_}; }
+  void setParameterValues(const std::vector<double>& values) override;
+  void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
+  /// λ: finite and ≥ 0 (InputError otherwise).
+  void setLoadFactor(double lambda);
+  double loadFactor() const { return loadFactor_; }
+
+ private:
+  Eigen::VectorXd weight_;  // m_v g per dof, at the reference density
+  double referenceDensity_, density_;
+  double loadFactor_ = 1.0;  // λ
+};
 
 /// External nodal forces: −λ·s·(f + Σ_k s_k f_k)·x. forces has size 3N; λ is the load factor (the parameter
 /// "load_factor", which load stepping and time ramps drive), s a magnitude scale (the parameter "scale", 1 unless a

@@ -68,6 +68,35 @@ TEST_CASE("statics: load-factor hooks reach other load terms and see every accep
   CHECK(accepted == static_cast<int>(r.steps.size()));
 }
 
+TEST_CASE("statics: the load factor ramps the weight (a stiff plate under its own weight deflects in proportion)",
+          "[statics]") {
+  testing::SingleThread single;
+  ShellProblem p = testing::cantileverPlate(8, 2, 0.0);
+  p.material = ShellMaterialParamsFrom3dIsotropic(1e11, 0.3, 1000.0, 0.01);  // tip deflection ~1 mm: linear
+  p.hasGravity = true;
+  p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  ShellSystem system(p, AnalysisKind::Statics);
+  REQUIRE(system.gravity != nullptr);
+  Eigen::VectorXd x = system.restPositions();
+  const int tip = 8;  // (x = 1, y = 0)
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.levels = {0.5};
+  o.initialIncrement = o.maxIncrement = 0.5;
+  double half = 0.0;
+  const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
+    if (s.atLevel && s.loadFactor == 0.5) half = s.x[3 * tip + 2] - system.restPositions()[3 * tip + 2];
+    return true;
+  });
+  REQUIRE(r.completed);
+  const double full = x[3 * tip + 2] - system.restPositions()[3 * tip + 2];
+  INFO("tip deflection at lambda = 0.5: " << half << " m, at lambda = 1: " << full << " m");
+  REQUIRE(full < -1e-4);
+  REQUIRE(full > -1e-2);
+  CHECK(half / full == Approx(0.5).epsilon(0.01));
+  CHECK(system.gravity->loadFactor() == 1.0);
+}
+
 TEST_CASE("statics: invalid levels and options are rejected", "[statics]") {
   ShellSystem system(testing::cantileverPlate(2, 1, 0.1), AnalysisKind::Statics);
   Eigen::VectorXd x = system.restPositions();

@@ -95,7 +95,7 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
   steps.maxIncrement = 1.0 / file_.scene.analysis.loadSteps;
   steps.initialIncrement = 0.25 * steps.maxIncrement;
   steps.newton = newtonOptionsFor(file_.scene.solver, steps.newton.maxIterations, /*statics=*/true);
-  problem_ = std::make_unique<StaticFitProblem>(system_->objective(), system_->nodalForces.get(), system_->restPositions(),
+  problem_ = std::make_unique<StaticFitProblem>(system_->objective(), loadFactorHooks(*system_), system_->restPositions(),
                                                 std::move(mapping), levels, std::move(observed), steps);
 }
 

@@ -8,11 +8,11 @@
 
 namespace jetshell {
 
-StaticFitProblem::StaticFitProblem(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd rest,
+StaticFitProblem::StaticFitProblem(Objective& objective, LoadFactorHooks loads, Eigen::VectorXd rest,
                                    ParameterMapping mapping, std::vector<double> levels,
                                    std::vector<ObservedCoordinate> observed, LoadSteppingOptions options)
     : objective_(objective),
-      loads_(loads),
+      loads_(std::move(loads)),
       rest_(std::move(rest)),
       mapping_(std::move(mapping)),
       levels_(std::move(levels)),
@@ -41,8 +41,8 @@ FitEvaluation StaticFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivative
   if (derivatives == FitDerivatives::Jacobian) out.jacobian = Eigen::MatrixXd::Zero(M, Q);
   if (derivatives != FitDerivatives::None) out.gradient = Eigen::VectorXd::Zero(Q);
 
-  // One load path through every observed level (solvers/statics.h lands on each): level 0, when observed (gravity
-  // or prescribed positions alone), is one solve at λ = 0 from the rest state; the path continues from there.
+  // One load path through every observed level (solvers/statics.h lands on each): level 0, when observed (the
+  // state before any load, weight and prescribed motion included, is ramped in), is one solve at λ = 0 from the rest state; the path continues from there.
   Eigen::VectorXd x = rest_;
   out.equilibria.assign(levels_.size(), Eigen::VectorXd());
   auto count = [&](const StaticsResult& r) {
@@ -90,7 +90,7 @@ FitEvaluation StaticFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivative
   if (derivatives != FitDerivatives::None) {
     for (std::size_t k = 0; k < levels_.size(); ++k) {
       const Eigen::VectorXd& xk = out.equilibria[k];
-      if (loads_) loads_->setLoadFactor(levels_[k]);
+      loads_.set(levels_[k]);
       const int factorizationsBefore = sensitivity_->factorizations(), solvesBefore = sensitivity_->solves();
       if (!sensitivity_->factor(xk)) {
         std::ostringstream m;

@@ -9,7 +9,7 @@
 // an observed level 0 is one solve at λ = 0 first). The cost is counted (load paths, Newton iterations and
 // factorizations, sensitivity factorizations and solves): deterministic figures for the benchmark.
 //
-// Inputs: an objective (finalized or not) and its load term, a parameter mapping q (Q) → term parameter values
+// Inputs: an objective (finalized or not) and its load-carrying terms (LoadFactorHooks), a parameter mapping q (Q) → term parameter values
 // with their Jacobian, observed coordinates. Outputs: FitEvaluation.
 #pragma once
 
@@ -28,9 +28,9 @@ namespace jetshell {
 
 class StaticFitProblem : public FitProblem {
  public:
-  /// levels: increasing load factors (> 0 unless the only level is 0: gravity or prescribed positions alone).
+  /// levels: increasing load factors (> 0 unless the only level is 0: the unloaded state).
   /// Throws InputError for inconsistent inputs (dof or level out of range, negative weight, no observation).
-  StaticFitProblem(Objective& objective, NodalForceTerm* loads, Eigen::VectorXd rest, ParameterMapping mapping,
+  StaticFitProblem(Objective& objective, LoadFactorHooks loads, Eigen::VectorXd rest, ParameterMapping mapping,
                    std::vector<double> levels, std::vector<ObservedCoordinate> observed, LoadSteppingOptions options);
   ~StaticFitProblem();
 
@@ -46,7 +46,7 @@ class StaticFitProblem : public FitProblem {
 
  private:
   Objective& objective_;
-  NodalForceTerm* loads_;
+  LoadFactorHooks loads_;
   Eigen::VectorXd rest_;
   ParameterMapping mapping_;
   std::vector<double> levels_;
