@@ -148,6 +148,11 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       bdf2 ? Eigen::VectorXd(x_ + h * v_ + 0.5 * h * (v_ - vPrev_)) : Eigen::VectorXd();
   Eigen::VectorXd lastIterate;       // the correction test's memory of this solve's previous iterate
   double lastResidualEstimate = 0.0;
+  // The iterate test below captures this step's locals: it is cleared however the solve ends (a throw included).
+  struct ClearIterateTest {
+    NewtonSolver& newton;
+    ~ClearIterateTest() { newton.setIterateTest({}); }
+  } clearIterateTest{newton_};
   if (options_.updateTolerance > 0.0 && sys.inertia) {
     // Time-discretization rule (see the header): Newton error estimates against the step's change, all as
     // mass-weighted RMS vertex distances.
@@ -187,7 +192,6 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
     });
   }
   SolverSummary summary = newton_.minimize(x);
-  newton_.setIterateTest({});
   addTimes(report, summary);
   const bool movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
   const bool ok = summary.converged() || movedOn;
