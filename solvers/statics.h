@@ -6,8 +6,8 @@
 // the Newton summary), flagged when it sits on a requested level.
 //
 // Load control: λ rises from startLoadFactor to targetLoadFactor and lands exactly on every requested level.
-// Each Newton solve starts from the polynomial through the last predictorOrder + 1 equilibria, extrapolated to
-// the new λ (rotation-free shells need it: Newton's linearization of a large rotation stretches the membrane,
+// Each Newton solve starts from the polynomial through the last order + 1 equilibria (order ≤ predictorOrder,
+// adapted along the path), extrapolated to the new λ (rotation-free shells need it: Newton's linearization of a large rotation stretches the membrane,
 // so without a good start each increment costs tens of iterations whatever its size; VALIDATION.md). A step
 // that fails (iteration cap, line-search or linear-solver failure, non-finite values) is cut: x returns to the
 // last equilibrium, the increment halves and it is retried; after each step the increment is scaled towards easyIterations
@@ -58,6 +58,9 @@ struct LoadSteppingOptions {
   int easyIterations = 6;         // the Newton iterations an increment aims at: after a step that took k,
                                   // Δλ ×= √(easyIterations / k), clamped to [½, growth]
   int predictorOrder = 3;         // 0: start from the last equilibrium; k: the polynomial through k + 1 of them
+                                  // (the largest order: it drops by one after a prediction that landed farther
+                                  // from the new equilibrium than the last one, and climbs back when the next
+                                  // order would have landed at least twice as close)
                                   // (Newton iterations over the validation set, orders 2 -> 3: slit plate 256 -> 187,
                                   // page ring 274 -> 208, end shear 93 -> 66, end moment 165 -> 151; VALIDATION.md)
   NewtonOptions newton;
