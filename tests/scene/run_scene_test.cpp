@@ -250,3 +250,31 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
   o.resume = false;
   CHECK_THROWS_WITH(runScene(statics, o), Catch::Contains("only dynamic analyses have checkpoints"));
 }
+
+TEST_CASE("run: a static run that reaches no load step under the weight points to dynamic relaxation") {
+  // A 1 m cantilever 1e-5 m thick (E 1e9 Pa): at any load it swings from flat to hanging (STABILITY.md).
+  auto sceneFor = [](double thickness) {
+    const nlohmann::json j = {
+        {"gravity", {0.0, 0.0, -9.81}},
+        {"actors",
+         {{{"type", "shell"},
+           {"name", "sheet"},
+           {"shape", {{"generator", "rectangle"}, {"width", 1.0}, {"height", 1.0}, {"nx", 6}, {"ny", 6}}},
+           {"material", {{"youngsModulus", 1e9}, {"poissonRatio", 0.3}, {"thickness", thickness}, {"volumeDensity", 1000.0}}},
+           {"fixed", {{{"select", {{"group", "left"}}}, {"clampRotation", true}}}}}}},
+        {"analysis", {{"type", "static"}, {"loadSteps", 4}}},
+        {"solver", {{"threads", 1}}},
+        {"outputs", {{"png", false}, {"plots", false}}}};
+    return sceneFromJson(j, ".");
+  };
+  RunOptions o;
+  o.pictures = false;
+  o.outputDirectory = freshDirectory("thin_static").string();
+  const RunResult thin = runScene(sceneFor(1e-5), o);
+  CHECK(!thin.summary.converged);
+  CHECK(thin.summary.termination.find("dynamicRelaxation") != std::string::npos);
+  o.outputDirectory = freshDirectory("thick_static").string();
+  const RunResult thick = runScene(sceneFor(1e-2), o);
+  CHECK(thick.summary.converged);
+  CHECK(thick.summary.termination.find("dynamicRelaxation") == std::string::npos);
+}

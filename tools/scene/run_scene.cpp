@@ -210,6 +210,10 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         r.steps.empty() ? 0.0 : static_cast<double>(r.newtonIterations) / static_cast<double>(r.steps.size());
     converged = r.completed;
     termination = r.completed ? "completed" : r.message;
+    if (!r.completed && !r.stopped && r.steps.empty() && system.gravity)
+      termination += "; no load step was reached from the rest state under the weight (a sheet as flexible as "
+                     "cloth swings from flat to hanging at any load, which load stepping cannot follow; for such a "
+                     "sheet use \"type\": \"dynamicRelaxation\", SCENES.md, Analysis)";
     if (!r.steps.empty()) x = r.steps.back().x;
     if (!r.steps.empty()) recordResidualClaim(summary.extra, r.steps.back().summary);
     summary.extra["final_load_factor_reached"] = r.loadFactor;
