@@ -41,8 +41,9 @@ FitEvaluation StaticFitProblem::evaluate(const Eigen::VectorXd& q, FitDerivative
   if (derivatives == FitDerivatives::Jacobian) out.jacobian = Eigen::MatrixXd::Zero(M, Q);
   if (derivatives != FitDerivatives::None) out.gradient = Eigen::VectorXd::Zero(Q);
 
-  // One load path through every observed level (solvers/statics.h lands on each): level 0, when observed (the
-  // state before any load, weight and prescribed motion included, is ramped in), is one solve at λ = 0 from the rest state; the path continues from there.
+  // One load path through every observed level (solvers/statics.h lands on each): level 0, when observed, is one
+  // solve at λ = 0 from the rest state (every load, the weight and prescribed motion ramp with λ, so it is the
+  // unloaded state); the path continues from there.
   Eigen::VectorXd x = rest_;
   out.equilibria.assign(levels_.size(), Eigen::VectorXd());
   auto count = [&](const StaticsResult& r) {

@@ -15,9 +15,9 @@
 
 namespace jetshell {
 
-/// The load factor λ drives applied loads and prescribed motion (not gravity): in statics λ runs over the load
-/// steps to 1; in dynamics λ(t) = min(1, t / loadRampTime) (1 throughout when loadRampTime is 0); dynamic
-/// relaxation works at λ = 1.
+/// The load factor λ drives applied loads and prescribed motion, and in statics the weight too: in statics λ runs
+/// over the load steps to 1 from the unloaded rest state; in dynamics λ(t) = min(1, t / loadRampTime) (1 throughout
+/// when loadRampTime is 0) and gravity acts in full; dynamic relaxation works at λ = 1.
 struct FixedCondition {
   int actor = 0;
   VertexSelection select;
