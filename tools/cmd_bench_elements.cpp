@@ -9,6 +9,7 @@
 #include "energies/shell/reference_state.h"
 #include "core/topology.h"
 #include "energies/examples/hinge_bending.h"
+#include "energies/shell/bending_term.h"
 #include "energies/shell/shell_terms.h"
 #include "tools/bench_cloth.h"
 #include "tools/subcommand.h"
@@ -50,22 +51,34 @@ double nowNs() {
   return static_cast<double>(t.tv_sec) * 1e9 + static_cast<double>(t.tv_nsec);
 }
 
-/// `--term hinge`: the user's staged hinge-bending term (energies/examples/hinge_bending.h) against the same
-/// energy as one nested-Jet element, value + gradient + exact Hessian with assembly, per hinge, 1 thread.
-int runHingeBench(const BenchOptions& o) {
+/// A term on the stage framework against the same energy as one nested-Jet element, value + gradient + exact
+/// Hessian with assembly, per stencil, 1 thread (CPU time of the thread):
+///   `--term hinge`:   the user's hinge-bending term (energies/examples/hinge_bending.h; 12-dof stencils);
+///   `--term midedge`: the mid-edge bending term on the stage framework (BendingTerm::setStaged, Jets; 18-dof
+///                     stencils) against its whole-stencil nested-Jet reference (makeBendingTermNestedJet).
+int runNestedBench(const BenchOptions& o) {
   const double pi = 3.14159265358979323846;
+  const bool hinge = o.term == "hinge";
   const TriMesh mesh = makeRectangleGrid(1.0, 1.0, o.n, o.n);
   const Topology topo = buildTopology(mesh);
+  const ShellReference ref = computeReference(mesh, topo);
   Eigen::VectorXd x = flatten(mesh.V);
   for (int v = 0; v < mesh.numVertices(); ++v)
     x[3 * v + 2] = 0.05 * std::sin(6.0 * pi * x[3 * v]) * std::cos(4.0 * pi * x[3 * v + 1]);
-  const EnergyTermPtr staged = makeHingeBendingTerm(mesh, topo, 1.0);
-  const EnergyTermPtr nested = makeHingeBendingNestedJet(mesh, topo, 1.0);
+  EnergyTermPtr staged, nested;
+  if (hinge) {
+    staged = makeHingeBendingTerm(mesh, topo, 1.0);
+    nested = makeHingeBendingNestedJet(mesh, topo, 1.0);
+  } else {
+    staged = makeBendingTerm(mesh, topo, ref, 0.3, 0.7);
+    std::static_pointer_cast<BendingTerm>(staged)->setStaged(true);
+    nested = makeBendingTermNestedJet(mesh, topo, ref, 0.3, 0.7);
+  }
   HessianAssembler assembler;
   const int slot = assembler.addStencils(staged->stencils());
   assembler.finalize(mesh.numVertices());
   Eigen::VectorXd g(x.size());
-  const double hinges = staged->stencils().size();
+  const double stencils = staged->stencils().size();
   omp_set_num_threads(o.threads > 0 ? o.threads : 1);
   auto measure = [&](EnergyTerm& term) {
     std::vector<double> times;
@@ -76,21 +89,25 @@ int runHingeBench(const BenchOptions& o) {
       EvalOptions opt;
       opt.path = DerivativePath::AutoDiff;
       term.evaluate(x, EvalRequest{&g, &assembler, slot}, opt);
-      if (r > 0) times.push_back((nowNs() - t0) / hinges);
+      if (r > 0) times.push_back((nowNs() - t0) / stencils);
     }
     std::sort(times.begin(), times.end());
     return times[times.size() / 2];
   };
   const double tStaged = measure(*staged), tNested = measure(*nested);
-  std::printf("jetshell bench elements --term hinge: %d hinges, %d thread(s), value + gradient + exact Hessian with "
-              "assembly\n  staged (core/staged_term.h): %10.1f ns/hinge\n  one nested-Jet element:      %10.1f "
-              "ns/hinge\n  nested / staged: %.1fx (target >= 10)\n",
-              static_cast<int>(hinges), omp_get_max_threads(), tStaged, tNested, tNested / tStaged);
+  const char* unit = hinge ? "hinge" : "face";
+  const int dofs = hinge ? 12 : 18;
+  std::printf("jetshell bench elements --term %s: %d stencils of %d dofs, %d thread(s), value + gradient + exact "
+              "Hessian with assembly\n  staged (core/staged_term.h): %10.1f ns/%s\n  one nested-Jet element:      "
+              "%10.1f ns/%s\n  nested / staged: %.1fx (target >= 10)\n",
+              o.term.c_str(), static_cast<int>(stencils), dofs, omp_get_max_threads(), tStaged, unit, tNested, unit,
+              tNested / tStaged);
   if (!o.json.empty()) {
+    const std::string name = hinge ? "hinge_bending" : "midedge_bending";
     nlohmann::json out = nlohmann::json::array();
-    out.push_back({{"term", "hinge_bending"}, {"path", "staged"}, {"ns_per_hinge", tStaged}});
-    out.push_back({{"term", "hinge_bending_nested_jet"}, {"path", "nested_jet"}, {"ns_per_hinge", tNested}});
-    out.push_back({{"nested_over_staged", tNested / tStaged}, {"hinges", hinges}, {"threads", omp_get_max_threads()}});
+    out.push_back({{"term", name}, {"path", "staged"}, {"ns_per_stencil", tStaged}, {"dofs", dofs}});
+    out.push_back({{"term", name + "_nested_jet"}, {"path", "nested_jet"}, {"ns_per_stencil", tNested}, {"dofs", dofs}});
+    out.push_back({{"nested_over_staged", tNested / tStaged}, {"stencils", stencils}, {"threads", omp_get_max_threads()}});
     writeFileAtomically(o.json, out.dump(2) + "\n");
     std::printf("wrote %s\n", o.json.c_str());
   }
@@ -98,7 +115,7 @@ int runHingeBench(const BenchOptions& o) {
 }
 
 int runBench(const BenchOptions& o) {
-  if (o.term == "hinge") return runHingeBench(o);
+  if (o.term == "hinge" || o.term == "midedge") return runNestedBench(o);
   const double pi = 3.14159265358979323846;
   const TriMesh mesh = makeRectangleGrid(1.0, 1.0, o.n, o.n);
   const Topology topo = buildTopology(mesh);
@@ -319,7 +336,8 @@ const RegisterSubcommand registerBenchElements("bench elements", [](CLI::App& ap
                  "Timed repeats per figure (the median is reported); interleaved AD/analytic pairs for the ratio (at least 5)")
       ->check(CLI::Range(1, 100));
   el->add_option("--json", opts->json, "Write the figures as a JSON list");
-  el->add_option("--term", opts->term, "Only this term and its staged twin (hinge: the staged user term against one nested-Jet element)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge"}));
+  el->add_option("--term", opts->term, "Only this term and its staged twin (hinge, midedge: a staged term against the same energy as one nested-Jet "
+                 "element)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge", "midedge"}));
   el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));
   el->add_flag("--staged", opts->staged,
                "Also the same energies on the stage framework (rows *_staged), with their ratio to the default");
