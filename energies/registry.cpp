@@ -47,8 +47,8 @@ std::shared_ptr<MembraneTerm> makeNamedMembrane(const TermSetup& s, const char* 
 }
 
 /// Bending with every boundary edge moment-free (second_order_free): faces with one and with two minimized edges.
-EnergyTermPtr makeSecondOrderFreeBending(const TermSetup& s, const char* name) {
-  auto term = makeNamedBending(s, name);
+EnergyTermPtr makeSecondOrderFreeBending(const TermSetup& s, const char* name, bool staged = false) {
+  auto term = makeNamedBending(s, name, staged);
   term->setEdgeRule(std::vector<char>(static_cast<std::size_t>(s.mesh.numVertices()), 1), EdgeRule::SecondOrderFree);
   return term;
 }
@@ -204,6 +204,12 @@ std::vector<RegisteredTerm> buildRegistry() {
        [](S s) { return makeRuledBending(s, EdgeRule::ReferenceClamp, "bending_staged_clamped", true); }},
       {"bending_staged_mirrored_clamp", "staged bending, one boundary edge under the mirrored_clamp rule",
        [](S s) { return makeRuledBending(s, EdgeRule::MirroredClamp, "bending_staged_mirrored_clamp", true); }},
+      {"bending_staged_second_order_free", "staged bending with every boundary edge second_order_free",
+       [](S s) { return makeSecondOrderFreeBending(s, "bending_staged_second_order_free", true); }},
+      {"bending_staged_second_order_free_gauss_newton",
+       "staged second_order_free bending with the Gauss-Newton Hessian (a model: checked PSD)",
+       [](S s) { return makeSecondOrderFreeBending(s, "bending_staged_second_order_free_gauss_newton", true); },
+       gaussNewton(), false},
       {"membrane_staged_damping", "staged membrane stiffness damping (origin x_prev, scale beta_R/dt)",
        [](S s) { return EnergyTermPtr(dampingTerms(s, true).membrane); }},
       {"bending_staged_damping", "staged bending stiffness damping (origin x_prev, scale beta_R/dt)",

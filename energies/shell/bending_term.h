@@ -3,8 +3,8 @@
 // energy: the hand-chained passes of bending_term.cpp (the default, faster today, see BENCHMARKS.md) and, after
 // setStaged(), the stage framework (core/staged_term.h, bending_term_staged.cpp): face normals cached per face,
 // mid-edge normals cached per edge (a boundary edge's from its ghost-normal rule), second fundamental form,
-// density (energies/shell/shell_stages.h), chained by the framework: no derivative by hand. The staged
-// evaluator takes the ghost-normal rules only (not second_order_free).
+// density (energies/shell/shell_stages.h), chained by the framework: no derivative by hand. Both take
+// every edge rule (a moment-free edge's minimized density is the density stage's, differentiated like the rest).
 //
 // Inputs: the mesh, its topology and reference state (B, A⁻¹, areas), the moduli α, β; per boundary edge a rule
 // (energies/shell/edge_rules.h; page_free until set): ghost-normal rules close the edge's mid-edge normal, and

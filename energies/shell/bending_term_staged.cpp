@@ -5,7 +5,8 @@
 //     stage (6 -> 3) cached per face
 //   per edge i: m_i = MeanNormal(n_A, n_B) in the edge's face order (cached per edge), or GhostMean(n_f) under
 //     the edge's rule on a boundary edge; n̄_i = Kelvin(m_i), cached per edge
-//   b = SecondForm(e0, e1, n̄0, n̄1, n̄2); energy = BendingDensity(b)
+//   b = SecondForm(e0, e1, n̄0, n̄1, n̄2); energy = BendingDensity(b), minimized over the face's moment-free
+//     boundary edges' normals when it has any (second_order_free; a quadratic in b, closed form)
 // The stages are energies/shell/shell_stages.h; their values, Jacobians and Hessians and the chain rule between
 // them come from the framework (core/stage_chain.h), on the Jets or, on the analytic path, the stages' checked
 // twins. Nothing here differentiates.
@@ -37,6 +38,8 @@ void BendingTerm::bindStages() {
   density_.alpha = alpha_;
   density_.beta = beta_;
   density_.scale = energyScale();
+  density_.minimized = &minimized_;
+  density_.ruledQuadratic = &ruledQuadratic_;
 }
 
 int BendingTerm::stagedFaceNormal(StageChain<6>& chain, int face, const std::int8_t* local) {
@@ -62,16 +65,11 @@ int BendingTerm::buildSecondForm(StageChain<6>& chain, int f) {
   return chain.stage(SecondFormStage(), f, {chain.difference(0, 1), chain.difference(0, 2), nbar[0], nbar[1], nbar[2]});
 }
 
-/// The staged evaluator closes boundary edges with ghost-normal rules only; a moment-free edge (a density
-/// minimized per face) is the hand-chained evaluator's.
-static void requireGhostRules(const std::vector<EdgeRule>& rules, const std::string& name) {
-  for (EdgeRule r : rules)
-    if (minimizesMoment(r))
-      throw InputError(name + ": the staged evaluator does not take the " + edgeRuleName(r) + " edge rule");
-}
-
 double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
-  requireGhostRules(rules_, name_);
+  // The analytic twin of a face with moment-free edges reads its ruled quadratic (the Jets differentiate the
+  // minimized density itself).
+  if (options.path != DerivativePath::AutoDiff && (request.gradient != nullptr || request.hessian != nullptr))
+    updateRuledQuadratics(false);
   bindStages();
   return elements_.evaluate(table_, schedule_, x, request, options, elementEnergy_, [&](StageChain<6>& chain, int f) {
     chain.energy(density_, f, {buildSecondForm(chain, f)});
@@ -80,7 +78,6 @@ double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& 
 
 void BendingTerm::stagedCurvatureOrigin(const Eigen::VectorXd& xOrigin) {
   // From the very stages evaluateStaged() runs, so that κ vanishes at the origin to the bit.
-  requireGhostRules(rules_, name_);
   bindStages();
   elements_.nodeValues(
       table_, xOrigin, [&](StageChain<6>& chain, int f) { return buildSecondForm(chain, f); },

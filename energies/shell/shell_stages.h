@@ -23,6 +23,9 @@
 #include "energies/shell/reference_state.h"
 #include "energies/shell/shell_geometry.h"
 
+#include <Eigen/Core>
+
+#include <array>
 #include <vector>
 
 namespace jetshell {
@@ -121,20 +124,40 @@ inline void scaledStvkQuadratic(const double P[3], double c1, double c2, const d
   d.hessians[0] *= s;
 }
 
-/// The energy stages read the face's reference (origin B or A, A⁻¹, area) and scale with `scale`.
+/// The energy stages read the face's reference (origin B or A, A⁻¹, area) and scale with `scale`. The bending
+/// density of a face with moment-free boundary edges (`minimized`, per face and edge; energies/shell/edge_rules.h)
+/// is its minimum over those edges' mid-edge normals, a quadratic in b whose matrix the twin reads from
+/// `ruledQuadratic` (per face, without the area scale; BendingTerm keeps both up to date).
 struct BendingDensityStage {
   static constexpr int kInputs = 3, kOutputs = 1;
   const ShellReference* ref = nullptr;
   double alpha = 0.0, beta = 0.0, scale = 1.0;
+  const std::vector<std::array<bool, 3>>* minimized = nullptr;  // null: no moment-free edge
+  const std::vector<Eigen::Matrix3d>* ruledQuadratic = nullptr;
+  const bool* minimizedEdges(int f) const {
+    static constexpr bool kNone[3] = {false, false, false};
+    return minimized != nullptr ? (*minimized)[static_cast<std::size_t>(f)].data() : kNone;
+  }
   template <typename T>
   void operator()(const T* b, T* w, int f) const {
-    w[0] = constant<T>(scale * ref->area[f]) *
-           bendingDensity(b, ref->secondFundamentalForm[f].data(), ref->inverseMetric[f].data(), alpha, beta);
+    w[0] = constant<T>(scale * ref->area[f]) * ruledBendingDensity(b, ref->secondFundamentalForm[f].data(),
+                                                                   ref->inverseMetric[f].data(), alpha, beta,
+                                                                   minimizedEdges(f));
   }
   void derivatives(const double* b, int f, int order, StageDerivatives<3, 1>& d) const {
     if (order <= 0) return (*this)(b, d.value.data(), f);
     const double* B = ref->secondFundamentalForm[f].data();
     const double db[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
+    const bool* m = minimizedEdges(f);
+    if (m[0] || m[1] || m[2]) {
+      const double s = scale * ref->area[f];
+      const Eigen::Matrix3d& Q = (*ruledQuadratic)[static_cast<std::size_t>(f)];
+      const Eigen::Vector3d e(db[0], db[1], db[2]), q = Q * e;
+      d.value[0] = s * 0.5 * e.dot(q);
+      d.jacobian = s * q.transpose();
+      d.hessians[0] = s * Q;
+      return;
+    }
     scaledStvkQuadratic(ref->inverseMetric[f].data(), alpha, 0.5 * beta, db, scale * ref->area[f], d);
   }
 };
