@@ -129,6 +129,7 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
       if (!uniform) t->setName("membrane" + suffix);
       objective_.addTerm(t);
       if (!membrane) membrane = t;
+      membraneTerms.push_back(t);
     }
     if (m.bendingAlpha != 0.0 || m.bendingBeta != 0.0) {
       auto t = std::make_shared<BendingTerm>(mesh, topo, ref, m.bendingAlpha, m.bendingBeta);
@@ -164,7 +165,10 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
   if (kind == AnalysisKind::Dynamics && material_.stiffnessDampingCoefficient > 0.0) {
     if (!uniform) throw InputError("actors: stiffness damping with different materials per actor is not supported");
     stiffnessDamping = makeStiffnessDampingTerms(mesh_, topology_, reference_, material_);
-    if (stiffnessDamping.membrane) objective_.addTerm(stiffnessDamping.membrane, TermRole::Transient);
+    if (stiffnessDamping.membrane) {
+      objective_.addTerm(stiffnessDamping.membrane, TermRole::Transient);
+      membraneTerms.push_back(stiffnessDamping.membrane);
+    }
     if (stiffnessDamping.bending) {
       if (!clamped.empty()) stiffnessDamping.bending->setClampedBoundary(clamped);
       objective_.addTerm(stiffnessDamping.bending, TermRole::Transient);

@@ -102,6 +102,8 @@ class ShellSystem {
   /// Every bending term: the elastic ones (one per actor when their materials differ; `bending` is the first)
   /// and the stiffness damping's. Boundary-edge rules go to all of them (energies/shell/boundary_rules.h).
   std::vector<std::shared_ptr<BendingTerm>> bendingTerms;
+  /// Every membrane term: the elastic ones and the stiffness damping's (`membrane` is the first).
+  std::vector<std::shared_ptr<MembraneTerm>> membraneTerms;
   ShellContact contact;  // empty without colliders
 
  private:

@@ -227,6 +227,8 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
   CHECK(errorAfter([](Json& s) { s["solver"] = {{"lineSearch", "wolf"}}; }) ==
         "/solver/lineSearch: \"wolf\" is not one of \"default\", \"none\", \"armijo\", \"residual\", \"wolfe\" "
         "(did you mean \"wolfe\"?)");
+  CHECK(errorAfter([](Json& s) { s["solver"] = {{"evaluator", "stages"}}; }) ==
+        "/solver/evaluator: \"stages\" is not one of \"handChained\", \"staged\" (did you mean \"staged\"?)");
   CHECK(errorAfter([](Json& s) { s["actors"].push_back({{"type", "sphere"}, {"radius", -1}}); }) ==
         "/actors/1/radius = -1: must be finite and > 0");
 }

@@ -2,6 +2,7 @@
 
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_edge_rules.h"
+#include "tools/scene/scene_evaluator.h"
 #include "tools/scene/scene_problem.h"
 
 #include <algorithm>
@@ -24,6 +25,7 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
   const ShellProblem problem = shellProblemFromScene(file_.scene, model_);
   const bool dynamic = file_.scene.analysis.type == AnalysisType::Dynamic;
   system_ = std::make_unique<ShellSystem>(problem, dynamic ? AnalysisKind::Dynamics : AnalysisKind::Statics);
+  selectSceneEvaluator(file_.scene, *system_);
   addSceneEdgeRules(file_.scene, problem, *system_);  // the same boundary rules as `jetshell run`
   std::vector<std::string> names, labels;
   for (const FitParameterSpec& p : file_.parameters) {

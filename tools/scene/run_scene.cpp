@@ -14,6 +14,7 @@
 #include "tools/scene/safeguard_report.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_edge_rules.h"
+#include "tools/scene/scene_evaluator.h"
 #include "tools/scene/scene_path_control.h"
 #include "tools/scene/scene_problem.h"
 #include "tools/scene/support_check.h"
@@ -100,6 +101,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                                                             : AnalysisKind::DynamicRelaxation;
   const ShellProblem problem = shellProblemFromScene(scene, model);
   ShellSystem system(problem, kind);
+  selectSceneEvaluator(scene, system);
   addSceneEdgeRules(scene, problem, system);
   Objective& objective = system.objective();
   RunOutput output(options.outputDirectory, scene, model, options.scenePath);

@@ -160,6 +160,7 @@ void validate(const Scene& scene) {
   requireOneOf(s.derivatives, {"analytic", "autodiff"}, "/solver/derivatives");
   requireOneOf(s.bendingHessian, {"exact", "gaussNewton"}, "/solver/bendingHessian");
   requireOneOf(s.frictionHessian, {"exact", "majorizer"}, "/solver/frictionHessian");
+  requireOneOf(s.evaluator, {"handChained", "staged"}, "/solver/evaluator");
   check::atLeast(s.threads, 0, "/solver/threads");
   check::atMost(s.threads, limits.maxThreads, "/solver/threads");
   check::atLeast(scene.outputs.frameStride, 1, "/outputs/frameStride");

@@ -98,6 +98,7 @@ struct SolverSettings {
   std::string derivatives = "analytic";      // analytic | autodiff
   std::string bendingHessian = "exact";      // exact | gaussNewton
   std::string frictionHessian = "exact";     // exact | majorizer (core/term.h, energies/contact/contact_ramp.h)
+  std::string evaluator = "handChained";     // membrane and bending: handChained | staged (tools/scene/scene_evaluator.h)
   int threads = 0;                           // 0: all cores
   /// Dynamics: take the last iterate when Newton reaches maxIterations (the spec engine's behaviour, with 4)
   /// instead of cutting the time step.

@@ -484,7 +484,7 @@ AnalysisSettings readAnalysis(const Value& v) {
 SolverSettings readSolver(const Value& v) {
   const Object o = v.object({"maxIterations", "residualTolerance", "decrementTolerance", "lineSearch", "linearSolver",
                              "preconditioner", "psdProjection", "derivatives", "bendingHessian", "frictionHessian",
-                             "threads", "acceptIterationCap"},
+                             "evaluator", "threads", "acceptIterationCap"},
                             "solver settings");
   SolverSettings s;
   if (const auto m = o.find("maxIterations")) {
@@ -505,6 +505,7 @@ SolverSettings readSolver(const Value& v) {
   s.derivatives = o.choice("derivatives", {"analytic", "autodiff"}, s.derivatives);
   s.bendingHessian = o.choice("bendingHessian", {"exact", "gaussNewton"}, s.bendingHessian);
   s.frictionHessian = o.choice("frictionHessian", {"exact", "majorizer"}, s.frictionHessian);
+  s.evaluator = o.choice("evaluator", {"handChained", "staged"}, s.evaluator);
   s.acceptIterationCap = o.boolean("acceptIterationCap", s.acceptIterationCap);
   s.threads = o.integer("threads", s.threads, 0, inputLimits().maxThreads);
   return s;
