@@ -17,6 +17,8 @@
 #include "solvers/shell_system.h"
 #include "tools/bench_cloth.h"
 #include "tools/scene/run_scene.h"
+#include "tools/scene/scene_edge_rules.h"
+#include "tools/scene/scene_evaluator.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_problem.h"
@@ -56,7 +58,11 @@ struct Variant {
 nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const ContactBenchOptions& o, Variant v,
                        bool& failedRun) {
   const bool growOnly = v.growOnly;
-  ShellSystem system(shellProblemFromScene(scene, model), AnalysisKind::Dynamics);
+  const ShellProblem problem = shellProblemFromScene(scene, model);
+  ShellSystem system(problem, AnalysisKind::Dynamics);
+  // The scene's evaluator and boundary-edge rules, as `jetshell run` applies them.
+  selectSceneEvaluator(scene, system);
+  addSceneEdgeRules(scene, problem, system);
   Objective& objective = system.objective();
   objective.setGrowOnlyPattern(growOnly);
   DynamicsOptions d;
