@@ -31,8 +31,10 @@ void LoadFactorHooks::accept(const Eigen::VectorXd& x) const {
     if (h.accept) h.accept(x);
 }
 
-Eigen::VectorXd extrapolateEquilibria(const std::vector<std::pair<double, Eigen::VectorXd>>& history, double lambda) {
-  const int n = static_cast<int>(history.size());
+Eigen::VectorXd extrapolateEquilibria(const std::vector<std::pair<double, Eigen::VectorXd>>& history, double lambda,
+                                      int points) {
+  const int size = static_cast<int>(history.size());
+  const int n = points < 0 ? size : std::min(points, size);
   if (n < 2) return history.front().second;
   Eigen::VectorXd p = Eigen::VectorXd::Zero(history.front().second.size());
   for (int i = 0; i < n; ++i) {
@@ -103,12 +105,12 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     const double next = landing ? stop : lambda + direction * size;
     // The prediction at λ_next of order k (k + 1 newest equilibria; 0: the last one), prescribed positions applied.
     auto predict = [&](int k) {
-      const std::size_t points = std::min<std::size_t>(history.size(), static_cast<std::size_t>(k) + 1);
-      Eigen::VectorXd p = extrapolateEquilibria({history.begin(), history.begin() + points}, next);
+      Eigen::VectorXd p = extrapolateEquilibria(history, next, k + 1);
       objective.applyPrescribed(next, p);
       return p;
     };
-    Eigen::VectorXd trial = predict(order);  // the order adapts, see below
+    const Eigen::VectorXd start = predict(order);  // the order adapts, see below
+    Eigen::VectorXd trial = start;
     loads.set(next);
     SolverSummary summary = newton.minimize(trial);
     result.newtonIterations += summary.iterations;
@@ -133,10 +135,11 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     // A polynomial through a strongly curved or unevenly spaced stretch of the path can land farther from the
     // equilibrium than the last one was: then the order drops by one (down to 0, the last equilibrium); it
     // climbs back by one (up to predictorOrder) when the next order's prediction would have landed at least twice
-    // as close as the last equilibrium (the errors are max-norm distances to the new equilibrium). Measured on a cantilever swinging down under 1e6 m/s² gravity: a fixed order 3 started Newton
-    // 0.43 m off, with 7–10 iterations however small the increment, which shrank to minIncrement (5,013 steps).
+    // as close as the last equilibrium (the errors are max-norm distances to the new equilibrium). Measured on a
+    // cantilever swinging down under 1e6 m/s² gravity: a fixed order 3 started Newton 0.43 m off, with 7–10
+    // iterations however small the increment, which shrank to minIncrement (5,013 steps).
     if (o.predictorOrder > 0 && history.size() >= 2) {
-      auto error = [&](int k) { return (trial - predict(k)).lpNorm<Eigen::Infinity>(); };
+      auto error = [&](int k) { return (trial - (k == order ? start : predict(k))).lpNorm<Eigen::Infinity>(); };
       const double held = error(0);
       if (order > 0 && error(order) > held) --order;
       else if (order < o.predictorOrder && history.size() >= static_cast<std::size_t>(order) + 2 &&

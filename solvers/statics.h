@@ -112,9 +112,10 @@ StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSt
 /// start and not beyond target), sorted, without repeats. Throws InputError naming the bad level.
 std::vector<double> pathStops(double start, double target, const std::vector<double>& levels);
 
-/// The start of a Newton solve at λ: the Lagrange polynomial through the given (λ, x) pairs (newest first),
-/// extrapolated to λ; the newest x when there is only one.
-Eigen::VectorXd extrapolateEquilibria(const std::vector<std::pair<double, Eigen::VectorXd>>& history, double lambda);
+/// The start of a Newton solve at λ: the Lagrange polynomial through the newest `points` (λ, x) pairs of the
+/// history (newest first; all of them when points < 0), extrapolated to λ; the newest x when there is only one.
+Eigen::VectorXd extrapolateEquilibria(const std::vector<std::pair<double, Eigen::VectorXd>>& history, double lambda,
+                                      int points = -1);
 
 /// Newton's options for static paths: the per-element PSD projection off. On large-rotation paths the
 /// projected Hessian makes Newton's convergence linear (the slit annular plate at 4 x 32 quads: 658 iterations
