@@ -81,6 +81,10 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
           ? EvalOptions{o.derivatives, o.projection, o.bendingHessian, o.exactFirstProjectedDofs, o.frictionHessian}
           : EvalOptions{o.derivatives, PsdProjection::None, o.bendingHessian, 0, o.frictionHessian};
   const bool adaptive = o.exactHessianNearSolution && o.projection != PsdProjection::None;
+  // The projected assembly an indefinite exact-first try falls back to (NewtonOptions::fallbackBendingHessian).
+  EvalOptions fallback = projected;
+  if (adaptive && o.exactHessianFirst && o.bendingHessian == BendingHessian::Exact)
+    fallback.bendingHessian = o.fallbackBendingHessian;
   Objective& obj = objective_;
 
   Eigen::VectorXd g, d, b, xTrial, gTrial;
@@ -148,7 +152,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       prepare = [&](const HessianAssembler& a) {
         return linear_->preparePreconditioner(a.matrix(), a.patternVersion(), factorAhead);
       };
-    E = obj.evaluate(x, &g, true, withExact ? exact : projected, TermSelection::All, prepare);
+    E = obj.evaluate(x, &g, true, withExact ? exact : fallback, TermSelection::All, prepare);
     rec.assemblySeconds += t.seconds();
     ++s.energyEvaluations;
     ++s.gradientEvaluations;

@@ -46,6 +46,7 @@ struct ContactBenchOptions {
   std::string solver = "scene";   // scene | direct | both
   bool noOverlap = false;         // NewtonOptions::overlapPreconditioner off
   bool trace = false;             // one line per step
+  std::string fallbackBending = "gaussNewton";  // NewtonOptions::fallbackBendingHessian
   std::string json;
 };
 
@@ -74,6 +75,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     d.newton.exactHessianFirst = false;
   }
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
+  d.newton.fallbackBendingHessian =
+      o.fallbackBending == "exact" ? BendingHessian::Exact : BendingHessian::GaussNewton;
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
@@ -252,6 +255,10 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
       ->check(CLI::IsMember({"scene", "direct", "both"}));
   cmd->add_flag("--no-overlap", opts->noOverlap,
                 "Factor the one-ring preconditioner after the whole assembly, never during the bending assembly");
+  cmd->add_option("--fallback-bending", opts->fallbackBending,
+                  "The bending Hessian of the projected assembly an indefinite Newton try falls back to: gaussNewton "
+                  "(the default, positive semi-definite, not projected) or exact (projected block by block)")
+      ->check(CLI::IsMember({"gaussNewton", "exact"}));
   cmd->add_flag("--trace", opts->trace,
                 "Per step: Newton and CG iterations, the guards, how it ended; then per Newton iteration: residual, "
                 "step length, CG iterations, largest vertex move");

@@ -51,6 +51,7 @@ struct SolverBenchOptions {
   int exactFirstProjectedDofs = -1;  // < 0: NewtonOptions' default
   bool hessianAtStart = false;  // time steps: assemble the start's Hessian with its gradient (no gradient-first)
   bool noOverlap = false;       // factor the preconditioner after the assembly, not during it
+  std::string fallbackBending = "gaussNewton";  // NewtonOptions::fallbackBendingHessian
   double massDamping = 0.0;
   double stiffnessDamping = 0.0;
   bool skipStatics = false;
@@ -216,6 +217,8 @@ int runSolverBench(const SolverBenchOptions& o) {
   if (o.exactFirstProjectedDofs >= 0) d.newton.exactFirstProjectedDofs = o.exactFirstProjectedDofs;
   if (o.hessianAtStart) d.newton.gradientFirstStart = false;
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
+  d.newton.fallbackBendingHessian =
+      o.fallbackBending == "exact" ? BendingHessian::Exact : BendingHessian::GaussNewton;
   if (o.cgTolerance > 0.0) d.newton.linear.cgRelativeTolerance = o.cgTolerance;  // the policy sets its own
   if (o.maxForcing == 0.0) d.newton.adaptiveLinearTolerance = false;
   if (o.maxForcing > 0.0) {
@@ -373,6 +376,11 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
   cmd->add_flag("--no-overlap", opts->noOverlap,
                 "Time steps: factor the one-ring preconditioner after the whole assembly instead of during the "
                 "bending terms' assembly (NewtonOptions::overlapPreconditioner)");
+  cmd->add_option("--fallback-bending", opts->fallbackBending,
+                  "Time steps: the bending Hessian of the projected assembly an indefinite try falls back to: "
+                  "gaussNewton (the default, positive semi-definite, not projected) or exact (projected block by "
+                  "block)")
+      ->check(CLI::IsMember({"gaussNewton", "exact"}));
   cmd->add_option("--projection", opts->projection, "none | clamp | abs")
       ->check(CLI::IsMember({"none", "clamp", "abs"}));
   cmd->add_option("--mass-damping", opts->massDamping, "alpha_R [1/s]")->check(CLI::NonNegativeNumber);

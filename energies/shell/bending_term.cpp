@@ -352,6 +352,15 @@ void BendingTerm::updateRuledQuadratics(bool everyFace) {
 }
 
 double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+    // A Gauss–Newton block Jᵀ W'' J is positive semi-definite by construction (W'' is, for every admissible
+    // material and edge rule: the ruled densities are Schur complements of convex quadratics), so it is never
+    // projected. Projecting it would cost an eigendecomposition per block for nothing: its rank is 3, so the
+    // Cholesky test in edge space (core/psd_projection.h) fails on every one.
+    if (options.bendingHessian == BendingHessian::GaussNewton && options.projection != PsdProjection::None) {
+      EvalOptions unprojected = options;
+      unprojected.projection = PsdProjection::None;
+      return evaluate(x, request, unprojected);
+    }
     if (staged_) return evaluateStaged(x, request, options);
     const bool ad = options.path == DerivativePath::AutoDiff;
     const bool exact = options.bendingHessian == BendingHessian::Exact;
