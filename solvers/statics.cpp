@@ -109,8 +109,8 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
       objective.applyPrescribed(next, p);
       return p;
     };
-    const Eigen::VectorXd start = predict(order);  // the order adapts, see below
-    Eigen::VectorXd trial = start;
+    const Eigen::VectorXd prediction = predict(order);  // the order adapts, see below
+    Eigen::VectorXd trial = prediction;
     loads.set(next);
     SolverSummary summary = newton.minimize(trial);
     result.newtonIterations += summary.iterations;
@@ -139,7 +139,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     // cantilever swinging down under 1e6 m/s² gravity: a fixed order 3 started Newton 0.43 m off, with 7–10
     // iterations however small the increment, which shrank to minIncrement (5,013 steps).
     if (o.predictorOrder > 0 && history.size() >= 2) {
-      auto error = [&](int k) { return (trial - (k == order ? start : predict(k))).lpNorm<Eigen::Infinity>(); };
+      auto error = [&](int k) { return (trial - (k == order ? prediction : predict(k))).lpNorm<Eigen::Infinity>(); };
       const double held = error(0);
       if (order > 0 && error(order) > held) --order;
       else if (order < o.predictorOrder && history.size() >= static_cast<std::size_t>(order) + 2 &&
