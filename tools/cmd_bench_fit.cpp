@@ -22,7 +22,6 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <fstream>
 #include <functional>
 #include <iostream>
 #include <limits>
@@ -31,7 +30,7 @@
 namespace jetshell::cli {
 namespace {
 
-struct Args {
+struct FitBenchArgs {
   std::string fit = std::string(JETSHELL_SOURCE_DIR) + "/examples/fit_synthetic_plate.json";
   std::vector<std::string> algorithms{"levenberg-marquardt", "lbfgs", "mma", "bobyqa", "nelder-mead"};
   double tolerance = 1e-6;
@@ -101,14 +100,7 @@ double maxRelativeError(const Eigen::VectorXd& q, const Eigen::VectorXd& truth) 
   return e;
 }
 
-std::string loadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string a;
-  in >> a;
-  return a.empty() ? "?" : a;
-}
-
-int runSynthetic(const Args& a, nlohmann::json& out) {
+int runSynthetic(const FitBenchArgs& a, nlohmann::json& out) {
   const FitFile file = loadFitFile(a.fit);
   Eigen::VectorXd truth(static_cast<Eigen::Index>(file.parameters.size()));
   for (std::size_t i = 0; i < file.parameters.size(); ++i)
@@ -186,17 +178,17 @@ int runSynthetic(const Args& a, nlohmann::json& out) {
   return failures == 0 ? kOk : kFailed;
 }
 
-int run(const Args& a) {
+int run(const FitBenchArgs& a) {
   nlohmann::json j;
   int code = kOk;
-  std::printf("load average at start: %s\n", loadAverage().c_str());
+  std::printf("load average at start: %.2f\n", loadAverage());
   if (!a.skipSynthetic) {
     nlohmann::json synthetic;
     code = runSynthetic(a, synthetic);
     j["synthetic"] = synthetic;
   }
   if (a.dynamic) {
-    Args d = a;
+    FitBenchArgs d = a;
     d.fit = std::string(JETSHELL_SOURCE_DIR) + "/examples/fit_swinging_strip.json";
     nlohmann::json dynamic;
     std::printf("\n");
@@ -208,13 +200,13 @@ int run(const Args& a) {
     j["overhang"] = runDemo("fit_cloth_overhang.json", overhangComparison);
     j["slit_plate"] = runDemo("fit_sze_slit_plate.json", slitPlateComparison);
   }
-  std::printf("load average at end: %s\n", loadAverage().c_str());
+  std::printf("load average at end: %.2f\n", loadAverage());
   if (!a.json.empty()) writeFileAtomically(a.json, j.dump(2) + "\n");
   return code;
 }
 
 const RegisterSubcommand registerBenchFit("bench-fit", [](CLI::App& app, int& exitCode) {
-  auto a = std::make_shared<Args>();
+  auto a = std::make_shared<FitBenchArgs>();
   CLI::App* cmd = benchCommand(app)->add_subcommand(
       "fit", "Fitting: derivative-free against gradient-based on a synthetic recovery (solves, time, misfit)");
   cmd->add_option("--fit", a->fit, "Fit file whose scene's material values are the truth");

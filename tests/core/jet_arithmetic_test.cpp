@@ -228,9 +228,9 @@ TEST_CASE("jet arithmetic: 3×3 products, trace and determinants", "[jet_arithme
     checkEveryScalar(
         [c, g](const auto* x) {
           using T = std::decay_t<decltype(*x)>;
-          Eigen::Matrix<T, 3, 3> m;
-          m << vecA(x), vecB(x), c.cast<T>();
-          const Eigen::Matrix<T, 3, 3> p = m * g.cast<T>();
+          Eigen::Matrix<T, 3, 3> mt;
+          mt << vecA(x), vecB(x), c.cast<T>();
+          const Eigen::Matrix<T, 3, 3> p = mt * g.cast<T>();
           return p(1, 2);
         },
         e);
