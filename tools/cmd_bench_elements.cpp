@@ -258,8 +258,19 @@ int runBench(const BenchOptions& o) {
   };
   const double an1 = find("shell", "analytic", "exact", 1), ad1 = find("shell", "ad", "exact", 1);
   std::printf("\nSummary (value + gradient + Hessian, membrane + bending, exact Hessian):\n");
-  std::printf("  analytic, 1 thread: %.0f ns/face (target <= 1000 on the stage framework)\n", an1);
-  std::printf("  AD / analytic, 1 thread, ratio of the table's medians: %.2f\n", ad1 / an1);
+  // Lines whose rows this run did not measure (another --threads, --path or --term) are left out, not printed
+  // as nan.
+  if (std::isfinite(an1))
+    std::printf("  hand-chained analytic, 1 thread: %.0f ns/face (target <= 1000 on the stage framework)\n", an1);
+  const double stagedAn1 = find("shell_staged", "analytic", "exact", 1);
+  if (std::isfinite(stagedAn1))
+    std::printf("  stage framework analytic, 1 thread: %.0f ns/face (target <= 1000)\n", stagedAn1);
+  if (std::isfinite(an1) && std::isfinite(ad1))
+    std::printf("  AD / analytic, 1 thread, ratio of the table's medians: %.2f\n", ad1 / an1);
+  for (int t : threadCounts) {
+    const double anT = find("shell", "analytic", "exact", t);
+    if (t > 1 && std::isfinite(anT)) std::printf("  hand-chained analytic, %d threads: %.0f ns/face\n", t, anT);
+  }
   PairedRatio handRatio, stagedRatio;
   const bool bothPaths = o.path.empty() && (o.threads <= 1);
   auto printPaired = [](const char* what, const PairedRatio& p) {
