@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <sstream>
 
 namespace jetshell {
@@ -29,7 +30,7 @@ struct PathPoint {
 };
 
 /// (x, λ) at p from the polynomial through the history's points (newest first).
-void extrapolate(const std::vector<PathPoint>& history, double p, Eigen::VectorXd& x, double& lambda) {
+void extrapolate(const std::deque<PathPoint>& history, double p, Eigen::VectorXd& x, double& lambda) {
   std::vector<std::pair<double, Eigen::VectorXd>> h;
   for (const PathPoint& q : history) {
     Eigen::VectorXd z(q.x.size() + 1);
@@ -128,12 +129,12 @@ StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eig
     return std::sqrt(freeDot(d, d, fixed) + loadWeight * (la - b.lambda) * (la - b.lambda));
   };
 
-  std::vector<PathPoint> history = {{0.0, start, x, -1}};  // path points, newest first
+  std::deque<PathPoint> history = {{0.0, start, x, -1}};  // path points, newest first
   double increment = std::min(o.initialIncrement, o.maxIncrement);  // in λ (arc) or τ units
   std::size_t nextStop = 0;
   int cuts = 0, pathPoints = 0;
   std::vector<std::string> missed;
-  std::vector<PathPoint> recent = {{0.0, start, Eigen::VectorXd(), -1}};  // the last three path points, oldest first
+  std::deque<PathPoint> recent = {{0.0, start, Eigen::VectorXd(), -1}};  // the last three path points, oldest first
 
   auto emit = [&](double l, const Eigen::VectorXd& xs, double p, bool atLevel, PathCorrection& pc) {
     LoadStepResult step;
@@ -285,12 +286,12 @@ StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eig
     }
     cuts = 0;
     ++pathPoints;
-    history.insert(history.begin(), PathPoint{pNew, trialLambda, trial, result.steps.back().step});
+    history.push_front(PathPoint{pNew, trialLambda, trial, result.steps.back().step});
     if (static_cast<int>(history.size()) > order + 1) history.pop_back();
     // A turn of λ over the last three path points.
     recent.push_back(history.front());
     recent.back().x.resize(0);
-    if (recent.size() > 3) recent.erase(recent.begin());
+    if (recent.size() > 3) recent.pop_front();
     if (recent.size() == 3) {
       const double before = recent[1].lambda - recent[0].lambda, after = recent[2].lambda - recent[1].lambda;
       if (before * after < 0.0) {
