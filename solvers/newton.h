@@ -69,10 +69,11 @@ struct NewtonOptions {
   int exactFirstProjectedDofs = 12;  // 0: no block projected first
   /// With exactHessianFirst: the bending Hessian of the projected assembly an indefinite try falls back to (and
   /// of the back-off iterations after it). Gauss–Newton, Jᵀ W'' J, is positive semi-definite by construction and
-  /// is not projected; the exact Hessian projected block by block costs an eigendecomposition of every
-  /// indefinite 18×18 bending block, which made each fallback cost several plain iterations (measured on the
-  /// T-shirt, BENCHMARKS.md "Session 18"). Only the fallback's direction changes, not what a step converges to.
-  BendingHessian fallbackBendingHessian = BendingHessian::GaussNewton;
+  /// is not projected, so a fallback costs no eigendecompositions of 18×18 bending blocks: the T-shirt ran 1.12×
+  /// the steps per second. It stays a choice, not the default: in 3 of 4 perturbed T-shirt runs, steps that moved
+  /// on at the iteration cap ended with the potential energy spiking to 80–330 J (−5 J otherwise), which the
+  /// projected exact Hessian never did (BENCHMARKS.md "Session 18").
+  BendingHessian fallbackBendingHessian = BendingHessian::Exact;
   BendingHessian bendingHessian = BendingHessian::Exact;
   /// The friction terms' Hessian (core/term.h, energies/contact/contact_ramp.h). The majorizer's model lies above
   /// the friction potential, so its step does not throw a held contact past its stick region, which helps runs

@@ -46,7 +46,7 @@ struct ContactBenchOptions {
   std::string solver = "scene";   // scene | direct | both
   bool noOverlap = false;         // NewtonOptions::overlapPreconditioner off
   bool trace = false;             // one line per step
-  std::string fallbackBending = "gaussNewton";  // NewtonOptions::fallbackBendingHessian
+  std::string fallbackBending = "exact";  // NewtonOptions::fallbackBendingHessian
   std::string json;
 };
 
@@ -257,7 +257,7 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
                 "Factor the one-ring preconditioner after the whole assembly, never during the bending assembly");
   cmd->add_option("--fallback-bending", opts->fallbackBending,
                   "The bending Hessian of the projected assembly an indefinite Newton try falls back to: gaussNewton "
-                  "(the default, positive semi-definite, not projected) or exact (projected block by block)")
+                  "(positive semi-definite, not projected) or exact (projected block by block, the default)")
       ->check(CLI::IsMember({"gaussNewton", "exact"}));
   cmd->add_flag("--trace", opts->trace,
                 "Per step: Newton and CG iterations, the guards, how it ended; then per Newton iteration: residual, "

@@ -51,7 +51,7 @@ struct SolverBenchOptions {
   int exactFirstProjectedDofs = -1;  // < 0: NewtonOptions' default
   bool hessianAtStart = false;  // time steps: assemble the start's Hessian with its gradient (no gradient-first)
   bool noOverlap = false;       // factor the preconditioner after the assembly, not during it
-  std::string fallbackBending = "gaussNewton";  // NewtonOptions::fallbackBendingHessian
+  std::string fallbackBending = "exact";  // NewtonOptions::fallbackBendingHessian
   double massDamping = 0.0;
   double stiffnessDamping = 0.0;
   bool skipStatics = false;
@@ -378,8 +378,8 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
                 "bending terms' assembly (NewtonOptions::overlapPreconditioner)");
   cmd->add_option("--fallback-bending", opts->fallbackBending,
                   "Time steps: the bending Hessian of the projected assembly an indefinite try falls back to: "
-                  "gaussNewton (the default, positive semi-definite, not projected) or exact (projected block by "
-                  "block)")
+                  "gaussNewton (positive semi-definite, not projected) or exact (projected block by block, the "
+                  "default)")
       ->check(CLI::IsMember({"gaussNewton", "exact"}));
   cmd->add_option("--projection", opts->projection, "none | clamp | abs")
       ->check(CLI::IsMember({"none", "clamp", "abs"}));

@@ -296,3 +296,10 @@ TEST_CASE("run: the staged evaluator gives the hand-chained run's answer", "[sta
   REQUIRE(hand.size() == 3);
   for (int c = 0; c < 3; ++c) CHECK(staged[c] == Approx(hand[c]).epsilon(1e-8).margin(1e-12));
 }
+
+TEST_CASE("run: the fallback's bending Hessian reaches Newton, exact unless the scene asks", "[scene]") {
+  SolverSettings s;
+  CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == BendingHessian::Exact);
+  s.fallbackBendingHessian = "gaussNewton";
+  CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == BendingHessian::GaussNewton);
+}

@@ -229,6 +229,8 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
         "(did you mean \"wolfe\"?)");
   CHECK(errorAfter([](Json& s) { s["solver"] = {{"evaluator", "stages"}}; }) ==
         "/solver/evaluator: \"stages\" is not one of \"handChained\", \"staged\" (did you mean \"staged\"?)");
+  CHECK(errorAfter([](Json& s) { s["solver"] = {{"fallbackBendingHessian", "gauss"}}; }) ==
+        "/solver/fallbackBendingHessian: \"gauss\" is not one of \"exact\", \"gaussNewton\"");
   CHECK(errorAfter([](Json& s) { s["actors"].push_back({{"type", "sphere"}, {"radius", -1}}); }) ==
         "/actors/1/radius = -1: must be finite and > 0");
 }

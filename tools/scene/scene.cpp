@@ -159,6 +159,7 @@ void validate(const Scene& scene) {
   requireOneOf(s.psdProjection, {"auto", "none", "clamp", "abs"}, "/solver/psdProjection");
   requireOneOf(s.derivatives, {"analytic", "autodiff"}, "/solver/derivatives");
   requireOneOf(s.bendingHessian, {"exact", "gaussNewton"}, "/solver/bendingHessian");
+  requireOneOf(s.fallbackBendingHessian, {"exact", "gaussNewton"}, "/solver/fallbackBendingHessian");
   requireOneOf(s.frictionHessian, {"exact", "majorizer"}, "/solver/frictionHessian");
   requireOneOf(s.evaluator, {"handChained", "staged"}, "/solver/evaluator");
   check::atLeast(s.threads, 0, "/solver/threads");

@@ -97,6 +97,7 @@ struct SolverSettings {
   std::string psdProjection = "auto";        // auto (static: none, else clamp) | none | clamp | abs
   std::string derivatives = "analytic";      // analytic | autodiff
   std::string bendingHessian = "exact";      // exact | gaussNewton
+  std::string fallbackBendingHessian = "exact";  // time steps: exact | gaussNewton (NewtonOptions)
   std::string frictionHessian = "exact";     // exact | majorizer (core/term.h, energies/contact/contact_ramp.h)
   std::string evaluator = "handChained";     // membrane and bending: handChained | staged (tools/scene/scene_evaluator.h)
   int threads = 0;                           // 0: all cores

@@ -483,8 +483,8 @@ AnalysisSettings readAnalysis(const Value& v) {
 
 SolverSettings readSolver(const Value& v) {
   const Object o = v.object({"maxIterations", "residualTolerance", "decrementTolerance", "lineSearch", "linearSolver",
-                             "preconditioner", "psdProjection", "derivatives", "bendingHessian", "frictionHessian",
-                             "evaluator", "threads", "acceptIterationCap"},
+                             "preconditioner", "psdProjection", "derivatives", "bendingHessian", "fallbackBendingHessian",
+                             "frictionHessian", "evaluator", "threads", "acceptIterationCap"},
                             "solver settings");
   SolverSettings s;
   if (const auto m = o.find("maxIterations")) {
@@ -504,6 +504,8 @@ SolverSettings readSolver(const Value& v) {
   s.psdProjection = o.choice("psdProjection", {"auto", "none", "clamp", "abs"}, s.psdProjection);
   s.derivatives = o.choice("derivatives", {"analytic", "autodiff"}, s.derivatives);
   s.bendingHessian = o.choice("bendingHessian", {"exact", "gaussNewton"}, s.bendingHessian);
+  s.fallbackBendingHessian =
+      o.choice("fallbackBendingHessian", {"exact", "gaussNewton"}, s.fallbackBendingHessian);
   s.frictionHessian = o.choice("frictionHessian", {"exact", "majorizer"}, s.frictionHessian);
   s.evaluator = o.choice("evaluator", {"handChained", "staged"}, s.evaluator);
   s.acceptIterationCap = o.boolean("acceptIterationCap", s.acceptIterationCap);
