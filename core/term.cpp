@@ -5,6 +5,12 @@
 
 namespace jetshell {
 
+BendingHessian bendingHessianFromString(const std::string& name) {
+  if (name == "exact") return BendingHessian::Exact;
+  if (name == "gaussNewton") return BendingHessian::GaussNewton;
+  throw InputError("bending Hessian: '" + name + "' is not one of exact, gaussNewton");
+}
+
 void EnergyTerm::setParameterValues(const std::vector<double>& values) {
   validateParameterValues(name(), parameterNames(), values);
   if (!values.empty()) throw InputError("term '" + name() + "' does not implement setParameterValues");

@@ -22,6 +22,7 @@ namespace jetshell {
 enum class DerivativePath { AutoDiff, Analytic };
 /// Exact bending Hessian, or Gauss–Newton J_bᵀ W'' J_b without the second derivatives of b.
 enum class BendingHessian { Exact, GaussNewton };
+BendingHessian bendingHessianFromString(const std::string& name);  // exact | gaussNewton
 /// Exact friction Hessian, or the majorizer's: along the slip the curvature of the regularized Coulomb
 /// potential is replaced by its secant value f₁(y)/y (energies/contact/contact_ramp.h), with the same energy and
 /// gradient.

@@ -78,8 +78,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     d.newton.exactHessianFirst = false;
   }
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
-  d.newton.fallbackBendingHessian =
-      o.fallbackBending == "exact" ? BendingHessian::Exact : BendingHessian::GaussNewton;
+  d.newton.fallbackBendingHessian = bendingHessianFromString(o.fallbackBending);
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",

@@ -217,8 +217,7 @@ int runSolverBench(const SolverBenchOptions& o) {
   if (o.exactFirstProjectedDofs >= 0) d.newton.exactFirstProjectedDofs = o.exactFirstProjectedDofs;
   if (o.hessianAtStart) d.newton.gradientFirstStart = false;
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
-  d.newton.fallbackBendingHessian =
-      o.fallbackBending == "exact" ? BendingHessian::Exact : BendingHessian::GaussNewton;
+  d.newton.fallbackBendingHessian = bendingHessianFromString(o.fallbackBending);
   if (o.cgTolerance > 0.0) d.newton.linear.cgRelativeTolerance = o.cgTolerance;  // the policy sets its own
   if (o.maxForcing == 0.0) d.newton.adaptiveLinearTolerance = false;
   if (o.maxForcing > 0.0) {

@@ -302,4 +302,5 @@ TEST_CASE("run: the fallback's bending Hessian reaches Newton, exact unless the 
   CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == BendingHessian::Exact);
   s.fallbackBendingHessian = "gaussNewton";
   CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == BendingHessian::GaussNewton);
+  CHECK_THROWS_AS(bendingHessianFromString("gauss"), InputError);
 }
