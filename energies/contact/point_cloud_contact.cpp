@@ -148,9 +148,10 @@ bool PointCloudState::refresh(const Eigen::VectorXd& x) {
   }
   const auto start = std::chrono::steady_clock::now();
   builtAt_.resize(3 * n);
-  std::vector<double> points(3 * static_cast<std::size_t>(n));
+  std::vector<double> points;
+  points.reserve(3 * static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) points[3 * static_cast<std::size_t>(i) + c] = builtAt_[3 * i + c] = x[3 * vertex_[i] + c];
+    for (int c = 0; c < 3; ++c) points.push_back(builtAt_[3 * i + c] = x[3 * vertex_[i] + c]);
   const std::vector<PointPair> pairs =
       findClosePairs(points, maxContactDistance_ + skin_, [&](int a, int b) { return interacts(a, b); });
   auto data = std::make_shared<PointPairData>();
