@@ -27,7 +27,7 @@ void setOrigin(EndMomentEnergy::Element& el, const Eigen::VectorXd& x, const int
 
 }  // namespace
 
-EndMomentTerm::EndMomentTerm(int numVertices, StencilTable table, std::shared_ptr<EndMomentEnergy::State> state)
+EndMomentTerm::EndMomentTerm(int numVertices, const StencilTable& table, std::shared_ptr<EndMomentEnergy::State> state)
     : ElementEnergyTerm<EndMomentEnergy>("end_moment", table, numVertices, EndMomentEnergy{std::move(state)},
                                          /*zeroAtRest=*/false, /*rigidInvariant=*/false),
       faces_(table.ids) {}

@@ -74,7 +74,7 @@ struct EndMomentEnergy {
 class EndMomentTerm : public ElementEnergyTerm<EndMomentEnergy> {
  public:
   /// Use makeEndMomentTerm; table holds one face (3 vertex ids) per element.
-  EndMomentTerm(int numVertices, StencilTable table, std::shared_ptr<EndMomentEnergy::State> state);
+  EndMomentTerm(int numVertices, const StencilTable& table, std::shared_ptr<EndMomentEnergy::State> state);
 
   void setLoadFactor(double lambda) { functor().parameters[0] = lambda; }
   double loadFactor() const { return functor().parameters[0]; }

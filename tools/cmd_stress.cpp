@@ -56,7 +56,7 @@ int runStress(const StressArgs& a) {
     else if (outcome == "failed_cleanly") ++clean;
     else ++defects;
     std::string reason = j["reason"];
-    if (reason.size() > 110) reason = reason.substr(0, 107) + "...";
+    if (reason.size() > 110) reason.replace(107, std::string::npos, "...");
     std::printf("%-34s %-15s %8.2f  %s\n", cell.name.c_str(), outcome.c_str(), r.wallSeconds, reason.c_str());
     std::fflush(stdout);
     all.push_back(std::move(j));

@@ -17,7 +17,7 @@ StaticFitProblem::StaticFitProblem(Objective& objective, LoadFactorHooks loads, 
       mapping_(std::move(mapping)),
       levels_(std::move(levels)),
       observed_(std::move(observed)),
-      options_(options),
+      options_(std::move(options)),
       sensitivity_(std::make_unique<EquilibriumSensitivity>(objective)) {
   if (rest_.size() != objective_.numDofs()) throw InputError("fit: the rest state has the wrong size");
   if (mapping_.numParameters < 1 || !mapping_.map) throw InputError("fit: no parameter to fit");
