@@ -5,21 +5,25 @@
 # Each cost is the test's longest measured time in seconds, over the Release and sanitizer passes of CI
 # (BENCHMARKS.md, "CI time"). Included after the discovered Catch2 tests are defined; a name that is not a test
 # (renamed or removed) is ignored by CTest, so a stale line only loses its hint.
-foreach(entry
-    "22|conformance: symmetric Hessian, AD equal to analytic, agreement with finite differences"
-    "14|time-step policy: a small full Newton correction ends a step with fewer iterations than the residual estimate alone, and the Newton error stays far below the time error"
-    "13|newton: every line search and the L-BFGS alternative reach the same equilibrium"
-    "13|contact dynamics: two cloths dropped on each other do not interpenetrate"
-    "11|run: every example runs its first steps and writes its outputs"
-    "10|edge rules: every rule on every boundary edge passes the derivative checks, exact and Gauss-Newton"
-    "9|tshirt: falls on the plane, stays above it and out of itself, and comes to rest"
-    "8|dynamics: a hanging cloth with damping settles at the equilibrium the static solver finds"
-    "7|contact dynamics: a square cloth dropped on a sphere drapes over it"
-    "6|dynamic fit: gradients through backward Euler with stiffness damping, gravity and bending scales"
-    "6|dynamics: mass damping decays an oscillation at the rate alpha_R predicts")
-  string(FIND "${entry}" "|" bar)
-  string(SUBSTRING "${entry}" 0 ${bar} cost)
-  math(EXPR nameStart "${bar} + 1")
-  string(SUBSTRING "${entry}" ${nameStart} -1 name)
-  set_tests_properties("${name}" PROPERTIES COST ${cost})
-endforeach()
+set_tests_properties("conformance: symmetric Hessian, AD equal to analytic, agreement with finite differences"
+  PROPERTIES COST 22)
+set_tests_properties("time-step policy: a small full Newton correction ends a step with fewer iterations than the residual estimate alone, and the Newton error stays far below the time error"
+  PROPERTIES COST 14)
+set_tests_properties("newton: every line search and the L-BFGS alternative reach the same equilibrium"
+  PROPERTIES COST 13)
+set_tests_properties("contact dynamics: two cloths dropped on each other do not interpenetrate"
+  PROPERTIES COST 13)
+set_tests_properties("run: every example runs its first steps and writes its outputs"
+  PROPERTIES COST 11)
+set_tests_properties("edge rules: every rule on every boundary edge passes the derivative checks, exact and Gauss-Newton"
+  PROPERTIES COST 10)
+set_tests_properties("tshirt: falls on the plane, stays above it and out of itself, and comes to rest"
+  PROPERTIES COST 9)
+set_tests_properties("dynamics: a hanging cloth with damping settles at the equilibrium the static solver finds"
+  PROPERTIES COST 8)
+set_tests_properties("contact dynamics: a square cloth dropped on a sphere drapes over it"
+  PROPERTIES COST 7)
+set_tests_properties("dynamic fit: gradients through backward Euler with stiffness damping, gravity and bending scales"
+  PROPERTIES COST 6)
+set_tests_properties("dynamics: mass damping decays an oscillation at the rate alpha_R predicts"
+  PROPERTIES COST 6)
