@@ -69,7 +69,7 @@ Eigen::VectorXd ring(TimeIntegrator integrator, double T, double h) {
 
 }  // namespace
 
-TEST_CASE("dynamics: free fall matches g t²/2 with backward Euler's O(Δt) error; BDF2's error is O(Δt²)") {
+TEST_CASE("dynamics: free fall matches g t²/2 with backward Euler's O(Δt) error, BDF2's error is O(Δt²)") {
   testing::SingleThread single;
   const double T = 0.5;
   for (double h : {0.05, 0.025}) {
@@ -243,7 +243,7 @@ TEST_CASE("dynamics: a failing step is cut and retried, and never writes NaN") {
   CHECK(stuck.positions().allFinite());
 }
 
-TEST_CASE("statics: a load step that fails is cut and retried; results are kept per step") {
+TEST_CASE("statics: a load step that fails is cut and retried, results are kept per step") {
   testing::SingleThread single;
   ShellSystem system(testing::cantileverPlate(6, 2, 0.02), AnalysisKind::Statics);
   LoadSteppingOptions o;

@@ -84,7 +84,7 @@ struct AnchorSpring {
 
 }  // namespace
 
-TEST_CASE("friction Hessian: the majorizer keeps energy and forces; its tangent Hessian is μλ f1(y)/y, above the "
+TEST_CASE("friction Hessian: the majorizer keeps energy and forces, its tangent Hessian is μλ f1(y)/y, above the "
           "exact one", "[contact]") {
   // Slips: zero, inside the regularization, at its edge, sliding, far sliding; in changing directions.
   const std::vector<double> slip = {0.0, 0.3 * kEpsV, 0.999 * kEpsV, 2.0 * kEpsV, 40.0 * kEpsV};
@@ -123,7 +123,7 @@ TEST_CASE("friction Hessian: the majorizer keeps energy and forces; its tangent 
 }
 
 TEST_CASE("friction Hessian: from a sliding start, the majorizer's full Newton step lowers the energy and brings "
-          "held samples towards sticking; the exact Hessian's overshoots past the stick region", "[contact]") {
+          "held samples towards sticking, the exact Hessian's overshoots past the stick region", "[contact]") {
   // Each sample is pulled sideways by a soft spring (the rest of a shell) whose force at the step's start is a
   // fraction of μλ, so the solution sticks (slip below ε_v); the iterate has every sample 5 ε_v away, sliding
   // with or against the pull.

@@ -211,7 +211,7 @@ TEST_CASE("newton: a residual within the round-off floor passes only when the Ne
   CHECK(error <= 1e-9);
 }
 
-TEST_CASE("newton: a floor above 1% of the load still gives a round-off pass; a load below round-off does not pass",
+TEST_CASE("newton: a floor above 1% of the load still gives a round-off pass, a load below round-off does not pass",
           "[newton][convergence]") {
   testing::SingleThread single;
   // 1e5 m from the origin the floor estimate (64 eps |H||x|) is 4.6% of the load, so it is no tolerance; the
