@@ -369,11 +369,16 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
     if (ad ? request.hessian != nullptr : order > 0) updateRuledQuadratics(ad);
     computeFaceStages(x, order, ad);
     computeEdgeStages(order, ad);
-    // Assembly reads the upper triangle of each stencil block; only a projection needs the whole block.
+    // Assembly reads the upper triangle of each stencil block; only a projection needs the whole block (and
+    // the block of each stencil's own energy: then the shared stages' curvature is not contracted ahead).
     const bool upper = options.projection == PsdProjection::None;
+    const bool contracted = upper && order == 2;
+    if (contracted) contractCurvature(x, ad);
     return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 18, 1>& g,
-                                 Mat18& H) { return stencil(x, f, ids, wantG, wantH, ad, exact, upper, g, H); });
+                                 Mat18& H) {
+                               return stencil(x, f, ids, wantG, wantH, ad, exact, upper, contracted, g, H);
+                             });
   }
 
 void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad) {
@@ -426,8 +431,95 @@ void BendingTerm::computeEdgeStages(int order, bool ad) {
     }
   }
 
+void BendingTerm::faceDensity(int f, const double* b, bool ad, double& W, Vec3& w, Mat3* Wbb) const {
+  const double* B = ref_.secondFundamentalForm[f].data();
+  const bool* minimized = minimized_[f].data();
+  if (ad) {
+    const double* P = ref_.inverseMetric[f].data();
+    auto density = [&](const auto* z) { return ruledBendingDensity(z, B, P, alpha_, beta_, minimized); };
+    scalarStageGradient<3>(density, b, W, w);
+    if (Wbb != nullptr) *Wbb = ruledQuadratic_[static_cast<std::size_t>(f)];
+  } else if (minimized[0] || minimized[1] || minimized[2]) {
+    const Vec3 d(b[0] - B[0], b[1] - B[1], b[2] - B[2]);
+    const Mat3& A = ruledQuadratic_[static_cast<std::size_t>(f)];
+    w.noalias() = A * d;
+    W = 0.5 * d.dot(w);
+    if (Wbb != nullptr) *Wbb = A;
+  } else {
+    const double d[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
+    Mat3 A;
+    analytic::stvkQuadratic(ref_.inverseMetric[f].data(), alpha_, 0.5 * beta_, d, W, w, A);
+    if (Wbb != nullptr) *Wbb = A;
+  }
+}
+
+void BendingTerm::contractCurvature(const Eigen::VectorXd& x, bool ad) {
+  const int nf = static_cast<int>(F_.rows()), ne = topo_.numEdges();
+  slotAdjoint_.resize(static_cast<std::size_t>(nf));
+  meanAdjoint_.resize(static_cast<std::size_t>(ne));
+  // Each stencil's adjoint of its three mid-edge normals, ∂(w·b)/∂n̄_i (w = area · ∂W/∂b).
+#pragma omp parallel for schedule(static)
+  for (int f = 0; f < nf; ++f) {
+    const Vec3 p0 = position(x, F_(f, 0));
+    const Vec3 e0 = position(x, F_(f, 1)) - p0, e1 = position(x, F_(f, 2)) - p0;
+    V3<double> nb[3];
+    for (int i = 0; i < 3; ++i) {
+      const Vec3& n = edges_[topo_.faceEdges(f, i)].nbar;
+      nb[i] = {{n[0], n[1], n[2]}};
+    }
+    double b[3];  // as in stencil(), to the bit
+    secondFundamentalForm(V3<double>{{e0[0], e0[1], e0[2]}}, V3<double>{{e1[0], e1[1], e1[2]}}, nb[0], nb[1],
+                          nb[2], b);
+    double W;
+    Vec3 w;
+    faceDensity(f, b, ad, W, w, nullptr);
+    w *= energyScale() * ref_.area[f];
+    slotAdjoint_[f] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};
+  }
+  // Per edge: the total adjoint of n̄ (both stencils), the curvature Σ_k a_k ∇²_m n̄_k and the mean normal's
+  // adjoint (∂n̄/∂m)ᵀ a.
+#pragma omp parallel for schedule(static)
+  for (int e = 0; e < ne; ++e) {
+    Vec3 a = Vec3::Zero();
+    for (int s = 0; s < 2; ++s) {
+      const int f = topo_.edgeFaces(e, s);
+      if (f < 0) continue;
+      for (int i = 0; i < 3; ++i)
+        if (topo_.faceEdges(f, i) == e) a += slotAdjoint_[f][i];
+    }
+    StageHessian& hs = edgeHessian_[e];
+    hs[0] = a[0] * hs[0] + a[1] * hs[1] + a[2] * hs[2];
+    meanAdjoint_[e].noalias() = edges_[e].dndm.transpose() * a;
+  }
+  // Per face: the total adjoint h of its normal (½ of each interior edge's mean-normal adjoint, through the rule's
+  // ∂m/∂n on a boundary edge), its curvature in c with the ghost rules' own curvature, and the cross product's.
+#pragma omp parallel for schedule(static)
+  for (int f = 0; f < nf; ++f) {
+    Vec3 h = Vec3::Zero();
+    Mat3 ghostCurvature = Mat3::Zero();
+    bool anyGhost = false;
+    for (int i = 0; i < 3; ++i) {
+      const int e = topo_.faceEdges(f, i);
+      const Vec3& gm = meanAdjoint_[e];
+      if (topo_.faceNeighbors(f, i) >= 0) {
+        h += 0.5 * gm;
+      } else {
+        const GhostStage& ghost = ghosts_[e];
+        h.noalias() += ghost.dmdn.transpose() * gm;
+        ghostCurvature += gm[0] * ghost.hessians[0] + gm[1] * ghost.hessians[1] + gm[2] * ghost.hessians[2];
+        anyGhost = true;
+      }
+    }
+    const FaceStage& s = faces_[f];
+    StageHessian& hs = faceHessian_[f];
+    hs[0] = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
+    if (anyGhost) hs[0].noalias() += s.dndc.transpose() * ghostCurvature * s.dndc;
+    hs[1] = -skew(s.dndc.transpose() * h);
+  }
+}
+
 double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
-                 bool upper, Eigen::Matrix<double, 18, 1>& g, Mat18& H) const {
+                 bool upper, bool contracted, Eigen::Matrix<double, 18, 1>& g, Mat18& H) const {
     const Vec3 p0 = position(x, ids[0]);
     const Vec3 e0 = position(x, ids[1]) - p0, e1 = position(x, ids[2]) - p0;
     const EdgeStage* edge[3];
@@ -442,25 +534,12 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     const double area = energyScale() * ref_.area[f];
     // A face with moment-free edges: its density minimized over them (edge_rules.h), on both paths from Jets.
     const bool* minimized = minimized_[f].data();
-    const bool reduced = minimized[0] || minimized[1] || minimized[2];
     if (!wantG && !wantH) return area * ruledBendingDensity(b, B, P, alpha_, beta_, minimized);
 
     double W;
     Vec3 w;
     Mat3 Wbb;
-    if (ad) {
-      auto density = [&](const auto* z) { return ruledBendingDensity(z, B, P, alpha_, beta_, minimized); };
-      scalarStageGradient<3>(density, b, W, w);
-      if (wantH) Wbb = ruledQuadratic_[static_cast<std::size_t>(f)];
-    } else if (reduced) {
-      const Vec3 d(b[0] - B[0], b[1] - B[1], b[2] - B[2]);
-      Wbb = ruledQuadratic_[f];
-      w.noalias() = Wbb * d;
-      W = 0.5 * d.dot(w);
-    } else {
-      const double d[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
-      analytic::stvkQuadratic(P, alpha_, 0.5 * beta_, d, W, w, Wbb);
-    }
+    faceDensity(f, b, ad, W, w, wantH ? &Wbb : nullptr);
 
     const std::int8_t* nloc = neighborLocal_[f].data();
     const int fn[3] = {topo_.faceNeighbors(f, 0), topo_.faceNeighbors(f, 1), topo_.faceNeighbors(f, 2)};
@@ -526,7 +605,7 @@ double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, boo
     } else {
       H.noalias() = Jb.transpose().lazyProduct(WJ);
     }
-    if (exact) addCurvatureOfB(f, e0, e1, w, M, N, nloc, fn, C, upper, H);
+    if (exact) addCurvatureOfB(f, contracted, e0, e1, w, M, N, nloc, fn, C, upper, H);
     return area * W;
   }
 
@@ -570,7 +649,7 @@ void BendingTerm::gradientByAdjoints(const Eigen::VectorXd& x, int f, const int*
   addCross(e0, e1, faces_[f].dndc.transpose() * face, kSelf);
 }
 
-void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
+void BendingTerm::addCurvatureOfB(int f, bool contracted, const Vec3& e0, const Vec3& e1,
                                   const Vec3& w, const Mat3x12* M, const Mat3x12* N, const std::int8_t* nloc,
                                   const int* fn, const Mat39* crossJacobians, bool upper, Mat18& H) const {
     // s = w·b = Σ c_ai e_a·n̄_i with c_00 = −2w0, c_01 = 2w0, c_10 = −2(w1 + w2), c_12 = 2w2.
@@ -601,6 +680,19 @@ void BendingTerm::addCurvatureOfB(int f, const Vec3& e0, const Vec3& e1,
       H.middleCols<3>(0) -= R01.transpose();
     }
 
+    if (contracted) {
+      // The shared stages' curvature, contracted ahead with their total adjoints: this face's own, and that of
+      // the edges this stencil owns.
+      for (int i = 0; i < 3; ++i) {
+        const int e = topo_.faceEdges(f, i);
+        if (topo_.edgeFaces(e, 0) != f) continue;
+        const int vertex[4] = {0, 1, 2, 3 + i};
+        addTranslationInvariant<4>(M[i].rightCols<9>(), edgeHessian_[e][0], vertex, upper, H);
+      }
+      const StageHessian& hs = faceHessian_[f];
+      addTranslationInvariant<3>(crossJacobians[0].rightCols<6>(), hs[0], kSelf, upper, H, &hs[1]);
+      return;
+    }
     const Vec3 gnb[3] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};
     Vec3 hFace[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // this face, neighbours 0..2
     Mat3 ghostCurvature = Mat3::Zero();  // Σ_k (∂s/∂m)_k ∇²_n m_k over boundary edges (nonlinear rules)

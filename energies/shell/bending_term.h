@@ -124,15 +124,26 @@ class BendingTerm : public EnergyTerm {
 
   void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad);
   void computeEdgeStages(int order, bool ad);
+  /// W and ∂W/∂b of face f's density at b (before the area scale), and W'' when Wbb is given.
+  void faceDensity(int f, const double* b, bool ad, double& W, Eigen::Vector3d& w, Eigen::Matrix3d* Wbb) const;
+  /// Exact Hessian, no projection: contracts each face's and edge's stage Hessians once with the total
+  /// adjoint of its normal, summed over the stencils that share it (four per face normal, two per mid-edge
+  /// normal), in place: afterwards faceHessian_[f][0] is the curvature in c, faceHessian_[f][1] the coupling
+  /// Q of the cross product, and edgeHessian_[e][0] the curvature in m. The stencil of face f then assembles
+  /// its own face's curvature and that of the edges it owns (owner of edge e: topo.edgeFaces(e, 0)); the sum
+  /// over stencils is the same Hessian, with each term in one block instead of one per sharing stencil.
+  void contractCurvature(const Eigen::VectorXd& x, bool ad);
   /// upper: fill only the upper vertex blocks of H (r <= c, in stencil order), all that assembly reads; the
   /// others are left unset. Used when no projection needs the whole block.
+  /// contracted: the stage Hessians hold contractCurvature's results (exact, upper).
   double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
-                 bool upper, Eigen::Matrix<double, 18, 1>& g, Eigen::Matrix<double, 18, 18>& H) const;
+                 bool upper, bool contracted, Eigen::Matrix<double, 18, 1>& g,
+                 Eigen::Matrix<double, 18, 18>& H) const;
   /// The stencil's gradient J_bᵀ w by adjoints (gradient-only evaluations; w already scaled by the area).
   void gradientByAdjoints(const Eigen::VectorXd& x, int f, const int* ids, const Eigen::Vector3d& e0,
                           const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const std::int8_t* nloc, const int* fn,
                           Eigen::Matrix<double, 18, 1>& g) const;
-  void addCurvatureOfB(int f, const Eigen::Vector3d& e0,
+  void addCurvatureOfB(int f, bool contracted, const Eigen::Vector3d& e0,
                        const Eigen::Vector3d& e1, const Eigen::Vector3d& w, const Eigen::Matrix<double, 3, 12>* M,
                        const Eigen::Matrix<double, 3, 12>* N, const std::int8_t* nloc, const int* fn,
                        const Eigen::Matrix<double, 3, 9>* crossJacobians, bool upper,
@@ -182,6 +193,10 @@ class BendingTerm : public EnergyTerm {
   std::vector<EdgeStage> edges_;
   std::vector<StageHessian> faceHessian_;  // ∇²_c n_k per face
   std::vector<StageHessian> edgeHessian_;  // ∇²_m n̄_k per edge
+  // contractCurvature's adjoints: per face, of each of its edges' mid-edge normals (this stencil's share);
+  // per edge, of its mean normal (the total over both stencils).
+  std::vector<std::array<Eigen::Vector3d, 3>> slotAdjoint_;
+  std::vector<Eigen::Vector3d> meanAdjoint_;
   std::vector<double> elementEnergy_;
 };
 
