@@ -6,6 +6,10 @@
 //   pass 3, per face f (the 6-vertex stencil): b(e0, e1, n̄0, n̄1, n̄2) (bilinear primitive) -> W_b(b) (the
 //     templated density). Gradient = area · J_bᵀ w. Hessian = area · (J_bᵀ W'' J_b [Gauss–Newton part]
 //     + Σ_k w_k ∇²b_k [exact only]), the second part by the chain rule through passes 2 and 1.
+//   Exact Hessian without projection: between passes 2 and 3, contractCurvature sums each face normal's and
+//     mid-edge normal's adjoint over the stencils that share it and contracts its stage Hessians once; pass 3
+//     then assembles a face's curvature in its own stencil and an edge's in its first face's (the same sum in
+//     other blocks). A projection needs each stencil's own block, so it keeps the per-stencil curvature.
 // The nonlinear stages (unitNormal, kelvinInversion, bendingDensity: 3 inputs each) get their derivatives from
 // Jet<Jet<double,3>,3> on the AD path and from energies/shell/analytic_stages.h on the analytic path; everything
 // else is shared. Boundary edges (energies/shell/edge_rules.h): pass 2 takes m = ½(n + n_ghost(n)) with the
