@@ -20,6 +20,7 @@
 #include "energies/shell/bending_term.h"
 
 #include "core/element_loop.h"
+#include "core/flatten.h"
 #include "core/origin_derivatives.h"
 #include "core/parameter_derivatives.h"
 #include "energies/shell/analytic_stages.h"
@@ -522,7 +523,7 @@ void BendingTerm::contractCurvature(const Eigen::VectorXd& x, bool ad) {
   }
 }
 
-double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
+JETSHELL_FLATTEN double BendingTerm::stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
                  bool upper, bool contracted, Eigen::Matrix<double, 18, 1>& g, Mat18& H) const {
     const Vec3 p0 = position(x, ids[0]);
     const Vec3 e0 = position(x, ids[1]) - p0, e1 = position(x, ids[2]) - p0;
