@@ -135,8 +135,6 @@ BendingTerm::BendingTerm(const TriMesh& mesh, const Topology& topo, const ShellR
   }
   faces_.resize(static_cast<std::size_t>(nf));
   edges_.resize(static_cast<std::size_t>(topo.numEdges()));
-  faceHessian_.resize(static_cast<std::size_t>(nf));
-  edgeHessian_.resize(static_cast<std::size_t>(topo.numEdges()));
   const int ne = topo.numEdges();
   rules_.assign(static_cast<std::size_t>(ne), EdgeRule::PageFree);
   ruleData_.resize(static_cast<std::size_t>(ne));
@@ -299,8 +297,8 @@ void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scal
   scale_ = scale;
   originMoved_ = true;
   if (staged_) return stagedCurvatureOrigin(xOrigin);
-  computeFaceStages(xOrigin, 0, false);
-  computeEdgeStages(0, false);
+  computeFaceStages(xOrigin, 0, false, false);
+  computeEdgeStages(0, false, false);
   for (int f = 0; f < static_cast<int>(F_.rows()); ++f) {
     const Vec3 p0 = xOrigin.segment<3>(3 * F_(f, 0));
     const Vec3 e0 = xOrigin.segment<3>(3 * F_(f, 1)) - p0, e1 = xOrigin.segment<3>(3 * F_(f, 2)) - p0;
@@ -372,12 +370,12 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
     // Stage order: 0 values, 1 Jacobians, 2 Hessians (only the exact bending Hessian needs them).
     const int order = request.hessian != nullptr && exact ? 2 : request.gradient != nullptr || request.hessian ? 1 : 0;
     if (ad ? request.hessian != nullptr : order > 0) updateRuledQuadratics(ad);
-    computeFaceStages(x, order, ad);
-    computeEdgeStages(order, ad);
     // Assembly reads the upper triangle of each stencil block; only a projection needs the whole block (and
     // the block of each stencil's own energy: then the shared stages' curvature is not contracted ahead).
     const bool upper = options.projection == PsdProjection::None;
     const bool contracted = upper && order == 2;
+    computeFaceStages(x, order, ad, !contracted);
+    computeEdgeStages(order, ad, !contracted);
     if (contracted) contractCurvature(x, ad);
     return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 18, 1>& g,
@@ -386,8 +384,10 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
                              });
   }
 
-void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad) {
+void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad, bool stageHessians) {
     const int nf = static_cast<int>(F_.rows());
+    if (order == 2 && !stageHessians) order = 1;
+    if (order == 2) faceHessian_.resize(static_cast<std::size_t>(nf));
 #pragma omp parallel for schedule(static)
     for (int f = 0; f < nf; ++f) {
       const Vec3 x0 = position(x, F_(f, 0));
@@ -414,12 +414,20 @@ void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad
     }
   }
 
-void BendingTerm::computeEdgeStages(int order, bool ad) {
+void BendingTerm::computeEdgeStages(int order, bool ad, bool stageHessians) {
     const int ne = topo_.numEdges();
+    const int ghostOrder = order;  // the ghost rules' Hessians are small (boundary edges) and always kept
+    const bool keepMean = order == 2 && !stageHessians;
+    if (keepMean) {
+      order = 1;
+      edgeMeans_.resize(static_cast<std::size_t>(ne));
+    }
+    if (order == 2) edgeHessian_.resize(static_cast<std::size_t>(ne));
 #pragma omp parallel for schedule(static)
     for (int e = 0; e < ne; ++e) {
-      const Vec3 m = meanNormal(e, order);
+      const Vec3 m = meanNormal(e, ghostOrder);
       EdgeStage& s = edges_[e];
+      if (keepMean) edgeMeans_[e] = m;
       const auto stage = [](const auto& z) { return kelvinInversion(z); };
       if (order == 0) {
         const V3<double> v = kelvinInversion(V3<double>{{m[0], m[1], m[2]}});
@@ -462,6 +470,8 @@ void BendingTerm::contractCurvature(const Eigen::VectorXd& x, bool ad) {
   const int nf = static_cast<int>(F_.rows()), ne = topo_.numEdges();
   slotAdjoint_.resize(static_cast<std::size_t>(nf));
   meanAdjoint_.resize(static_cast<std::size_t>(ne));
+  faceCurvature_.resize(static_cast<std::size_t>(nf));
+  edgeCurvature_.resize(static_cast<std::size_t>(ne));
   // Each stencil's adjoint of its three mid-edge normals, ∂(w·b)/∂n̄_i (w = area · ∂W/∂b).
 #pragma omp parallel for schedule(static)
   for (int f = 0; f < nf; ++f) {
@@ -492,9 +502,17 @@ void BendingTerm::contractCurvature(const Eigen::VectorXd& x, bool ad) {
       for (int i = 0; i < 3; ++i)
         if (topo_.faceEdges(f, i) == e) a += slotAdjoint_[f][i];
     }
-    StageHessian& hs = edgeHessian_[e];
-    hs[0] = a[0] * hs[0] + a[1] * hs[1] + a[2] * hs[2];
-    meanAdjoint_[e].noalias() = edges_[e].dndm.transpose() * a;
+    const EdgeStage& s = edges_[e];
+    Vec3 nbar;
+    Mat3 dndm;
+    StageHessian hs;
+    if (ad) {
+      vectorStageDerivatives([](const auto& z) { return kelvinInversion(z); }, edgeMeans_[e], nbar, dndm, hs);
+    } else {
+      analytic::kelvinInversion(edgeMeans_[e], nbar, dndm, hs);
+    }
+    edgeCurvature_[e] = a[0] * hs[0] + a[1] * hs[1] + a[2] * hs[2];
+    meanAdjoint_[e].noalias() = s.dndm.transpose() * a;
   }
   // Per face: the total adjoint h of its normal (½ of each interior edge's mean-normal adjoint, through the rule's
   // ∂m/∂n on a boundary edge), its curvature in c with the ghost rules' own curvature, and the cross product's.
@@ -516,10 +534,21 @@ void BendingTerm::contractCurvature(const Eigen::VectorXd& x, bool ad) {
       }
     }
     const FaceStage& s = faces_[f];
-    StageHessian& hs = faceHessian_[f];
-    hs[0] = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
-    if (anyGhost) hs[0].noalias() += s.dndc.transpose() * ghostCurvature * s.dndc;
-    hs[1] = -skew(s.dndc.transpose() * h);
+    // c = e0 × e1 as computeFaceStages takes it, and the unit normal's Hessians there.
+    const Vec3 p0 = position(x, F_(f, 0));
+    const Vec3 c = (position(x, F_(f, 1)) - p0).cross(position(x, F_(f, 2)) - p0);
+    Vec3 n;
+    Mat3 dndc;
+    StageHessian hs;
+    if (ad) {
+      vectorStageDerivatives([](const auto& z) { return unitNormal(z); }, c, n, dndc, hs);
+    } else {
+      analytic::unitNormal(c, n, dndc, hs);
+    }
+    FaceCurvature& out = faceCurvature_[f];
+    out.c = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
+    if (anyGhost) out.c.noalias() += s.dndc.transpose() * ghostCurvature * s.dndc;
+    out.q = -skew(s.dndc.transpose() * h);
   }
 }
 
@@ -692,10 +721,10 @@ void BendingTerm::addCurvatureOfB(int f, bool contracted, const Vec3& e0, const 
         const int e = topo_.faceEdges(f, i);
         if (topo_.edgeFaces(e, 0) != f) continue;
         const int vertex[4] = {0, 1, 2, 3 + i};
-        addTranslationInvariant<4>(M[i].rightCols<9>(), edgeHessian_[e][0], vertex, upper, H);
+        addTranslationInvariant<4>(M[i].rightCols<9>(), edgeCurvature_[e], vertex, upper, H);
       }
-      const StageHessian& hs = faceHessian_[f];
-      addTranslationInvariant<3>(crossJacobians[0].rightCols<6>(), hs[0], kSelf, upper, H, &hs[1]);
+      const FaceCurvature& fc = faceCurvature_[f];
+      addTranslationInvariant<3>(crossJacobians[0].rightCols<6>(), fc.c, kSelf, upper, H, &fc.q);
       return;
     }
     const Vec3 gnb[3] = {-2.0 * w[0] * e0 - 2.0 * (w[1] + w[2]) * e1, 2.0 * w[0] * e0, 2.0 * w[2] * e1};

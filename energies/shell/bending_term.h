@@ -122,16 +122,18 @@ class BendingTerm : public EnergyTerm {
   };
   using StageHessian = std::array<Eigen::Matrix3d, 3>;  // ∇² of each output component
 
-  void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad);
-  void computeEdgeStages(int order, bool ad);
+  /// stageHessians: keep the stages' Hessians (order 2) per face and edge for the stencils; without, an order-2
+  /// pass leaves them to contractCurvature (the ghost rules' Hessians are kept either way).
+  void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad, bool stageHessians);
+  void computeEdgeStages(int order, bool ad, bool stageHessians);
   /// W and ∂W/∂b of face f's density at b (before the area scale), and W'' when Wbb is given.
   void faceDensity(int f, const double* b, bool ad, double& W, Eigen::Vector3d& w, Eigen::Matrix3d* Wbb) const;
-  /// Exact Hessian, no projection: contracts each face's and edge's stage Hessians once with the total
+  /// Exact Hessian, no projection: each face's and edge's stage Hessians, contracted once with the total
   /// adjoint of its normal, summed over the stencils that share it (four per face normal, two per mid-edge
-  /// normal), in place: afterwards faceHessian_[f][0] is the curvature in c, faceHessian_[f][1] the coupling
-  /// Q of the cross product, and edgeHessian_[e][0] the curvature in m. The stencil of face f then assembles
-  /// its own face's curvature and that of the edges it owns (owner of edge e: topo.edgeFaces(e, 0)); the sum
-  /// over stencils is the same Hessian, with each term in one block instead of one per sharing stencil.
+  /// normal), into faceCurvature_ and edgeCurvature_ (the stage Hessians are taken here, not stored). The
+  /// stencil of face f then assembles its own face's curvature and that of the edges it owns (owner of edge e:
+  /// topo.edgeFaces(e, 0)); the sum over stencils is the same Hessian, with each term in one block instead of
+  /// one per sharing stencil.
   void contractCurvature(const Eigen::VectorXd& x, bool ad);
   /// upper: fill only the upper vertex blocks of H (r <= c, in stencil order), all that assembly reads; the
   /// others are left unset. Used when no projection needs the whole block.
@@ -191,8 +193,16 @@ class BendingTerm : public EnergyTerm {
   std::vector<GhostStage> ghosts_;                         // per edge (boundary edges only)
   std::vector<FaceStage> faces_;
   std::vector<EdgeStage> edges_;
-  std::vector<StageHessian> faceHessian_;  // ∇²_c n_k per face
-  std::vector<StageHessian> edgeHessian_;  // ∇²_m n̄_k per edge
+  std::vector<StageHessian> faceHessian_;  // ∇²_c n_k per face (sized by the first pass that keeps them)
+  std::vector<StageHessian> edgeHessian_;  // ∇²_m n̄_k per edge (the same)
+  /// contractCurvature's results: per face, Σ_k h_k ∇²_c n_k (with the ghost rules' curvature) and the cross
+  /// product's coupling Q; per edge, Σ_k a_k ∇²_m n̄_k.
+  struct FaceCurvature {
+    Eigen::Matrix3d c, q;
+  };
+  std::vector<FaceCurvature> faceCurvature_;
+  std::vector<Eigen::Vector3d> edgeMeans_;  // per edge, m of n̄(m), kept by an edge pass for contractCurvature
+  std::vector<Eigen::Matrix3d> edgeCurvature_;
   // contractCurvature's adjoints: per face, of each of its edges' mid-edge normals (this stencil's share);
   // per edge, of its mean normal (the total over both stencils).
   std::vector<std::array<Eigen::Vector3d, 3>> slotAdjoint_;
