@@ -297,7 +297,7 @@ void BendingTerm::setCurvatureOrigin(const Eigen::VectorXd& xOrigin, double scal
   scale_ = scale;
   originMoved_ = true;
   if (staged_) return stagedCurvatureOrigin(xOrigin);
-  computeFaceStages(xOrigin, 0, false, false);
+  computeFaceStages(xOrigin, 0, false, false, false);
   computeEdgeStages(0, false, false);
   for (int f = 0; f < static_cast<int>(F_.rows()); ++f) {
     const Vec3 p0 = xOrigin.segment<3>(3 * F_(f, 0));
@@ -374,7 +374,7 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
     // the block of each stencil's own energy: then the shared stages' curvature is not contracted ahead).
     const bool upper = options.projection == PsdProjection::None;
     const bool contracted = upper && order == 2;
-    computeFaceStages(x, order, ad, !contracted);
+    computeFaceStages(x, order, ad, !contracted, request.hessian != nullptr);
     computeEdgeStages(order, ad, !contracted);
     if (contracted) contractCurvature(x, ad);
     return runElementLoop<6>(table_, schedule_, x, request, options.projection, elementEnergy_,
@@ -384,8 +384,10 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
                              });
   }
 
-void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad, bool stageHessians) {
+void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad, bool stageHessians,
+                                    bool hessian) {
     const int nf = static_cast<int>(F_.rows());
+    if (hessian) faceJacobian_.resize(static_cast<std::size_t>(nf));
     if (order == 2 && !stageHessians) order = 1;
     if (order == 2) faceHessian_.resize(static_cast<std::size_t>(nf));
 #pragma omp parallel for schedule(static)
@@ -411,6 +413,7 @@ void BendingTerm::computeFaceStages(const Eigen::VectorXd& x, int order, bool ad
       } else {
         analytic::unitNormal(c, s.n, s.dndc);
       }
+      if (hessian) faceJacobian_[f].noalias() = s.dndc.lazyProduct(crossJacobian(e0, e1));
     }
   }
 
@@ -583,29 +586,32 @@ JETSHELL_FLATTEN double BendingTerm::stencil(const Eigen::VectorXd& x, int f, co
     }
     // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x, compact over edge i's four stencil vertices (0, 1, 2, 3+i): 3×12.
     // ∂c/∂x and ∂n/∂x of this face (0) and the neighbours (1..3), each in its own vertex order.
-    Mat39 C[4], dndx[4];
-    C[0] = crossJacobian(e0, e1);
-    dndx[0].noalias() = faces_[f].dndc.lazyProduct(C[0]);
+    // ∂n/∂x of the four faces from the face pass; ∂c/∂x where the curvature needs it (the stencil's own face;
+    // all four without contraction).
+    Mat39 C[4];
+    const Mat39* dndx[4] = {&faceJacobian_[f], nullptr, nullptr, nullptr};
+    if (exact) C[0] = crossJacobian(e0, e1);
     for (int i = 0; i < 3; ++i) {
       if (fn[i] < 0) continue;
+      dndx[1 + i] = &faceJacobian_[fn[i]];
+      if (!exact || contracted) continue;
       const std::int8_t* local = nloc + 3 * i;
       const Vec3 q0 = position(x, ids[local[0]]);
       C[1 + i] = crossJacobian(position(x, ids[local[1]]) - q0, position(x, ids[local[2]]) - q0);
-      dndx[1 + i].noalias() = faces_[fn[i]].dndc.lazyProduct(C[1 + i]);
     }
     Mat3x12 M[3], N[3];
     for (int i = 0; i < 3; ++i) {
-      M[i].leftCols<9>() = 0.5 * dndx[0];
+      M[i].leftCols<9>() = 0.5 * *dndx[0];
       M[i].rightCols<3>().setZero();
       if (fn[i] >= 0) {
-        const Mat39& dn = dndx[1 + i];
+        const Mat39& dn = *dndx[1 + i];
         for (int k = 0; k < 3; ++k) {
           const int c = nloc[3 * i + k] < 3 ? nloc[3 * i + k] : 3;
           M[i].middleCols<3>(3 * c) += 0.5 * dn.middleCols<3>(3 * k);
         }
       } else {
         // A boundary edge: m = ½(n + n_ghost(n)), ∂m/∂n from the rule's stage.
-        M[i].leftCols<9>() = ghosts_[topo_.faceEdges(f, i)].dmdn.lazyProduct(dndx[0]);
+        M[i].leftCols<9>() = ghosts_[topo_.faceEdges(f, i)].dmdn.lazyProduct(*dndx[0]);
       }
       N[i] = edge[i]->dndm.lazyProduct(M[i]);
     }

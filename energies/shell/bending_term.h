@@ -124,7 +124,8 @@ class BendingTerm : public EnergyTerm {
 
   /// stageHessians: keep the stages' Hessians (order 2) per face and edge for the stencils; without, an order-2
   /// pass leaves them to contractCurvature (the ghost rules' Hessians are kept either way).
-  void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad, bool stageHessians);
+  /// hessian: also keep ∂n/∂x per face (faceJacobian_) for the stencils' Jacobians.
+  void computeFaceStages(const Eigen::VectorXd& x, int order, bool ad, bool stageHessians, bool hessian);
   void computeEdgeStages(int order, bool ad, bool stageHessians);
   /// W and ∂W/∂b of face f's density at b (before the area scale), and W'' when Wbb is given.
   void faceDensity(int f, const double* b, bool ad, double& W, Eigen::Vector3d& w, Eigen::Matrix3d* Wbb) const;
@@ -192,6 +193,7 @@ class BendingTerm : public EnergyTerm {
   std::vector<Sym2> givenForm_;                       // B as given (the page's free rule at every edge)
   std::vector<GhostStage> ghosts_;                         // per edge (boundary edges only)
   std::vector<FaceStage> faces_;
+  std::vector<Eigen::Matrix<double, 3, 9>> faceJacobian_;  // ∂n/∂x per face, in its own vertex order (Hessian passes)
   std::vector<EdgeStage> edges_;
   std::vector<StageHessian> faceHessian_;  // ∇²_c n_k per face (sized by the first pass that keeps them)
   std::vector<StageHessian> edgeHessian_;  // ∇²_m n̄_k per edge (the same)
