@@ -585,9 +585,8 @@ JETSHELL_FLATTEN double BendingTerm::stencil(const Eigen::VectorXd& x, int f, co
       return area * W;
     }
     // M_i = ∂m_i/∂x and N_i = ∂n̄_i/∂x, compact over edge i's four stencil vertices (0, 1, 2, 3+i): 3×12.
-    // ∂c/∂x and ∂n/∂x of this face (0) and the neighbours (1..3), each in its own vertex order.
-    // ∂n/∂x of the four faces from the face pass; ∂c/∂x where the curvature needs it (the stencil's own face;
-    // all four without contraction).
+    // ∂n/∂x of this face (0) and the neighbours (1..3) from the face pass, and ∂c/∂x where the curvature needs
+    // it (this face's when contracted, all four otherwise), each in its face's own vertex order.
     Mat39 C[4];
     const Mat39* dndx[4] = {&faceJacobian_[f], nullptr, nullptr, nullptr};
     if (exact) C[0] = crossJacobian(e0, e1);

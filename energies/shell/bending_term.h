@@ -138,7 +138,7 @@ class BendingTerm : public EnergyTerm {
   void contractCurvature(const Eigen::VectorXd& x, bool ad);
   /// upper: fill only the upper vertex blocks of H (r <= c, in stencil order), all that assembly reads; the
   /// others are left unset. Used when no projection needs the whole block.
-  /// contracted: the stage Hessians hold contractCurvature's results (exact, upper).
+  /// contracted: contractCurvature has run for this evaluation (exact Hessian, upper blocks).
   double stencil(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad, bool exact,
                  bool upper, bool contracted, Eigen::Matrix<double, 18, 1>& g,
                  Eigen::Matrix<double, 18, 18>& H) const;
