@@ -79,7 +79,7 @@ ElementSchedule scheduleElements(const StencilTable& table, int numVertices, int
 
 int HessianAssembler::addStencils(const StencilTable& table) {
   if (finalized_) throw std::logic_error("HessianAssembler::addStencils after finalize");
-  slots_.push_back(Slot{table, {}, true});
+  slots_.push_back(Slot{table, {}, {}, {}, true});
   return static_cast<int>(slots_.size()) - 1;
 }
 
@@ -195,16 +195,22 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
     ++patternBuilds_;
     ++patternVersion_;
     if (!translation.empty()) {
-      for (Slot& s : slots_) {
-        if (s.stale) continue;
-        std::int32_t* v = s.scatter.data();
-        const std::int64_t count = static_cast<std::int64_t>(s.scatter.size());
+      // A block's index is its first entry's, which every block of the pattern has (the diagonal blocks too):
+      // translated like an entry, its other entries follow from the new strides.
+      auto translate = [&translation](std::vector<std::int32_t>& table) {
+        std::int32_t* v = table.data();
+        const std::int64_t count = static_cast<std::int64_t>(table.size());
 #pragma omp parallel for schedule(static) if (count >= 65536)
         for (std::int64_t k = 0; k < count; ++k) {
           const std::int32_t idx = v[k];
           if (idx >= 0) v[k] = translation[static_cast<std::size_t>(idx)];
           else if (idx <= -2) v[k] = -2 - translation[static_cast<std::size_t>(-2 - idx)];
         }
+      };
+      for (Slot& s : slots_) {
+        if (s.stale) continue;
+        translate(s.blocks);
+        translate(s.scatter);
       }
     }
   } else {
@@ -247,6 +253,9 @@ void HessianAssembler::buildMatrix(int numVertices) {
   }
   diagonalIndex_.resize(static_cast<std::size_t>(ndof));
   for (int d = 0; d < ndof; ++d) diagonalIndex_[d] = outerPtr[d + 1] - 1;
+  // Column 3j+c starts at outer[3j] + c·stride + c(c+1)/2 (column 3j+c holds stride + c + 1 entries).
+  columnStride_.resize(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) columnStride_[j] = 3 * (static_cast<std::int32_t>(rows_[j].size()) - 1);
 }
 
 std::vector<std::int32_t> HessianAssembler::translationTo(const std::vector<std::vector<int>>& newRows) const {
@@ -288,10 +297,25 @@ void HessianAssembler::buildScatter(bool everything) {
     const int w = s.table.width;
     const int m = 3 * w;
     const std::size_t perElement = static_cast<std::size_t>(m) * (m + 1) / 2;
+    const std::size_t pairs = static_cast<std::size_t>(w) * (w + 1) / 2;
     const int ne = s.table.size();
-    s.scatter.assign(perElement * static_cast<std::size_t>(ne), -1);
+    // Elements with a fixed dof or a repeated vertex keep a per-entry table; the others one index per block.
+    s.entryRow.assign(static_cast<std::size_t>(ne), -1);
+    std::int32_t withEntries = 0;
+    for (int e = 0; e < ne; ++e) {
+      const int* ids = s.table.element(e);
+      bool entries = false;
+      for (int a = 0; a < w && !entries; ++a) {
+        if (ids[a] < 0) continue;
+        for (int c = 0; c < 3; ++c) entries = entries || fixedDof_[3 * ids[a] + c];
+        for (int b = 0; b < a; ++b) entries = entries || ids[b] == ids[a];
+      }
+      if (entries) s.entryRow[e] = withEntries++;
+    }
+    s.blocks.assign(pairs * static_cast<std::size_t>(ne), -1);
+    s.scatter.assign(perElement * static_cast<std::size_t>(withEntries), -1);
     // One pattern search per vertex pair of an element (not per dof entry: a ninth of the searches), elements
-    // in parallel (each writes only its own table row).
+    // in parallel (each writes only its own table rows).
 #pragma omp parallel if (ne >= 4096)
     {
     // rank[a * w + b]: for vertices ids[a] <= ids[b], the position of ids[a] among column ids[b]'s rows.
@@ -299,7 +323,6 @@ void HessianAssembler::buildScatter(bool everything) {
 #pragma omp for schedule(static)
     for (int e = 0; e < ne; ++e) {
       const int* ids = s.table.element(e);
-      std::int32_t* out = s.scatter.data() + perElement * static_cast<std::size_t>(e);
       for (int b = 0; b < w; ++b) {
         for (int a = 0; a < w; ++a) {
           const int va = ids[a], vb = ids[b];
@@ -308,6 +331,22 @@ void HessianAssembler::buildScatter(bool everything) {
           rank[a * w + b] = static_cast<int>(std::lower_bound(r.begin(), r.end(), va) - r.begin());
         }
       }
+      if (s.entryRow[e] < 0) {
+        std::int32_t* out = s.blocks.data() + pairs * static_cast<std::size_t>(e);
+        std::size_t k = 0;
+        for (int b = 0; b < w; ++b) {
+          for (int a = 0; a <= b; ++a, ++k) {
+            const int va = ids[a], vb = ids[b];
+            if (va < 0 || vb < 0) continue;
+            // The global block's column vertex is the larger id, its row vertex the smaller.
+            const int column = std::max(va, vb);
+            const int k2 = va <= vb ? rank[a * w + b] : rank[b * w + a];
+            out[k] = outerPtr[3 * column] + 3 * k2;
+          }
+        }
+        continue;
+      }
+      std::int32_t* out = s.scatter.data() + perElement * static_cast<std::size_t>(s.entryRow[e]);
       std::size_t k = 0;
       for (int q = 0; q < m; ++q) {      // local column
         for (int p = 0; p <= q; ++p) {   // local row
@@ -344,19 +383,63 @@ void HessianAssembler::setZero() {
 
 void HessianAssembler::addElementHessian(int slot, int element, const double* H) {
   const Slot& s = slots_[slot];
-  const int m = 3 * s.table.width;
-  const std::size_t perElement = static_cast<std::size_t>(m) * (m + 1) / 2;
-  const std::int32_t* idx = s.scatter.data() + perElement * static_cast<std::size_t>(element);
+  const int w = s.table.width;
+  const int m = 3 * w;
   double* v = matrix_.valuePtr();
+  const std::int32_t row = s.entryRow[static_cast<std::size_t>(element)];
+  if (row >= 0) {
+    const std::size_t perElement = static_cast<std::size_t>(m) * (m + 1) / 2;
+    const std::int32_t* idx = s.scatter.data() + perElement * static_cast<std::size_t>(row);
+    std::size_t k = 0;
+    for (int q = 0; q < m; ++q) {
+      const double* col = H + static_cast<std::size_t>(q) * m;
+      for (int p = 0; p <= q; ++p, ++k) {
+        const std::int32_t i = idx[k];
+        if (i >= 0) {
+          v[i] += col[p];
+        } else if (i <= -2) {
+          v[-2 - i] += 2.0 * col[p];
+        }
+      }
+    }
+    return;
+  }
+  // Local entry (3a + r, 3b + c) of pair (a, b), a <= b (upper triangle), is H[(3b + c) m + 3a + r]. The global
+  // block's entry (row r', column c') is at base + c'·stride + c'(c'+1)/2 + r', stride that of its column vertex.
+  const int* ids = s.table.element(element);
+  const std::int32_t* base = s.blocks.data() + static_cast<std::size_t>(w) * (w + 1) / 2 * element;
   std::size_t k = 0;
-  for (int q = 0; q < m; ++q) {
-    const double* col = H + static_cast<std::size_t>(q) * m;
-    for (int p = 0; p <= q; ++p, ++k) {
-      const std::int32_t i = idx[k];
-      if (i >= 0) {
-        v[i] += col[p];
-      } else if (i <= -2) {
-        v[-2 - i] += 2.0 * col[p];
+  for (int b = 0; b < w; ++b) {
+    const double* colB = H + static_cast<std::size_t>(3 * b) * m;
+    for (int a = 0; a <= b; ++a, ++k) {
+      const std::int32_t i0 = base[k];
+      if (i0 < 0) continue;
+      const double* h = colB + 3 * a;  // h[c·m + r] = local (3a + r, 3b + c)
+      if (a == b) {
+        const std::int32_t stride = columnStride_[ids[b]];
+        v[i0] += h[0];
+        v[i0 + stride + 1] += h[m];
+        v[i0 + stride + 2] += h[m + 1];
+        v[i0 + 2 * stride + 3] += h[2 * m];
+        v[i0 + 2 * stride + 4] += h[2 * m + 1];
+        v[i0 + 2 * stride + 5] += h[2 * m + 2];
+      } else if (ids[a] < ids[b]) {  // global block = local block: column c, row r
+        const std::int32_t stride = columnStride_[ids[b]];
+        for (int c = 0; c < 3; ++c) {
+          double* out = v + i0 + c * stride + c * (c + 1) / 2;
+          const double* in = h + c * m;
+          out[0] += in[0];
+          out[1] += in[1];
+          out[2] += in[2];
+        }
+      } else {  // the transpose: global column r (of vertex ids[a]), row c
+        const std::int32_t stride = columnStride_[ids[a]];
+        for (int r = 0; r < 3; ++r) {
+          double* out = v + i0 + r * stride + r * (r + 1) / 2;
+          out[0] += h[r];
+          out[1] += h[m + r];
+          out[2] += h[2 * m + r];
+        }
       }
     }
   }
@@ -364,7 +447,10 @@ void HessianAssembler::addElementHessian(int slot, int element, const double* H)
 
 std::size_t HessianAssembler::memoryBytes() const {
   std::size_t bytes = static_cast<std::size_t>(matrix_.nonZeros()) * (sizeof(double) + sizeof(int));
-  for (const Slot& s : slots_) bytes += s.scatter.size() * sizeof(std::int32_t) + s.table.ids.size() * sizeof(int);
+  for (const Slot& s : slots_)
+    bytes += (s.blocks.size() + s.entryRow.size() + s.scatter.size()) * sizeof(std::int32_t) +
+             s.table.ids.size() * sizeof(int);
+  bytes += columnStride_.size() * sizeof(std::int32_t);
   for (const auto& r : rows_) bytes += r.size() * sizeof(int);
   for (const auto& r : keptRows_) bytes += r.size() * sizeof(int);
   return bytes;

@@ -1,10 +1,11 @@
 // Sparse Hessian assembly with a pattern computed once and value-only refills.
 //
 // Data flow: every term declares its StencilTable (addStencils) -> finalize() builds the upper-triangular CSC
-// pattern of the 3N×3N matrix, one scatter table per element (the value index of every entry of the element's
-// local upper triangle) -> at each evaluation, setZero() and the terms add dense element blocks. Terms colour
-// their elements (colorElements: one colour = no shared vertex) and run one colour at a time in parallel
-// (core/element_loop.h), so every entry is summed in the same order whatever the thread count (same bits).
+// pattern of the 3N×3N matrix, one scatter table per element (the value index of each 3×3 vertex block of the
+// element's local upper triangle; per entry where a dof is fixed or a vertex repeats) -> at each evaluation,
+// setZero() and the terms add dense element blocks. Terms colour their elements (colorElements: one colour =
+// no shared vertex) and run one colour at a time in parallel (core/element_loop.h), so every entry is summed in
+// the same order whatever the thread count (same bits).
 // Fixed (eliminated) dofs scatter into a discarded slot and get 1 on the diagonal: their rows and columns are
 // identity, so a Newton step never moves them.
 // Patterns that follow moving contacts (clearStencils, addStencils, finalize again) can be grow-only
@@ -73,9 +74,18 @@ class HessianAssembler {
   std::size_t memoryBytes() const;
 
  private:
+  // The scatter table of a slot, per element one of two forms:
+  //  - blocks (most elements): per vertex pair (a, b), a <= b in stencil order (b outer, a inner), the value
+  //    index of the global block's first entry (row 0, column 0 of the pair's 3×3 block in the matrix's own
+  //    orientation), or -1 when a vertex is absent; the block's other entries follow from its column vertex's
+  //    stride (columnStride_): K(K+1)/2 indices per element, a tenth of a per-entry table for K = 6.
+  //  - entries (elements with a fixed dof or a repeated vertex): per entry of the local upper triangle, the
+  //    value index; -1 discard; <= -2 doubled (a repeated vertex maps an off-diagonal entry onto a diagonal one).
   struct Slot {
     StencilTable table;
-    std::vector<std::int32_t> scatter;  // per element: (3K)(3K+1)/2 value indices; -1 discard; <= -2 doubled
+    std::vector<std::int32_t> blocks;   // K(K+1)/2 per element (unused rows for elements with entries)
+    std::vector<std::int32_t> entryRow; // per element: its row in `scatter`, or -1 (blocks)
+    std::vector<std::int32_t> scatter;  // (3K)(3K+1)/2 per element with entries
     bool stale = true;                  // the scatter table does not match the table (declared or replaced)
   };
   /// Builds the matrix pattern from rows (per column vertex, the sorted row vertices <= it).
@@ -94,6 +104,7 @@ class HessianAssembler {
   std::vector<char> fixedDof_;
   Eigen::SparseMatrix<double> matrix_;
   std::vector<std::int32_t> diagonalIndex_;
+  std::vector<std::int32_t> columnStride_;  // per vertex j: 3 (|rows_[j]| − 1), the off-diagonal rows of its columns
   bool finalized_ = false;
   std::uint64_t patternVersion_ = 0;
   bool growOnly_ = false;
