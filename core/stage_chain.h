@@ -23,6 +23,8 @@
 // of its inputs; a stage with constant zero Hessians, core/stage.h, has none) and, in Zᵀ, the columns off the
 // input's support (the stencil vertices it depends on, e.g. three for a face normal). Only the blocks C_ab with
 // b ≥ a are formed, the diagonal one halved, into P; the Hessian is P + Pᵀ (symmetric pairs of blocks once).
+// A value-only evaluation (no gradient, no Hessian: a line search's trial point) records each node's value and
+// nothing of the graph (no input map, groups or support), since nothing will be chained.
 // Every buffer is a fixed-size member (kMaxNodes nodes, stage sizes bounded by core/stage.h): a chain is built
 // once per thread and reused; building and finishing a stencil never allocates.
 #pragma once
@@ -206,6 +208,23 @@ class StageChain {
     double z[N];
     Node& n = newNode();
     const int self = numNodes_ - 1;
+    if (context_.energyOrder == 0) {
+      // Values only (a line search's trial point): no derivative will be chained, so the node keeps its value
+      // and nothing of the graph (input map, groups, support).
+      int i = 0;
+      for (int p : inputs) {
+        if (p < 0 || p >= self) throw std::logic_error("stage chain: an input is not an earlier node");
+        const Node& in = nodes_[p];
+        if (i + in.outputs > N) throw std::logic_error("stage chain: inputs larger than the stage's kInputs");
+        for (int c = 0; c < in.outputs; ++c) z[i++] = in.value[c];
+      }
+      if (i != N) throw std::logic_error("stage chain: inputs smaller than the stage's kInputs");
+      n.view = evaluate(z, 0);
+      n.outputs = M;
+      n.numInputs = N;
+      n.value = n.view.value;
+      return self;
+    }
     int i = 0;
     std::uint32_t mask = 0;
     n.numGroups = 0;
