@@ -24,7 +24,8 @@
 // input's support (the stencil vertices it depends on, e.g. three for a face normal). Only the blocks C_ab with
 // b ≥ a are formed, the diagonal one halved, into P; the Hessian is P + Pᵀ (symmetric pairs of blocks once).
 // A value-only evaluation (no gradient, no Hessian: a line search's trial point) records each node's value and
-// nothing of the graph (no input map, groups or support), since nothing will be chained.
+// nothing of the graph (no input map, groups or support), since nothing will be chained; a gradient alone records
+// the input map its reverse sweep reads, and no groups or supports.
 // Every buffer is a fixed-size member (kMaxNodes nodes, stage sizes bounded by core/stage.h): a chain is built
 // once per thread and reused; building and finishing a stencil never allocates.
 #pragma once
@@ -196,7 +197,7 @@ class StageChain {
     n.numInputs = 0;
     for (int c = 0; c < 3; ++c) n.leafValue[c] = xe_[3 * j + c] - (i >= 0 ? xe_[3 * i + c] : 0.0);
     n.value = n.leafValue;
-    setSupport(n, 1u << j | (i >= 0 ? 1u << i : 0u));
+    if (forwardRows()) setSupport(n, 1u << j | (i >= 0 ? 1u << i : 0u));  // read by forward rows only
     n.leafPlus = j;
     n.leafMinus = i;  // no rows stored: the chain applies a leaf's ±I selector directly
     return numNodes_ - 1;
@@ -228,12 +229,15 @@ class StageChain {
     int i = 0;
     std::uint32_t mask = 0;
     n.numGroups = 0;
+    const bool rows = forwardRows();  // a gradient alone needs the input map only, not the groups or support
     for (int p : inputs) {
       if (p < 0 || p >= self) throw std::logic_error("stage chain: an input is not an earlier node");
       const Node& in = nodes_[p];
-      mask |= in.mask;
-      n.groupNode[n.numGroups] = p;
-      n.groupStart[n.numGroups++] = i;
+      if (rows) {
+        mask |= in.mask;
+        n.groupNode[n.numGroups] = p;
+        n.groupStart[n.numGroups++] = i;
+      }
       for (int c = 0; c < in.outputs; ++c, ++i) {
         if (i >= N) throw std::logic_error("stage chain: inputs larger than the stage's kInputs");
         z[i] = in.value[c];
@@ -242,13 +246,13 @@ class StageChain {
       }
     }
     if (i != N) throw std::logic_error("stage chain: inputs smaller than the stage's kInputs");
-    n.groupStart[n.numGroups] = N;
     n.view = evaluate(z, order);
     n.outputs = M;
     n.numInputs = N;
     n.value = n.view.value;
-    setSupport(n, mask);
-    if (forwardRows()) {
+    if (rows) {
+      n.groupStart[n.numGroups] = N;
+      setSupport(n, mask);
       // J_k = Σ_q (∂y_k/∂z_q) J_input(q): full-width rows (zero off the support), so that every update is a
       // fixed-length vector operation.
       // A leaf input adds ±(∂y_k/∂z_q) at its two columns instead of a row.
