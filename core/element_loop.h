@@ -26,14 +26,13 @@ inline constexpr int kParallelMinElements = 512;
 inline constexpr int kParallelMinCostlyElements = 32;
 
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
-/// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width. colouredValues: a value-only
-/// loop also follows the colours (kernels that share per-entity caches between stencils, core/stage_cache.h).
+/// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
 /// parallelMinElements: the element count from which the loop runs in parallel (kParallelMinCostlyElements for
 /// costly kernels); the result has the same bits either way.
 template <int K, typename Kernel>
 double runElementLoop(const StencilTable& table, const ElementSchedule& schedule,
                       const Eigen::VectorXd& /*x*/, const EvalRequest& request, PsdProjection projection,
-                      std::vector<double>& elementEnergy, Kernel&& kernel, bool colouredValues = false,
+                      std::vector<double>& elementEnergy, Kernel&& kernel,
                       int parallelMinElements = kParallelMinElements) {
   constexpr int M = 3 * K;
   const int ne = table.size();
@@ -58,7 +57,7 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
     }
   };
   ParallelErrors errors;
-  if (wantG || wantH || colouredValues) {
+  if (wantG || wantH) {
     // One parallel region for all colours: a colour ends at the worksharing loop's barrier, without a team
     // start-up and join per colour (half the synchronization points, each of which costs a scheduling delay
     // when the other core is busy). Small meshes run serially: thread start-up costs more than their elements.

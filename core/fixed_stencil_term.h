@@ -1,6 +1,6 @@
 // The state every term over a fixed stencil table shares: its name, the table (K vertex ids per element), the
 // parallel schedule of its elements (core/assembly.h) and the conformance flags. ElementEnergyTerm
-// (energies/element_energy_term.h) and StagedEnergyTerm (core/staged_term.h) derive from it and add how an
+// (energies/element_energy_term.h) and StageGraphTerm (core/stage_graph_term.h) derive from it and add how an
 // element is differentiated.
 #pragma once
 

@@ -23,8 +23,13 @@
 // J(z) = J(0) + [∇²y_k z]_k (no Jets per element). constantHessianDiscrepancy() checks the declaration
 // (Hessians and Jacobian) against the Jets at any z.
 //
+// Optional declaration `static constexpr bool kAffine = true;`: for each entity the stage is affine in z (its
+// coefficients may depend on the entity, e.g. a boundary edge's rule): its Hessians are zero, so derivatives of
+// order 2 cost those of order 1 (first-order Jets or the twin) and a chain adds no curvature for it.
+// affineDiscrepancy() checks the declaration against the Jets' Hessians at any z.
+//
 // ComposedStage<Inner, Outer>: Outer ∘ Inner as one stage (for example a face normal 6 → 3 from the cross product
-// 6 → 3 and the normalisation 3 → 3), so that a chain caches and chains it as one node. Its derivatives come from
+// 6 → 3 and the normalisation 3 → 3), so that a stage graph (core/stage_graph.h) keeps it as one node. Its derivatives come from
 // the two stages' own (each on its Jets, twin or constant Hessians) by the chain rule, once per entity:
 // J = J_o J_i, ∇²y_k = J_iᵀ ∇²o_k J_i + Σ_m (J_o)_km ∇²i_m. Its Jets (stageDerivativesFromJets) remain the
 // reference it is tested against.
@@ -73,6 +78,12 @@ template <typename S, typename = void>
 struct HasConstantHessian : std::false_type {};
 template <typename S>
 struct HasConstantHessian<S, std::void_t<decltype(S::kConstantHessian)>> : std::bool_constant<S::kConstantHessian> {};
+
+/// True when stage S declares kAffine = true.
+template <typename S, typename = void>
+struct IsAffineStage : std::false_type {};
+template <typename S>
+struct IsAffineStage<S, std::void_t<decltype(S::kAffine)>> : std::bool_constant<S::kAffine> {};
 
 /// Value (order 0), + Jacobian (order 1), + Hessians (order 2) of stage s at z, from Ceres Jets.
 template <typename S>
@@ -243,6 +254,13 @@ struct ComposedStage {
 /// Analytic, the Jets otherwise (a composed stage: its parts' derivatives, chained).
 template <typename S>
 void evaluateStage(const S& s, const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<S>& d) {
+  if constexpr (IsAffineStage<S>::value) {
+    if (order >= 2) {
+      evaluateStage(s, z, entity, 1, path, d);
+      for (auto& h : d.hessians) h.setZero();
+      return;
+    }
+  }
   if constexpr (IsComposedStage<S>::value) {
     if (order >= 1) {
       s.chained(z, entity, order, path, d);
@@ -269,6 +287,21 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
   }
 }
 
+/// Largest absolute Hessian entry of a stage declaring kAffine, from its Jets at z (0 for any other stage): a
+/// declaration that does not hold shows here.
+template <typename S>
+double affineDiscrepancy(const S& s, const double* z, int entity) {
+  if constexpr (!IsAffineStage<S>::value) {
+    return 0.0;
+  } else {
+    StageDerivativesOf<S> jets;
+    stageDerivativesFromJets(s, z, entity, 2, jets);
+    double worst = 0.0;
+    for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, jets.hessians[k].cwiseAbs().maxCoeff());
+    return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+  }
+}
+
 /// Largest relative difference between a composed stage's chained derivatives on `path` and its own Jets at z
 /// (value, Jacobian, Hessians; 0 for any other stage).
 template <typename S>
@@ -284,14 +317,6 @@ double composedStageDiscrepancy(const S& s, const double* z, int entity, Derivat
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }
-
-/// A stage's results as the chain reads them (core/stage_chain.h): value (M), Jacobian (M×N, column-major)
-/// and each output's Hessian (N×N, column-major), null when not computed (order < 2) or identically zero.
-struct StageView {
-  const double* value = nullptr;
-  const double* jacobian = nullptr;
-  const double* hessian[kMaxStageOutputs] = {};
-};
 
 /// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
 /// relative to the largest Jet entry of its kind, floor 1). 0 for a stage without a twin.

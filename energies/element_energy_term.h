@@ -107,7 +107,7 @@ class ElementEnergyTerm : public FixedStencilTerm {
     return runElementLoop<K>(table_, schedule_, x, request, options.projection, elementEnergy_,
                              [&](int e, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, M, 1>& g,
                                  Eigen::Matrix<double, M, M>& H) { return element(x, e, ids, wantG, wantH, g, H); },
-                             false, parallelMin);
+                             parallelMin);
   }
 
  private:

@@ -217,7 +217,7 @@ std::vector<RegisteredTerm> buildRegistry() {
       {"end_moment", "end moment -lambda M theta on a boundary edge (no hand derivatives)", makeSampleEndMoment},
       // Example of a term written without hand derivatives, registered in one line (energies/examples/).
       {"seam_spring", "edge springs", [](S s) { return makeSeamSpringTerm(s.mesh, edgePairs(s.topology), 10.0); }},
-      // A term on stages (core/staged_term.h), no derivatives written: energies/examples/hinge_bending.h.
+      // A term on stages (core/stage_graph.h), no derivatives written: energies/examples/hinge_bending.h.
       {"hinge_bending", "discrete-shells hinge bending, tan-based, on stages (face normal cached per face)",
        [](S s) { return makeHingeBendingTerm(s.mesh, s.topology, 0.7); }, {}, true, true},
       {"hinge_bending_gauss_newton", "hinge bending with the Gauss-Newton Hessian (a model: checked PSD)",

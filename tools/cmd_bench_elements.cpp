@@ -98,7 +98,7 @@ int runNestedBench(const BenchOptions& o) {
   const char* unit = hinge ? "hinge" : "face";
   const int dofs = hinge ? 12 : 18;
   std::printf("jetshell bench elements --term %s: %d stencils of %d dofs, %d thread(s), value + gradient + exact "
-              "Hessian with assembly\n  staged (core/staged_term.h): %10.1f ns/%s\n  one nested-Jet element:      "
+              "Hessian with assembly\n  staged (core/stage_graph.h): %10.1f ns/%s\n  one nested-Jet element:      "
               "%10.1f ns/%s\n  nested / staged: %.1fx (target >= 10)\n",
               o.term.c_str(), static_cast<int>(stencils), dofs, omp_get_max_threads(), tStaged, unit, tNested, unit,
               tNested / tStaged);

@@ -3,6 +3,7 @@
 // the staged term and the reference check each other.
 #include "energies/examples/hinge_bending.h"
 
+#include "core/stage_graph_term.h"
 #include "energies/element_energy_term.h"
 
 #include <cmath>
@@ -94,13 +95,21 @@ HingeElementEnergy restElementEnergy(const TriMesh& mesh, const HingeLayout& h, 
 }  // namespace
 
 EnergyTermPtr makeHingeBendingTerm(const TriMesh& mesh, const Topology& topology, double stiffness) {
-  HingeLayout h = hingeLayout(mesh, topology);
+  const HingeLayout h = hingeLayout(mesh, topology);
   HingeElementEnergy rest = restElementEnergy(mesh, h, stiffness);
-  HingeBendingEnergy energy{StageCache<HingeFaceNormal>({}, mesh.numFaces()),
-                            HingeEnergyDensity{std::move(rest.weight), std::move(rest.restTan)}, std::move(h.faces),
-                            std::move(h.corners)};
-  return std::make_shared<StagedEnergyTerm<HingeBendingEnergy>>("hinge_bending", std::move(h.table),
-                                                                mesh.numVertices(), std::move(energy));
+  HingeGraph graph(mesh.numVertices());
+  graph.resize<0>(mesh.numFaces());
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    graph.setInputs<0>(f, {difference(mesh.F(f, 0), mesh.F(f, 1)), difference(mesh.F(f, 0), mesh.F(f, 2))});
+  graph.setElements(h.table);
+  for (int i = 0; i < h.table.size(); ++i) {
+    const int* v = h.table.element(i);
+    graph.setInputs<1>(i, {node(h.faces[i][0]), node(h.faces[i][1]), difference(v[0], v[1])});
+    graph.setInputs<2>(i, {node(i)});
+  }
+  graph.stage<2>() = HingeEnergyDensity{std::move(rest.weight), std::move(rest.restTan)};
+  graph.finalize();
+  return std::make_shared<StageGraphTerm<HingeGraph>>("hinge_bending", std::move(graph));
 }
 
 EnergyTermPtr makeHingeBendingNestedJet(const TriMesh& mesh, const Topology& topology, double stiffness) {

@@ -2,17 +2,17 @@
 // with the tan-based angle function of Tamstorf and Grinspun 2013,
 //   E = Σ_hinges k · 3ℓ̄²/(Ā_A + Ā_B) · (2 tan(θ/2) − 2 tan(θ̄/2))²,
 // θ the signed dihedral angle across an interior edge, tan(θ/2) = ((n_A × n_B)·ê) / (1 + n_A·n_B).
-// Three stages, written once for any scalar type: the unit normal of a face (6 → 3, cached per face and shared
+// Three stages, written once for any scalar type: the unit normal of a face (6 → 3, one node per face shared
 // by the face's three hinges), tan(θ/2) (9 → 1) and the energy (1 → 1), each written as plain Eigen math with
-// plain double constants (core/jet_arithmetic.h makes that work for every Jet type). The framework
-// (core/staged_term.h) differentiates each with Jets of its own size and chains them; the term below is the
-// whole user-side code (≤ 40 lines).
+// plain double constants (core/jet_arithmetic.h makes that work for every Jet type), and the graph that
+// connects them (core/stage_graph.h). The framework differentiates each stage with Jets of its own size and
+// chains them; the stages, the graph and hingeGraph() in hinge_bending.cpp are the whole user-side code.
 // makeHingeBendingNestedJet builds the same energy as one 12-dof nested-Jet element (the naive reference for
 // `jetshell bench elements --term hinge` and the checks).
 #pragma once
 
 #include "core/mesh.h"
-#include "core/staged_term.h"
+#include "core/stage_graph.h"
 #include "core/term.h"
 #include "core/topology.h"
 
@@ -47,21 +47,10 @@ struct HingeEnergyDensity {
     energy[0] = weight[hinge] * d * d;
   }
 };
-struct HingeBendingEnergy {
-  static constexpr int kVertices = 4;  // the edge (0, 1), the opposite vertices of face A (2) and face B (3)
-  StageCache<HingeFaceNormal> normals;                      // per face
-  HingeEnergyDensity density;
-  std::vector<std::array<int, 2>> faces;                    // per hinge: faces A and B
-  std::vector<std::array<std::array<int, 3>, 2>> corners;  // per hinge and face: its vertices in stencil numbering
-  void operator()(StageChain<4>& c, int h) {
-    int n[2];
-    for (int s = 0; s < 2; ++s) {
-      const auto& v = corners[h][s];
-      n[s] = c.stage(normals, faces[h][s], {c.difference(v[0], v[1]), c.difference(v[0], v[2])});
-    }
-    c.energy(density, h, {c.stage(HingeTanHalf(), h, {n[0], n[1], c.difference(0, 1)})});
-  }
-};
+/// The graph: a normal per face; per hinge (the edge (0, 1), the opposite vertices of face A (2) and B (3))
+/// tan(θ/2) from the two faces' normals and the edge, then the energy.
+using HingeGraph = StageGraph<4, Shared<HingeFaceNormal, 3, Difference, Difference>,
+                              Local<HingeTanHalf, From<0>, From<0>, Difference>, Local<HingeEnergyDensity, From<1>>>;
 // ----------------------------------------------------------------------------------------------------------
 
 /// Hinge bending with stiffness k on every interior edge of the mesh, rest angles from the mesh's positions.

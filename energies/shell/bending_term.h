@@ -1,9 +1,10 @@
 // Bending term Σ_f scale · area_f · W_b(κ_f), κ = B_origin − b, on the four-triangle stencil with Kelvin-inverted
 // mid-edge normals, differentiated in stages (see bending_term.cpp for the data flow). Two evaluators of the same
 // energy: the hand-chained passes of bending_term.cpp (the default, faster today, see BENCHMARKS.md) and, after
-// setStaged(), the stage framework (core/staged_term.h, bending_term_staged.cpp): face normals cached per face,
-// mid-edge normals cached per edge (a boundary edge's from its ghost-normal rule), second fundamental form,
-// density (energies/shell/shell_stages.h), chained by the framework: no derivative by hand. Both take
+// setStaged(), the stage framework (core/stage_graph.h, bending_term_staged.cpp): face normals once per face,
+// edge means and mid-edge normals once per edge (a boundary edge's from its ghost-normal rule), the second
+// fundamental form and the density per stencil (energies/shell/shell_stages.h), chained by the framework: no
+// derivative by hand. Both take
 // every edge rule (a moment-free edge's minimized density is the density stage's, differentiated like the rest).
 //
 // Inputs: the mesh, its topology and reference state (B, A⁻¹, areas), the moduli α, β; per boundary edge a rule
@@ -14,7 +15,8 @@
 #pragma once
 
 #include "core/mesh.h"
-#include "core/staged_term.h"
+#include "core/stage_graph.h"
+#include "core/stage_graph_evaluator.h"
 #include "energies/shell/shell_stages.h"
 #include "energies/shell/reference_state.h"
 #include "core/term.h"
@@ -26,6 +28,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -86,23 +89,25 @@ class BendingTerm : public EnergyTerm {
 
  private:
   // ---- the staged evaluator (bending_term_staged.cpp) ----
+  /// The bending energy as a stage graph (core/stage_graph.h): face normals per face, edge means and their
+  /// Kelvin inversions per edge, then per stencil the second fundamental form and the density.
+  using Graph = StageGraph<6,
+                           Shared<FaceNormalStage, 3, Difference, Difference>,  // n_f, per face
+                           Shared<EdgeMeanStage, 4, From<0>, From<0>>,           // m_e, per edge
+                           Shared<KelvinStage, 4, From<1>>,                      // n̄_e, per edge
+                           Local<SecondFormStage, Difference, Difference, From<2>, From<2>, From<2>>,  // b
+                           Local<BendingDensityStage, From<3>>>;                 // the stencil's energy
   double evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options);
-  /// b at every face of xOrigin from the staged chain (value only), into ref_.secondFundamentalForm.
+  /// b at every face of xOrigin from the graph (values only), into ref_.secondFundamentalForm.
   void stagedCurvatureOrigin(const Eigen::VectorXd& xOrigin);
-  /// Connects stencil f's stages up to the second fundamental form; returns its node.
-  int buildSecondForm(StageChain<6>& chain, int f);
-  /// The face normal node of face `face`, whose vertices are the stencil vertices local[0..2].
-  int stagedFaceNormal(StageChain<6>& chain, int face, const std::int8_t* local);
+  /// Builds the graph's tables (once, on the first staged use).
+  void buildGraph();
   /// Points the stages at this term's rules, reference and current parameters (before each evaluation).
   void bindStages();
-  void resizeStages();
   bool staged_ = false;
-  StageCache<FaceNormalStage> normals_;
-  StageCache<MeanNormalStage> meanNormals_;
-  StageCache<KelvinStage> midEdgeNormals_;
-  GhostMeanStage ghostMean_;
-  BendingDensityStage density_;
-  StagedElements<6> elements_;
+  std::vector<char> boundaryEdge_;  // per edge
+  std::unique_ptr<Graph> graph_;
+  std::unique_ptr<StageGraphEvaluator<Graph>> graphEvaluator_;
 
   // ---- the hand-chained evaluator (bending_term.cpp) ----
   // Stage results are split by order so that a pass touches only what it needs (the stencil pass is bound by

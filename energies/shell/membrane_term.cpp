@@ -18,22 +18,37 @@ MembraneTerm::MembraneTerm(const TriMesh& mesh, const ShellReference& ref, doubl
   table_.width = 3;
   table_.ids.assign(mesh.F.data(), mesh.F.data() + mesh.F.size());
   schedule_ = scheduleElements(table_, mesh.numVertices());
+  numVertices_ = mesh.numVertices();
 }
 
-int MembraneTerm::buildMetric(StageChain<3>& chain) {
-  return chain.stage(MetricStage(), 0, {chain.difference(0, 1), chain.difference(0, 2)});
+void MembraneTerm::setStaged(bool staged) {
+  staged_ = staged;
+  if (!staged || graph_) return;
+  graph_ = std::make_unique<Graph>(numVertices_);
+  graph_->setElements(table_);
+  for (int f = 0; f < table_.size(); ++f) {
+    const int* v = table_.element(f);
+    graph_->setInputs<0>(f, {difference(v[0], v[1]), difference(v[0], v[2])});
+    graph_->setInputs<1>(f, {node(f)});
+  }
+  graph_->finalize();
+  graphEvaluator_ = std::make_unique<StageGraphEvaluator<Graph>>(*graph_);
+}
+
+void MembraneTerm::bindStages() {
+  MembraneDensityStage& density = graph_->stage<1>();
+  density.ref = &ref_;
+  density.lambda = lambda_;
+  density.mu = mu_;
+  density.scale = energyScale();
 }
 
 double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
   if (staged_) {
-    density_.ref = &ref_;
-    density_.lambda = lambda_;
-    density_.mu = mu_;
-    density_.scale = energyScale();
+    bindStages();
     EvalOptions exact = options;  // the Gauss-Newton option is the bending term's; the membrane stays exact
     exact.bendingHessian = BendingHessian::Exact;
-    return elements_.evaluate(table_, schedule_, x, request, exact, elementEnergy_,
-                              [&](StageChain<3>& chain, int f) { chain.energy(density_, f, {buildMetric(chain)}); });
+    return graphEvaluator_->evaluate(x, request, exact, schedule_, elementEnergy_);
   }
   const bool ad = options.path == DerivativePath::AutoDiff;
   if (ad && request.hessian != nullptr) updateDensityHessians();
@@ -49,11 +64,10 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
 void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale) {
   if (staged_) {
     // The metric at the origin from the very stage evaluate() runs, so that ε vanishes there to the bit.
-    elements_.nodeValues(
-        table_, xOrigin, [&](StageChain<3>& chain, int) { return buildMetric(chain); },
-        [&](int f, const StageChain<3>& chain, int a) {
-          ref_.metric[f] = {chain.value(a, 0), chain.value(a, 1), chain.value(a, 2)};
-        });
+    bindStages();
+    graphEvaluator_->localValues<0>(xOrigin, [&](int f, const double* a) {
+      ref_.metric[static_cast<std::size_t>(f)] = {a[0], a[1], a[2]};
+    });
   } else {
     for (std::size_t f = 0; f < ref_.metric.size(); ++f) {
       const int* ids = table_.element(static_cast<int>(f));

@@ -1,16 +1,18 @@
 // Membrane term: Σ_f scale · area_f · W_m(ε_f), ε = ½(a − A_origin), traces with the reference A⁻¹.
 // Stages: x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the templated density,
 // differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
-// setStaged(): the same energy on the stage framework (core/staged_term.h): a = Metric(e0, e1) ->
-// MembraneDensity(a) (energies/shell/shell_stages.h), chained by the framework, no derivative by hand.
+// setStaged(): the same energy as a stage graph (core/stage_graph.h): a = Metric(e0, e1) -> MembraneDensity(a)
+// (energies/shell/shell_stages.h), chained by the framework, no derivative by hand.
 #pragma once
 
 #include "core/mesh.h"
-#include "core/staged_term.h"
+#include "core/stage_graph.h"
+#include "core/stage_graph_evaluator.h"
 #include "energies/shell/shell_stages.h"
 #include "energies/shell/reference_state.h"
 #include "core/term.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,15 +48,18 @@ class MembraneTerm : public EnergyTerm {
   void makeStiffnessDamping(double betaR);
 
   /// Evaluates on the stage framework instead of the hand-chained element (same energy, to rounding).
-  void setStaged(bool staged) { staged_ = staged; }
+  void setStaged(bool staged);
   bool staged() const { return staged_; }
 
  private:
-  /// Connects a face's stages up to the metric; returns its node.
-  static int buildMetric(StageChain<3>& chain);
+  /// The membrane energy as a stage graph: per face the metric, then the density.
+  using Graph = StageGraph<3, Local<MetricStage, Difference, Difference>, Local<MembraneDensityStage, From<0>>>;
+  /// Points the density stage at this term's reference and current parameters (before each evaluation).
+  void bindStages();
   bool staged_ = false;
-  MembraneDensityStage density_;
-  StagedElements<3> elements_;
+  int numVertices_ = 0;
+  std::unique_ptr<Graph> graph_;
+  std::unique_ptr<StageGraphEvaluator<Graph>> graphEvaluator_;
 
   /// One face; with a projection its block comes back projected (energies/shell/membrane_projection.h).
   double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,

@@ -1,20 +1,21 @@
 // The stages of the membrane and bending energies (core/stage.h): each a small templated function of the
 // geometry in energies/shell/shell_geometry.h, differentiated by the framework with Jets (or, on the analytic
 // path, by its twin from energies/shell/analytic_stages.h, checked against the Jets by the tests). How they
-// connect per stencil is in energies/shell/membrane_term.cpp and bending_term.cpp; the chain rule between them
-// is core/stage_chain.h's.
+// connect is the stage graph of each term (membrane_term.h, bending_term.h); the chain rule between them is the
+// framework's (core/stage_graph_evaluator.h).
 //
 //   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear
 //   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin
 //   FaceNormalStage       (e0, e1): the two above composed (core/stage.h) -> n                6 -> 3
-//   MeanNormalStage       (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B) 6 -> 3, linear
-//   GhostMeanStage        n of a boundary edge's face                   -> m = ½(n + n_ghost(n)), the edge's rule
+//   EdgeMeanStage         (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B)  6 -> 3, affine;
+//                         on a boundary edge (n, n)                     -> m = ½(n + n_ghost(n)), the edge's rule
 //   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin
 //   SecondFormStage       (e0, e1, n̄0, n̄1, n̄2) of a face                -> b                15 -> 3, bilinear
 //   BendingDensityStage   b                                             -> s·area·W_b(B − b) 3 -> 1, twin
 //   MetricStage           (e0, e1)                                      -> a = [e_a·e_b]    6 -> 3, bilinear
 //   MembraneDensityStage  a                                             -> s·area·W_m(½(a − A)) 3 -> 1, twin
-// The bilinear and linear stages declare kConstantHessian: their Hessians are computed once, not per element.
+// The bilinear stages declare kConstantHessian: their Hessians are computed once, not per element; the edge mean
+// declares kAffine: no Hessian is ever computed for it.
 #pragma once
 
 #include "core/stage.h"
@@ -60,23 +61,20 @@ struct UnitNormalStage {
 /// The face normal as one node of a chain (cached per face): derivatives chained from the two stages' own.
 using FaceNormalStage = ComposedStage<FaceCrossStage, UnitNormalStage>;
 
-struct MeanNormalStage {
+/// The mean normal of an edge, m = ½(n_A + n_B) from its faces' normals in the edge's face order; on a
+/// boundary edge m = ½(n + n_ghost(n)) under the edge's rule (energies/shell/edge_rules.h), the second input
+/// being the face's normal again (unused). Affine in the normals for every rule: no curvature.
+struct EdgeMeanStage {
   static constexpr int kInputs = 6, kOutputs = 3;
-  static constexpr bool kConstantHessian = true;
-  template <typename T>
-  void operator()(const T* z, T* m, int /*edge*/) const {
-    store3(constant<T>(0.5) * (load3(z) + load3(z + 3)), m);
-  }
-};
-
-/// Per boundary edge, the rule and its constants (energies/shell/edge_rules.h), indexed by edge.
-struct GhostMeanStage {
-  static constexpr int kInputs = 3, kOutputs = 3;
-  const std::vector<EdgeRule>* rules = nullptr;
+  static constexpr bool kAffine = true;
+  const std::vector<EdgeRule>* rules = nullptr;  // per edge; null: every edge interior
   const std::vector<EdgeRuleData>* data = nullptr;
+  const std::vector<char>* boundary = nullptr;   // per edge: 1 on a boundary edge
+  bool isBoundary(int edge) const { return boundary != nullptr && (*boundary)[static_cast<std::size_t>(edge)] != 0; }
   template <typename T>
   void operator()(const T* z, T* m, int edge) const {
     const V3<T> n = load3(z);
+    if (!isBoundary(edge)) return store3(constant<T>(0.5) * (n + load3(z + 3)), m);
     const auto e = static_cast<std::size_t>(edge);
     store3(constant<T>(0.5) * (n + ghostNormal((*rules)[e], n, (*data)[e])), m);
   }

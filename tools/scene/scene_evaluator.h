@@ -1,5 +1,5 @@
 // A scene's choice of evaluator for the membrane and bending energies (SCENES.md, "solver.evaluator"): the
-// hand-chained passes (the default, faster today) or the stage framework (core/staged_term.h), where no chain rule
+// hand-chained passes (the default, faster today) or the stage framework (core/stage_graph.h), where no chain rule
 // is written by hand. Both evaluate the same energies to round-off (tests/energies/shell/staged_vs_nested_test.cpp).
 //
 // Inputs: the validated scene and the system built from it. Output: every membrane and bending term of the

@@ -1,0 +1,762 @@
+// Evaluation of a StageGraph (core/stage_graph.h): value, gradient and Hessian of the element energies, every
+// derivative from the stages' own (Jets, or a stage's checked analytic twin) by the chain rule written here once.
+//
+// Input:  positions x (3N), the request (gradient and Hessian sinks), the options (derivative path, projection,
+//         Gauss–Newton), the term's element schedule (core/assembly.h).
+// Output: the energy; the gradient added into *request.gradient; element blocks into *request.hessian through
+//         the coloured element loop (core/element_loop.h), projected there when the options ask.
+// Which sweep runs for which request is described at the top of core/stage_graph.h. A gradient without a
+// Hessian comes from a reverse sweep over each element's nodes (adjoints through the local Jacobians, no total
+// Jacobians formed); with a Hessian, from the root's total Jacobian. An element's curvature goes in 3×3 blocks
+// of its slots: only the upper triangle's unless a projection needs the whole block.
+// Buffers per Shared layer (value, local Jacobian, total Jacobian, stage Hessians, adjoint) are sized on first
+// use and reused; an element's Local nodes live on its thread's stack.
+#pragma once
+
+#include "core/element_loop.h"
+#include "core/flatten.h"
+#include "core/parallel_errors.h"
+#include "core/stage_graph.h"
+#include "core/term.h"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <tuple>
+#include <vector>
+
+namespace jetshell {
+
+template <typename Graph>
+class StageGraphEvaluator {
+ public:
+  static constexpr int K = Graph::kVertices;
+  static constexpr int D = 3 * K;
+  static constexpr int kLayers = Graph::kLayers;
+  static constexpr int kRoot = Graph::kRoot;
+  template <int I>
+  using Shape = typename Graph::template Shape<I>;
+  using Gradient = Eigen::Matrix<double, D, 1>;
+  using Hessian = Eigen::Matrix<double, D, D>;
+
+  explicit StageGraphEvaluator(Graph& graph) : graph_(graph) {}
+
+  /// The energy at x; gradient and Hessian as requested (see the file comment).
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options,
+                  const ElementSchedule& schedule, std::vector<double>& elementEnergy) {
+    if (!graph_.finalized()) throw std::logic_error("stage graph: finalize() before evaluating");
+    const bool wantG = request.gradient != nullptr, wantH = request.hessian != nullptr;
+    Mode mode;
+    mode.path = options.path;
+    mode.order = wantH ? 2 : wantG ? 1 : 0;
+    mode.totals = wantH;
+    mode.exact = options.bendingHessian == BendingHessian::Exact;
+    mode.full = wantH && options.projection != PsdProjection::None;
+    mode.contracted = wantH && mode.exact && !mode.full;
+    mode.sharedHessians = wantH && mode.exact && mode.full;
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) forwardShared<I>(x, mode);
+    });
+    if (mode.contracted) {
+      sendLocalAdjoints(x, mode);
+      forEachLayerBackwards([&](auto layer) {
+        constexpr int I = decltype(layer)::value;
+        if constexpr (Shape<I>::kShared) gatherAdjoints<I>(x, mode);
+      });
+    }
+    return runElementLoop<K>(graph_.elements(), schedule, x, request, options.projection, elementEnergy,
+                             [&](int e, const int*, bool g_, bool h_, Gradient& g, Hessian& H) {
+                               return element(x, e, mode, g_, h_, g, H);
+                             });
+  }
+
+  /// The values of Local layer L at every element of x (no derivatives), serially: store(e, y) with y its M
+  /// outputs. From the very stages evaluate() runs, so an origin taken this way cancels to the bit there.
+  template <int L, typename Store>
+  void localValues(const Eigen::VectorXd& x, Store&& store) {
+    static_assert(!Shape<L>::kShared, "localValues reads a Local layer");
+    if (!graph_.finalized()) throw std::logic_error("stage graph: finalize() before evaluating");
+    Mode mode;
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) forwardShared<I>(x, mode);
+    });
+    for (int e = 0; e < graph_.numElements(); ++e) {
+      ElementState s;
+      forwardLocals<L>(x, e, mode, s);
+      store(e, std::get<L>(s.nodes).d.value.data());
+    }
+  }
+
+ private:
+  struct Mode {
+    DerivativePath path = DerivativePath::AutoDiff;
+    int order = 0;                // 0 values, 1 + Jacobians, 2 + Hessians
+    bool totals = false;          // total Jacobians (a Hessian's curvature terms read them)
+    bool exact = true;            // false: Gauss–Newton (the root's curvature only)
+    bool full = false;            // whole element blocks (a projection reads them), not the upper triangle
+    bool contracted = false;      // exact, Shared curvature added once per node (no projection)
+    bool sharedHessians = false;  // exact per-element Hessian: the Shared stages' Hessians are kept
+  };
+
+  // ---- per Shared layer: buffers ----
+  template <int I>
+  struct SharedBuffers {
+    using S = Shape<I>;
+    static constexpr int M = S::M, N = S::N, W = S::W;
+    std::vector<Eigen::Matrix<double, M, 1>> value;
+    std::vector<Eigen::Matrix<double, M, N>> jacobian;
+    std::vector<Eigen::Matrix<double, M, 3 * W>> total;
+    std::vector<std::array<Eigen::Matrix<double, N, N>, M>> hessian;
+    std::vector<Eigen::Matrix<double, M, 1>> adjoint;
+    std::vector<Eigen::Matrix<double, N, N>> curvature;  // contracted: Σ_k w̄_k ∇²y_k (stages with non-constant Hessians)
+  };
+  // ---- per Local layer: one node of one element ----
+  template <int I>
+  struct LocalNode {
+    using S = Shape<I>;
+    // User-provided: std::tuple value-initializes its elements, which would zero the whole node (kilobytes of
+    // stage Hessians) for every element.
+    LocalNode() {}
+    StageDerivatives<S::N, S::M> d;
+    Eigen::Matrix<double, S::M, D> total;
+    Eigen::Matrix<double, S::M, 1> adjoint;
+  };
+  struct Empty {};
+  template <int I>
+  using SharedSlot = std::conditional_t<Shape<I>::kShared, SharedBuffers<I>, Empty>;
+  template <int I>
+  using LocalSlot = std::conditional_t<Shape<I>::kShared, Empty, LocalNode<I>>;
+  template <int I>
+  using Sent = std::vector<double>;
+  template <typename Seq>
+  struct Tuples;
+  template <int... Is>
+  struct Tuples<std::integer_sequence<int, Is...>> {
+    using Shared = std::tuple<SharedSlot<Is>...>;
+    using Local = std::tuple<LocalSlot<Is>...>;
+    using Sent = std::tuple<StageGraphEvaluator::Sent<Is>...>;
+  };
+  using Seq = std::make_integer_sequence<int, kLayers>;
+  using Slots = std::array<std::int8_t, K>;
+
+  /// The state of one element: its Local nodes, and (per-element reverse sweeps) the adjoints of the Shared
+  /// nodes it reads, in the order of its lists.
+  struct ElementState {
+    typename Tuples<Seq>::Local nodes;
+    std::array<std::array<double, Graph::kMaxElementNodes * kMaxStageOutputs>, kLayers> sharedAdjoint;
+  };
+
+  template <typename F, int... Is>
+  static void forEachImpl(F&& f, std::integer_sequence<int, Is...>) {
+    (f(std::integral_constant<int, Is>()), ...);
+  }
+  template <typename F, int... Is>
+  static void forEachBackImpl(F&& f, std::integer_sequence<int, Is...>) {
+    (f(std::integral_constant<int, kLayers - 1 - Is>()), ...);
+  }
+  template <typename F>
+  static void forEachLayer(F&& f) { forEachImpl(f, Seq()); }
+  template <typename F>
+  static void forEachLayerBackwards(F&& f) { forEachBackImpl(f, Seq()); }
+  template <int I, typename F>
+  static void forEachGroup(F&& f) {
+    forEachImpl(f, std::make_integer_sequence<int, Shape<I>::G>());
+  }
+
+  template <int I>
+  SharedBuffers<I>& buffers() { return std::get<I>(shared_); }
+  template <int I>
+  const InputRef* inputs(int entity) const {
+    return graph_.tables(I).inputs.data() + static_cast<std::size_t>(entity) * Shape<I>::G;
+  }
+  template <int I>
+  const std::int8_t* slots(int entity) const {
+    return graph_.tables(I).slots.data() + static_cast<std::size_t>(entity) * Shape<I>::kSlots;
+  }
+
+  /// The stage input z of node `entity` of layer I: leaves from x, From groups from their nodes' values (a
+  /// Local input from the element's state).
+  template <int I>
+  void gather(const Eigen::VectorXd& x, int entity, const ElementState* s, double* z) {
+    const InputRef* in = inputs<I>(entity);
+    forEachGroup<I>([&](auto group) {
+      constexpr int g = decltype(group)::value;
+      constexpr int l = Shape<I>::Groups::layer[g], off = Shape<I>::offset(g);
+      const InputRef& r = in[g];
+      if constexpr (l < 0) {
+        for (int c = 0; c < 3; ++c)
+          z[off + c] = Shape<I>::Groups::isDifference[g] ? x[3 * r.b + c] - x[3 * r.a + c] : x[3 * r.a + c];
+      } else if constexpr (Shape<I>::Groups::fromShared[g]) {
+        const auto& v = buffers<l>().value[static_cast<std::size_t>(r.a)];
+        for (int c = 0; c < Shape<l>::M; ++c) z[off + c] = v[c];
+      } else {
+        const auto& v = std::get<l>(s->nodes).d.value;
+        for (int c = 0; c < Shape<l>::M; ++c) z[off + c] = v[c];
+      }
+    });
+  }
+
+  /// The stage's derivatives at z up to `order` (a stage with constant Hessians: up to order 1; its Hessians
+  /// are read from constantStageHessians()).
+  template <int I>
+  static void derivatives(const typename Shape<I>::Stage& stage, const double* z, int entity, int order,
+                          DerivativePath path, StageDerivatives<Shape<I>::N, Shape<I>::M>& d) {
+    using Stage = typename Shape<I>::Stage;
+    evaluateStage(stage, z, entity, HasConstantHessian<Stage>::value ? std::min(order, 1) : order, path, d);
+  }
+
+  /// T = Σ_g J_g Z_g over the node's W slots (Shared) or the element's K (Local): a leaf's Z is ±I at its
+  /// slots; a From group's is its node's T, the node's support slots mapped by `slot`.
+  template <int I, typename Jac, typename Total>
+  void addTotals(const Jac& J, const InputRef* in, const std::int8_t* slot, const ElementState* s, Total& T) {
+    T.setZero();
+    forEachGroup<I>([&](auto group) {
+      constexpr int g = decltype(group)::value;
+      constexpr int l = Shape<I>::Groups::layer[g], off = Shape<I>::offset(g);
+      const std::int8_t* gs = slot + Shape<I>::slotOffset(g);
+      if constexpr (l < 0) {
+        const auto Jg = J.template middleCols<3>(off);
+        if constexpr (Shape<I>::Groups::isDifference[g]) {
+          if (gs[1] >= 0) T.template middleCols<3>(3 * gs[1]) += Jg;
+          if (gs[0] >= 0) T.template middleCols<3>(3 * gs[0]) -= Jg;
+        } else {
+          if (gs[0] >= 0) T.template middleCols<3>(3 * gs[0]) += Jg;
+        }
+      } else if constexpr (Shape<I>::Groups::fromShared[g]) {
+        constexpr int Ml = Shape<l>::M, Wl = Shape<l>::W;
+        const auto& Tl = buffers<l>().total[static_cast<std::size_t>(in[g].a)];
+        const Eigen::Matrix<double, Shape<I>::M, 3 * Wl> JT = J.template middleCols<Ml>(off).lazyProduct(Tl);
+        for (int t = 0; t < Wl; ++t)
+          if (gs[t] >= 0) T.template middleCols<3>(3 * gs[t]) += JT.template middleCols<3>(3 * t);
+      } else {
+        constexpr int Ml = Shape<l>::M;
+        T.noalias() += J.template middleCols<Ml>(off).lazyProduct(std::get<l>(s->nodes).total);
+      }
+    });
+  }
+
+  // ---- forward over a Shared layer ----
+  template <int I>
+  void forwardShared(const Eigen::VectorXd& x, const Mode& mode) {
+    using S = Shape<I>;
+    SharedBuffers<I>& b = buffers<I>();
+    const int count = graph_.tables(I).count;
+    const auto n = static_cast<std::size_t>(count);
+    b.value.resize(n);
+    if (mode.order >= 1) b.jacobian.resize(n);
+    if (mode.totals) b.total.resize(n);
+    const bool hessians = mode.sharedHessians && !HasConstantHessian<typename S::Stage>::value &&
+                          !IsAffineStage<typename S::Stage>::value;
+    if (hessians) b.hessian.resize(n);
+    const auto& stage = std::get<I>(graph_.stages());
+    ParallelErrors errors;
+#pragma omp parallel for schedule(static) if (count >= kParallelMinElements)
+    for (int i = 0; i < count; ++i) {
+      errors.run([&] {
+        double z[S::N];
+        gather<I>(x, i, nullptr, z);
+        StageDerivatives<S::N, S::M> d;
+        derivatives<I>(stage, z, i, hessians ? 2 : std::min(mode.order, 1), mode.path, d);
+        const auto k = static_cast<std::size_t>(i);
+        b.value[k] = d.value;
+        if (mode.order < 1) return;
+        b.jacobian[k] = d.jacobian;
+        if (mode.totals) addTotals<I>(d.jacobian, inputs<I>(i), slots<I>(i), nullptr, b.total[k]);
+        if (hessians) b.hessian[k] = d.hessians;
+      });
+    }
+    errors.rethrow();
+  }
+
+  // ---- the element's Local layers, forward up to layer L ----
+  template <int L>
+  void forwardLocals(const Eigen::VectorXd& x, int e, const Mode& mode, ElementState& s) {
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (!Shape<I>::kShared && I <= L) {
+        using S = Shape<I>;
+        LocalNode<I>& node = std::get<I>(s.nodes);
+        double z[S::N];
+        gather<I>(x, e, &s, z);
+        // Intermediate stages need Hessians only for an exact Hessian; the root always (its curvature is the
+        // Gauss–Newton part).
+        const int order = mode.order == 2 && (mode.exact || I == kRoot) ? 2 : std::min(mode.order, 1);
+        derivatives<I>(std::get<I>(graph_.stages()), z, e, order, mode.path, node.d);
+        if (mode.totals) addTotals<I>(node.d.jacobian, inputs<I>(e), slots<I>(e), &s, node.total);
+      }
+    });
+  }
+
+  /// Adds M (3×3, the block of element slots (r, c)) to H: every block when Full, else only the upper
+  /// triangle's, M going to (c, r) transposed when r > c. `mirror`: the block stands for its transpose at
+  /// (c, r) too (added as Mᵀ there).
+  template <bool Full>
+  static void addBlock(int r, int c, const Eigen::Matrix3d& M, bool mirror, Hessian& H) {
+    if constexpr (Full) {
+      H.template block<3, 3>(3 * r, 3 * c) += M;
+      if (mirror) H.template block<3, 3>(3 * c, 3 * r) += M.transpose();
+    } else {
+      if (r < c) {
+        H.template block<3, 3>(3 * r, 3 * c) += M;
+      } else if (r > c) {
+        if (mirror) H.template block<3, 3>(3 * c, 3 * r) += M.transpose();
+      } else {
+        H.template block<3, 3>(3 * r, 3 * r) += M;
+        if (mirror) H.template block<3, 3>(3 * r, 3 * r) += M.transpose();
+      }
+    }
+  }
+
+  /// Which blocks C_ab of a node's contracted Hessian can be nonzero: those of its constant Hessians for a
+  /// stage declaring them (a bilinear stage couples only some of its input groups), all otherwise.
+  template <int I>
+  static const std::array<bool, Shape<I>::G * Shape<I>::G>& blockMask() {
+    using S = Shape<I>;
+    static const std::array<bool, S::G * S::G> mask = [] {
+      std::array<bool, S::G * S::G> m{};
+      if constexpr (HasConstantHessian<typename S::Stage>::value) {
+        const auto& c = constantStageHessians<typename S::Stage>();
+        for (int e = 0; e < c.numEntries; ++e) {
+          const auto& t = c.entries[static_cast<std::size_t>(e)];
+          int a = 0, b = 0;
+          while (S::offset(a + 1) <= t.i) ++a;
+          while (S::offset(b + 1) <= t.j) ++b;
+          m[static_cast<std::size_t>(a * S::G + b)] = true;
+        }
+      } else {
+        m.fill(true);
+      }
+      return m;
+    }();
+    return mask;
+  }
+
+  /// H += the node's curvature Zᵀ C Z (C = Σ_k w_k ∇²y_k, N×N) in element coordinates, block by block: per
+  /// pair of input groups a ≤ b with C_ab possibly nonzero, Y = C_ab Z_b over b's support slots, then per pair
+  /// of support slots the 3×3 block Z_a(·, slot)ᵀ Y(·, slot') at their element slots. `slot[g]` maps group g's
+  /// support slots to the element's (−1: none); `total(group)` gives a From group's T.
+  template <int I, bool Full, typename Totals>
+  static void addCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
+                           const std::array<Slots, Shape<I>::G>& slot, Totals&& total, Hessian& H) {
+    using S = Shape<I>;
+    const auto& mask = blockMask<I>();
+    forEachGroup<I>([&](auto groupA) {
+      constexpr int a = decltype(groupA)::value;
+      constexpr int na = S::Groups::size[a], oa = S::offset(a), la = S::Groups::layer[a], wa = S::Groups::support[a];
+      forEachGroup<I>([&](auto groupB) {
+        constexpr int b = decltype(groupB)::value;
+        if constexpr (b >= a) {
+          if (!mask[static_cast<std::size_t>(a * S::G + b)]) return;
+          constexpr int nb = S::Groups::size[b], ob = S::offset(b), lb = S::Groups::layer[b];
+          constexpr int wb = S::Groups::support[b];
+          const auto Cab = C.template block<na, nb>(oa, ob);
+          // Y = C_ab Z_b over b's support slots (a leaf's Z is ±I: its columns are ±C_ab).
+          Eigen::Matrix<double, na, 3 * wb> Y;
+          if constexpr (lb < 0) {
+            if constexpr (S::Groups::isDifference[b]) {
+              Y.template middleCols<3>(0) = -Cab;  // x_j − x_i: −I at i (slot 0), +I at j (slot 1)
+              Y.template middleCols<3>(3) = Cab;
+            } else {
+              Y = Cab;
+            }
+          } else {
+            Y.noalias() = Cab.lazyProduct(total(groupB));
+          }
+          constexpr bool same = a == b;
+          for (int sa = 0; sa < wa; ++sa) {
+            const int r = slot[a][static_cast<std::size_t>(sa)];
+            if (r < 0) continue;
+            for (int sb = same ? sa : 0; sb < wb; ++sb) {
+              const int c = slot[b][static_cast<std::size_t>(sb)];
+              if (c < 0) continue;
+              Eigen::Matrix3d M;
+              if constexpr (la < 0) {
+                const double sign = S::Groups::isDifference[a] && sa == 0 ? -1.0 : 1.0;
+                M = sign * Y.template block<3, 3>(0, 3 * sb);
+              } else {
+                M.noalias() = total(groupA).template middleCols<3>(3 * sa).transpose().lazyProduct(Y.template middleCols<3>(3 * sb));
+              }
+              // Within one group the pair (sa, sb), sb > sa, stands for (sb, sa) too: Z_aᵀ C_aa Z_a is symmetric.
+              addBlock<Full>(r, c, M, !same || sb != sa, H);
+            }
+          }
+        }
+      });
+    });
+  }
+
+  /// A constant-Hessian stage's entries in the blocks C_ab with a ≤ b, and those blocks.
+  template <int I>
+  struct UpperEntries {
+    std::vector<typename ConstantStageHessians<typename Shape<I>::Stage>::Entry> entries;
+    std::vector<std::pair<int, int>> blocks;
+  };
+  template <int I>
+  static const UpperEntries<I>& upperEntries() {
+    using S = Shape<I>;
+    static const UpperEntries<I> u = [] {
+      UpperEntries<I> r;
+      const auto& c = constantStageHessians<typename S::Stage>();
+      const auto groupOf = [](int i) {
+        int a = 0;
+        while (S::offset(a + 1) <= i) ++a;
+        return a;
+      };
+      for (int e = 0; e < c.numEntries; ++e) {
+        const auto& t = c.entries[static_cast<std::size_t>(e)];
+        const int a = groupOf(t.i), b = groupOf(t.j);
+        if (a > b) continue;
+        r.entries.push_back(t);
+        if (std::find(r.blocks.begin(), r.blocks.end(), std::make_pair(a, b)) == r.blocks.end()) r.blocks.emplace_back(a, b);
+      }
+      return r;
+    }();
+    return u;
+  }
+
+  /// C = Σ_k w_k ∇²y_k from the node's Hessians (a stage with constant Hessians: from their nonzero entries);
+  /// false when there is no curvature (an affine stage, a zero adjoint).
+  template <int I>
+  static bool contract(const double* w, const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
+                       Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C) {
+    using Stage = typename Shape<I>::Stage;
+    bool any = false;
+    for (int k = 0; k < Shape<I>::M; ++k) any = any || w[k] != 0.0;
+    if (!any) return false;
+    if constexpr (IsAffineStage<Stage>::value) {
+      return false;
+    } else if constexpr (HasConstantHessian<Stage>::value) {
+      // Only the blocks addCurvature reads (a ≤ b, possibly nonzero) are formed.
+      const UpperEntries<I>& u = upperEntries<I>();
+      if (u.entries.empty()) return false;
+      for (const auto& [a, b] : u.blocks) C.block(Shape<I>::offset(a), Shape<I>::offset(b), Shape<I>::Groups::size[static_cast<std::size_t>(a)], Shape<I>::Groups::size[static_cast<std::size_t>(b)]).setZero();
+      for (const auto& t : u.entries) C(t.i, t.j) += w[t.k] * t.h;
+      return true;
+    } else {
+      if (h == nullptr) return false;
+      C.noalias() = w[0] * (*h)[0];
+      for (int k = 1; k < Shape<I>::M; ++k)
+        if (w[k] != 0.0) C.noalias() += w[k] * (*h)[static_cast<std::size_t>(k)];
+      return true;
+    }
+  }
+
+  /// The element slots of every group of Local node I of element e.
+  template <int I>
+  std::array<Slots, Shape<I>::G> localSlots(int e) const {
+    std::array<Slots, Shape<I>::G> out{};
+    const std::int8_t* sl = slots<I>(e);
+    for (int g = 0; g < Shape<I>::G; ++g) {
+      const int w = Shape<I>::Groups::support[static_cast<std::size_t>(g)];
+      for (int t = 0; t < w; ++t) out[static_cast<std::size_t>(g)][static_cast<std::size_t>(t)] = sl[Shape<I>::slotOffset(g) + t];
+    }
+    return out;
+  }
+  /// The element slots of every group of Shared node `entity` of layer I, given the node's own slots in the
+  /// element (`nodeSlot`, W entries).
+  template <int I>
+  std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot) const {
+    std::array<Slots, Shape<I>::G> out{};
+    const std::int8_t* sl = slots<I>(entity);
+    for (int g = 0; g < Shape<I>::G; ++g) {
+      const int w = Shape<I>::Groups::support[static_cast<std::size_t>(g)];
+      for (int t = 0; t < w; ++t) {
+        const int s = sl[Shape<I>::slotOffset(g) + t];
+        out[static_cast<std::size_t>(g)][static_cast<std::size_t>(t)] = s >= 0 ? nodeSlot[s] : std::int8_t{-1};
+      }
+    }
+    return out;
+  }
+
+  /// The index of Shared node `entity` of layer L in element e's list of that layer.
+  template <int L>
+  int listIndex(int e, int entity) const {
+    const auto& t = graph_.tables(L);
+    const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
+    for (int i = begin; i < end; ++i)
+      if (t.elementNode[static_cast<std::size_t>(i)] == entity) return i - begin;
+    throw std::logic_error("stage graph: a node missing from its element's list");
+  }
+
+  /// Sends a node's input adjoint zbar = Jᵀw (N) to its groups: leaves into the element gradient g at their
+  /// element slots (when g is given), Local inputs into their nodes, Shared inputs into the element's copies
+  /// (when toShared; `index(g)` gives the input's place in the element's list).
+  template <int I, typename Index>
+  void sendAdjoint(const Eigen::Matrix<double, Shape<I>::N, 1>& zbar, const std::array<Slots, Shape<I>::G>& slot,
+                   Index&& index, bool toShared, ElementState& s, Gradient* g) {
+    using S = Shape<I>;
+    forEachGroup<I>([&](auto group) {
+      constexpr int gi = decltype(group)::value;
+      constexpr int l = S::Groups::layer[gi], off = S::offset(gi);
+      if constexpr (l < 0) {
+        if (g == nullptr) return;
+        const auto v = zbar.template segment<3>(off);
+        if constexpr (S::Groups::isDifference[gi]) {
+          if (slot[gi][1] >= 0) g->template segment<3>(3 * slot[gi][1]) += v;
+          if (slot[gi][0] >= 0) g->template segment<3>(3 * slot[gi][0]) -= v;
+        } else {
+          if (slot[gi][0] >= 0) g->template segment<3>(3 * slot[gi][0]) += v;
+        }
+      } else if constexpr (!S::Groups::fromShared[gi]) {
+        std::get<l>(s.nodes).adjoint += zbar.template segment<Shape<l>::M>(off);
+      } else {
+        if (!toShared) return;
+        constexpr int Ml = Shape<l>::M;
+        Eigen::Map<Eigen::Matrix<double, Ml, 1>>(s.sharedAdjoint[l].data() + Ml * index(group)) +=
+            zbar.template segment<Ml>(off);
+      }
+    });
+  }
+
+  /// The curvature of Shared node `entity` of layer I into H, its support at the element slots `nodeSlot`:
+  /// C = Σ_k w_k ∇²y_k given (contracted: from the adjoint sweep), or formed from the adjoint w and the stage
+  /// Hessians h (per element: those kept by the forward sweep; null for a stage with constant ones).
+  template <int I>
+  void addSharedCurvature(int entity, const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>* given, const double* w,
+                          const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
+                          const std::int8_t* nodeSlot, const Mode& mode, Hessian& H) {
+    using S = Shape<I>;
+    if constexpr (IsAffineStage<typename S::Stage>::value) {
+      return;
+    } else {
+      Eigen::Matrix<double, S::N, S::N> C;
+      if (given == nullptr) {
+        if (!contract<I>(w, h, C)) return;
+        given = &C;
+      }
+      const InputRef* in = inputs<I>(entity);
+      const auto total = [&](auto group) -> const auto& {
+        constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
+        return buffers<l>().total[static_cast<std::size_t>(in[decltype(group)::value].a)];
+      };
+      if (mode.full) {
+        addCurvature<I, true>(*given, sharedSlots<I>(entity, nodeSlot), total, H);
+      } else {
+        addCurvature<I, false>(*given, sharedSlots<I>(entity, nodeSlot), total, H);
+      }
+    }
+  }
+
+  /// The element's reverse sweep: from the root's adjoint 1 through its Local nodes, then (when `shared`) through
+  /// the Shared nodes it reads, last layer first. Each node's curvature goes into H (when given; the
+  /// Gauss–Newton model stops after the root), leaves' adjoints into g (when given).
+  JETSHELL_FLATTEN void reverse(int e, const Mode& mode, bool shared, ElementState& s, Gradient* g, Hessian* H) {
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (!Shape<I>::kShared) std::get<I>(s.nodes).adjoint.setZero();
+    });
+    if (shared)
+      forEachLayer([&](auto layer) {
+        constexpr int I = decltype(layer)::value;
+        if constexpr (Shape<I>::kShared) {
+          const auto& t = graph_.tables(I);
+          const int n = t.elementStart[static_cast<std::size_t>(e) + 1] - t.elementStart[static_cast<std::size_t>(e)];
+          std::fill_n(s.sharedAdjoint[I].data(), n * Shape<I>::M, 0.0);
+        }
+      });
+    std::get<kRoot>(s.nodes).adjoint[0] = 1.0;
+    const bool curvature = H != nullptr;
+    forEachLayerBackwards([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      using S = Shape<I>;
+      if constexpr (!S::kShared) {
+        if (curvature && !mode.exact && I != kRoot && g == nullptr) return;
+        LocalNode<I>& node = std::get<I>(s.nodes);
+        const std::array<Slots, S::G> slot = localSlots<I>(e);
+        const InputRef* in = inputs<I>(e);
+        if (curvature && (mode.exact || I == kRoot)) {
+          Eigen::Matrix<double, S::N, S::N> C;
+          const auto total = [&](auto group) -> const auto& {
+            constexpr int gi = decltype(group)::value;
+            constexpr int l = std::max(S::Groups::layer[gi], 0);
+            if constexpr (S::Groups::fromShared[gi]) {
+              return buffers<l>().total[static_cast<std::size_t>(in[gi].a)];
+            } else {
+              return std::get<l>(s.nodes).total;
+            }
+          };
+          if (contract<I>(node.adjoint.data(), &node.d.hessians, C)) {
+            if (mode.full) {
+              addCurvature<I, true>(C, slot, total, *H);
+            } else {
+              addCurvature<I, false>(C, slot, total, *H);
+            }
+          }
+        }
+        if (I == kRoot && curvature && !mode.exact) return;
+        const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
+        sendAdjoint<I>(zbar, slot,
+                       [&](auto group) {
+                         constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
+                         return listIndex<l>(e, in[decltype(group)::value].a);
+                       },
+                       shared, s, g);
+      }
+    });
+    if (!shared) return;
+    forEachLayerBackwards([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      using S = Shape<I>;
+      if constexpr (S::kShared) {
+        const auto& t = graph_.tables(I);
+        const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
+        for (int listed = begin; listed < end; ++listed) {
+          const int entity = t.elementNode[static_cast<std::size_t>(listed)];
+          const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * S::W;
+          const double* w = s.sharedAdjoint[I].data() + S::M * (listed - begin);
+          if (curvature) {
+            constexpr bool stored = !HasConstantHessian<typename S::Stage>::value && !IsAffineStage<typename S::Stage>::value;
+            addSharedCurvature<I>(entity, nullptr, w, stored ? &buffers<I>().hessian[static_cast<std::size_t>(entity)] : nullptr,
+                                  nodeSlot, mode, *H);
+          }
+          const auto& J = buffers<I>().jacobian[static_cast<std::size_t>(entity)];
+          const Eigen::Matrix<double, S::N, 1> zbar = J.transpose() * Eigen::Map<const Eigen::Matrix<double, S::M, 1>>(w);
+          const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
+          sendAdjoint<I>(zbar, sharedSlots<I>(entity, nodeSlot),
+                         [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); }, true, s, g);
+        }
+      }
+    });
+  }
+
+  // ---- one element ----
+  JETSHELL_FLATTEN double element(const Eigen::VectorXd& x, int e, const Mode& mode, bool wantG, bool wantH,
+                                   Gradient& gradient, Hessian& hessian) {
+    ElementState s;
+    forwardLocals<kRoot>(x, e, mode, s);
+    LocalNode<kRoot>& root = std::get<kRoot>(s.nodes);
+    if (!wantH) {
+      if (wantG) {
+        gradient.setZero();
+        reverse(e, mode, true, s, &gradient, nullptr);
+      }
+      return root.d.value[0];
+    }
+    if (wantG) gradient = root.total.transpose();
+    hessian.setZero();
+    // Per-element exact Hessian: the element's own reverse sweep through every node it reads. Contracted or
+    // Gauss–Newton: its Local nodes only, then (contracted) the Shared nodes it owns, with their total adjoints.
+    reverse(e, mode, mode.sharedHessians, s, nullptr, &hessian);
+    if (mode.contracted) {
+      forEachLayer([&](auto layer) {
+        constexpr int I = decltype(layer)::value;
+        if constexpr (Shape<I>::kShared) {
+          const auto& t = graph_.tables(I);
+          const int begin = t.elementStart[static_cast<std::size_t>(e)];
+          for (int o = t.ownedStart[static_cast<std::size_t>(e)]; o < t.ownedStart[static_cast<std::size_t>(e) + 1]; ++o) {
+            const int listed = begin + t.ownedIndex[static_cast<std::size_t>(o)];
+            const int entity = t.elementNode[static_cast<std::size_t>(listed)];
+            const auto k = static_cast<std::size_t>(entity);
+            constexpr bool stored = !HasConstantHessian<typename Shape<I>::Stage>::value;
+            addSharedCurvature<I>(entity, stored ? &buffers<I>().curvature[k] : nullptr, buffers<I>().adjoint[k].data(),
+                                  nullptr, t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W, mode,
+                                  hessian);
+          }
+        }
+      });
+    }
+    return root.d.value[0];
+  }
+
+  // ---- contracted mode: the adjoints of the Shared nodes ----
+  /// Per element: the Local nodes' adjoints (values and Jacobians only), and for each Local layer, Jᵀw over its
+  /// N inputs, kept per element for gatherAdjoints.
+  void sendLocalAdjoints(const Eigen::VectorXd& x, const Mode& mode) {
+    const int ne = graph_.numElements();
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (!Shape<I>::kShared) std::get<I>(sent_).resize(static_cast<std::size_t>(ne) * Shape<I>::N);
+    });
+    Mode first = mode;
+    first.order = 1;
+    first.totals = false;
+    ParallelErrors errors;
+#pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
+    for (int e = 0; e < ne; ++e) {
+      errors.run([&] {
+        ElementState s;
+        forwardLocals<kRoot>(x, e, first, s);
+        forEachLayer([&](auto layer) {
+          constexpr int I = decltype(layer)::value;
+          if constexpr (!Shape<I>::kShared) std::get<I>(s.nodes).adjoint.setZero();
+        });
+        std::get<kRoot>(s.nodes).adjoint[0] = 1.0;
+        forEachLayerBackwards([&](auto layer) {
+          constexpr int I = decltype(layer)::value;
+          using S = Shape<I>;
+          if constexpr (!S::kShared) {
+            LocalNode<I>& node = std::get<I>(s.nodes);
+            const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
+            Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
+            forEachGroup<I>([&](auto group) {
+              constexpr int gi = decltype(group)::value;
+              constexpr int l = S::Groups::layer[gi];
+              if constexpr (l >= 0 && !S::Groups::fromShared[gi])
+                std::get<l>(s.nodes).adjoint += zbar.template segment<Shape<l>::M>(S::offset(gi));
+            });
+          }
+        });
+      });
+    }
+    errors.rethrow();
+  }
+
+  /// Each node of Shared layer I: its adjoint, summed over its readers (later Shared layers, whose adjoints
+  /// are complete, and the elements' Local nodes).
+  template <int I>
+  void gatherAdjoints(const Eigen::VectorXd& x, const Mode& mode) {
+    using S = Shape<I>;
+    using Stage = typename S::Stage;
+    constexpr bool curved = !HasConstantHessian<Stage>::value && !IsAffineStage<Stage>::value;
+    SharedBuffers<I>& b = buffers<I>();
+    const auto& t = graph_.tables(I);
+    b.adjoint.resize(static_cast<std::size_t>(t.count));
+    if (curved) b.curvature.resize(static_cast<std::size_t>(t.count));
+    ParallelErrors errors;
+#pragma omp parallel for schedule(static) if (t.count >= kParallelMinElements)
+    for (int n = 0; n < t.count; ++n) {
+      Eigen::Matrix<double, S::M, 1> w = Eigen::Matrix<double, S::M, 1>::Zero();
+      for (int r = t.readerStart[static_cast<std::size_t>(n)]; r < t.readerStart[static_cast<std::size_t>(n) + 1]; ++r) {
+        const auto& reader = t.readers[static_cast<std::size_t>(r)];
+        forEachLayer([&](auto layer) {
+          constexpr int J = decltype(layer)::value;
+          if constexpr (J > I) {
+            if (reader[0] != J) return;
+            const int off = Shape<J>::offset(reader[2]);
+            const auto k = static_cast<std::size_t>(reader[1]);
+            if constexpr (Shape<J>::kShared) {
+              const auto& bj = buffers<J>();
+              w.noalias() += bj.jacobian[k].transpose().template middleRows<S::M>(off) * bj.adjoint[k];
+            } else {
+              const double* sent = std::get<J>(sent_).data() + k * Shape<J>::N + off;
+              for (int c = 0; c < S::M; ++c) w[c] += sent[c];
+            }
+          }
+        });
+      }
+      b.adjoint[static_cast<std::size_t>(n)] = w;
+      // The node's curvature with its total adjoint, once: its stage Hessians from the Jets (or the twin) here.
+      if constexpr (curved) {
+        errors.run([&] {
+          double z[S::N];
+          gather<I>(x, n, nullptr, z);
+          StageDerivatives<S::N, S::M> d;
+          derivatives<I>(std::get<I>(graph_.stages()), z, n, 2, mode.path, d);
+          if (!contract<I>(w.data(), &d.hessians, b.curvature[static_cast<std::size_t>(n)]))
+            b.curvature[static_cast<std::size_t>(n)].setZero();
+        });
+      }
+    }
+    errors.rethrow();
+  }
+
+  Graph& graph_;
+  typename Tuples<Seq>::Shared shared_;
+  typename Tuples<Seq>::Sent sent_;  // per Local layer: per element, Jᵀw over its N inputs (contracted mode)
+};
+
+}  // namespace jetshell

@@ -1,0 +1,265 @@
+#include "tests/test_util.h"
+#include "core/mesh_generators.h"
+#include "core/stage_graph.h"
+#include "core/stage_graph_term.h"
+#include "core/topology.h"
+#include "energies/element_energy_term.h"
+
+#include <catch2/catch.hpp>
+#include <omp.h>
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+using namespace jetshell;
+using jetshell::test::denseHessian;
+
+namespace {
+
+// A graph with every kind of input and layer, and the same energy written independently as one element:
+//   per face:           n = (e0 × e1)/‖e0 × e1‖                              Shared, Difference inputs
+//   per interior edge:  m = (n_A + n_B)/‖n_A + n_B‖² + 0.1 n_A × n_B         Shared, From a Shared layer
+//   per element (edge): y = (m·e + ‖v‖², (m·v)(1 + m·m))                   Local, From Shared + leaves
+//   energy:             E = y0² + sin(y1) + y0 y1                          Local, From a Local layer
+// e = x_b − x_a (a Difference), v = x_c (a Vertex): the element is the edge's (a, b, c, d).
+struct FaceNormal {
+  static constexpr int kInputs = 6, kOutputs = 3;
+  template <typename T>
+  void operator()(const T* z, T* n, int) const {
+    vec3(n) = vec3(z).cross(vec3(z + 3)).normalized();
+  }
+};
+struct EdgeMix {
+  static constexpr int kInputs = 6, kOutputs = 3;
+  template <typename T>
+  void operator()(const T* z, T* m, int) const {
+    const auto a = vec3(z), b = vec3(z + 3);
+    vec3(m) = (a + b) / (a + b).squaredNorm() + 0.1 * a.cross(b);
+  }
+};
+struct Mix {
+  static constexpr int kInputs = 9, kOutputs = 2;
+  template <typename T>
+  void operator()(const T* z, T* y, int) const {
+    const auto m = vec3(z), e = vec3(z + 3), v = vec3(z + 6);
+    y[0] = m.dot(e) + v.squaredNorm();
+    y[1] = m.dot(v) * (1.0 + m.dot(m));
+  }
+};
+struct Energy {
+  static constexpr int kInputs = 2, kOutputs = 1;
+  template <typename T>
+  void operator()(const T* y, T* e, int) const {
+    e[0] = y[0] * y[0] + sin(y[1]) + y[0] * y[1];
+  }
+};
+using TestGraph = StageGraph<4, Shared<FaceNormal, 3, Difference, Difference>, Shared<EdgeMix, 4, From<0>, From<0>>,
+                             Local<Mix, From<1>, Difference, Vertex>, Local<Energy, From<2>>>;
+
+/// Per element: the stencil slots of its two faces' vertices (in each face's order).
+struct Layout {
+  StencilTable elements{4, {}};
+  std::vector<int> edge;
+  std::vector<std::array<int, 2>> faces;
+  std::vector<std::array<std::array<int, 3>, 2>> corner;
+};
+
+Layout layout(const TriMesh& mesh, const Topology& topo) {
+  Layout l;
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    const int fa = topo.edgeFaces(e, 0), fb = topo.edgeFaces(e, 1);
+    if (fb < 0) continue;
+    const int a = topo.edges(e, 0), b = topo.edges(e, 1);
+    int c = -1, d = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (mesh.F(fa, k) != a && mesh.F(fa, k) != b) c = mesh.F(fa, k);
+      if (mesh.F(fb, k) != a && mesh.F(fb, k) != b) d = mesh.F(fb, k);
+    }
+    const int ids[4] = {a, b, c, d};
+    l.elements.ids.insert(l.elements.ids.end(), ids, ids + 4);
+    l.edge.push_back(e);
+    l.faces.push_back({fa, fb});
+    std::array<std::array<int, 3>, 2> corner{};
+    for (int s = 0; s < 2; ++s)
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 4; ++j)
+          if (ids[j] == mesh.F(s == 0 ? fa : fb, k)) corner[s][k] = j;
+    l.corner.push_back(corner);
+  }
+  return l;
+}
+
+TestGraph buildGraph(const TriMesh& mesh, const Topology& topo, const Layout& l) {
+  TestGraph g(mesh.numVertices());
+  g.resize<0>(mesh.numFaces());
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    g.setInputs<0>(f, {difference(mesh.F(f, 0), mesh.F(f, 1)), difference(mesh.F(f, 0), mesh.F(f, 2))});
+  g.resize<1>(topo.numEdges());
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    const int fa = topo.edgeFaces(e, 0), fb = topo.edgeFaces(e, 1);
+    g.setInputs<1>(e, {node(fa), node(fb >= 0 ? fb : fa)});
+  }
+  g.setElements(l.elements);
+  for (int i = 0; i < l.elements.size(); ++i) {
+    const int* v = l.elements.element(i);
+    g.setInputs<2>(i, {node(l.edge[static_cast<std::size_t>(i)]), difference(v[0], v[1]), vertex(v[2])});
+    g.setInputs<3>(i, {node(i)});
+  }
+  g.finalize();
+  return g;
+}
+
+/// The same energy as one 12-dof element (the independent reference).
+struct Reference {
+  static constexpr int kVertices = 4;
+  std::vector<std::array<std::array<int, 3>, 2>> corner;
+  template <typename T>
+  void mix(const T* x, int i, T* y) const {
+    T n[2][3];
+    for (int s = 0; s < 2; ++s) {
+      const auto& c = corner[static_cast<std::size_t>(i)][static_cast<std::size_t>(s)];
+      const T z[6] = {x[3 * c[1]] - x[3 * c[0]],         x[3 * c[1] + 1] - x[3 * c[0] + 1], x[3 * c[1] + 2] - x[3 * c[0] + 2],
+                      x[3 * c[2]] - x[3 * c[0]],         x[3 * c[2] + 1] - x[3 * c[0] + 1], x[3 * c[2] + 2] - x[3 * c[0] + 2]};
+      FaceNormal()(z, n[s], 0);
+    }
+    const T nn[6] = {n[0][0], n[0][1], n[0][2], n[1][0], n[1][1], n[1][2]};
+    T m[3];
+    EdgeMix()(nn, m, 0);
+    const T z[9] = {m[0], m[1], m[2], x[3] - x[0], x[4] - x[1], x[5] - x[2], x[6], x[7], x[8]};
+    Mix()(z, y, 0);
+  }
+  template <typename T>
+  T operator()(const T* x, int i) const {
+    T y[2], e[1];
+    mix(x, i, y);
+    Energy()(y, e, 0);
+    return e[0];
+  }
+};
+
+struct Case {
+  TriMesh mesh = makeRectangleGrid(1.0, 0.8, 3, 2);
+  Topology topo;
+  Layout l;
+  Eigen::VectorXd x;
+  Case() {
+    for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.2 * std::sin(2.0 * mesh.V(v, 0)) * mesh.V(v, 1);
+    topo = buildTopology(mesh);
+    l = layout(mesh, topo);
+    x = flatten(mesh.V);
+    srand(7);
+    x += 0.05 * Eigen::VectorXd::Random(x.size());
+  }
+};
+
+}  // namespace
+
+TEST_CASE("stage graph: value, gradient and Hessian equal the energy written as one nested-Jet element", "[stages]") {
+  Case c;
+  StageGraphTerm<TestGraph> graph("graph", buildGraph(c.mesh, c.topo, c.l));
+  ElementEnergyTerm<Reference> reference("reference", c.l.elements, c.mesh.numVertices(), Reference{c.l.corner});
+  for (const PsdProjection projection : {PsdProjection::None, PsdProjection::Clamp}) {
+    // No projection: the contracted sweep (each Shared node's curvature once); a projection: each element's own.
+    EvalOptions opt;
+    opt.path = DerivativePath::AutoDiff;
+    opt.projection = projection;
+    Eigen::VectorXd gG, gR;
+    double eG, eR;
+    const Eigen::MatrixXd HG = denseHessian(graph, c.x, opt, gG, eG);
+    const Eigen::MatrixXd HR = denseHessian(reference, c.x, opt, gR, eR);
+    REQUIRE(std::abs(eR) > 0.1);
+    CHECK(eG == Approx(eR).epsilon(1e-14));
+    CHECK((gG - gR).norm() <= 1e-13 * gR.norm());
+    CHECK((HG - HR).norm() <= 1e-13 * HR.norm());
+    // The value alone and the gradient alone (the reverse sweep) are the same.
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(c.x.size());
+    CHECK(graph.evaluate(c.x, {}, opt) == eG);
+    CHECK(graph.evaluate(c.x, {&g, nullptr, -1}, opt) == eG);
+    CHECK((g - gG).norm() <= 1e-14 * gG.norm());
+  }
+}
+
+TEST_CASE("stage graph: Gauss-Newton keeps the energy stage's curvature only", "[stages]") {
+  Case c;
+  StageGraphTerm<TestGraph> graph("graph", buildGraph(c.mesh, c.topo, c.l));
+  EvalOptions opt;
+  opt.path = DerivativePath::AutoDiff;
+  opt.bendingHessian = BendingHessian::GaussNewton;
+  Eigen::VectorXd g;
+  double e;
+  const Eigen::MatrixXd H = denseHessian(graph, c.x, opt, g, e);
+  // Reference: Σ_elements J_yᵀ ∇²E(y) J_y, J_y the Jacobian of the energy stage's inputs from first-order Jets.
+  const Reference ref{c.l.corner};
+  Eigen::MatrixXd HR = Eigen::MatrixXd::Zero(c.x.size(), c.x.size());
+  using J12 = ceres::Jet<double, 12>;
+  for (int i = 0; i < c.l.elements.size(); ++i) {
+    const int* v = c.l.elements.element(i);
+    J12 xe[12];
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d) xe[3 * k + d] = J12(c.x[3 * v[k] + d], 3 * k + d);
+    J12 y[2];
+    ref.mix(static_cast<const J12*>(xe), i, y);
+    Eigen::Matrix2d W;  // ∇²E(y) of E = y0² + sin(y1) + y0 y1
+    W << 2.0, 1.0, 1.0, -std::sin(y[1].a);
+    Eigen::Matrix<double, 2, 12> J;
+    for (int r = 0; r < 2; ++r) J.row(r) = y[r].v.transpose();
+    const Eigen::Matrix<double, 12, 12> block = J.transpose() * W * J;
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) HR.block<3, 3>(3 * v[a], 3 * v[b]) += block.block<3, 3>(3 * a, 3 * b);
+  }
+  CHECK((H - HR).norm() <= 1e-13 * HR.norm());
+}
+
+TEST_CASE("stage graph: the same bits with 1 and 2 threads", "[stages]") {
+  // Enough elements for the loops to run in parallel.
+  TriMesh mesh = makeRectangleGrid(1.0, 1.0, 24, 24);
+  for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.1 * std::sin(3.0 * mesh.V(v, 0) + mesh.V(v, 1));
+  const Topology topo = buildTopology(mesh);
+  const Layout l = layout(mesh, topo);
+  StageGraphTerm<TestGraph> graph("graph", buildGraph(mesh, topo, l));
+  const Eigen::VectorXd x = flatten(mesh.V);
+  const int threads = omp_get_max_threads();
+  for (const PsdProjection projection : {PsdProjection::None, PsdProjection::Clamp}) {
+    EvalOptions opt;
+    opt.projection = projection;
+    Eigen::VectorXd g1, g2;
+    double e1, e2;
+    omp_set_num_threads(1);
+    const Eigen::MatrixXd H1 = denseHessian(graph, x, opt, g1, e1);
+    omp_set_num_threads(2);
+    const Eigen::MatrixXd H2 = denseHessian(graph, x, opt, g2, e2);
+    omp_set_num_threads(threads);
+    CHECK(e1 == e2);
+    CHECK(g1 == g2);
+    CHECK(H1 == H2);
+  }
+}
+
+TEST_CASE("stage graph: set-up rejects inputs that do not fit, naming the layer and the entity", "[stages]") {
+  Case c;
+  {
+    TestGraph g = buildGraph(c.mesh, c.topo, c.l);
+    g.setInputs<0>(2, {difference(0, 1), difference(0, c.mesh.numVertices())});
+    CHECK_THROWS_WITH(g.finalize(), Catch::Contains("layer 0, entity 2") && Catch::Contains("out of range"));
+  }
+  {
+    // An edge node reading two faces that share no edge spans more than its width of 4 vertices.
+    TestGraph g = buildGraph(c.mesh, c.topo, c.l);
+    g.setInputs<1>(0, {node(0), node(c.mesh.numFaces() - 1)});
+    CHECK_THROWS_WITH(g.finalize(), Catch::Contains("layer 1, entity 0") && Catch::Contains("width"));
+  }
+  {
+    // An element reading a vertex outside its stencil.
+    TestGraph g = buildGraph(c.mesh, c.topo, c.l);
+    const int* v = c.l.elements.element(0);
+    int outside = 0;
+    while (outside == v[0] || outside == v[1] || outside == v[2] || outside == v[3]) ++outside;
+    g.setInputs<2>(0, {node(c.l.edge[0]), difference(v[0], v[1]), vertex(outside)});
+    CHECK_THROWS_WITH(g.finalize(), Catch::Contains("layer 2, element 0") && Catch::Contains("stencil"));
+  }
+  {
+    TestGraph g = buildGraph(c.mesh, c.topo, c.l);
+    CHECK_THROWS_AS(g.setInputs<0>(c.mesh.numFaces(), {difference(0, 1), difference(0, 2)}), std::out_of_range);
+  }
+}
