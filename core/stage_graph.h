@@ -200,7 +200,7 @@ class StageGraph {
     std::vector<int> owner;                      // per node: the element whose block takes its curvature (−1: a
                                                  // node no element reads, which adds nothing)
     std::vector<int> ownedStart, ownedIndex;     // per element, its owned nodes as indices into its list
-    std::vector<int> readerStart;                // per node: readers (CSR), each a (layer, entity, group)
+    std::vector<int> readerStart;                // per node: readers (CSR, by layer), each a (layer, entity, group)
     std::vector<std::array<int, 3>> readers;
   };
 
@@ -214,6 +214,10 @@ class StageGraph {
   template <int I>
   const auto& stage() const { return std::get<I>(stages_); }
   const LayerTables& tables(int layer) const { return tables_[static_cast<std::size_t>(layer)]; }
+  /// The leaf inputs of Shared nodes that read each vertex (CSR over vertices), each a (layer, entity, group,
+  /// sign): a reverse sweep gathers a vertex's gradient from them.
+  const std::vector<int>& vertexReaderStart() const { return vertexReaderStart_; }
+  const std::vector<std::array<int, 4>>& vertexReaders() const { return vertexReaders_; }
   const StencilTable& elements() const { return elements_; }
   int numElements() const { return elements_.size(); }
   bool finalized() const { return finalized_; }
@@ -278,6 +282,8 @@ class StageGraph {
   void addReaders(std::vector<std::vector<std::array<int, 3>>>& perNode, int layer) const;
 
   int numVertices_ = 0;
+  std::vector<int> vertexReaderStart_;
+  std::vector<std::array<int, 4>> vertexReaders_;
   Stages stages_;
   std::array<LayerTables, kLayers> tables_;
   StencilTable elements_{K, {}};
@@ -467,12 +473,39 @@ void StageGraph<K, Ls...>::finalize() {
       });
       t.readerStart.assign(1, 0);
       t.readers.clear();
-      for (const auto& r : perNode) {
+      for (auto& r : perNode) {
+        std::sort(r.begin(), r.end());  // by reader layer: a sweep handles each layer's readers in one run
         t.readers.insert(t.readers.end(), r.begin(), r.end());
         t.readerStart.push_back(static_cast<int>(t.readers.size()));
       }
     }
   });
+  // The leaf inputs of the Shared layers, per vertex (x_j − x_i: +1 at j, −1 at i).
+  std::vector<std::vector<std::array<int, 4>>> perVertex(static_cast<std::size_t>(numVertices_));
+  forEachLayer([&](auto layer) {
+    constexpr int I = decltype(layer)::value;
+    using S = Shape<I>;
+    if constexpr (S::kShared) {
+      const LayerTables& t = tables_[I];
+      for (int n = 0; n < t.count; ++n)
+        for (int g = 0; g < S::G; ++g) {
+          if (S::Groups::layer[static_cast<std::size_t>(g)] >= 0) continue;
+          const InputRef& r = t.inputs[static_cast<std::size_t>(n) * S::G + g];
+          if (S::Groups::isDifference[static_cast<std::size_t>(g)]) {
+            perVertex[static_cast<std::size_t>(r.a)].push_back({I, n, g, -1});
+            perVertex[static_cast<std::size_t>(r.b)].push_back({I, n, g, 1});
+          } else {
+            perVertex[static_cast<std::size_t>(r.a)].push_back({I, n, g, 1});
+          }
+        }
+    }
+  });
+  vertexReaderStart_.assign(1, 0);
+  vertexReaders_.clear();
+  for (const auto& r : perVertex) {
+    vertexReaders_.insert(vertexReaders_.end(), r.begin(), r.end());
+    vertexReaderStart_.push_back(static_cast<int>(vertexReaders_.size()));
+  }
   finalized_ = true;
 }
 

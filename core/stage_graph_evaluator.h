@@ -60,6 +60,7 @@ class StageGraphEvaluator {
       constexpr int I = decltype(layer)::value;
       if constexpr (Shape<I>::kShared) forwardShared<I>(x, mode);
     });
+    if (wantG && !wantH) return gradientSweep(x, request, schedule, elementEnergy, mode);
     if (mode.contracted) {
       sendLocalAdjoints(x, mode);
       forEachLayerBackwards([&](auto layer) {
@@ -113,6 +114,7 @@ class StageGraphEvaluator {
     std::vector<std::array<Eigen::Matrix<double, N, N>, M>> hessian;
     std::vector<Eigen::Matrix<double, M, 1>> adjoint;
     std::vector<Eigen::Matrix<double, N, N>> curvature;  // contracted: Σ_k w̄_k ∇²y_k (stages with non-constant Hessians)
+    std::vector<Eigen::Matrix<double, N, 1>> inputAdjoint;  // gradient sweep: Jᵀw̄ over the node's inputs
   };
   // ---- per Local layer: one node of one element ----
   template <int I>
@@ -544,7 +546,8 @@ class StageGraphEvaluator {
   /// The element's reverse sweep: from the root's adjoint 1 through its Local nodes, then (when `shared`) through
   /// the Shared nodes it reads, last layer first. Each node's curvature goes into H (when given; the
   /// Gauss–Newton model stops after the root), leaves' adjoints into g (when given).
-  JETSHELL_FLATTEN void reverse(int e, const Mode& mode, bool shared, ElementState& s, Gradient* g, Hessian* H) {
+  JETSHELL_FLATTEN void reverse(int e, const Mode& mode, bool shared, ElementState& s, Gradient* g, Hessian* H,
+                                bool keep = false) {
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       if constexpr (!Shape<I>::kShared) std::get<I>(s.nodes).adjoint.setZero();
@@ -589,6 +592,7 @@ class StageGraphEvaluator {
         }
         if (I == kRoot && curvature && !mode.exact) return;
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
+        if (keep) Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
         sendAdjoint<I>(zbar, slot,
                        [&](auto group) {
                          constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
@@ -629,13 +633,7 @@ class StageGraphEvaluator {
     ElementState s;
     forwardLocals<kRoot>(x, e, mode, s);
     LocalNode<kRoot>& root = std::get<kRoot>(s.nodes);
-    if (!wantH) {
-      if (wantG) {
-        gradient.setZero();
-        reverse(e, mode, true, s, &gradient, nullptr);
-      }
-      return root.d.value[0];
-    }
+    if (!wantH) return root.d.value[0];  // a gradient alone is gradientSweep's
     if (wantG) gradient = root.total.transpose();
     hessian.setZero();
     // Per-element exact Hessian: the element's own reverse sweep through every node it reads. Contracted or
@@ -662,15 +660,63 @@ class StageGraphEvaluator {
     return root.d.value[0];
   }
 
+  // ---- a gradient alone: one reverse sweep over the whole graph ----
+  /// The elements' Local nodes forward and backward (leaf adjoints into the gradient through the coloured loop,
+  /// Jᵀw̄ of the Local layers kept per element), then each Shared layer's adjoints once per node, last layer
+  /// first, then every vertex's share of the Shared nodes' leaf adjoints.
+  double gradientSweep(const Eigen::VectorXd& x, const EvalRequest& request, const ElementSchedule& schedule,
+                       std::vector<double>& elementEnergy, const Mode& mode) {
+    keepSent(graph_.numElements());
+    const double energy = runElementLoop<K>(
+        graph_.elements(), schedule, x, request, PsdProjection::None, elementEnergy,
+        [&](int e, const int*, bool, bool, Gradient& g, Hessian&) {
+          ElementState s;
+          forwardLocals<kRoot>(x, e, mode, s);
+          g.setZero();
+          reverse(e, mode, false, s, &g, nullptr, true);
+          return std::get<kRoot>(s.nodes).d.value[0];
+        });
+    forEachLayerBackwards([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) gatherAdjoints<I>(x, mode);
+    });
+    const auto& start = graph_.vertexReaderStart();
+    const auto& readers = graph_.vertexReaders();
+    double* G = request.gradient->data();
+    const int nv = graph_.numVertices();
+#pragma omp parallel for schedule(static) if (nv >= kParallelMinElements)
+    for (int v = 0; v < nv; ++v) {
+      double gv[3] = {0.0, 0.0, 0.0};
+      for (int r = start[static_cast<std::size_t>(v)]; r < start[static_cast<std::size_t>(v) + 1]; ++r) {
+        const auto& [layer, entity, group, sign] = readers[static_cast<std::size_t>(r)];
+        forEachLayer([&](auto l) {
+          constexpr int I = decltype(l)::value;
+          if constexpr (Shape<I>::kShared) {
+            if (layer != I) return;
+            const double* a = buffers<I>().inputAdjoint[static_cast<std::size_t>(entity)].data() + Shape<I>::offset(group);
+            for (int c = 0; c < 3; ++c) gv[c] += sign * a[c];
+          }
+        });
+      }
+      for (int c = 0; c < 3; ++c) G[3 * v + c] += gv[c];
+    }
+    return energy;
+  }
+
+  /// Sizes the per-element Jᵀw̄ of each Local layer (sent_).
+  void keepSent(int ne) {
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (!Shape<I>::kShared) std::get<I>(sent_).resize(static_cast<std::size_t>(ne) * Shape<I>::N);
+    });
+  }
+
   // ---- contracted mode: the adjoints of the Shared nodes ----
   /// Per element: the Local nodes' adjoints (values and Jacobians only), and for each Local layer, Jᵀw over its
   /// N inputs, kept per element for gatherAdjoints.
   void sendLocalAdjoints(const Eigen::VectorXd& x, const Mode& mode) {
     const int ne = graph_.numElements();
-    forEachLayer([&](auto layer) {
-      constexpr int I = decltype(layer)::value;
-      if constexpr (!Shape<I>::kShared) std::get<I>(sent_).resize(static_cast<std::size_t>(ne) * Shape<I>::N);
-    });
+    keepSent(ne);
     Mode first = mode;
     first.order = 1;
     first.totals = false;
@@ -715,17 +761,21 @@ class StageGraphEvaluator {
     SharedBuffers<I>& b = buffers<I>();
     const auto& t = graph_.tables(I);
     b.adjoint.resize(static_cast<std::size_t>(t.count));
-    if (curved) b.curvature.resize(static_cast<std::size_t>(t.count));
+    if (curved && mode.contracted) b.curvature.resize(static_cast<std::size_t>(t.count));
+    const bool inputs = !mode.contracted;  // the gradient sweep: Jᵀw̄ for the vertices' gather
+    if (inputs) b.inputAdjoint.resize(static_cast<std::size_t>(t.count));
     ParallelErrors errors;
 #pragma omp parallel for schedule(static) if (t.count >= kParallelMinElements)
     for (int n = 0; n < t.count; ++n) {
       Eigen::Matrix<double, S::M, 1> w = Eigen::Matrix<double, S::M, 1>::Zero();
-      for (int r = t.readerStart[static_cast<std::size_t>(n)]; r < t.readerStart[static_cast<std::size_t>(n) + 1]; ++r) {
-        const auto& reader = t.readers[static_cast<std::size_t>(r)];
-        forEachLayer([&](auto layer) {
-          constexpr int J = decltype(layer)::value;
-          if constexpr (J > I) {
-            if (reader[0] != J) return;
+      // Readers come sorted by layer: each layer's run is summed with that layer's sizes known at compile time.
+      int r = t.readerStart[static_cast<std::size_t>(n)];
+      const int end = t.readerStart[static_cast<std::size_t>(n) + 1];
+      forEachLayer([&](auto layer) {
+        constexpr int J = decltype(layer)::value;
+        if constexpr (J > I) {
+          for (; r < end && t.readers[static_cast<std::size_t>(r)][0] == J; ++r) {
+            const auto& reader = t.readers[static_cast<std::size_t>(r)];
             const int off = Shape<J>::offset(reader[2]);
             const auto k = static_cast<std::size_t>(reader[1]);
             if constexpr (Shape<J>::kShared) {
@@ -736,11 +786,13 @@ class StageGraphEvaluator {
               for (int c = 0; c < S::M; ++c) w[c] += sent[c];
             }
           }
-        });
-      }
+        }
+      });
       b.adjoint[static_cast<std::size_t>(n)] = w;
+      if (inputs) b.inputAdjoint[static_cast<std::size_t>(n)].noalias() = b.jacobian[static_cast<std::size_t>(n)].transpose() * w;
       // The node's curvature with its total adjoint, once: its stage Hessians from the Jets (or the twin) here.
       if constexpr (curved) {
+        if (!mode.contracted) continue;
         errors.run([&] {
           double z[S::N];
           gather<I>(x, n, nullptr, z);
