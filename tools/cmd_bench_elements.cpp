@@ -286,10 +286,14 @@ int runBench(const BenchOptions& o) {
     handRatio = pairedRatio(termsOf("shell"));
     printPaired("AD / analytic", handRatio);
   }
-  if (threadCounts.size() > 1) {
-    const double anN = find("shell", "analytic", "exact", maxThreads);
-    std::printf("  speed-up %d threads vs 1 (analytic): %.2fx (target >= 1.8)\n", maxThreads, an1 / anN);
-  }
+  // The speed-up of each measured shell row (another --path or --term leaves some out: none printed as nan).
+  if (threadCounts.size() > 1)
+    for (const char* term : {"shell", "shell_staged"})
+      for (const char* path : {"analytic", "ad"}) {
+        const double one = find(term, path, "exact", 1), many = find(term, path, "exact", maxThreads);
+        if (std::isfinite(one) && std::isfinite(many) && many > 0.0)
+          std::printf("  speed-up %d threads vs 1 (%s, %s): %.2fx (target >= 1.8)\n", maxThreads, term, path, one / many);
+      }
   // Only when --term ran the bending term on its own (a ratio of absent rows would print nan).
   const double gnBending = find("bending", "analytic", "gauss_newton", 1), exactBending = find("bending", "analytic", "exact", 1);
   if (std::isfinite(gnBending) && std::isfinite(exactBending))
