@@ -16,3 +16,14 @@
 #else
 #define JETSHELL_FLATTEN
 #endif
+
+// JETSHELL_FLATTEN_SWEEP: the stage graph's per-element sweeps (core/stage_graph_evaluator.h), flattened only when
+// the build asks for it (CMake option JETSHELL_FLATTEN_SWEEPS, off by default). Flattened, a sweep becomes one
+// body holding every stage's Jets and every curvature block of the graph: the staged membrane and bending terms
+// run 5–10% faster (BENCHMARKS.md, Elements, "Session 23"), but energies/shell/bending_term_staged.cpp takes
+// about 245 s and 2.2 GB to compile instead of 26 s and 1.1 GB.
+#if defined(JETSHELL_FLATTEN_SWEEPS)
+#define JETSHELL_FLATTEN_SWEEP JETSHELL_FLATTEN
+#else
+#define JETSHELL_FLATTEN_SWEEP
+#endif

@@ -546,7 +546,7 @@ class StageGraphEvaluator {
   /// The element's reverse sweep: from the root's adjoint 1 through its Local nodes, then (when `shared`) through
   /// the Shared nodes it reads, last layer first. Each node's curvature goes into H (when given; the
   /// Gauss–Newton model stops after the root), leaves' adjoints into g (when given).
-  JETSHELL_FLATTEN void reverse(int e, const Mode& mode, bool shared, ElementState& s, Gradient* g, Hessian* H,
+  JETSHELL_FLATTEN_SWEEP void reverse(int e, const Mode& mode, bool shared, ElementState& s, Gradient* g, Hessian* H,
                                 bool keep = false) {
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
@@ -628,7 +628,7 @@ class StageGraphEvaluator {
   }
 
   // ---- one element ----
-  JETSHELL_FLATTEN double element(const Eigen::VectorXd& x, int e, const Mode& mode, bool wantG, bool wantH,
+  JETSHELL_FLATTEN_SWEEP double element(const Eigen::VectorXd& x, int e, const Mode& mode, bool wantG, bool wantH,
                                    Gradient& gradient, Hessian& hessian) {
     ElementState s;
     forwardLocals<kRoot>(x, e, mode, s);
