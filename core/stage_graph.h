@@ -192,11 +192,12 @@ class StageGraph {
     std::vector<InputRef> inputs;      // count × G
     std::vector<int> support;          // Shared: count × W mesh ids (−1: none)
     std::vector<std::int8_t> slots;    // count × kSlots: per group, per slot of its support, the node's slot
+    // Shared layers: per listed node and group; Local layers: per element and group. The index of the
+    // group's input node in the element's list of the group's layer (−1 for leaves and Local inputs).
+    std::vector<std::int8_t> elementInputs;
     // Shared layers only:
     std::vector<int> elementStart, elementNode;  // per element, the layer's nodes it reads (CSR, ascending)
     std::vector<std::int8_t> elementSlots;       // per listed node, W entries: the element's slot of each
-    std::vector<std::int8_t> elementInputs;      // per listed node and group: the index of its input node in the
-                                                 // element's list of the group's layer (−1 for leaves)
     std::vector<int> owner;                      // per node: the element whose block takes its curvature (−1: a
                                                  // node no element reads, which adds nothing)
     std::vector<int> ownedStart, ownedIndex;     // per element, its owned nodes as indices into its list
@@ -441,23 +442,28 @@ void StageGraph<K, Ls...>::finalize() {
         t.ownedStart.push_back(static_cast<int>(t.ownedIndex.size()));
       }
     });
-    // The inputs of each listed node, as indices into the element's lists (sorted above).
+    // The inputs of each listed node and of the element's Local nodes, as indices into the element's lists
+    // (sorted above).
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       using S = Shape<I>;
-      if constexpr (S::kShared) {
-        LayerTables& t = tables_[I];
-        for (int n : lists[I])
-          for (int g = 0; g < S::G; ++g) {
-            const int l = S::Groups::layer[static_cast<std::size_t>(g)];
-            int index = -1;
-            if (l >= 0) {
-              const std::vector<int>& from = lists[static_cast<std::size_t>(l)];
-              const int entity = t.inputs[static_cast<std::size_t>(n) * S::G + g].a;
-              index = static_cast<int>(std::lower_bound(from.begin(), from.end(), entity) - from.begin());
-            }
-            t.elementInputs.push_back(static_cast<std::int8_t>(index));
+      LayerTables& t = tables_[I];
+      const auto add = [&](int n) {
+        for (int g = 0; g < S::G; ++g) {
+          const int l = S::Groups::layer[static_cast<std::size_t>(g)];
+          int index = -1;
+          if (l >= 0 && S::Groups::fromShared[static_cast<std::size_t>(g)]) {
+            const std::vector<int>& from = lists[static_cast<std::size_t>(l)];
+            const int entity = t.inputs[static_cast<std::size_t>(n) * S::G + g].a;
+            index = static_cast<int>(std::lower_bound(from.begin(), from.end(), entity) - from.begin());
           }
+          t.elementInputs.push_back(static_cast<std::int8_t>(index));
+        }
+      };
+      if constexpr (S::kShared) {
+        for (int n : lists[I]) add(n);
+      } else {
+        add(e);
       }
     });
   }

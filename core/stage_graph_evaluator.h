@@ -474,16 +474,6 @@ class StageGraphEvaluator {
     return out;
   }
 
-  /// The index of Shared node `entity` of layer L in element e's list of that layer.
-  template <int L>
-  int listIndex(int e, int entity) const {
-    const auto& t = graph_.tables(L);
-    const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
-    for (int i = begin; i < end; ++i)
-      if (t.elementNode[static_cast<std::size_t>(i)] == entity) return i - begin;
-    throw std::logic_error("stage graph: a node missing from its element's list");
-  }
-
   /// Sends a node's input adjoint zbar = Jᵀw (N) to its groups: leaves into the element gradient g at their
   /// element slots (when g is given), Local inputs into their nodes, Shared inputs into the element's copies
   /// (when toShared; `index(g)` gives the input's place in the element's list).
@@ -571,6 +561,7 @@ class StageGraphEvaluator {
         LocalNode<I>& node = std::get<I>(s.nodes);
         const std::array<Slots, S::G> slot = localSlots<I>(e);
         const InputRef* in = inputs<I>(e);
+        const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
         if (curvature && (mode.exact || I == kRoot)) {
           Eigen::Matrix<double, S::N, S::N> C;
           const auto total = [&](auto group) -> const auto& {
@@ -594,10 +585,7 @@ class StageGraphEvaluator {
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
         if (keep) Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
         sendAdjoint<I>(zbar, slot,
-                       [&](auto group) {
-                         constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
-                         return listIndex<l>(e, in[decltype(group)::value].a);
-                       },
+                       [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); },
                        shared, s, g);
       }
     });

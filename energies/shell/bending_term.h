@@ -105,7 +105,6 @@ class BendingTerm : public EnergyTerm {
   /// Points the stages at this term's rules, reference and current parameters (before each evaluation).
   void bindStages();
   bool staged_ = false;
-  std::vector<char> boundaryEdge_;  // per edge
   std::unique_ptr<Graph> graph_;
   std::unique_ptr<StageGraphEvaluator<Graph>> graphEvaluator_;
 

@@ -25,14 +25,12 @@ void BendingTerm::buildGraph() {
   const int nv = static_cast<int>(restPositions_.size() / 3);
   graph_ = std::make_unique<Graph>(nv);
   Graph& g = *graph_;
-  boundaryEdge_.assign(static_cast<std::size_t>(ne), 0);
   g.resize<0>(nf);
   for (int f = 0; f < nf; ++f) g.setInputs<0>(f, {difference(F_(f, 0), F_(f, 1)), difference(F_(f, 0), F_(f, 2))});
   g.resize<1>(ne);
   g.resize<2>(ne);
   for (int e = 0; e < ne; ++e) {
     const int fa = topo_.edgeFaces(e, 0), fb = topo_.edgeFaces(e, 1);
-    boundaryEdge_[static_cast<std::size_t>(e)] = fb < 0 ? 1 : 0;
     g.setInputs<1>(e, {node(fa), node(fb >= 0 ? fb : fa)});
     g.setInputs<2>(e, {node(e)});
   }
@@ -50,7 +48,7 @@ void BendingTerm::bindStages() {
   EdgeMeanStage& mean = graph_->stage<1>();
   mean.rules = &rules_;
   mean.data = &ruleData_;
-  mean.boundary = &boundaryEdge_;
+  mean.topology = &topo_;
   BendingDensityStage& density = graph_->stage<4>();
   density.ref = &ref_;
   density.alpha = alpha_;

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "core/stage.h"
+#include "core/topology.h"
 #include "energies/shell/analytic_stages.h"
 #include "energies/shell/edge_rules.h"
 #include "energies/shell/reference_state.h"
@@ -67,10 +68,10 @@ using FaceNormalStage = ComposedStage<FaceCrossStage, UnitNormalStage>;
 struct EdgeMeanStage {
   static constexpr int kInputs = 6, kOutputs = 3;
   static constexpr bool kAffine = true;
-  const std::vector<EdgeRule>* rules = nullptr;  // per edge; null: every edge interior
+  const std::vector<EdgeRule>* rules = nullptr;  // per edge
   const std::vector<EdgeRuleData>* data = nullptr;
-  const std::vector<char>* boundary = nullptr;   // per edge: 1 on a boundary edge
-  bool isBoundary(int edge) const { return boundary != nullptr && (*boundary)[static_cast<std::size_t>(edge)] != 0; }
+  const Topology* topology = nullptr;  // which edges are on the boundary; null: every edge interior
+  bool isBoundary(int edge) const { return topology != nullptr && topology->isBoundaryEdge(edge); }
   template <typename T>
   void operator()(const T* z, T* m, int edge) const {
     const V3<T> n = load3(z);

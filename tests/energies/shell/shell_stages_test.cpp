@@ -38,8 +38,10 @@ TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian decla
     d.reference[2] = 0.8;
     d.axis[0] = 1.0;
   }
-  const std::vector<char> boundaryEdge = {1, 1, 1, 1, 1, 0};
-  const EdgeMeanStage edgeMean{&edgeRules, &edgeData, &boundaryEdge};
+  Topology topology;  // only which edges are on the boundary matters here
+  topology.edgeFaces.resize(6, 2);
+  topology.edgeFaces << 0, -1, 1, -1, 2, -1, 3, -1, 4, -1, 5, 6;
+  const EdgeMeanStage edgeMean{&edgeRules, &edgeData, &topology};
   for (int trial = 0; trial < 20; ++trial) {
     double z[15];
     // Twins, relative to the Jets' largest entry (measured <= 4e-16; limit 1e-12).
