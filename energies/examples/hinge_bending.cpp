@@ -1,8 +1,9 @@
-// Mesh plumbing of the hinge-bending example (energies/examples/hinge_bending.h): stencils, per-hinge constants
+// Mesh plumbing of the hinge-bending example (energies/examples/hinge_bending.h): per-hinge constants
 // and the nested-Jet reference: the same energy written independently as one 12-dof element in plain math, so
 // the staged term and the reference check each other.
 #include "energies/examples/hinge_bending.h"
 
+#include "core/hinge_stencil.h"
 #include "core/stage_graph_term.h"
 #include "energies/element_energy_term.h"
 
@@ -10,47 +11,6 @@
 
 namespace jetshell {
 namespace {
-
-/// Per interior edge: the stencil (a, b, c, d), the two faces and their vertices in stencil numbering.
-struct HingeLayout {
-  StencilTable table{4, {}};
-  std::vector<std::array<int, 2>> faces;
-  std::vector<std::array<std::array<int, 3>, 2>> corners;
-};
-
-HingeLayout hingeLayout(const TriMesh& mesh, const Topology& topology) {
-  HingeLayout h;
-  for (int e = 0; e < topology.numEdges(); ++e) {
-    const int fa = topology.edgeFaces(e, 0), fb = topology.edgeFaces(e, 1);
-    if (fb < 0) continue;
-    // (a, b) in face A's order, c its third vertex; face B holds (b, a) and d.
-    int a = -1, b = -1, c = -1;
-    for (int k = 0; k < 3; ++k) {
-      const int p = mesh.F(fa, k), q = mesh.F(fa, (k + 1) % 3);
-      if ((p == topology.edges(e, 0) && q == topology.edges(e, 1)) ||
-          (p == topology.edges(e, 1) && q == topology.edges(e, 0))) {
-        a = p;
-        b = q;
-        c = mesh.F(fa, (k + 2) % 3);
-      }
-    }
-    int d = -1;
-    for (int k = 0; k < 3; ++k)
-      if (mesh.F(fb, k) != a && mesh.F(fb, k) != b) d = mesh.F(fb, k);
-    const int ids[4] = {a, b, c, d};
-    h.table.ids.insert(h.table.ids.end(), ids, ids + 4);
-    h.faces.push_back({fa, fb});
-    std::array<std::array<int, 3>, 2> corner{};
-    for (int s = 0; s < 2; ++s)
-      for (int k = 0; k < 3; ++k) {
-        const int v = mesh.F(s == 0 ? fa : fb, k);
-        for (int l = 0; l < 4; ++l)
-          if (ids[l] == v) corner[s][k] = l;
-      }
-    h.corners.push_back(corner);
-  }
-  return h;
-}
 
 /// The same hinge energy as one 12-dof element, written independently of the stages as plain math: the form a
 /// user writes for a small stencil (README compares its length with TinyAD's and Ceres' equivalents).
@@ -74,7 +34,7 @@ struct HingeElementEnergy {
 };
 
 /// The element energy with its per-hinge constants from the rest positions (the mesh's).
-HingeElementEnergy restElementEnergy(const TriMesh& mesh, const HingeLayout& h, double stiffness) {
+HingeElementEnergy restElementEnergy(const TriMesh& mesh, const HingeStencils& h, double stiffness) {
   HingeElementEnergy energy{h.corners, {}, {}};
   for (int i = 0; i < h.table.size(); ++i) {
     const int* ids = h.table.element(i);
@@ -95,7 +55,7 @@ HingeElementEnergy restElementEnergy(const TriMesh& mesh, const HingeLayout& h, 
 }  // namespace
 
 EnergyTermPtr makeHingeBendingTerm(const TriMesh& mesh, const Topology& topology, double stiffness) {
-  const HingeLayout h = hingeLayout(mesh, topology);
+  const HingeStencils h = hingeStencils(mesh, topology);
   HingeElementEnergy rest = restElementEnergy(mesh, h, stiffness);
   HingeGraph graph(mesh.numVertices());
   graph.resize<0>(mesh.numFaces());
@@ -113,7 +73,7 @@ EnergyTermPtr makeHingeBendingTerm(const TriMesh& mesh, const Topology& topology
 }
 
 EnergyTermPtr makeHingeBendingNestedJet(const TriMesh& mesh, const Topology& topology, double stiffness) {
-  const HingeLayout h = hingeLayout(mesh, topology);
+  const HingeStencils h = hingeStencils(mesh, topology);
   return std::make_shared<ElementEnergyTerm<HingeElementEnergy>>("hinge_bending_nested_jet", h.table, mesh.numVertices(),
                                                                  restElementEnergy(mesh, h, stiffness));
 }

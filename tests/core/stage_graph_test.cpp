@@ -1,4 +1,5 @@
 #include "tests/test_util.h"
+#include "core/hinge_stencil.h"
 #include "core/mesh_generators.h"
 #include "core/stage_graph.h"
 #include "core/stage_graph_term.h"
@@ -57,40 +58,7 @@ struct Energy {
 using TestGraph = StageGraph<4, Shared<FaceNormal, 3, Difference, Difference>, Shared<EdgeMix, 4, From<0>, From<0>>,
                              Local<Mix, From<1>, Difference, Vertex>, Local<Energy, From<2>>>;
 
-/// Per element: the stencil slots of its two faces' vertices (in each face's order).
-struct Layout {
-  StencilTable elements{4, {}};
-  std::vector<int> edge;
-  std::vector<std::array<int, 2>> faces;
-  std::vector<std::array<std::array<int, 3>, 2>> corner;
-};
-
-Layout layout(const TriMesh& mesh, const Topology& topo) {
-  Layout l;
-  for (int e = 0; e < topo.numEdges(); ++e) {
-    const int fa = topo.edgeFaces(e, 0), fb = topo.edgeFaces(e, 1);
-    if (fb < 0) continue;
-    const int a = topo.edges(e, 0), b = topo.edges(e, 1);
-    int c = -1, d = -1;
-    for (int k = 0; k < 3; ++k) {
-      if (mesh.F(fa, k) != a && mesh.F(fa, k) != b) c = mesh.F(fa, k);
-      if (mesh.F(fb, k) != a && mesh.F(fb, k) != b) d = mesh.F(fb, k);
-    }
-    const int ids[4] = {a, b, c, d};
-    l.elements.ids.insert(l.elements.ids.end(), ids, ids + 4);
-    l.edge.push_back(e);
-    l.faces.push_back({fa, fb});
-    std::array<std::array<int, 3>, 2> corner{};
-    for (int s = 0; s < 2; ++s)
-      for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 4; ++j)
-          if (ids[j] == mesh.F(s == 0 ? fa : fb, k)) corner[s][k] = j;
-    l.corner.push_back(corner);
-  }
-  return l;
-}
-
-TestGraph buildGraph(const TriMesh& mesh, const Topology& topo, const Layout& l) {
+TestGraph buildGraph(const TriMesh& mesh, const Topology& topo, const HingeStencils& l) {
   TestGraph g(mesh.numVertices());
   g.resize<0>(mesh.numFaces());
   for (int f = 0; f < mesh.numFaces(); ++f)
@@ -100,9 +68,9 @@ TestGraph buildGraph(const TriMesh& mesh, const Topology& topo, const Layout& l)
     const int fa = topo.edgeFaces(e, 0), fb = topo.edgeFaces(e, 1);
     g.setInputs<1>(e, {node(fa), node(fb >= 0 ? fb : fa)});
   }
-  g.setElements(l.elements);
-  for (int i = 0; i < l.elements.size(); ++i) {
-    const int* v = l.elements.element(i);
+  g.setElements(l.table);
+  for (int i = 0; i < l.table.size(); ++i) {
+    const int* v = l.table.element(i);
     g.setInputs<2>(i, {node(l.edge[static_cast<std::size_t>(i)]), difference(v[0], v[1]), vertex(v[2])});
     g.setInputs<3>(i, {node(i)});
   }
@@ -141,12 +109,12 @@ struct Reference {
 struct Case {
   TriMesh mesh = makeRectangleGrid(1.0, 0.8, 3, 2);
   Topology topo;
-  Layout l;
+  HingeStencils l;
   Eigen::VectorXd x;
   Case() {
     for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.2 * std::sin(2.0 * mesh.V(v, 0)) * mesh.V(v, 1);
     topo = buildTopology(mesh);
-    l = layout(mesh, topo);
+    l = hingeStencils(mesh, topo);
     x = flatten(mesh.V);
     srand(7);
     x += 0.05 * Eigen::VectorXd::Random(x.size());
@@ -158,7 +126,7 @@ struct Case {
 TEST_CASE("stage graph: value, gradient and Hessian equal the energy written as one nested-Jet element", "[stages]") {
   Case c;
   StageGraphTerm<TestGraph> graph("graph", buildGraph(c.mesh, c.topo, c.l));
-  ElementEnergyTerm<Reference> reference("reference", c.l.elements, c.mesh.numVertices(), Reference{c.l.corner});
+  ElementEnergyTerm<Reference> reference("reference", c.l.table, c.mesh.numVertices(), Reference{c.l.corners});
   for (const PsdProjection projection : {PsdProjection::None, PsdProjection::Clamp}) {
     // No projection: the contracted sweep (each Shared node's curvature once); a projection: each element's own.
     EvalOptions opt;
@@ -191,11 +159,11 @@ TEST_CASE("stage graph: Gauss-Newton keeps the energy stage's curvature only", "
   double e;
   const Eigen::MatrixXd H = denseHessian(graph, c.x, opt, g, e);
   // Reference: Σ_elements J_yᵀ ∇²E(y) J_y, J_y the Jacobian of the energy stage's inputs from first-order Jets.
-  const Reference ref{c.l.corner};
+  const Reference ref{c.l.corners};
   Eigen::MatrixXd HR = Eigen::MatrixXd::Zero(c.x.size(), c.x.size());
   using J12 = ceres::Jet<double, 12>;
-  for (int i = 0; i < c.l.elements.size(); ++i) {
-    const int* v = c.l.elements.element(i);
+  for (int i = 0; i < c.l.table.size(); ++i) {
+    const int* v = c.l.table.element(i);
     J12 xe[12];
     for (int k = 0; k < 4; ++k)
       for (int d = 0; d < 3; ++d) xe[3 * k + d] = J12(c.x[3 * v[k] + d], 3 * k + d);
@@ -217,7 +185,7 @@ TEST_CASE("stage graph: the same bits with 1 and 2 threads", "[stages]") {
   TriMesh mesh = makeRectangleGrid(1.0, 1.0, 24, 24);
   for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.1 * std::sin(3.0 * mesh.V(v, 0) + mesh.V(v, 1));
   const Topology topo = buildTopology(mesh);
-  const Layout l = layout(mesh, topo);
+  const HingeStencils l = hingeStencils(mesh, topo);
   StageGraphTerm<TestGraph> graph("graph", buildGraph(mesh, topo, l));
   const Eigen::VectorXd x = flatten(mesh.V);
   const int threads = omp_get_max_threads();
@@ -253,7 +221,7 @@ TEST_CASE("stage graph: set-up rejects inputs that do not fit, naming the layer 
   {
     // An element reading a vertex outside its stencil.
     TestGraph g = buildGraph(c.mesh, c.topo, c.l);
-    const int* v = c.l.elements.element(0);
+    const int* v = c.l.table.element(0);
     int outside = 0;
     while (outside == v[0] || outside == v[1] || outside == v[2] || outside == v[3]) ++outside;
     g.setInputs<2>(0, {node(c.l.edge[0]), difference(v[0], v[1]), vertex(outside)});
