@@ -52,7 +52,7 @@ class StageGraphEvaluator {
     mode.path = options.path;
     mode.order = wantH ? 2 : wantG ? 1 : 0;
     mode.totals = wantH;
-    mode.exact = options.bendingHessian == BendingHessian::Exact;
+    mode.exact = options.hessianModel == HessianModel::Exact;
     mode.full = wantH && options.projection != PsdProjection::None;
     mode.contracted = wantH && mode.exact && !mode.full;
     mode.sharedHessians = wantH && mode.exact && mode.full;

@@ -5,10 +5,10 @@
 
 namespace jetshell {
 
-BendingHessian bendingHessianFromString(const std::string& name) {
-  if (name == "exact") return BendingHessian::Exact;
-  if (name == "gaussNewton") return BendingHessian::GaussNewton;
-  throw InputError("bending Hessian: '" + name + "' is not one of exact, gaussNewton");
+HessianModel hessianModelFromString(const std::string& name) {
+  if (name == "exact") return HessianModel::Exact;
+  if (name == "gaussNewton") return HessianModel::GaussNewton;
+  throw InputError("Hessian model: '" + name + "' is not one of exact, gaussNewton");
 }
 
 void EnergyTerm::setParameterValues(const std::vector<double>& values) {

@@ -20,9 +20,11 @@ namespace jetshell {
 
 /// Which derivatives serve: forward-mode duals (Ceres Jet) or the hand-derived twin, where a term has one.
 enum class DerivativePath { AutoDiff, Analytic };
-/// Exact bending Hessian, or Gauss–Newton J_bᵀ W'' J_b without the second derivatives of b.
-enum class BendingHessian { Exact, GaussNewton };
-BendingHessian bendingHessianFromString(const std::string& name);  // exact | gaussNewton
+/// The Hessian a term assembles: exact, or Gauss–Newton for a term that offers it, Jᵀ W'' J of its energy density
+/// W over its inner quantities without their second derivatives (the bending term and staged terms: the root
+/// stage's curvature alone, core/stage_graph.h). A term without a Gauss–Newton form stays exact.
+enum class HessianModel { Exact, GaussNewton };
+HessianModel hessianModelFromString(const std::string& name);  // exact | gaussNewton
 /// Exact friction Hessian, or the majorizer's: along the slip the curvature of the regularized Coulomb
 /// potential is replaced by its secant value f₁(y)/y (energies/contact/contact_ramp.h), with the same energy and
 /// gradient.
@@ -31,7 +33,7 @@ enum class FrictionHessian { Exact, Majorizer };
 struct EvalOptions {
   DerivativePath path = DerivativePath::Analytic;
   PsdProjection projection = PsdProjection::None;
-  BendingHessian bendingHessian = BendingHessian::Exact;
+  HessianModel hessianModel = HessianModel::Exact;
   /// With a projection: only element blocks of at most this many dofs are projected (0: every block). Read by
   /// the Objective, which evaluates the terms with wider stencils unprojected.
   int projectionMaxBlockDofs = 0;

@@ -14,7 +14,7 @@ namespace {
 
 EvalOptions gaussNewton() {
   EvalOptions o;
-  o.bendingHessian = BendingHessian::GaussNewton;
+  o.hessianModel = HessianModel::GaussNewton;
   return o;
 }
 

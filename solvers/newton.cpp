@@ -83,8 +83,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   const bool adaptive = o.exactHessianNearSolution && o.projection != PsdProjection::None;
   // The projected assembly an indefinite exact-first try falls back to (NewtonOptions::fallbackBendingHessian).
   EvalOptions fallback = projected;
-  if (adaptive && o.exactHessianFirst && o.bendingHessian == BendingHessian::Exact)
-    fallback.bendingHessian = o.fallbackBendingHessian;
+  if (adaptive && o.exactHessianFirst && o.bendingHessian == HessianModel::Exact)
+    fallback.hessianModel = o.fallbackBendingHessian;
   Objective& obj = objective_;
 
   Eigen::VectorXd g, d, b, xTrial, gTrial;

@@ -73,8 +73,8 @@ struct NewtonOptions {
   /// the steps per second. It stays a choice, not the default: in 3 of 4 perturbed T-shirt runs, steps that moved
   /// on at the iteration cap ended with the potential energy spiking to 80–330 J (−5 J otherwise), which the
   /// projected exact Hessian never did (BENCHMARKS.md "Session 18").
-  BendingHessian fallbackBendingHessian = BendingHessian::Exact;
-  BendingHessian bendingHessian = BendingHessian::Exact;
+  HessianModel fallbackBendingHessian = HessianModel::Exact;
+  HessianModel bendingHessian = HessianModel::Exact;
   /// The friction terms' Hessian (core/term.h, energies/contact/contact_ramp.h). The majorizer's model lies above
   /// the friction potential, so its step does not throw a held contact past its stick region, which helps runs
   /// that move on at an iteration cap; solved to tolerance it converges linearly where contacts stick near their

@@ -53,7 +53,7 @@ bool EquilibriumSensitivity::factor(const Eigen::VectorXd& x) {
   factored_ = false;
   EvalOptions exact;
   exact.projection = PsdProjection::None;
-  exact.bendingHessian = BendingHessian::Exact;
+  exact.hessianModel = HessianModel::Exact;
   Eigen::VectorXd g;
   objective_.evaluate(x, &g, true, exact);
   const HessianAssembler& a = objective_.assembler();

@@ -78,7 +78,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     d.newton.exactHessianFirst = false;
   }
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
-  d.newton.fallbackBendingHessian = bendingHessianFromString(o.fallbackBending);
+  d.newton.fallbackBendingHessian = hessianModelFromString(o.fallbackBending);
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",

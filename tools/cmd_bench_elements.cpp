@@ -230,13 +230,13 @@ int runBench(const BenchOptions& o) {
       if (!o.term.empty() && o.term != c.term && o.term + "_staged" != c.term) continue;
       for (DerivativePath path : {DerivativePath::Analytic, DerivativePath::AutoDiff}) {
         if (!o.path.empty() && o.path != (path == DerivativePath::AutoDiff ? "ad" : "analytic")) continue;
-        for (BendingHessian bh : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
-          if (bh == BendingHessian::GaussNewton && std::string(c.term).rfind("membrane", 0) == 0) continue;
+        for (HessianModel bh : {HessianModel::Exact, HessianModel::GaussNewton}) {
+          if (bh == HessianModel::GaussNewton && std::string(c.term).rfind("membrane", 0) == 0) continue;
           EvalOptions opt;
           opt.path = path;
-          opt.bendingHessian = bh;
+          opt.hessianModel = bh;
           const char* pathName = path == DerivativePath::AutoDiff ? "ad" : "analytic";
-          const char* hName = bh == BendingHessian::Exact ? "exact" : "gauss_newton";
+          const char* hName = bh == HessianModel::Exact ? "exact" : "gauss_newton";
           const double v = measureMedian(c.terms, opt, false, false);
           const double vg = measureMedian(c.terms, opt, true, false);
           const double vgh = measureMedian(c.terms, opt, true, true);

@@ -217,7 +217,7 @@ int runSolverBench(const SolverBenchOptions& o) {
   if (o.exactFirstProjectedDofs >= 0) d.newton.exactFirstProjectedDofs = o.exactFirstProjectedDofs;
   if (o.hessianAtStart) d.newton.gradientFirstStart = false;
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
-  d.newton.fallbackBendingHessian = bendingHessianFromString(o.fallbackBending);
+  d.newton.fallbackBendingHessian = hessianModelFromString(o.fallbackBending);
   if (o.cgTolerance > 0.0) d.newton.linear.cgRelativeTolerance = o.cgTolerance;  // the policy sets its own
   if (o.maxForcing == 0.0) d.newton.adaptiveLinearTolerance = false;
   if (o.maxForcing > 0.0) {
@@ -283,8 +283,8 @@ int runSolverBench(const SolverBenchOptions& o) {
     std::printf("statics from the last dynamic state, active terms: %s\n",
                 joined(statics.objective().activeTermNames()).c_str());
     nlohmann::json cases = nlohmann::json::object();
-    for (BendingHessian bh : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
-      const char* name = bh == BendingHessian::Exact ? "exact" : "gauss_newton";
+    for (HessianModel bh : {HessianModel::Exact, HessianModel::GaussNewton}) {
+      const char* name = bh == HessianModel::Exact ? "exact" : "gauss_newton";
       LoadSteppingOptions ls;
       ls.newton = newtonOptions(o, problem.mesh);
       ls.newton.bendingHessian = bh;

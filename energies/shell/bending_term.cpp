@@ -359,14 +359,14 @@ double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reques
     // material and edge rule: the ruled densities are Schur complements of convex quadratics), so it is never
     // projected. Projecting it would cost an eigendecomposition per block for nothing: its rank is 3, so the
     // Cholesky test in edge space (core/psd_projection.h) fails on every one.
-    if (options.bendingHessian == BendingHessian::GaussNewton && options.projection != PsdProjection::None) {
+    if (options.hessianModel == HessianModel::GaussNewton && options.projection != PsdProjection::None) {
       EvalOptions unprojected = options;
       unprojected.projection = PsdProjection::None;
       return evaluate(x, request, unprojected);
     }
     if (staged_) return evaluateStaged(x, request, options);
     const bool ad = options.path == DerivativePath::AutoDiff;
-    const bool exact = options.bendingHessian == BendingHessian::Exact;
+    const bool exact = options.hessianModel == HessianModel::Exact;
     // Stage order: 0 values, 1 Jacobians, 2 Hessians (only the exact bending Hessian needs them).
     const int order = request.hessian != nullptr && exact ? 2 : request.gradient != nullptr || request.hessian ? 1 : 0;
     if (ad ? request.hessian != nullptr : order > 0) updateRuledQuadratics(ad);

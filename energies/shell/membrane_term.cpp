@@ -47,7 +47,7 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
   if (staged_) {
     bindStages();
     EvalOptions exact = options;  // the Gauss-Newton option is the bending term's; the membrane stays exact
-    exact.bendingHessian = BendingHessian::Exact;
+    exact.hessianModel = HessianModel::Exact;
     return graphEvaluator_->evaluate(x, request, exact, schedule_, elementEnergy_);
   }
   const bool ad = options.path == DerivativePath::AutoDiff;

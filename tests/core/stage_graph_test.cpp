@@ -154,7 +154,7 @@ TEST_CASE("stage graph: Gauss-Newton keeps the energy stage's curvature only", "
   StageGraphTerm<TestGraph> graph("graph", buildGraph(c.mesh, c.topo, c.l));
   EvalOptions opt;
   opt.path = DerivativePath::AutoDiff;
-  opt.bendingHessian = BendingHessian::GaussNewton;
+  opt.hessianModel = HessianModel::GaussNewton;
   Eigen::VectorXd g;
   double e;
   const Eigen::MatrixXd H = denseHessian(graph, c.x, opt, g, e);

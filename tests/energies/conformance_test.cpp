@@ -145,7 +145,7 @@ TEST_CASE("conformance: a Gauss-Newton Hessian equals the exact one at rest and 
   for (const CheckMesh& m : meshes()) {
     const EnergyTermPtr term = buildTerm(*gn, m);
     EvalOptions exact = gn->options;
-    exact.bendingHessian = BendingHessian::Exact;
+    exact.hessianModel = HessianModel::Exact;
     const Eigen::VectorXd X = flatten(m.mesh.V);
     const Eigen::MatrixXd atRestGn = evaluateDense(*term, X, gn->options).hessian;
     const Eigen::MatrixXd atRestExact = evaluateDense(*term, X, exact).hessian;

@@ -299,8 +299,8 @@ TEST_CASE("run: the staged evaluator gives the hand-chained run's answer", "[sta
 
 TEST_CASE("run: the fallback's bending Hessian reaches Newton, exact unless the scene asks", "[scene]") {
   SolverSettings s;
-  CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == BendingHessian::Exact);
+  CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == HessianModel::Exact);
   s.fallbackBendingHessian = "gaussNewton";
-  CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == BendingHessian::GaussNewton);
-  CHECK_THROWS_AS(bendingHessianFromString("gauss"), InputError);
+  CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == HessianModel::GaussNewton);
+  CHECK_THROWS_AS(hessianModelFromString("gauss"), InputError);
 }

@@ -71,8 +71,8 @@ NewtonOptions newtonOptionsFor(const SolverSettings& s, int defaultIterations, b
   n.projection = s.psdProjection == "auto" ? (statics ? PsdProjection::None : PsdProjection::Clamp)
                                             : psdProjectionFromString(s.psdProjection);
   n.derivatives = s.derivatives == "autodiff" ? DerivativePath::AutoDiff : DerivativePath::Analytic;
-  n.bendingHessian = bendingHessianFromString(s.bendingHessian);
-  n.fallbackBendingHessian = bendingHessianFromString(s.fallbackBendingHessian);
+  n.bendingHessian = hessianModelFromString(s.bendingHessian);
+  n.fallbackBendingHessian = hessianModelFromString(s.fallbackBendingHessian);
   n.frictionHessian = s.frictionHessian == "majorizer" ? FrictionHessian::Majorizer : FrictionHessian::Exact;
   if (!statics) {
     // Time steps (dynamics and dynamic relaxation): the linear algebra of solvers/time_step_policy.h; an explicit

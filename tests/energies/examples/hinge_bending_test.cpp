@@ -49,7 +49,7 @@ TEST_CASE("hinge bending: Gauss-Newton keeps only the energy stage's curvature",
   auto staged = makeHingeBendingTerm(c.mesh, c.topology, 0.7);
   EvalOptions exact, gn;
   exact.path = gn.path = DerivativePath::AutoDiff;
-  gn.bendingHessian = BendingHessian::GaussNewton;
+  gn.hessianModel = HessianModel::GaussNewton;
   Eigen::VectorXd gE, gG;
   double eE, eG;
   const Eigen::MatrixXd HE = denseHessian(*staged, c.x, exact, gE, eE);

@@ -98,11 +98,11 @@ TEST_CASE("edge rules: setClampedBoundary is the reference clamp, and an empty m
 TEST_CASE("edge rules: every rule on every boundary edge passes the derivative checks, exact and Gauss-Newton") {
   ScopedThreads serial(1);
   for (EdgeRule rule : kRules) {
-    for (BendingHessian hessian : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
-      INFO(edgeRuleName(rule) << (hessian == BendingHessian::Exact ? ", exact" : ", Gauss-Newton"));
+    for (HessianModel hessian : {HessianModel::Exact, HessianModel::GaussNewton}) {
+      INFO(edgeRuleName(rule) << (hessian == HessianModel::Exact ? ", exact" : ", Gauss-Newton"));
       TermCheckOptions o;
-      o.check.evalOptions.bendingHessian = hessian;
-      o.check.hessianIsExact = hessian == BendingHessian::Exact;
+      o.check.evalOptions.hessianModel = hessian;
+      o.check.hessianIsExact = hessian == HessianModel::Exact;
       for (const std::string& f : termCheckFailures(
                [rule](const TermSetup& s) {
                  auto t = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, 0.3, 0.7);
@@ -121,21 +121,21 @@ TEST_CASE("edge rules: with the projected Hessian every rule's bending Hessian i
   const CheckMesh m = makeCheckMeshes().back();
   const Eigen::VectorXd x = makeCheckConfiguration(m, ConfigurationKind::Random, 7).x;
   for (EdgeRule rule : kRules) {
-    for (BendingHessian hessian : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
+    for (HessianModel hessian : {HessianModel::Exact, HessianModel::GaussNewton}) {
       INFO(edgeRuleName(rule));
       BendingTerm t(m.mesh, m.topology, m.reference, 0.3, 0.7);
       t.setEdgeRule(std::vector<char>(static_cast<std::size_t>(m.mesh.numVertices()), 1), rule, kPlane);
       EvalOptions o;
-      o.bendingHessian = hessian;
+      o.hessianModel = hessian;
       const Eigen::MatrixXd H = evaluateDense(t, x, o).hessian;
       o.projection = PsdProjection::Clamp;
       const Eigen::MatrixXd P = evaluateDense(t, x, o).hessian;
       const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> exact(H), projected(P);
-      if (hessian == BendingHessian::Exact)
+      if (hessian == HessianModel::Exact)
         CHECK(exact.eigenvalues().minCoeff() <
               -1e-6 * exact.eigenvalues().maxCoeff());
       CHECK(projected.eigenvalues().minCoeff() >= -1e-12 * projected.eigenvalues().maxCoeff());
-      if (hessian == BendingHessian::GaussNewton) {
+      if (hessian == HessianModel::GaussNewton) {
         // Jᵀ W'' J is positive semidefinite as it is, so the term does not project it (Newton's fallback
         // assembly relies on that: NewtonOptions::fallbackBendingHessian).
         CHECK(exact.eigenvalues().minCoeff() >= -1e-12 * exact.eigenvalues().maxCoeff());

@@ -99,9 +99,9 @@ TEST_CASE("bending: the staged evaluator takes moment-free edges and equals the 
   staged->setEdgeRule(all, EdgeRule::SecondOrderFree);
   staged->setStaged(true);
 
-  for (const BendingHessian hessian : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
+  for (const HessianModel hessian : {HessianModel::Exact, HessianModel::GaussNewton}) {
     EvalOptions opt;
-    opt.bendingHessian = hessian;
+    opt.hessianModel = hessian;
     opt.path = DerivativePath::AutoDiff;
     Eigen::VectorXd gRef, gAd, gAn;
     double eRef, eAd, eAn;
@@ -221,11 +221,11 @@ TEST_CASE("shell terms: the stage framework gives the hand-chained energies, gra
       stagedM.setStrainOrigin(origin, 3.0);
     }
     for (DerivativePath path : {DerivativePath::AutoDiff, DerivativePath::Analytic}) {
-      for (BendingHessian hessian : {BendingHessian::Exact, BendingHessian::GaussNewton}) {
+      for (HessianModel hessian : {HessianModel::Exact, HessianModel::GaussNewton}) {
         INFO("variant " << variant << ", path " << static_cast<int>(path) << ", hessian " << static_cast<int>(hessian));
         EvalOptions opt;
         opt.path = path;
-        opt.bendingHessian = hessian;
+        opt.hessianModel = hessian;
         for (auto [hand, staged] : {std::pair<EnergyTerm*, EnergyTerm*>{&handB, &stagedB}, {&handM, &stagedM}}) {
           Eigen::VectorXd gHand, gStaged;
           double eHand, eStaged;

@@ -111,7 +111,7 @@ TEST_CASE("derivative check: a Hessian missing its curvature part fails against 
   // The Gauss–Newton bending Hessian presented as exact: what a forgotten Σ w_k ∇²b_k looks like.
   const EnergyTermPtr bending = s.bending();
   DerivativeCheckOptions o;
-  o.evalOptions.bendingHessian = BendingHessian::GaussNewton;
+  o.evalOptions.hessianModel = HessianModel::GaussNewton;
   const DerivativeCheckResult wrong = checkDerivatives(*bending, s.x, o);
   CHECK(wrong.maxVsFd() > 1e-3);
   CHECK_FALSE(checkFailures(wrong, kTol).empty());
