@@ -369,6 +369,22 @@ class StageGraphEvaluator {
             Y.noalias() = Cab.lazyProduct(total(groupB));
           }
           constexpr bool same = a == b;
+          // A From group's blocks all at once, Z_aᵀ Y = (Z_aᵀ) Y with Z_aᵀ stored by columns: each column of the
+          // product is a combination of Z_aᵀ's columns, which vectorizes (Z_a(·, slot)ᵀ Y(·, slot') per block
+          // ran as scalar 3×3×3 products).
+          using Product = std::conditional_t<(la >= 0), Eigen::Matrix<double, 3 * wa, 3 * wb>, Eigen::Matrix<double, 1, 1>>;
+          Product P;
+          if constexpr (la >= 0) {
+            const Eigen::Matrix<double, 3 * wa, na> Zt = total(groupA).transpose();
+            P.noalias() = Zt.lazyProduct(Y);
+            // A Local group spans the element's stencil in its own order (its slots are 0 … K−1), so Z_aᵀ C_aa Z_a
+            // is the element block itself, symmetric: added whole (the lower triangle, when not Full, is never
+            // read).
+            if constexpr (same && !S::Groups::fromShared[a]) {
+              H += P;
+              return;
+            }
+          }
           for (int sa = 0; sa < wa; ++sa) {
             const int r = slot[a][static_cast<std::size_t>(sa)];
             if (r < 0) continue;
@@ -380,7 +396,7 @@ class StageGraphEvaluator {
                 const double sign = S::Groups::isDifference[a] && sa == 0 ? -1.0 : 1.0;
                 M = sign * Y.template block<3, 3>(0, 3 * sb);
               } else {
-                M.noalias() = total(groupA).template middleCols<3>(3 * sa).transpose().lazyProduct(Y.template middleCols<3>(3 * sb));
+                M = P.template block<3, 3>(3 * sa, 3 * sb);
               }
               // Within one group the pair (sa, sb), sb > sa, stands for (sb, sa) too: Z_aᵀ C_aa Z_a is symmetric.
               addBlock<Full>(r, c, M, !same || sb != sa, H);
