@@ -3,6 +3,7 @@
 #include "core/math_constants.h"
 #include "core/mesh_generators.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -158,18 +159,15 @@ ConfigurationGeometry measureGeometry(const CheckMesh& m, const Eigen::VectorXd&
     normal[f] = c.normalized();
     const double longest = std::max({e0.squaredNorm(), e1.squaredNorm(), (p2 - p1).squaredNorm()});
     g.minAspectRatio = std::min(g.minAspectRatio, c.norm() / longest);
-    // Principal stretches²: the eigenvalues of A⁻¹a, those of the symmetric S = L⁻¹ a L⁻ᵀ with A = L Lᵀ. The
-    // largest is the mean of S's diagonal plus hypot(half their difference, the off-diagonal): no square root of
-    // a round-off-sized discriminant when the stretches are equal (at rest: 1 to the last bits, not 1 + 1e-8).
+    // Principal stretches²: the generalized eigenvalues of a v = s A v (a, A symmetric, A definite), from Eigen's
+    // symmetric solver, exact to rounding at rest (not from the roots of det(a − s A), whose discriminant is
+    // rounding-sized there: its square root once gave 1 + 7e-9 under FMA).
     const Sym2& A = m.reference.metric[f];
-    const double l00 = std::sqrt(A[0]), l10 = A[1] / l00, l11 = std::sqrt(A[2] - l10 * l10);
-    const double a00 = e0.dot(e0), a01 = e0.dot(e1), a11 = e1.dot(e1);
-    // S = L⁻¹ a L⁻ᵀ for L = [l00 0; l10 l11].
-    const double s00 = a00 / (l00 * l00);
-    const double s01 = (a01 - l10 * a00 / l00) / (l00 * l11);
-    const double s11 = (a11 - 2.0 * l10 * a01 / l00 + l10 * l10 * a00 / (l00 * l00)) / (l11 * l11);
-    const double largest = 0.5 * (s00 + s11) + std::hypot(0.5 * (s00 - s11), s01);
-    g.maxStretch = std::max(g.maxStretch, std::sqrt(largest));
+    Eigen::Matrix2d reference, current;
+    reference << A[0], A[1], A[1], A[2];
+    current << e0.dot(e0), e0.dot(e1), e0.dot(e1), e1.dot(e1);
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> stretches(current, reference, Eigen::EigenvaluesOnly);
+    g.maxStretch = std::max(g.maxStretch, std::sqrt(stretches.eigenvalues().maxCoeff()));
   }
   for (int e = 0; e < m.topology.numEdges(); ++e) {
     const int fa = m.topology.edgeFaces(e, 0), fb = m.topology.edgeFaces(e, 1);
