@@ -24,7 +24,9 @@
 //     J = ∂y/∂z and the total Jacobian T = Σ_groups J_g T_g over the node's support (M × 3W, a Difference's T is
 //     ±I, a Vertex's I); at order 2, for a per-element exact Hessian, the stage Hessians ∇²y_k.
 //   per element (the coloured element loop): the Local layers forward over the element's 3K coordinates (their
-//     T rows are full width); the root's T is the element gradient. Hessian:
+//     T rows are full width), or over the 3(K−1) differences x_k − x_0 when every leaf is a Difference (the
+//     energy is then translation invariant, and slot 0's gradient and Hessian blocks follow from the others');
+//     the root's T is the element gradient. Hessian:
 //     H_e = Σ_nodes Z_νᵀ (Σ_k w̄_ν,k ∇²y_ν,k) Z_ν, Z_ν the stacked T of node ν's input groups, w̄_ν its adjoint:
 //     - Gauss–Newton: the root's term only (J_sᵀ W'' J_s);
 //     - exact, per element (a projection reads each element's own block): w̄ by a reverse sweep over the
@@ -185,6 +187,9 @@ class StageGraph {
   static_assert(!Shape<kRoot>::kShared && Shape<kRoot>::M == 1, "the last layer is Local with one output");
   /// Most Shared nodes of one layer an element may read (directly or not).
   static constexpr int kMaxElementNodes = 16;
+  /// True when every leaf input group of every layer is a Difference: the energy then depends on the vertices'
+  /// differences only, so it is invariant under a common translation (the evaluator uses this).
+  static constexpr bool leavesAreDifferences() { return leavesAreDifferencesIn(std::make_integer_sequence<int, kLayers>()); }
 
   /// Per layer: the node inputs and supports (set-up), and the per-element lists of the sweeps.
   struct LayerTables {
@@ -269,6 +274,19 @@ class StageGraph {
   template <typename F>
   static void forEachLayer(F&& f) {
     forEachLayerImpl(f, std::make_integer_sequence<int, kLayers>());
+  }
+
+  template <int I>
+  static constexpr bool layerLeavesAreDifferences() {
+    for (int g = 0; g < Shape<I>::G; ++g) {
+      const auto k = static_cast<std::size_t>(g);
+      if (Shape<I>::Groups::layer[k] < 0 && !Shape<I>::Groups::isDifference[k]) return false;
+    }
+    return true;
+  }
+  template <int... Is>
+  static constexpr bool leavesAreDifferencesIn(std::integer_sequence<int, Is...>) {
+    return (layerLeavesAreDifferences<Is>() && ...);
   }
 
   template <int I>

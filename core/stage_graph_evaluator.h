@@ -40,6 +40,17 @@ class StageGraphEvaluator {
   using Shape = typename Graph::template Shape<I>;
   using Gradient = Eigen::Matrix<double, D, 1>;
   using Hessian = Eigen::Matrix<double, D, D>;
+  /// True when every leaf input of every layer is a Difference: the energy is then a function of the
+  /// differences x_k − x_0 alone (invariant under a common translation), and the Hessian path works in those
+  /// K − 1 reduced coordinates u_k = x_k − x_0 of the element's slots 1 … K−1 (slot 0 the base). Totals of the
+  /// Local layers and the curvature blocks are formed there, (K−1)² blocks instead of K², and the element's
+  /// gradient and Hessian follow as g_0 = −Σ_k g_k, H = Lᵀ H_u L (u = L x): exact, not an approximation.
+  static constexpr bool kReduced = K >= 2 && Graph::leavesAreDifferences();
+  static constexpr int Kw = kReduced ? K - 1 : K;  // the element's working slots (reduced: slots 1 … K−1)
+  static constexpr int Dw = 3 * Kw;
+  /// Where the sweeps add curvature: the element's block over its working slots (reduced: the corner of slots
+  /// 1 … K−1, the base's row and column following in expandHessian).
+  using WorkHessian = std::conditional_t<kReduced, Eigen::Block<Hessian, Dw, Dw>, Hessian>;
 
   explicit StageGraphEvaluator(Graph& graph) : graph_(graph) {}
 
@@ -124,7 +135,7 @@ class StageGraphEvaluator {
     // stage Hessians) for every element.
     LocalNode() {}
     StageDerivatives<S::N, S::M> d;
-    Eigen::Matrix<double, S::M, D> total;
+    Eigen::Matrix<double, S::M, Dw> total;  // over the element's working slots
     Eigen::Matrix<double, S::M, 1> adjoint;
   };
   struct Empty {};
@@ -213,8 +224,10 @@ class StageGraphEvaluator {
 
   /// T = Σ_g J_g Z_g over the node's W slots (Shared) or the element's K (Local): a leaf's Z is ±I at its
   /// slots; a From group's is its node's T, the node's support slots mapped by `slot`.
+  /// A Local layer's T is over the element's working slots (workSlot); a Shared layer's over its own support.
   template <int I, typename Jac, typename Total>
   void addTotals(const Jac& J, const InputRef* in, const std::int8_t* slot, const ElementState* s, Total& T) {
+    constexpr bool reduce = kReduced && !Shape<I>::kShared;
     T.setZero();
     forEachGroup<I>([&](auto group) {
       constexpr int g = decltype(group)::value;
@@ -223,8 +236,9 @@ class StageGraphEvaluator {
       if constexpr (l < 0) {
         const auto Jg = J.template middleCols<3>(off);
         if constexpr (Shape<I>::Groups::isDifference[g]) {
-          if (gs[1] >= 0) T.template middleCols<3>(3 * gs[1]) += Jg;
-          if (gs[0] >= 0) T.template middleCols<3>(3 * gs[0]) -= Jg;
+          const int j = workSlot(gs[1], reduce), i = workSlot(gs[0], reduce);
+          if (j >= 0) T.template middleCols<3>(3 * j) += Jg;
+          if (i >= 0) T.template middleCols<3>(3 * i) -= Jg;
         } else {
           if (gs[0] >= 0) T.template middleCols<3>(3 * gs[0]) += Jg;
         }
@@ -232,8 +246,10 @@ class StageGraphEvaluator {
         constexpr int Ml = Shape<l>::M, Wl = Shape<l>::W;
         const auto& Tl = buffers<l>().total[static_cast<std::size_t>(in[g].a)];
         const Eigen::Matrix<double, Shape<I>::M, 3 * Wl> JT = J.template middleCols<Ml>(off).lazyProduct(Tl);
-        for (int t = 0; t < Wl; ++t)
-          if (gs[t] >= 0) T.template middleCols<3>(3 * gs[t]) += JT.template middleCols<3>(3 * t);
+        for (int t = 0; t < Wl; ++t) {
+          const int w = workSlot(gs[t], reduce);
+          if (w >= 0) T.template middleCols<3>(3 * w) += JT.template middleCols<3>(3 * t);
+        }
       } else {
         constexpr int Ml = Shape<l>::M;
         T.noalias() += J.template middleCols<Ml>(off).lazyProduct(std::get<l>(s->nodes).total);
@@ -293,11 +309,23 @@ class StageGraphEvaluator {
     });
   }
 
+  /// An element slot's working slot: itself, or (reduced) its reduced coordinate, slot − 1; negative: none
+  /// (an absent vertex, or the base slot 0, whose rows follow from the others').
+  static constexpr int workSlot(int slot, bool reduced) { return reduced ? (slot >= 1 ? slot - 1 : -1) : slot; }
+  /// The slots a group of layer I spans in the working coordinates: a Local group the element's working slots,
+  /// a leaf or Shared group its support.
+  template <int I>
+  static constexpr int groupWidth(int g) {
+    using S = Shape<I>;
+    const auto k = static_cast<std::size_t>(g);
+    return S::Groups::layer[k] >= 0 && !S::Groups::fromShared[k] ? Kw : S::Groups::support[k];
+  }
+
   /// Adds M (3×3, the block of element slots (r, c)) to H: every block when Full, else only the upper
   /// triangle's, M going to (c, r) transposed when r > c. `mirror`: the block stands for its transpose at
   /// (c, r) too (added as Mᵀ there).
   template <bool Full>
-  static void addBlock(int r, int c, const Eigen::Matrix3d& M, bool mirror, Hessian& H) {
+  static void addBlock(int r, int c, const Eigen::Matrix3d& M, bool mirror, WorkHessian& H) {
     if constexpr (Full) {
       H.template block<3, 3>(3 * r, 3 * c) += M;
       if (mirror) H.template block<3, 3>(3 * c, 3 * r) += M.transpose();
@@ -343,18 +371,18 @@ class StageGraphEvaluator {
   /// support slots to the element's (−1: none); `total(group)` gives a From group's T.
   template <int I, bool Full, typename Totals>
   static void addCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
-                           const std::array<Slots, Shape<I>::G>& slot, Totals&& total, Hessian& H) {
+                           const std::array<Slots, Shape<I>::G>& slot, Totals&& total, WorkHessian& H) {
     using S = Shape<I>;
     const auto& mask = blockMask<I>();
     forEachGroup<I>([&](auto groupA) {
       constexpr int a = decltype(groupA)::value;
-      constexpr int na = S::Groups::size[a], oa = S::offset(a), la = S::Groups::layer[a], wa = S::Groups::support[a];
+      constexpr int na = S::Groups::size[a], oa = S::offset(a), la = S::Groups::layer[a], wa = groupWidth<I>(a);
       forEachGroup<I>([&](auto groupB) {
         constexpr int b = decltype(groupB)::value;
         if constexpr (b >= a) {
           if (!mask[static_cast<std::size_t>(a * S::G + b)]) return;
           constexpr int nb = S::Groups::size[b], ob = S::offset(b), lb = S::Groups::layer[b];
-          constexpr int wb = S::Groups::support[b];
+          constexpr int wb = groupWidth<I>(b);
           const auto Cab = C.template block<na, nb>(oa, ob);
           // Y = C_ab Z_b over b's support slots (a leaf's Z is ±I: its columns are ±C_ab).
           Eigen::Matrix<double, na, 3 * wb> Y;
@@ -463,28 +491,34 @@ class StageGraphEvaluator {
     }
   }
 
-  /// The element slots of every group of Local node I of element e.
+  /// The element slots of every group of Local node I of element e; `reduced`: the working slots (workSlot; a
+  /// Local group's are 0 … Kw−1).
   template <int I>
-  std::array<Slots, Shape<I>::G> localSlots(int e) const {
+  std::array<Slots, Shape<I>::G> localSlots(int e, bool reduced) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(e);
     for (int g = 0; g < Shape<I>::G; ++g) {
-      const int w = Shape<I>::Groups::support[static_cast<std::size_t>(g)];
-      for (int t = 0; t < w; ++t) out[static_cast<std::size_t>(g)][static_cast<std::size_t>(t)] = sl[Shape<I>::slotOffset(g) + t];
+      const auto k = static_cast<std::size_t>(g);
+      const bool local = Shape<I>::Groups::layer[k] >= 0 && !Shape<I>::Groups::fromShared[k];
+      const int w = Shape<I>::Groups::support[k];
+      for (int t = 0; t < w; ++t)
+        out[k][static_cast<std::size_t>(t)] =
+            static_cast<std::int8_t>(reduced && local ? (t < Kw ? t : -1) : workSlot(sl[Shape<I>::slotOffset(g) + t], reduced));
     }
     return out;
   }
   /// The element slots of every group of Shared node `entity` of layer I, given the node's own slots in the
-  /// element (`nodeSlot`, W entries).
+  /// element (`nodeSlot`, W entries); `reduced`: the working slots.
   template <int I>
-  std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot) const {
+  std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot, bool reduced) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(entity);
     for (int g = 0; g < Shape<I>::G; ++g) {
       const int w = Shape<I>::Groups::support[static_cast<std::size_t>(g)];
       for (int t = 0; t < w; ++t) {
         const int s = sl[Shape<I>::slotOffset(g) + t];
-        out[static_cast<std::size_t>(g)][static_cast<std::size_t>(t)] = s >= 0 ? nodeSlot[s] : std::int8_t{-1};
+        out[static_cast<std::size_t>(g)][static_cast<std::size_t>(t)] =
+            static_cast<std::int8_t>(s >= 0 ? workSlot(nodeSlot[s], reduced) : -1);
       }
     }
     return out;
@@ -526,7 +560,7 @@ class StageGraphEvaluator {
   template <int I>
   void addSharedCurvature(int entity, const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>* given, const double* w,
                           const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
-                          const std::int8_t* nodeSlot, const Mode& mode, Hessian& H) {
+                          const std::int8_t* nodeSlot, const Mode& mode, WorkHessian& H) {
     using S = Shape<I>;
     if constexpr (IsAffineStage<typename S::Stage>::value) {
       return;
@@ -542,9 +576,9 @@ class StageGraphEvaluator {
         return buffers<l>().total[static_cast<std::size_t>(in[decltype(group)::value].a)];
       };
       if (mode.full) {
-        addCurvature<I, true>(*given, sharedSlots<I>(entity, nodeSlot), total, H);
+        addCurvature<I, true>(*given, sharedSlots<I>(entity, nodeSlot, kReduced), total, H);
       } else {
-        addCurvature<I, false>(*given, sharedSlots<I>(entity, nodeSlot), total, H);
+        addCurvature<I, false>(*given, sharedSlots<I>(entity, nodeSlot, kReduced), total, H);
       }
     }
   }
@@ -552,7 +586,8 @@ class StageGraphEvaluator {
   /// The element's reverse sweep: from the root's adjoint 1 through its Local nodes, then (when `shared`) through
   /// the Shared nodes it reads, last layer first. Each node's curvature goes into H (when given; the
   /// Gauss–Newton model stops after the root), leaves' adjoints into g (when given).
-  JETSHELL_FLATTEN_SWEEP void reverse(int e, const Mode& mode, bool shared, ElementState& s, Gradient* g, Hessian* H,
+  /// With H (a Hessian: no g), slots are the working ones; with g (a gradient alone: no H), the element's own.
+  JETSHELL_FLATTEN_SWEEP void reverse(int e, const Mode& mode, bool shared, ElementState& s, Gradient* g, WorkHessian* H,
                                 bool keep = false) {
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
@@ -575,7 +610,7 @@ class StageGraphEvaluator {
       if constexpr (!S::kShared) {
         if (curvature && !mode.exact && I != kRoot && g == nullptr) return;
         LocalNode<I>& node = std::get<I>(s.nodes);
-        const std::array<Slots, S::G> slot = localSlots<I>(e);
+        const std::array<Slots, S::G> slot = localSlots<I>(e, kReduced && curvature);
         const InputRef* in = inputs<I>(e);
         const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
         if (curvature && (mode.exact || I == kRoot)) {
@@ -624,7 +659,7 @@ class StageGraphEvaluator {
           const auto& J = buffers<I>().jacobian[static_cast<std::size_t>(entity)];
           const Eigen::Matrix<double, S::N, 1> zbar = J.transpose() * Eigen::Map<const Eigen::Matrix<double, S::M, 1>>(w);
           const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
-          sendAdjoint<I>(zbar, sharedSlots<I>(entity, nodeSlot),
+          sendAdjoint<I>(zbar, sharedSlots<I>(entity, nodeSlot, kReduced && curvature),
                          [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); }, true, s, g);
         }
       }
@@ -638,11 +673,23 @@ class StageGraphEvaluator {
     forwardLocals<kRoot>(x, e, mode, s);
     LocalNode<kRoot>& root = std::get<kRoot>(s.nodes);
     if (!wantH) return root.d.value[0];  // a gradient alone is gradientSweep's
-    if (wantG) gradient = root.total.transpose();
+    if (wantG) expandGradient(root.total, gradient);
     hessian.setZero();
+    if constexpr (kReduced) {
+      WorkHessian work = hessian.template bottomRightCorner<Dw, Dw>();
+      addCurvatures(e, mode, s, work);
+      expandHessian(mode.full, hessian);
+    } else {
+      addCurvatures(e, mode, s, hessian);
+    }
+    return root.d.value[0];
+  }
+
+  /// The element's curvature terms into `work` (its Hessian over the working slots).
+  void addCurvatures(int e, const Mode& mode, ElementState& s, WorkHessian& work) {
     // Per-element exact Hessian: the element's own reverse sweep through every node it reads. Contracted or
     // Gauss–Newton: its Local nodes only, then (contracted) the Shared nodes it owns, with their total adjoints.
-    reverse(e, mode, mode.sharedHessians, s, nullptr, &hessian);
+    reverse(e, mode, mode.sharedHessians, s, nullptr, &work);
     if (mode.contracted) {
       forEachLayer([&](auto layer) {
         constexpr int I = decltype(layer)::value;
@@ -656,13 +703,42 @@ class StageGraphEvaluator {
             constexpr bool stored = !HasConstantHessian<typename Shape<I>::Stage>::value;
             addSharedCurvature<I>(entity, stored ? &buffers<I>().curvature[k] : nullptr, buffers<I>().adjoint[k].data(),
                                   nullptr, t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W, mode,
-                                  hessian);
+                                  work);
           }
         }
       });
     }
-    return root.d.value[0];
   }
+
+  /// The element gradient from the root's total Jacobian over the working slots: slots 1 … K−1 as they are,
+  /// slot 0 (reduced) minus their sum (a common translation changes nothing).
+  static void expandGradient(const Eigen::Matrix<double, 1, Dw>& total, Gradient& g) {
+    if constexpr (kReduced) {
+      g.template tail<Dw>() = total.transpose();
+      Eigen::Vector3d base = Eigen::Vector3d::Zero();
+      for (int k = 0; k < Kw; ++k) base -= total.template middleCols<3>(3 * k).transpose();
+      g.template head<3>() = base;
+    } else {
+      g = total.transpose();
+    }
+  }
+  /// H = Lᵀ H_u L for the reduced Hessian H_u (u_k = x_k − x_0) in H's corner of slots 1 … K−1: the base row's
+  /// block in column c is minus column c's sum, and the base's own block the sum of all. H_u holds every block
+  /// when `full`, else its upper triangle's, whose transposes fill the lower ones first. The element's block
+  /// comes out whole and symmetric in its blocks.
+  static void expandHessian(bool full, Hessian& H) {
+    if (!full)
+      for (int c = 1; c < K; ++c)
+        for (int r = c + 1; r < K; ++r) H.template block<3, 3>(3 * r, 3 * c) = H.template block<3, 3>(3 * c, 3 * r).transpose();
+    Eigen::Matrix<double, 3, Dw> column = H.template block<3, Dw>(3, 3);
+    for (int r = 2; r < K; ++r) column += H.template block<3, Dw>(3 * r, 3);
+    H.template block<3, Dw>(0, 3) = -column;
+    H.template block<Dw, 3>(3, 0) = -column.transpose();
+    Eigen::Matrix3d all = column.template leftCols<3>();
+    for (int c = 1; c < Kw; ++c) all += column.template middleCols<3>(3 * c);
+    H.template topLeftCorner<3, 3>() = all;
+  }
+
 
   // ---- a gradient alone: one reverse sweep over the whole graph ----
   /// The elements' Local nodes forward and backward (leaf adjoints into the gradient through the coloured loop,

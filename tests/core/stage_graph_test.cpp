@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 using namespace jetshell;
@@ -57,22 +58,30 @@ struct Energy {
 };
 using TestGraph = StageGraph<4, Shared<FaceNormal, 3, Difference, Difference>, Shared<EdgeMix, 4, From<0>, From<0>>,
                              Local<Mix, From<1>, Difference, Vertex>, Local<Energy, From<2>>>;
+// The same with v = x_c − x_a: every leaf a Difference, so the evaluator works in the reduced coordinates
+// x_k − x_0 and rebuilds slot 0's rows from the others'.
+using DifferenceGraph = StageGraph<4, Shared<FaceNormal, 3, Difference, Difference>, Shared<EdgeMix, 4, From<0>, From<0>>,
+                                   Local<Mix, From<1>, Difference, Difference>, Local<Energy, From<2>>>;
+static_assert(!StageGraphEvaluator<TestGraph>::kReduced && StageGraphEvaluator<DifferenceGraph>::kReduced);
 
-TestGraph buildGraph(const TriMesh& mesh, const Topology& topo, const HingeStencils& l) {
-  TestGraph g(mesh.numVertices());
-  g.resize<0>(mesh.numFaces());
+template <typename Graph = TestGraph>
+Graph buildGraph(const TriMesh& mesh, const Topology& topo, const HingeStencils& l) {
+  constexpr bool vertexInput = std::is_same_v<Graph, TestGraph>;
+  Graph g(mesh.numVertices());
+  g.template resize<0>(mesh.numFaces());
   for (int f = 0; f < mesh.numFaces(); ++f)
-    g.setInputs<0>(f, {difference(mesh.F(f, 0), mesh.F(f, 1)), difference(mesh.F(f, 0), mesh.F(f, 2))});
-  g.resize<1>(topo.numEdges());
+    g.template setInputs<0>(f, {difference(mesh.F(f, 0), mesh.F(f, 1)), difference(mesh.F(f, 0), mesh.F(f, 2))});
+  g.template resize<1>(topo.numEdges());
   for (int e = 0; e < topo.numEdges(); ++e) {
     const int fa = topo.edgeFaces(e, 0), fb = topo.edgeFaces(e, 1);
-    g.setInputs<1>(e, {node(fa), node(fb >= 0 ? fb : fa)});
+    g.template setInputs<1>(e, {node(fa), node(fb >= 0 ? fb : fa)});
   }
   g.setElements(l.table);
   for (int i = 0; i < l.table.size(); ++i) {
     const int* v = l.table.element(i);
-    g.setInputs<2>(i, {node(l.edge[static_cast<std::size_t>(i)]), difference(v[0], v[1]), vertex(v[2])});
-    g.setInputs<3>(i, {node(i)});
+    g.template setInputs<2>(i, {node(l.edge[static_cast<std::size_t>(i)]), difference(v[0], v[1]),
+                       vertexInput ? vertex(v[2]) : difference(v[0], v[2])});
+    g.template setInputs<3>(i, {node(i)});
   }
   g.finalize();
   return g;
@@ -82,6 +91,7 @@ TestGraph buildGraph(const TriMesh& mesh, const Topology& topo, const HingeStenc
 struct Reference {
   static constexpr int kVertices = 4;
   std::vector<std::array<std::array<int, 3>, 2>> corner;
+  bool vertexInput = true;  // v = x_c (TestGraph), or x_c − x_a (DifferenceGraph)
   template <typename T>
   void mix(const T* x, int i, T* y) const {
     T n[2][3];
@@ -94,7 +104,10 @@ struct Reference {
     const T nn[6] = {n[0][0], n[0][1], n[0][2], n[1][0], n[1][1], n[1][2]};
     T m[3];
     EdgeMix()(nn, m, 0);
-    const T z[9] = {m[0], m[1], m[2], x[3] - x[0], x[4] - x[1], x[5] - x[2], x[6], x[7], x[8]};
+    T v[3] = {x[6], x[7], x[8]};
+    if (!vertexInput)
+      for (int k = 0; k < 3; ++k) v[k] -= x[k];
+    const T z[9] = {m[0], m[1], m[2], x[3] - x[0], x[4] - x[1], x[5] - x[2], v[0], v[1], v[2]};
     Mix()(z, y, 0);
   }
   template <typename T>
@@ -147,6 +160,31 @@ TEST_CASE("stage graph: value, gradient and Hessian equal the energy written as 
     CHECK(graph.evaluate(c.x, {&g, nullptr, -1}, opt) == Approx(eG).epsilon(1e-15));
     CHECK((g - gG).norm() <= 1e-14 * gG.norm());
   }
+}
+
+TEST_CASE("stage graph: a graph of differences only gives the same derivatives in reduced coordinates", "[stages]") {
+  Case c;
+  StageGraphTerm<DifferenceGraph> graph("graph", buildGraph<DifferenceGraph>(c.mesh, c.topo, c.l));
+  ElementEnergyTerm<Reference> reference("reference", c.l.table, c.mesh.numVertices(), Reference{c.l.corners, false});
+  for (const HessianModel model : {HessianModel::Exact, HessianModel::GaussNewton})
+    for (const PsdProjection projection : {PsdProjection::None, PsdProjection::Clamp}) {
+      EvalOptions opt;
+      opt.path = DerivativePath::AutoDiff;
+      opt.projection = projection;
+      opt.hessianModel = model;
+      Eigen::VectorXd gG, gR;
+      double eG, eR;
+      const Eigen::MatrixXd HG = denseHessian(graph, c.x, opt, gG, eG);
+      const Eigen::MatrixXd HR = denseHessian(reference, c.x, opt, gR, eR);
+      REQUIRE(std::abs(eR) > 0.1);
+      CHECK(eG == Approx(eR).epsilon(1e-14));
+      CHECK((gG - gR).norm() <= 1e-13 * gR.norm());
+      // A common translation changes nothing: every 3-row group of the assembled Hessian sums to zero.
+      Eigen::MatrixXd sums = Eigen::MatrixXd::Zero(3, HG.cols());
+      for (int v = 0; v < c.mesh.numVertices(); ++v) sums += HG.middleRows(3 * v, 3);
+      CHECK(sums.norm() <= 1e-13 * HG.norm());
+      if (model == HessianModel::Exact) CHECK((HG - HR).norm() <= 1e-13 * HR.norm());
+    }
 }
 
 TEST_CASE("stage graph: Gauss-Newton keeps the energy stage's curvature only", "[stages]") {
