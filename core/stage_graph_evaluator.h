@@ -493,8 +493,8 @@ class StageGraphEvaluator {
 
   /// The element slots of every group of Local node I of element e; `reduced`: the working slots (workSlot; a
   /// Local group's are 0 … Kw−1).
-  template <int I>
-  std::array<Slots, Shape<I>::G> localSlots(int e, bool reduced) const {
+  template <int I, bool reduced>
+  std::array<Slots, Shape<I>::G> localSlots(int e) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(e);
     for (int g = 0; g < Shape<I>::G; ++g) {
@@ -509,8 +509,8 @@ class StageGraphEvaluator {
   }
   /// The element slots of every group of Shared node `entity` of layer I, given the node's own slots in the
   /// element (`nodeSlot`, W entries); `reduced`: the working slots.
-  template <int I>
-  std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot, bool reduced) const {
+  template <int I, bool reduced>
+  std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(entity);
     for (int g = 0; g < Shape<I>::G; ++g) {
@@ -576,9 +576,9 @@ class StageGraphEvaluator {
         return buffers<l>().total[static_cast<std::size_t>(in[decltype(group)::value].a)];
       };
       if (mode.full) {
-        addCurvature<I, true>(*given, sharedSlots<I>(entity, nodeSlot, kReduced), total, H);
+        addCurvature<I, true>(*given, sharedSlots<I, kReduced>(entity, nodeSlot), total, H);
       } else {
-        addCurvature<I, false>(*given, sharedSlots<I>(entity, nodeSlot, kReduced), total, H);
+        addCurvature<I, false>(*given, sharedSlots<I, kReduced>(entity, nodeSlot), total, H);
       }
     }
   }
@@ -610,7 +610,7 @@ class StageGraphEvaluator {
       if constexpr (!S::kShared) {
         if (curvature && !mode.exact && I != kRoot && g == nullptr) return;
         LocalNode<I>& node = std::get<I>(s.nodes);
-        const std::array<Slots, S::G> slot = localSlots<I>(e, kReduced && curvature);
+        const std::array<Slots, S::G> slot = curvature ? localSlots<I, kReduced>(e) : localSlots<I, false>(e);
         const InputRef* in = inputs<I>(e);
         const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
         if (curvature && (mode.exact || I == kRoot)) {
@@ -659,7 +659,7 @@ class StageGraphEvaluator {
           const auto& J = buffers<I>().jacobian[static_cast<std::size_t>(entity)];
           const Eigen::Matrix<double, S::N, 1> zbar = J.transpose() * Eigen::Map<const Eigen::Matrix<double, S::M, 1>>(w);
           const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
-          sendAdjoint<I>(zbar, sharedSlots<I>(entity, nodeSlot, kReduced && curvature),
+          sendAdjoint<I>(zbar, curvature ? sharedSlots<I, kReduced>(entity, nodeSlot) : sharedSlots<I, false>(entity, nodeSlot),
                          [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); }, true, s, g);
         }
       }
