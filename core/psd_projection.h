@@ -50,6 +50,22 @@ bool hasTranslationNullSpace(const Eigen::Matrix<double, N, N>& H) {
   return true;
 }
 
+/// Completes the block H = Lᵀ H_e L of an energy invariant under a common translation of its K vertices from its
+/// edge-space corner H_e (the rows and columns of vertices 1 … K−1, every block set): vertex 0's block in column c
+/// is minus column c's sum, and its own block the sum of all (L maps positions to the edge vectors x_k − x_0).
+template <int N>
+void completeTranslationInvariant(Eigen::Matrix<double, N, N>& H) {
+  static_assert(N % 3 == 0 && N >= 6, "blocks of at least two 3-vectors");
+  constexpr int R = N - 3;
+  Eigen::Matrix<double, 3, R> column = H.template block<3, R>(3, 3);
+  for (int r = 2; r < N / 3; ++r) column += H.template block<3, R>(3 * r, 3);
+  H.template block<3, R>(0, 3) = -column;
+  H.template block<R, 3>(3, 0) = -column.transpose();
+  Eigen::Matrix3d all = column.template leftCols<3>();
+  for (int c = 1; c < R / 3; ++c) all += column.template middleCols<3>(3 * c);
+  H.template topLeftCorner<3, 3>() = all;
+}
+
 /// True when a translation-invariant block is positive semi-definite, judged by a Cholesky factorization of its
 /// edge-space block H_e (N − 3 square). The full block is always singular, so its own Cholesky never succeeds and
 /// every such block would otherwise go to an eigen-decomposition.
@@ -115,15 +131,7 @@ void projectPsdTranslationInvariant(Eigen::Matrix<double, N, N>& H, PsdProjectio
   projectSpectrum(S, mode);
   applyEdgeMetric(S, true);
   H.template bottomRightCorner<R, R>() = S;
-  Eigen::Matrix3d corner = Eigen::Matrix3d::Zero();
-  for (int j = 0; j < R / 3; ++j) {
-    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
-    for (int i = 0; i < R / 3; ++i) s -= S.template block<3, 3>(3 * i, 3 * j);
-    H.template block<3, 3>(0, 3 + 3 * j) = s;
-    H.template block<3, 3>(3 + 3 * j, 0) = s.transpose();
-    corner -= s;
-  }
-  H.template topLeftCorner<3, 3>() = corner;
+  completeTranslationInvariant(H);
 }
 
 /// Projects the symmetric block H in place. Returns true when the block was changed.

@@ -16,6 +16,7 @@
 #include "core/element_loop.h"
 #include "core/flatten.h"
 #include "core/parallel_errors.h"
+#include "core/psd_projection.h"
 #include "core/stage_graph.h"
 #include "core/term.h"
 
@@ -674,12 +675,14 @@ class StageGraphEvaluator {
     LocalNode<kRoot>& root = std::get<kRoot>(s.nodes);
     if (!wantH) return root.d.value[0];  // a gradient alone is gradientSweep's
     if (wantG) expandGradient(root.total, gradient);
-    hessian.setZero();
     if constexpr (kReduced) {
+      // Only the corner accumulates; expandHessian writes the base's row and column whole.
       WorkHessian work = hessian.template bottomRightCorner<Dw, Dw>();
+      work.setZero();
       addCurvatures(e, mode, s, work);
       expandHessian(mode.full, hessian);
     } else {
+      hessian.setZero();
       addCurvatures(e, mode, s, hessian);
     }
     return root.d.value[0];
@@ -722,23 +725,15 @@ class StageGraphEvaluator {
       g = total.transpose();
     }
   }
-  /// H = Lᵀ H_u L for the reduced Hessian H_u (u_k = x_k − x_0) in H's corner of slots 1 … K−1: the base row's
-  /// block in column c is minus column c's sum, and the base's own block the sum of all. H_u holds every block
-  /// when `full`, else its upper triangle's, whose transposes fill the lower ones first. The element's block
-  /// comes out whole and symmetric in its blocks.
+  /// H = Lᵀ H_u L for the reduced Hessian H_u (u_k = x_k − x_0) in H's corner of slots 1 … K−1. H_u holds every
+  /// block when `full`, else its upper triangle's, whose transposes fill the lower ones first; the base's row and
+  /// column then follow (core/psd_projection.h). The element's block comes out whole and symmetric in its blocks.
   static void expandHessian(bool full, Hessian& H) {
     if (!full)
       for (int c = 1; c < K; ++c)
         for (int r = c + 1; r < K; ++r) H.template block<3, 3>(3 * r, 3 * c) = H.template block<3, 3>(3 * c, 3 * r).transpose();
-    Eigen::Matrix<double, 3, Dw> column = H.template block<3, Dw>(3, 3);
-    for (int r = 2; r < K; ++r) column += H.template block<3, Dw>(3 * r, 3);
-    H.template block<3, Dw>(0, 3) = -column;
-    H.template block<Dw, 3>(3, 0) = -column.transpose();
-    Eigen::Matrix3d all = column.template leftCols<3>();
-    for (int c = 1; c < Kw; ++c) all += column.template middleCols<3>(3 * c);
-    H.template topLeftCorner<3, 3>() = all;
+    completeTranslationInvariant(H);
   }
-
 
   // ---- a gradient alone: one reverse sweep over the whole graph ----
   /// The elements' Local nodes forward and backward (leaf adjoints into the gradient through the coloured loop,

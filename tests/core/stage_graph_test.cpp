@@ -136,29 +136,48 @@ struct Case {
 
 }  // namespace
 
+/// Both terms at x on the Jets: their energies and gradients must agree; the dense Hessians are returned for the
+/// caller's checks, with the graph's energy and gradient.
+struct Compared {
+  Eigen::MatrixXd graph, reference;
+  double energy = 0.0;
+  Eigen::VectorXd gradient;
+};
+template <typename Graph>
+Compared compareWithReference(StageGraphTerm<Graph>& graph, ElementEnergyTerm<Reference>& reference,
+                              const Eigen::VectorXd& x, PsdProjection projection, HessianModel model = HessianModel::Exact) {
+  EvalOptions opt;
+  opt.path = DerivativePath::AutoDiff;
+  opt.projection = projection;
+  opt.hessianModel = model;
+  Compared r;
+  Eigen::VectorXd gR;
+  double eR;
+  r.graph = denseHessian(graph, x, opt, r.gradient, r.energy);
+  r.reference = denseHessian(reference, x, opt, gR, eR);
+  REQUIRE(std::abs(eR) > 0.1);
+  CHECK(r.energy == Approx(eR).epsilon(1e-14));
+  CHECK((r.gradient - gR).norm() <= 1e-13 * gR.norm());
+  return r;
+}
+
 TEST_CASE("stage graph: value, gradient and Hessian equal the energy written as one nested-Jet element", "[stages]") {
   Case c;
   StageGraphTerm<TestGraph> graph("graph", buildGraph(c.mesh, c.topo, c.l));
   ElementEnergyTerm<Reference> reference("reference", c.l.table, c.mesh.numVertices(), Reference{c.l.corners});
   for (const PsdProjection projection : {PsdProjection::None, PsdProjection::Clamp}) {
     // No projection: the contracted sweep (each Shared node's curvature once); a projection: each element's own.
+    const Compared r = compareWithReference(graph, reference, c.x, projection);
+    CHECK((r.graph - r.reference).norm() <= 1e-13 * r.reference.norm());
+    // The value alone and the gradient alone (the reverse sweep) are the same, up to the last bits: a stage's
+    // value on doubles and on Jets may round differently (Eigen vectorizes the double case).
     EvalOptions opt;
     opt.path = DerivativePath::AutoDiff;
     opt.projection = projection;
-    Eigen::VectorXd gG, gR;
-    double eG, eR;
-    const Eigen::MatrixXd HG = denseHessian(graph, c.x, opt, gG, eG);
-    const Eigen::MatrixXd HR = denseHessian(reference, c.x, opt, gR, eR);
-    REQUIRE(std::abs(eR) > 0.1);
-    CHECK(eG == Approx(eR).epsilon(1e-14));
-    CHECK((gG - gR).norm() <= 1e-13 * gR.norm());
-    CHECK((HG - HR).norm() <= 1e-13 * HR.norm());
-    // The value alone and the gradient alone (the reverse sweep) are the same, up to the last bits: a stage's
-    // value on doubles and on Jets may round differently (Eigen vectorizes the double case).
     Eigen::VectorXd g = Eigen::VectorXd::Zero(c.x.size());
-    CHECK(graph.evaluate(c.x, {}, opt) == Approx(eG).epsilon(1e-15));
-    CHECK(graph.evaluate(c.x, {&g, nullptr, -1}, opt) == Approx(eG).epsilon(1e-15));
-    CHECK((g - gG).norm() <= 1e-14 * gG.norm());
+    CHECK(graph.evaluate(c.x, {}, opt) == Approx(r.energy).epsilon(1e-15));
+    CHECK(graph.evaluate(c.x, {&g, nullptr, -1}, opt) == Approx(r.energy).epsilon(1e-15));
+    CHECK((g - r.gradient).norm() <= 1e-14 * r.gradient.norm());
   }
 }
 
@@ -168,22 +187,12 @@ TEST_CASE("stage graph: a graph of differences only gives the same derivatives i
   ElementEnergyTerm<Reference> reference("reference", c.l.table, c.mesh.numVertices(), Reference{c.l.corners, false});
   for (const HessianModel model : {HessianModel::Exact, HessianModel::GaussNewton})
     for (const PsdProjection projection : {PsdProjection::None, PsdProjection::Clamp}) {
-      EvalOptions opt;
-      opt.path = DerivativePath::AutoDiff;
-      opt.projection = projection;
-      opt.hessianModel = model;
-      Eigen::VectorXd gG, gR;
-      double eG, eR;
-      const Eigen::MatrixXd HG = denseHessian(graph, c.x, opt, gG, eG);
-      const Eigen::MatrixXd HR = denseHessian(reference, c.x, opt, gR, eR);
-      REQUIRE(std::abs(eR) > 0.1);
-      CHECK(eG == Approx(eR).epsilon(1e-14));
-      CHECK((gG - gR).norm() <= 1e-13 * gR.norm());
+      const Compared r = compareWithReference(graph, reference, c.x, projection, model);
       // A common translation changes nothing: every 3-row group of the assembled Hessian sums to zero.
-      Eigen::MatrixXd sums = Eigen::MatrixXd::Zero(3, HG.cols());
-      for (int v = 0; v < c.mesh.numVertices(); ++v) sums += HG.middleRows(3 * v, 3);
-      CHECK(sums.norm() <= 1e-13 * HG.norm());
-      if (model == HessianModel::Exact) CHECK((HG - HR).norm() <= 1e-13 * HR.norm());
+      Eigen::MatrixXd sums = Eigen::MatrixXd::Zero(3, r.graph.cols());
+      for (int v = 0; v < c.mesh.numVertices(); ++v) sums += r.graph.middleRows(3 * v, 3);
+      CHECK(sums.norm() <= 1e-13 * r.graph.norm());
+      if (model == HessianModel::Exact) CHECK((r.graph - r.reference).norm() <= 1e-13 * r.reference.norm());
     }
 }
 
