@@ -47,18 +47,22 @@ std::string statusMessage(const char* what, const cholmod_common& c) {
 
 namespace {
 
-/// Runs the enclosing scope with n OpenMP threads (the BLAS's, for OpenBLAS's OpenMP build).
+/// Runs the enclosing scope with n OpenMP threads (the BLAS's, for OpenBLAS's OpenMP build); n <= 0 leaves the
+/// caller's settings as they are (SplitFactor's parts, each run on one thread of its own parallel region).
 /// With n = 1 it also makes every parallel region inactive (max-active-levels 0): Debian's CHOLMOD 3 opens its
 /// own regions inside the supernodal factorization with a fixed num_threads(4), which on 2 cores with passive
 /// waiting put the factorization's threads to sleep and woke them per supernode. Measured on the 10k-vertex
 /// cloth's one-ring factor: 181 ms -> 44 ms per factorization (BENCHMARKS.md).
 class ScopedThreads {
  public:
-  explicit ScopedThreads(int n) : saved_(omp_get_max_threads()), savedLevels_(omp_get_max_active_levels()) {
-    if (n > 0 && n != saved_) omp_set_num_threads(n);
+  explicit ScopedThreads(int n)
+      : active_(n > 0), saved_(omp_get_max_threads()), savedLevels_(omp_get_max_active_levels()) {
+    if (!active_) return;
+    if (n != saved_) omp_set_num_threads(n);
     if (n == 1) omp_set_max_active_levels(0);
   }
   ~ScopedThreads() {
+    if (!active_) return;
     omp_set_max_active_levels(savedLevels_);
     omp_set_num_threads(saved_);
   }
@@ -66,6 +70,7 @@ class ScopedThreads {
   ScopedThreads& operator=(const ScopedThreads&) = delete;
 
  private:
+  bool active_;
   int saved_;
   int savedLevels_;
 };

@@ -20,6 +20,7 @@ struct FactorStatistics {
   double nnzL = 0.0;      // nonzeros of L (without supernodal padding)
   double flops = 0.0;     // floating-point operations of one simplicial LLᵀ factorization
   std::string ordering;   // the ordering used (auto resolves to amd or metis)
+  int factors = 1;        // separate factors (the halves of a split one-ring factor, solvers/split_factor.h)
 };
 
 }  // namespace jetshell
