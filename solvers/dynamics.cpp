@@ -51,8 +51,11 @@ double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
 
 /// The Newton options with the mesh adjacency the one-ring preconditioner needs.
 NewtonOptions withAdjacency(NewtonOptions o, const ShellSystem& system) {
-  if (o.linear.preconditioner == Preconditioner::OneRingCholesky && !o.linear.oneRing)
-    o.linear.oneRing = std::make_shared<OneRingFilter>(system.mesh().F, system.mesh().numVertices());
+  if (o.linear.preconditioner == Preconditioner::OneRingCholesky && !o.linear.oneRing) {
+    const int parts = o.linear.oneRingParts > 0 ? o.linear.oneRingParts
+                                                : (system.objective().hasMovingStencils() ? 2 : 1);
+    o.linear.oneRing = std::make_shared<OneRingFilter>(system.mesh().F, system.mesh().numVertices(), parts);
+  }
   return o;
 }
 

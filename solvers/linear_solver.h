@@ -47,9 +47,17 @@ struct LinearSolverOptions {
   Preconditioner preconditioner = Preconditioner::IncompleteCholesky;  // PCG only
   FillOrdering ordering = FillOrdering::Auto;  // CHOLMOD factors (direct and lagged preconditioner)
   int blasThreads = 1;  // threads of CHOLMOD's BLAS (solvers/cholmod_factor.h)
-  /// The mesh's vertex adjacency, needed by the OneRingCholesky preconditioner (solvers/dynamics.cpp and
-  /// solvers/statics.cpp fill it from the system's mesh when it is empty).
+  /// The mesh's vertex adjacency, needed by the OneRingCholesky preconditioner (solvers/dynamics.cpp fills it
+  /// from the system's mesh when it is empty, split in oneRingParts).
   std::shared_ptr<const OneRingFilter> oneRing;
+  /// 2: the one-ring preconditioner of a mesh of kMinBisectedVertices or more is cut in two halves
+  /// (solvers/vertex_bisection.h), factored and applied one per core (solvers/split_factor.h); 1: one factor;
+  /// 0 (auto): 2 when the objective's stencils move (contact), 1 otherwise. Where stencils stay, the factor is
+  /// computed during the assembly (NewtonOptions::overlapPreconditioner), so no core waits for it, and the cut
+  /// only costs CG iterations (the 10k-vertex cloth: 3× as many, 0.8× the steps per second); with contact it
+  /// runs alone after the assembly, and the halves put both cores on it (the T-shirt: 1.35× the steps per
+  /// second, BENCHMARKS.md "Contact").
+  int oneRingParts = 0;
   /// Auto chooses CHOLMOD at or below this many dofs (direct factorization of shell Hessians stays cheap on
   /// 2D meshes: nested-dissection fill grows as n log n).
   int autoDirectMaxDofs = 300000;

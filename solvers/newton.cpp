@@ -25,7 +25,8 @@ bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& 
   return a.type == b.type && a.preconditioner == b.preconditioner && a.autoDirectMaxDofs == b.autoDirectMaxDofs &&
          a.cgRelativeTolerance == b.cgRelativeTolerance && a.cgMaxIterations == b.cgMaxIterations &&
          a.maxRegularizations == b.maxRegularizations && a.ordering == b.ordering && a.blasThreads == b.blasThreads &&
-         a.lagRefactorIterations == b.lagRefactorIterations && a.oneRing == b.oneRing;
+         a.lagRefactorIterations == b.lagRefactorIterations && a.oneRing == b.oneRing &&
+         a.oneRingParts == b.oneRingParts;
 }
 
 /// max_i Σ_j |H_ij| |x_j| over the free dofs, from the upper triangle of the symmetric H: the force error that

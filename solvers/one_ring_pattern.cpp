@@ -1,13 +1,16 @@
 #include "solvers/one_ring_pattern.h"
 
+#include "solvers/vertex_bisection.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace jetshell {
 
-OneRingFilter::OneRingFilter(const Eigen::MatrixXi& F, int numVertices)
+OneRingFilter::OneRingFilter(const Eigen::MatrixXi& F, int numVertices, int parts)
     : neighbours_(static_cast<std::size_t>(numVertices)) {
+  if (parts != 1 && parts != 2) throw std::invalid_argument("OneRingFilter: parts must be 1 or 2");
   for (int v = 0; v < numVertices; ++v) neighbours_[static_cast<std::size_t>(v)].push_back(v);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k) {
@@ -22,9 +25,14 @@ OneRingFilter::OneRingFilter(const Eigen::MatrixXi& F, int numVertices)
     std::sort(n.begin(), n.end());
     n.erase(std::unique(n.begin(), n.end()), n.end());
   }
+  if (parts == 2) {
+    part_ = bisectVertices(F, numVertices);
+    if (std::none_of(part_.begin(), part_.end(), [](std::int8_t p) { return p != 0; })) part_.clear();
+  }
 }
 
 bool OneRingFilter::adjacent(int a, int b) const {
+  if (!part_.empty() && part_[static_cast<std::size_t>(a)] != part_[static_cast<std::size_t>(b)]) return false;
   const std::vector<int>& n = neighbours_[static_cast<std::size_t>(a)];
   return std::binary_search(n.begin(), n.end(), b);
 }

@@ -6,11 +6,15 @@
 // Outputs: the upper triangle restricted to the one-ring vertex pairs (same 3N×3N size, compressed), each dropped
 // entry's magnitude added to the two diagonal entries it couples (so the result ⪰ H: positive definite whenever H
 // is); fixed dofs' identity rows stay as they are (they are diagonal).
+// Split in two (parts = 2, solvers/vertex_bisection.h): vertices of different parts count as not adjacent, so
+// the couplings across the cut are dropped the same way and the result is block diagonal over the two parts,
+// which solvers/split_factor.h factors one part per core.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 
+#include <cstdint>
 #include <vector>
 
 namespace jetshell {
@@ -18,13 +22,16 @@ namespace jetshell {
 class OneRingFilter {
  public:
   OneRingFilter() = default;
-  /// F: triangles (rows of three vertex indices in [0, numVertices)).
-  OneRingFilter(const Eigen::MatrixXi& F, int numVertices);
+  /// F: triangles (rows of three vertex indices in [0, numVertices)). parts: 1, or 2 to split the mesh by
+  /// bisectVertices (which keeps small meshes whole).
+  OneRingFilter(const Eigen::MatrixXi& F, int numVertices, int parts = 1);
 
   bool empty() const { return neighbours_.empty(); }
   int numVertices() const { return static_cast<int>(neighbours_.size()); }
-  /// Whether vertices a and b are equal or share an edge.
+  /// Whether vertices a and b are equal or share an edge, within one part.
   bool adjacent(int a, int b) const;
+  /// Each vertex's part (empty: one part).
+  const std::vector<std::int8_t>& vertexParts() const { return part_; }
 
   /// The one-ring part of `upper` (3·numVertices square). Reuses `out`'s storage; the result's pattern depends
   /// only on upper's pattern.
@@ -32,6 +39,7 @@ class OneRingFilter {
 
  private:
   std::vector<std::vector<int>> neighbours_;  // sorted, self included
+  std::vector<std::int8_t> part_;             // per vertex; empty: one part
 };
 
 /// The filter for a sequence of matrices of one pattern: plan() decides once which entries are kept and which

@@ -6,12 +6,14 @@
 // factorizations; when CG needs more than lagRefactorIterations, the current Hessian is factored and CG
 // restarts) and the one-ring factor (CHOLMOD, of the Hessian's one-ring part with the dropped entries'
 // magnitudes on the diagonal, solvers/one_ring_pattern.h: refactored every solve at about a tenth of the full
-// factor's flops, its pattern analysed once per pattern version). Products with H run on the OpenMP threads
+// factor's flops, its pattern analysed once per pattern version; on a bisected mesh one factor per half, the
+// halves factored and applied side by side, solvers/split_factor.h). Products with H run on the OpenMP threads
 // (solvers/symmetric_product.h). Negative curvature (pᵀHp <= 0) reports "not positive definite", which the base class answers with
 // a diagonal shift.
 #include "solvers/cholmod_factor.h"
 #include "solvers/linear_solver.h"
 #include "solvers/one_ring_pattern.h"
+#include "solvers/split_factor.h"
 #include "solvers/symmetric_product.h"
 #include "solvers/timer.h"
 
@@ -31,8 +33,13 @@ namespace {
 
 class PcgSolver : public LinearSolver {
  public:
-  explicit PcgSolver(const LinearSolverOptions& options) : LinearSolver(options), factor_(options.ordering, options.blasThreads) {}
-  FactorStatistics factorStatistics() const override { return factor_.statistics(); }
+  explicit PcgSolver(const LinearSolverOptions& options)
+      : LinearSolver(options), factor_(options.ordering, options.blasThreads), ring_(options.ordering, options.blasThreads) {
+    if (options.oneRing) ring_.setPartition(options.oneRing->vertexParts());
+  }
+  FactorStatistics factorStatistics() const override {
+    return options().preconditioner == Preconditioner::OneRingCholesky ? ring_.statistics() : factor_.statistics();
+  }
   std::string name() const override {
     return std::string("pcg+") + toString(options().preconditioner);
   }
@@ -85,7 +92,7 @@ class PcgSolver : public LinearSolver {
     preparedVersion_ = patternVersion;
     return [this] {
       const Timer timer;
-      preparedAnalyzed_ = ringChanged_ || !factor_.analyzed();
+      preparedAnalyzed_ = ringChanged_ || !ring_.analyzed();
       preparedMessage_.clear();
       preparedOk_ = factorOneRing(preparedMatrix_, 0.0, preparedMessage_);
       preparedSeconds_ = timer.seconds();
@@ -139,7 +146,7 @@ class PcgSolver : public LinearSolver {
     oneRingPlan_.plan(*options().oneRing, H);
     planVersion_ = version;
     const Eigen::SparseMatrix<double>& ring = oneRingPlan_.apply(H);
-    if (!factor_.analyzed() || !sameSparsity(ring, analyzedPattern_)) {
+    if (!ring_.analyzed() || !sameSparsity(ring, analyzedPattern_)) {
       ringChanged_ = true;
       wideLag_.clear();
     }
@@ -147,17 +154,17 @@ class PcgSolver : public LinearSolver {
 
   /// Factors the one-ring matrix (+ shift), analysing its pattern first when it changed.
   bool factorOneRing(const Eigen::SparseMatrix<double>& oneRing, double shift, std::string& message) {
-    using Status = CholmodFactor::Status;
-    if (ringChanged_ || !factor_.analyzed()) {
-      if (factor_.analyze(oneRing) != Status::Ok) {
-        message = factor_.message();
+    using Status = SplitFactor::Status;
+    if (ringChanged_ || !ring_.analyzed()) {
+      if (ring_.analyze(oneRing) != Status::Ok) {
+        message = ring_.message();
         return false;
       }
       analyzedPattern_ = oneRing;
       ringChanged_ = false;
     }
-    if (factor_.factorize(oneRing, shift) != Status::Ok) {
-      message = "one-ring factor: " + factor_.message();
+    if (ring_.factorize(oneRing, shift) != Status::Ok) {
+      message = "one-ring factor: " + ring_.message();
       return false;
     }
     return true;
@@ -272,7 +279,7 @@ class PcgSolver : public LinearSolver {
         // The plan follows H's pattern: re-planned whenever that pattern is new, values gathered always.
         if (!oneRingPlan_.planned() || planVersion_ != solvingPatternVersion()) planOneRing(H, solvingPatternVersion());
         const Eigen::SparseMatrix<double>& oneRing = oneRingPlan_.apply(H);
-        if (analyze && !ringChanged_ && factor_.analyzed()) report.analysisReused = true;
+        if (analyze && !ringChanged_ && ring_.analyzed()) report.analysisReused = true;
         ++report.numericFactorizations;
         return factorOneRing(oneRing, shift, report.message);
       }
@@ -297,8 +304,10 @@ class PcgSolver : public LinearSolver {
         z = ic_.solve(r);
         return;
       case Preconditioner::LaggedCholesky:
-      case Preconditioner::OneRingCholesky:
         if (factor_.solve(r, z) != CholmodFactor::Status::Ok) z = r;
+        return;
+      case Preconditioner::OneRingCholesky:
+        if (ring_.solve(r, z) != SplitFactor::Status::Ok) z = r;
         return;
     }
   }
@@ -365,7 +374,8 @@ class PcgSolver : public LinearSolver {
   bool prepared_ = false, preparedOk_ = false, preparedAnalyzed_ = false;
   double preparedSeconds_ = 0.0;
   std::string preparedMessage_;  // why the prepared factorization failed
-  CholmodFactor factor_;
+  CholmodFactor factor_;  // the lagged factor
+  SplitFactor ring_;      // the one-ring factor
   SymmetricProduct product_;
 };
 

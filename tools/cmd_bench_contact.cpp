@@ -15,6 +15,7 @@
 // the largest vertex move of its step (how far Newton still moved some vertex when the step ended).
 // Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
 #include "solvers/dynamics.h"
+#include "solvers/fill_ordering.h"
 #include "solvers/shell_system.h"
 #include "tools/bench_cloth.h"
 #include "tools/scene/run_scene.h"
@@ -50,6 +51,8 @@ struct ContactBenchOptions {
   bool noOverlap = false;         // NewtonOptions::overlapPreconditioner off
   bool trace = false;             // one line per step
   std::string fallbackBending = "exact";  // NewtonOptions::fallbackBendingHessian
+  std::string ordering = "auto";          // LinearSolverOptions::ordering
+  std::string oneRingParts = "auto";      // LinearSolverOptions::oneRingParts
   std::string json;
 };
 
@@ -79,6 +82,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   }
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
   d.newton.fallbackBendingHessian = hessianModelFromString(o.fallbackBending);
+  d.newton.linear.ordering = fillOrderingFromString(o.ordering);
+  d.newton.linear.oneRingParts = o.oneRingParts == "auto" ? 0 : std::stoi(o.oneRingParts);
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
@@ -162,7 +167,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("linear solve: %.2f s factorization (or preconditioner), %.2f s solves, %d CG iterations\n",
               factorSeconds, linear - factorSeconds, cg);
   const FactorStatistics fs = solver.newton().linearSolver().factorStatistics();
-  std::printf("factor: nnz(L) %.0f, %.3f GFlop per factorization\n", fs.nnzL, 1e-9 * fs.flops);
+  std::printf("factor: nnz(L) %.0f, %.3f GFlop per factorization, ordering %s, %d factor%s\n", fs.nnzL,
+              1e-9 * fs.flops, fs.ordering.c_str(), fs.factors, fs.factors == 1 ? "" : "s (one per part)");
   std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one\n", exactSteps,
               fallbacks);
   std::printf("time split: broad phase %.1f%% (within contact), contact terms %.1f%%, other terms %.1f%%, "
@@ -176,6 +182,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   return {{"pattern", growOnly ? "grow" : "exact"},
           {"solver", v.direct ? "direct" : "scene"},
           {"linear_solver", toString(d.newton.linear.type)},
+          {"ordering", fs.ordering},
+          {"one_ring_parts", o.oneRingParts},
+          {"factors", fs.factors},
           {"steps", steps},
           {"wall_seconds", wall},
           {"cpu_seconds", cpu},
@@ -267,6 +276,14 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
                   "The bending Hessian of the projected assembly an indefinite Newton try falls back to: gaussNewton "
                   "(positive semi-definite, not projected) or exact (projected block by block, the default)")
       ->check(CLI::IsMember({"gaussNewton", "exact"}));
+  cmd->add_option("--ordering", opts->ordering,
+                  "Fill-reducing ordering of the Cholesky factors (the one-ring preconditioner's or the direct "
+                  "solver's): auto (CHOLMOD's default), amd, metis or nesdis")
+      ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
+  cmd->add_option("--one-ring-parts", opts->oneRingParts,
+                  "The one-ring preconditioner as 1 factor, 2 (the mesh bisected, one factor per core), or auto "
+                  "(2 with contact, else 1: the default)")
+      ->check(CLI::IsMember({"auto", "1", "2"}));
   cmd->add_flag("--trace", opts->trace,
                 "Per step: Newton and CG iterations, the guards, how it ended; then per Newton iteration: residual, "
                 "step length, CG iterations, largest vertex move");

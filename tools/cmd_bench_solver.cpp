@@ -42,6 +42,7 @@ struct SolverBenchOptions {
   std::string ordering = "auto";
   std::string policy = "jetshell";
   int blasThreads = 1;
+  std::string oneRingParts = "auto";  // LinearSolverOptions::oneRingParts
   bool orderings = false;
   double cgTolerance = 0.0;  // 0: the default's (statics) or the time-step policy's (dynamics)
   double maxForcing = -1.0;  // < 0: the policy's; 0: fixed CG tolerance; > 0: Eisenstat–Walker up to this
@@ -123,7 +124,9 @@ struct PhaseFigures {
 
 NewtonOptions newtonOptions(const SolverBenchOptions& o, const TriMesh& mesh) {
   NewtonOptions n;
-  n.linear.oneRing = std::make_shared<OneRingFilter>(mesh.F, mesh.numVertices());
+  // This cloth has no contact, so auto is one part (solvers/linear_solver.h).
+  n.linear.oneRingParts = o.oneRingParts == "auto" ? 0 : std::stoi(o.oneRingParts);
+  n.linear.oneRing = std::make_shared<OneRingFilter>(mesh.F, mesh.numVertices(), std::max(n.linear.oneRingParts, 1));
   n.linear.type = linearSolverTypeFromString(o.linearSolver);
   n.linear.preconditioner = preconditionerFromString(o.preconditioner);
   n.linear.ordering = fillOrderingFromString(o.ordering);
@@ -346,6 +349,10 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
       ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic", "lagged_cholesky", "one_ring_cholesky"}));
   cmd->add_option("--blas-threads", opts->blasThreads, "Threads of CHOLMOD's BLAS (OpenBLAS OpenMP build)")
       ->check(CLI::Range(1, 256));
+  cmd->add_option("--one-ring-parts", opts->oneRingParts,
+                  "The one-ring preconditioner as 1 factor, 2 (the mesh bisected, one factor per core), or auto "
+                  "(2 with contact, else 1: the default)")
+      ->check(CLI::IsMember({"auto", "1", "2"}));
   cmd->add_option("--policy", opts->policy,
                   "Time-step Newton policy: jetshell | page | reference (Newton to 1e-10 of the force scale)")
       ->check(CLI::IsMember({"jetshell", "page", "reference"}));

@@ -13,15 +13,7 @@ namespace {
 /// The hanging cloth's first-step Hessian (inertia at Δt = 1/60 plus membrane and two-ring bending), bent.
 struct ClothHessian {
   ShellSystem shell{testing::hangingCloth(0.3, 0.3, 5, 5), AnalysisKind::Dynamics};
-  ClothHessian() {
-    Eigen::VectorXd x = shell.restPositions();
-    for (int v = 0; v < shell.mesh().numVertices(); ++v) x[3 * v + 2] += 0.05 * std::pow(shell.mesh().V(v, 0), 2);
-    shell.inertia->setCentre(x, 3600.0);
-    Eigen::VectorXd g;
-    EvalOptions o;
-    o.projection = PsdProjection::Clamp;
-    shell.objective().evaluate(x, &g, true, o);
-  }
+  ClothHessian() { testing::assembleBentFirstStep(shell); }
   const Eigen::SparseMatrix<double>& H() const { return shell.objective().assembler().matrix(); }
 };
 
