@@ -91,7 +91,7 @@ TEST_CASE("split factor: the two halves solved side by side give the whole facto
   }
 }
 
-TEST_CASE("split factor: one part is the matrix itself; a matrix that couples the parts is refused", "[solvers]") {
+TEST_CASE("split factor: one part is the matrix itself, and a matrix that couples the parts is refused", "[solvers]") {
   SplitCloth c;
   const Eigen::VectorXd b = c.rhs();
   SplitFactor one(FillOrdering::Auto, 1);
