@@ -17,20 +17,41 @@ void SplitFactor::setPartition(const std::vector<std::int8_t>& vertexPart) {
   analyzed_ = factorized_ = false;
 }
 
+namespace {
+
+/// Sets OpenMP's max-active-levels for the enclosing scope (a process-wide value: only from outside any region).
+class ScopedActiveLevels {
+ public:
+  explicit ScopedActiveLevels(int levels) : saved_(omp_get_max_active_levels()) { omp_set_max_active_levels(levels); }
+  ~ScopedActiveLevels() { omp_set_max_active_levels(saved_); }
+  ScopedActiveLevels(const ScopedActiveLevels&) = delete;
+  ScopedActiveLevels& operator=(const ScopedActiveLevels&) = delete;
+
+ private:
+  int saved_;
+};
+
+}  // namespace
+
 template <typename F>
 void SplitFactor::forEachPart(F&& f) {
   const int n = parts();
-  if (n == 1 || omp_in_parallel() || omp_get_max_threads() < 2) {
+  if (n == 1 || omp_in_parallel()) {  // one part sets its own threads; nested in a region, CHOLMOD's stay idle
+    for (Part& p : parts_) f(p);
+    return;
+  }
+  if (omp_get_max_threads() < 2) {
+    // One after the other. CHOLMOD opens its own regions with a fixed num_threads(4) whatever the thread count:
+    // none may become active (on one thread they tripled the halves' factorization time).
+    const ScopedActiveLevels none(0);
     for (Part& p : parts_) f(p);
     return;
   }
   // CHOLMOD's and the BLAS's own parallel regions, nested in this one, run on their caller's thread.
-  const int savedLevels = omp_get_max_active_levels();
-  omp_set_max_active_levels(1);
+  const ScopedActiveLevels one(1);
   ParallelErrors errors;
 #pragma omp parallel for num_threads(std::min(n, omp_get_max_threads())) schedule(static, 1)
   for (int p = 0; p < n; ++p) errors.run([&] { f(parts_[static_cast<std::size_t>(p)]); });
-  omp_set_max_active_levels(savedLevels);
   errors.rethrow();
 }
 
