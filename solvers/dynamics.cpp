@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace jetshell {
 
@@ -51,6 +52,9 @@ double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
 
 /// The Newton options with the mesh adjacency the one-ring preconditioner needs.
 NewtonOptions withAdjacency(NewtonOptions o, const ShellSystem& system) {
+  if (o.linear.oneRingParts < 0 || o.linear.oneRingParts > 2)
+    throw InputError("dynamics: newton.linear.oneRingParts must be 0 (auto), 1 or 2, not " +
+                     std::to_string(o.linear.oneRingParts));
   if (o.linear.preconditioner == Preconditioner::OneRingCholesky && !o.linear.oneRing) {
     const int parts = o.linear.oneRingParts > 0 ? o.linear.oneRingParts
                                                 : (system.objective().hasMovingStencils() ? 2 : 1);

@@ -175,5 +175,7 @@ TEST_CASE("split factor: a time step with self-contact cuts the one-ring factor 
     DynamicsSolver solver(system, o);
     REQUIRE(solver.step().success);
     CHECK(solver.newton().linearSolver().factorStatistics().factors == (selfContact ? 2 : 1));
+    o.newton.linear.oneRingParts = 3;
+    CHECK_THROWS_WITH(DynamicsSolver(system, o), Catch::Contains("oneRingParts must be 0 (auto), 1 or 2, not 3"));
   }
 }
