@@ -56,9 +56,8 @@ NewtonOptions withAdjacency(NewtonOptions o, const ShellSystem& system) {
     throw InputError("dynamics: newton.linear.oneRingParts must be 0 (auto), 1 or 2, not " +
                      std::to_string(o.linear.oneRingParts));
   if (o.linear.preconditioner == Preconditioner::OneRingCholesky && !o.linear.oneRing) {
-    const int parts = o.linear.oneRingParts > 0 ? o.linear.oneRingParts
-                                                : (system.objective().hasMovingStencils() ? 2 : 1);
-    o.linear.oneRing = std::make_shared<OneRingFilter>(system.mesh().F, system.mesh().numVertices(), parts);
+    o.linear.oneRing = std::make_shared<OneRingFilter>(
+        system.mesh().F, system.mesh().numVertices(), oneRingPartsFor(o.linear, system.objective().hasMovingStencils()));
   }
   return o;
 }

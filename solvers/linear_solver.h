@@ -68,6 +68,12 @@ struct LinearSolverOptions {
   int maxRegularizations = 10;
 };
 
+/// How many parts the one-ring preconditioner of a system takes: oneRingParts when set (1 or 2), else (auto)
+/// 2 when the objective's stencils move and 1 when they stay.
+inline int oneRingPartsFor(const LinearSolverOptions& o, bool movingStencils) {
+  return o.oneRingParts > 0 ? o.oneRingParts : (movingStencils ? 2 : 1);
+}
+
 /// The outcome of one solve.
 struct LinearSolveReport {
   bool success = false;

@@ -124,9 +124,9 @@ struct PhaseFigures {
 
 NewtonOptions newtonOptions(const SolverBenchOptions& o, const TriMesh& mesh) {
   NewtonOptions n;
-  // This cloth has no contact, so auto is one part (solvers/linear_solver.h).
   n.linear.oneRingParts = o.oneRingParts == "auto" ? 0 : std::stoi(o.oneRingParts);
-  n.linear.oneRing = std::make_shared<OneRingFilter>(mesh.F, mesh.numVertices(), std::max(n.linear.oneRingParts, 1));
+  n.linear.oneRing = std::make_shared<OneRingFilter>(mesh.F, mesh.numVertices(),
+                                                     oneRingPartsFor(n.linear, /*movingStencils=*/false));
   n.linear.type = linearSolverTypeFromString(o.linearSolver);
   n.linear.preconditioner = preconditionerFromString(o.preconditioner);
   n.linear.ordering = fillOrderingFromString(o.ordering);

@@ -5,10 +5,9 @@
 #include "solvers/split_factor.h"
 #include "solvers/time_step_policy.h"
 #include "test_problems.h"
+#include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
-
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -74,8 +73,7 @@ TEST_CASE("split factor: the two halves solved side by side give the whole facto
 
   Eigen::VectorXd first;
   for (int threads : {1, 2}) {
-    const int saved = omp_get_max_threads();
-    omp_set_num_threads(threads);
+    const test::ScopedThreads scope(threads);
     SplitFactor split(FillOrdering::Auto, 1);
     split.setPartition(c.filter.vertexParts());
     REQUIRE(split.analyze(c.P) == SplitFactor::Status::Ok);
@@ -84,7 +82,6 @@ TEST_CASE("split factor: the two halves solved side by side give the whole facto
     REQUIRE(split.factorize(c.P, 0.5) == SplitFactor::Status::Ok);
     Eigen::VectorXd x;
     REQUIRE(split.solve(b, x) == SplitFactor::Status::Ok);
-    omp_set_num_threads(saved);
     CHECK((x - reference).norm() <= 1e-12 * reference.norm());
     if (threads == 1) first = x;
     else CHECK(x == first);  // each half alone: the same bits whoever runs it
