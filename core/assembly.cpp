@@ -89,12 +89,13 @@ void HessianAssembler::replaceStencils(int slot, const StencilTable& table) {
     throw std::invalid_argument("HessianAssembler::replaceStencils: the stencil width changed");
   slots_[slot].table = table;
   slots_[slot].stale = true;
+  slots_[slot].moving = true;
   finalized_ = false;
 }
 
 void HessianAssembler::clearStencils() {
   slots_.clear();
-  keptSlots_.clear();
+  baseSlots_.clear();
   keptRows_.clear();
   finalized_ = false;
 }
@@ -113,10 +114,12 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
 
   // Vertex-block adjacency of the declared stencils: for column vertex j, the row vertices i <= j it couples
   // with (sorted, unique).
-  // The slots kept since the last finalize (not replaced) contribute the pairs they did then: their adjacency is
-  // kept (keptRows_) and only the replaced slots' pairs are added to it, in the columns they touch.
-  std::vector<char> kept(slots_.size(), 0);
-  for (std::size_t k = 0; k < slots_.size(); ++k) kept[k] = !slots_[k].stale;
+  // The slots never replaced since they were declared (the elastic terms; not the moving contact pairs) are the
+  // base: their adjacency is kept (keptRows_) and computed again only when the base changes. Every other slot's
+  // pairs, replaced now or not, are added to a copy of it in the columns they touch. (Basing it on the slots
+  // not replaced this time instead made two moving slots, replaced in turns, redo the base at most finalizes.)
+  std::vector<char> base(slots_.size(), 0);
+  for (std::size_t k = 0; k < slots_.size(); ++k) base[k] = !slots_[k].moving;
   auto addPairs = [&](const Slot& s, std::vector<std::vector<int>>& rows, std::vector<char>* touched) {
     const int w = s.table.width;
     for (int e = 0; e < s.table.size(); ++e) {
@@ -135,20 +138,19 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
     std::sort(r.begin(), r.end());
     r.erase(std::unique(r.begin(), r.end()), r.end());
   };
-  // (A slot is kept only while it is not replaced: the same kept slots have the same stencils.)
-  if (kept != keptSlots_ || static_cast<int>(keptRows_.size()) != n) {
-    // The kept slots changed: their adjacency anew (no slot kept: the diagonal alone).
+  if (base != baseSlots_ || static_cast<int>(keptRows_.size()) != n) {
+    // The base changed: its adjacency anew (no base slot: the diagonal alone).
     keptRows_.assign(static_cast<std::size_t>(n), {});
     for (int j = 0; j < n; ++j) keptRows_[j].push_back(j);
     for (std::size_t k = 0; k < slots_.size(); ++k)
-      if (kept[k]) addPairs(slots_[k], keptRows_, nullptr);
+      if (base[k]) addPairs(slots_[k], keptRows_, nullptr);
     for (auto& r : keptRows_) sortUnique(r);
-    keptSlots_ = kept;
+    baseSlots_ = base;
   }
   std::vector<std::vector<int>> rowsOf = keptRows_;
   std::vector<char> touched(static_cast<std::size_t>(n), 0);
   for (std::size_t k = 0; k < slots_.size(); ++k)
-    if (!kept[k]) addPairs(slots_[k], rowsOf, &touched);
+    if (!base[k]) addPairs(slots_[k], rowsOf, &touched);
   std::int64_t used = 0;
   for (int j = 0; j < n; ++j) {
     auto& r = rowsOf[j];

@@ -87,6 +87,7 @@ class HessianAssembler {
     std::vector<std::int32_t> entryRow; // per element: its row in `scatter`, or -1 (blocks)
     std::vector<std::int32_t> scatter;  // (3K)(3K+1)/2 per element with entries
     bool stale = true;                  // the scatter table does not match the table (declared or replaced)
+    bool moving = false;                // replaced at least once since declared (not in the base adjacency)
   };
   /// Builds the matrix pattern from rows (per column vertex, the sorted row vertices <= it).
   void buildMatrix(int numVertices);
@@ -98,9 +99,9 @@ class HessianAssembler {
 
   std::vector<Slot> slots_;
   std::vector<std::vector<int>> rows_;  // the matrix pattern's vertex pairs: per column vertex j, rows i <= j
-  // The adjacency (as rows_) of the slots that were kept (not replaced) at the last finalize, and which they were.
+  // The adjacency (as rows_) of the base slots (never replaced since declared), and which slots they were.
   std::vector<std::vector<int>> keptRows_;
-  std::vector<char> keptSlots_;
+  std::vector<char> baseSlots_;
   std::vector<char> fixedDof_;
   Eigen::SparseMatrix<double> matrix_;
   std::vector<std::int32_t> diagonalIndex_;
