@@ -7,7 +7,10 @@
 // therefore has no entry coupling an in-plane component with a normal one: it is a 4×4 in-plane block plus the
 // 2×2 normal block G. The projection's metric, (I + c 11ᵀ) ⊗ I₃ (core/psd_projection.h), acts on the edge index
 // only and keeps the split. So the projection of the face's 9×9 block equals projectPsd<9>'s, computed with a
-// 4×4 and a 2×2 eigen-decomposition instead of a 6×6 one.
+// 4×4 and a 2×2 eigen-decomposition instead of a 6×6 one. The 2×2 is in closed form; the 4×4 has (on 99.9% of
+// the T-shirt's compressed faces) one negative eigenvalue, whose eigenvector is close to the in-plane rotation
+// of the edges, which stretches nothing: projectSingleNegative finds it from there (core/psd_projection.h), and
+// the full eigen-solver takes the rest.
 #pragma once
 
 #include "core/psd_projection.h"

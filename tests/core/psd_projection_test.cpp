@@ -200,3 +200,74 @@ TEST_CASE("psd projection: an 18-dof translation-invariant block (a bending sten
   CHECK(projectPsd<18>(projected, PsdProjection::Clamp));
   CHECK((projected - expected).norm() <= 1e-12 * expected.norm());
 }
+
+TEST_CASE("psd projection: the 2x2 closed form equals the eigen-decomposition's projection") {
+  std::srand(11);
+  int checked = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    Eigen::Matrix2d A = Eigen::Matrix2d::Random();
+    A = (A + A.transpose()).eval();
+    if (trial % 50 == 0) A(0, 1) = A(1, 0) = 0.0;       // diagonal
+    if (trial % 50 == 1) A(1, 1) = A(0, 0);             // equal diagonal
+    if (trial % 50 == 2) A *= 1e-300;                   // tiny entries (hypot, not a square root of squares)
+    for (bool absolute : {false, true}) {
+      Eigen::Matrix2d P = A;
+      projectSpectrum2(P, absolute ? PsdProjection::Abs : PsdProjection::Clamp);
+      const MatrixXd expected = wholeBlockProjection(MatrixXd{A}, absolute);
+      CHECK((MatrixXd{P} - expected).norm() <= 1e-14 * std::max(A.norm(), 1e-300));
+      CHECK(P(0, 1) == P(1, 0));
+      ++checked;
+    }
+  }
+  CHECK(checked == 800);
+}
+
+TEST_CASE("psd projection: one negative eigenvalue from a start near its vector, with the spectrum's result") {
+  std::srand(12);
+  using Mat4 = Eigen::Matrix4d;
+  using Vec4 = Eigen::Vector4d;
+  int projected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const MatrixXd Q = randomOrthogonal(4);
+    // One negative eigenvalue, of magnitude from near zero to as large as the positive ones.
+    const double negative = -std::pow(10.0, -8.0 + 8.0 * (trial % 10) / 9.0);
+    const Vec4 d(negative, 0.5 + trial % 3, 2.0, 40.0);
+    const Mat4 A = Q * d.asDiagonal() * Q.transpose();
+    // The start: the negative eigenvector turned by up to 0.1 rad. (From farther, the iteration may settle on a
+    // positive eigenvalue and return false; the caller then takes the full spectrum.)
+    const Vec4 start = Q.col(0) + 0.05 * Vec4::Random();
+    for (bool absolute : {false, true}) {
+      Mat4 P = A;
+      REQUIRE(projectSingleNegative<4>(P, start, absolute ? PsdProjection::Abs : PsdProjection::Clamp));
+      const MatrixXd expected = wholeBlockProjection(MatrixXd{A}, absolute);
+      CHECK((MatrixXd{P} - expected).norm() <= 1e-13 * A.norm());
+      CHECK(P == P.transpose());
+      ++projected;
+    }
+  }
+  CHECK(projected == 600);
+}
+
+TEST_CASE("psd projection: the one-negative path refuses what it cannot prove and leaves the block unchanged") {
+  std::srand(13);
+  using Mat4 = Eigen::Matrix4d;
+  using Vec4 = Eigen::Vector4d;
+  const MatrixXd Q = randomOrthogonal(4);
+  // Two negative eigenvalues: the Cholesky proof of the rest fails.
+  const Mat4 twoNegative = Q * Vec4(-1.0, -0.5, 2.0, 3.0).asDiagonal() * Q.transpose();
+  Mat4 copy = twoNegative;
+  CHECK_FALSE(projectSingleNegative<4>(copy, Vec4(Q.col(0)), PsdProjection::Clamp));
+  CHECK(copy == twoNegative);
+  // A start on a positive eigenvector: the iteration stays there (no negative eigenvalue found).
+  const Mat4 oneNegative = Q * Vec4(-1.0, 1.0, 2.0, 3.0).asDiagonal() * Q.transpose();
+  copy = oneNegative;
+  CHECK_FALSE(projectSingleNegative<4>(copy, Vec4(Q.col(3)), PsdProjection::Clamp));
+  CHECK(copy == oneNegative);
+  // No start, no projection, a non-finite block, and None.
+  CHECK_FALSE(projectSingleNegative<4>(copy, Vec4::Zero(), PsdProjection::Clamp));
+  Mat4 bad = oneNegative;
+  bad(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_FALSE(projectSingleNegative<4>(bad, Vec4(Q.col(0)), PsdProjection::Clamp));
+  CHECK_FALSE(projectSingleNegative<4>(copy, Vec4(Q.col(0)), PsdProjection::None));
+  CHECK(copy == oneNegative);
+}
