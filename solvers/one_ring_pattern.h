@@ -43,7 +43,9 @@ class OneRingFilter {
 };
 
 /// The filter for a sequence of matrices of one pattern: plan() decides once which entries are kept and which
-/// dropped (one adjacency search per entry), then apply() only gathers values and adds the dropped magnitudes.
+/// dropped (one adjacency search per run of a row vertex's entries), then apply() only gathers values and adds
+/// the dropped magnitudes. Both run on the OpenMP threads, column by column, each output summed in a fixed
+/// order: the result has the same bits on any number of threads.
 /// OneRingFilter::apply is a plan used once.
 class OneRingPlan {
  public:
@@ -59,11 +61,13 @@ class OneRingPlan {
  private:
   bool planned_ = false;
   Eigen::Index cols_ = 0, nonZeros_ = 0;
+  std::vector<char> keep_;                 // per source entry: kept (1) or dropped (0)
   std::vector<int> kept_;                  // source position of each result entry
-  std::vector<int> dropped_;               // source positions of the dropped entries, in source order
-  std::vector<int> droppedRow_, droppedCol_;
+  // The dropped entries' source positions, grouped by column and by row (CSC- and CSR-like starts per dof): a
+  // dropped (i, j) adds its magnitude to both diagonals i and j.
+  std::vector<int> droppedByColumn_, droppedColumnStart_;
+  std::vector<int> droppedByRow_, droppedRowStart_;
   std::vector<int> diagonal_;              // result position of each row's diagonal, -1 when absent
-  std::vector<double> droppedSum_;         // per row, reused
   Eigen::SparseMatrix<double> result_;
 };
 

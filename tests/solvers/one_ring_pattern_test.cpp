@@ -1,6 +1,7 @@
 #include "solvers/linear_solver.h"
 #include "solvers/one_ring_pattern.h"
 #include "test_problems.h"
+#include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
 
@@ -140,4 +141,20 @@ TEST_CASE("one-ring pattern: a plan reused over new values gives a fresh filter'
   smaller.prune([](Eigen::Index r, Eigen::Index col, double) { return r == col || (r + col) % 5 != 0; });
   REQUIRE(smaller.nonZeros() < c.H().nonZeros());
   CHECK_THROWS_AS(plan.apply(smaller), std::invalid_argument);
+}
+
+TEST_CASE("one-ring pattern: the plan and its matrix have the same bits on one thread and on three", "[solvers]") {
+  ClothHessian c;
+  const OneRingFilter filter(c.shell.mesh().F, c.shell.mesh().numVertices(), 2);
+  auto planned = [&](int threads) {
+    const test::ScopedThreads scope(threads);
+    OneRingPlan plan;
+    plan.plan(filter, c.H());
+    return Eigen::SparseMatrix<double>(plan.apply(c.H()));
+  };
+  const Eigen::SparseMatrix<double> one = planned(1), three = planned(3);
+  REQUIRE(one.nonZeros() == three.nonZeros());
+  CHECK(std::equal(one.outerIndexPtr(), one.outerIndexPtr() + one.cols() + 1, three.outerIndexPtr()));
+  CHECK(std::equal(one.innerIndexPtr(), one.innerIndexPtr() + one.nonZeros(), three.innerIndexPtr()));
+  CHECK(std::equal(one.valuePtr(), one.valuePtr() + one.nonZeros(), three.valuePtr()));
 }
