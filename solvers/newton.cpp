@@ -31,16 +31,10 @@ bool sameLinearOptions(const LinearSolverOptions& a, const LinearSolverOptions& 
 
 /// max_i Σ_j |H_ij| |x_j| over the free dofs, from the upper triangle of the symmetric H: the force error that
 /// rounding every position to ε|x| can cause, divided by ε.
-double absoluteHessianTimesPositions(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& x,
-                                     const std::vector<char>& fixed) {
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(x.size());
-  for (Eigen::Index j = 0; j < H.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(H, j); it; ++it) {
-      const Eigen::Index i = it.row();
-      const double a = std::abs(it.value());
-      y[i] += a * std::abs(x[j]);
-      if (i != j) y[j] += a * std::abs(x[i]);
-    }
+double absoluteHessianTimesPositions(SymmetricProduct& product, const Eigen::SparseMatrix<double>& H,
+                                     const Eigen::VectorXd& x, const std::vector<char>& fixed) {
+  Eigen::VectorXd y;
+  product.applyAbsolute(H, x.cwiseAbs(), y);
   double m = 0.0;
   for (Eigen::Index i = 0; i < y.size(); ++i)
     if (!fixed[static_cast<std::size_t>(i)]) m = std::max(m, y[i]);
@@ -106,7 +100,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   // a round-off pass must reach: min(floor, kFloorCeiling × F).
   double roundOffBound = 0.0;
   auto updateFloor = [&]() {
-    const double floor = kRoundOffFactor * absoluteHessianTimesPositions(obj.assembler().matrix(), x, obj.fixedDof());
+    const double floor =
+        kRoundOffFactor * absoluteHessianTimesPositions(floorProduct_, obj.assembler().matrix(), x, obj.fixedDof());
     s.roundOffFloor = std::isfinite(floor) && floor > scaledTolerance ? floor : 0.0;
     roundOffBound = std::min(s.roundOffFloor, kFloorCeiling * forceScale);
   };

@@ -45,6 +45,7 @@
 #include "solvers/linear_solver.h"
 #include "solvers/objective.h"
 #include "solvers/solver_summary.h"
+#include "solvers/symmetric_product.h"
 
 #include <Eigen/Core>
 
@@ -180,6 +181,7 @@ class NewtonSolver {
   IterateTest iterateTest_;
   int solvesSinceStartPass_ = kStartPassMemory;  // minimize() calls since one converged without an iteration
   bool factorReusable_ = false;  // reuseFactor: the linear solver's last factor may serve the next direction
+  SymmetricProduct floorProduct_;  // |H| |x| for the round-off floor, on the OpenMP threads
 };
 
 }  // namespace jetshell

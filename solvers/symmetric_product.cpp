@@ -1,6 +1,7 @@
 #include "solvers/symmetric_product.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace jetshell {
 namespace {
@@ -31,8 +32,24 @@ void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
 
 void SymmetricProduct::apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
                              Eigen::VectorXd& y) {
+  product<false>(upper, p, y);
+}
+
+void SymmetricProduct::applyAbsolute(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
+                                     Eigen::VectorXd& y) {
+  product<true>(upper, p, y);
+}
+
+template <bool Absolute>
+void SymmetricProduct::product(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
+                               Eigen::VectorXd& y) {
   if (!upper.isCompressed()) {
-    y = upper.selfadjointView<Eigen::Upper>() * p;
+    if constexpr (Absolute) {
+      const Eigen::SparseMatrix<double> magnitudes = upper.cwiseAbs();
+      y = magnitudes.selfadjointView<Eigen::Upper>() * p;
+    } else {
+      y = upper.selfadjointView<Eigen::Upper>() * p;
+    }
     return;
   }
   if (upper.cols() != cols_ || upper.nonZeros() != nonZeros_) prepare(upper);
@@ -60,7 +77,7 @@ void SymmetricProduct::apply(const Eigen::SparseMatrix<double>& upper, const Eig
         double row = 0.0;
         for (int k = outer[j]; k < outer[j + 1]; ++k) {
           const int i = inner[k];
-          const double h = value[k];
+          const double h = Absolute ? std::abs(value[k]) : value[k];
           row += h * p[i];
           if (i != j) s[i] += h * pj;
         }

@@ -23,8 +23,13 @@ class SymmetricProduct {
   /// y = H p (y is resized), for any pattern with rows sorted within each column (Eigen's compressed form); an
   /// uncompressed H takes Eigen's serial product.
   void apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p, Eigen::VectorXd& y);
+  /// y = |H| p, the product with H's entries' magnitudes (Newton's round-off floor), the same way.
+  void applyAbsolute(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p, Eigen::VectorXd& y);
 
  private:
+  template <bool Absolute>
+  void product(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p, Eigen::VectorXd& y);
+
   struct Chunk {
     Eigen::Index begin = 0, end = 0;  // columns [begin, end)
     Eigen::Index firstRow = 0;        // the smallest row index in those columns (set by apply)

@@ -103,3 +103,22 @@ TEST_CASE("symmetric product: a pattern of the same size and nonzero count but o
     CHECK((y - want).norm() <= 1e-13 * want.norm());
   }
 }
+
+TEST_CASE("symmetric product: the product with the entries' magnitudes, compressed or not") {
+  const Eigen::SparseMatrix<double> H = randomUpper(4000, 40, 11);
+  const Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(H.cols(), -1.0, 2.0).array().sin().abs();
+  const Eigen::SparseMatrix<double> magnitudes = H.cwiseAbs();
+  const Eigen::VectorXd want = magnitudes.selfadjointView<Eigen::Upper>() * p;
+  SymmetricProduct product;
+  Eigen::VectorXd y;
+  product.applyAbsolute(H, p, y);
+  CHECK((y - want).norm() <= 1e-13 * want.norm());
+  Eigen::SparseMatrix<double> uncompressed = H;
+  uncompressed.uncompress();
+  product.applyAbsolute(uncompressed, p, y);
+  CHECK((y - want).norm() <= 1e-13 * want.norm());
+  // The signed product is unchanged by the magnitudes' path.
+  product.apply(H, p, y);
+  const Eigen::VectorXd signedWant = H.selfadjointView<Eigen::Upper>() * p;
+  CHECK((y - signedWant).norm() <= 1e-13 * signedWant.norm());
+}
