@@ -19,7 +19,8 @@ void SplitFactor::setPartition(const std::vector<std::int8_t>& vertexPart) {
 
 namespace {
 
-/// Sets OpenMP's max-active-levels for the enclosing scope (a process-wide value: only from outside any region).
+/// Sets OpenMP's max-active-levels for the enclosing scope, only from outside any region. (GCC 12's libgomp keeps
+/// it per thread, as OpenMP 5.0 does per data environment: a value set on another std::thread does not reach here.)
 class ScopedActiveLevels {
  public:
   explicit ScopedActiveLevels(int levels) : saved_(omp_get_max_active_levels()) { omp_set_max_active_levels(levels); }

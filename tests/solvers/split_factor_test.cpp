@@ -9,8 +9,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 using namespace jetshell;
 
@@ -175,4 +179,34 @@ TEST_CASE("split factor: a time step with self-contact cuts the one-ring factor 
     o.newton.linear.oneRingParts = 3;
     CHECK_THROWS_WITH(DynamicsSolver(system, o), Catch::Contains("oneRingParts must be 0 (auto), 1 or 2, not 3"));
   }
+}
+
+TEST_CASE("split factor: a thread's max-active-levels does not reach another thread", "[solvers]") {
+  // CholmodFactor's thread scope sets max-active-levels on the overlapped preconditioner's helper thread while
+  // the main thread assembles (solvers/objective.cpp); that is harmless only because the value is per thread.
+  const int before = omp_get_max_active_levels();
+  std::atomic<int> stage{0};
+  int helperRegionThreads = 0;
+  std::thread helper([&] {
+    omp_set_max_active_levels(0);
+    stage = 1;
+    while (stage != 2) std::this_thread::yield();
+#pragma omp parallel num_threads(2)
+    {
+#pragma omp atomic
+      ++helperRegionThreads;
+    }
+  });
+  while (stage != 1) std::this_thread::yield();
+  CHECK(omp_get_max_active_levels() == before);
+  int mainRegionThreads = 0;
+#pragma omp parallel num_threads(2)
+  {
+#pragma omp atomic
+    ++mainRegionThreads;
+  }
+  stage = 2;
+  helper.join();
+  CHECK(helperRegionThreads == 1);
+  CHECK(mainRegionThreads == (before >= 1 ? 2 : 1));
 }
