@@ -35,6 +35,13 @@ Preconditioner preconditionerFromString(const std::string& name) {
                    "': expected jacobi, block_jacobi, ic, lagged_cholesky or one_ring_cholesky");
 }
 
+int oneRingPartsFromString(const std::string& name) {
+  if (name == "auto") return 0;
+  if (name == "1") return 1;
+  if (name == "2") return 2;
+  throw InputError("one-ring parts '" + name + "': expected auto, 1 or 2");
+}
+
 const char* toString(Preconditioner p) {
   switch (p) {
     case Preconditioner::Jacobi: return "jacobi";

@@ -73,6 +73,8 @@ struct LinearSolverOptions {
 inline int oneRingPartsFor(const LinearSolverOptions& o, bool movingStencils) {
   return o.oneRingParts > 0 ? o.oneRingParts : (movingStencils ? 2 : 1);
 }
+/// LinearSolverOptions::oneRingParts from its name: auto (0) | 1 | 2.
+int oneRingPartsFromString(const std::string& name);
 
 /// The outcome of one solve.
 struct LinearSolveReport {

@@ -9,24 +9,10 @@
 namespace jetshell {
 
 OneRingFilter::OneRingFilter(const Eigen::MatrixXi& F, int numVertices, int parts)
-    : neighbours_(static_cast<std::size_t>(numVertices)) {
+    : neighbours_(vertexNeighbours(F, numVertices)) {
   if (parts != 1 && parts != 2) throw std::invalid_argument("OneRingFilter: parts must be 1 or 2");
-  for (int v = 0; v < numVertices; ++v) neighbours_[static_cast<std::size_t>(v)].push_back(v);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      if (a < 0 || b < 0 || a >= numVertices || b >= numVertices)
-        throw std::invalid_argument("OneRingFilter: triangle vertex out of range");
-      neighbours_[static_cast<std::size_t>(a)].push_back(b);
-      neighbours_[static_cast<std::size_t>(b)].push_back(a);
-    }
-  }
-  for (std::vector<int>& n : neighbours_) {
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-  }
   if (parts == 2) {
-    part_ = bisectVertices(F, numVertices);
+    part_ = bisectVertices(neighbours_);
     if (std::none_of(part_.begin(), part_.end(), [](std::int8_t p) { return p != 0; })) part_.clear();
   }
 }

@@ -5,30 +5,37 @@
 #include <algorithm>
 #include <array>
 #include <stdexcept>
-#include <utility>
 
 namespace jetshell {
 
-std::vector<std::int8_t> bisectVertices(const Eigen::MatrixXi& F, int numVertices) {
-  std::vector<std::int8_t> part(static_cast<std::size_t>(std::max(numVertices, 0)), 0);
+std::vector<std::vector<int>> vertexNeighbours(const Eigen::MatrixXi& F, int numVertices) {
+  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(std::max(numVertices, 0)));
+  for (int v = 0; v < numVertices; ++v) neighbours[static_cast<std::size_t>(v)].push_back(v);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = F(f, k), b = F(f, (k + 1) % 3);
+      if (a < 0 || b < 0 || a >= numVertices || b >= numVertices)
+        throw std::invalid_argument("vertexNeighbours: triangle vertex out of range");
+      neighbours[static_cast<std::size_t>(a)].push_back(b);
+      neighbours[static_cast<std::size_t>(b)].push_back(a);
+    }
+  }
+  for (std::vector<int>& n : neighbours) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  return neighbours;
+}
+
+std::vector<std::int8_t> bisectVertices(const std::vector<std::vector<int>>& neighbours) {
+  const int numVertices = static_cast<int>(neighbours.size());
+  std::vector<std::int8_t> part(neighbours.size(), 0);
   if (numVertices < kMinBisectedVertices) return part;
   // The vertex graph as the strict upper triangle of a symmetric pattern (CSC, sorted, no duplicates).
-  std::vector<std::vector<int>> above(static_cast<std::size_t>(numVertices));  // per column j: rows i < j
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      int a = F(f, k), b = F(f, (k + 1) % 3);
-      if (a < 0 || b < 0 || a >= numVertices || b >= numVertices)
-        throw std::invalid_argument("bisectVertices: triangle vertex out of range");
-      if (a == b) continue;
-      if (a > b) std::swap(a, b);
-      above[static_cast<std::size_t>(b)].push_back(a);
-    }
   std::vector<int> colStart(static_cast<std::size_t>(numVertices) + 1, 0), rows;
   for (int j = 0; j < numVertices; ++j) {
-    std::vector<int>& r = above[static_cast<std::size_t>(j)];
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
-    rows.insert(rows.end(), r.begin(), r.end());
+    for (int i : neighbours[static_cast<std::size_t>(j)])
+      if (i < j) rows.push_back(i);
     colStart[static_cast<std::size_t>(j) + 1] = static_cast<int>(rows.size());
   }
   if (rows.empty()) return part;

@@ -83,7 +83,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
   d.newton.fallbackBendingHessian = hessianModelFromString(o.fallbackBending);
   d.newton.linear.ordering = fillOrderingFromString(o.ordering);
-  d.newton.linear.oneRingParts = o.oneRingParts == "auto" ? 0 : std::stoi(o.oneRingParts);
+  d.newton.linear.oneRingParts = oneRingPartsFromString(o.oneRingParts);
   d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",

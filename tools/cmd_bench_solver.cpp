@@ -124,7 +124,7 @@ struct PhaseFigures {
 
 NewtonOptions newtonOptions(const SolverBenchOptions& o, const TriMesh& mesh) {
   NewtonOptions n;
-  n.linear.oneRingParts = o.oneRingParts == "auto" ? 0 : std::stoi(o.oneRingParts);
+  n.linear.oneRingParts = oneRingPartsFromString(o.oneRingParts);
   n.linear.oneRing = std::make_shared<OneRingFilter>(mesh.F, mesh.numVertices(),
                                                      oneRingPartsFor(n.linear, /*movingStencils=*/false));
   n.linear.type = linearSolverTypeFromString(o.linearSolver);

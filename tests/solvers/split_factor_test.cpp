@@ -210,3 +210,15 @@ TEST_CASE("split factor: a thread's max-active-levels does not reach another thr
   CHECK(helperRegionThreads == 1);
   CHECK(mainRegionThreads == (before >= 1 ? 2 : 1));
 }
+
+TEST_CASE("split factor: the one-ring parts option is read by name", "[solvers]") {
+  CHECK(oneRingPartsFromString("auto") == 0);
+  CHECK(oneRingPartsFromString("1") == 1);
+  CHECK(oneRingPartsFromString("2") == 2);
+  CHECK_THROWS_WITH(oneRingPartsFromString("3"), "one-ring parts '3': expected auto, 1 or 2");
+  LinearSolverOptions o;
+  CHECK(oneRingPartsFor(o, true) == 2);
+  CHECK(oneRingPartsFor(o, false) == 1);
+  o.oneRingParts = 1;
+  CHECK(oneRingPartsFor(o, true) == 1);
+}
