@@ -1,5 +1,7 @@
 #include "solvers/cholmod_factor.h"
 
+#include "solvers/supernodal_cholesky.h"
+
 #include <cholmod.h>
 #include <omp.h>
 
@@ -13,6 +15,7 @@ struct CholmodFactor::Impl {
   cholmod_dense* X = nullptr;
   cholmod_dense* Y = nullptr;
   cholmod_dense* E = nullptr;
+  SupernodalCholesky numeric;  // the numeric factorization, on CHOLMOD's analysis
 };
 
 namespace {
@@ -98,8 +101,6 @@ CholmodFactor::CholmodFactor(FillOrdering ordering, int blasThreads)
   }
   c.postorder = 1;
   impl_->common.supernodal = CHOLMOD_SUPERNODAL;
-  // A matrix that is not positive definite is retried with a shift, so the partial factor is of no use.
-  impl_->common.quick_return_if_not_posdef = 1;
   impl_->common.print = 0;
 }
 
@@ -135,6 +136,7 @@ CholmodFactor::Status CholmodFactor::analyze(const Eigen::SparseMatrix<double>& 
     case CHOLMOD_NATURAL: statistics_.ordering = "natural"; break;
     default: statistics_.ordering = "other"; break;
   }
+  if (!impl_->numeric.prepare(*impl_->factor, upper, message_)) return Status::Failed;
   return Status::Ok;
 }
 
@@ -145,19 +147,22 @@ CholmodFactor::Status CholmodFactor::factorize(const Eigen::SparseMatrix<double>
     message_ = "factorize before analyze";
     return Status::Failed;
   }
-  cholmod_sparse A = view(upper);
+  if (static_cast<std::size_t>(upper.nonZeros()) != impl_->numeric.entries()) {
+    message_ = "factorize: the matrix does not have the analysed pattern";
+    return Status::Failed;
+  }
+  cholmod_factor* L = impl_->factor;
+  if (L->xtype == CHOLMOD_PATTERN && !cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, L, c)) {
+    message_ = statusMessage("cholmod_change_factor", *c);
+    return Status::Failed;
+  }
   const ScopedThreads threads(blasThreads_);
-  double beta[2] = {shift, 0.0};  // CHOLMOD factors A + βI
-  const int ok = cholmod_factorize_p(&A, beta, nullptr, 0, impl_->factor, c);
-  if (c->status == CHOLMOD_NOT_POSDEF || impl_->factor->minor < impl_->factor->n) {
+  L->minor = impl_->numeric.factorize(*L, upper, shift);
+  if (L->minor < L->n) {
     std::ostringstream s;
-    s << "not positive definite at column " << impl_->factor->minor;
+    s << "not positive definite at column " << L->minor;
     message_ = s.str();
     return Status::NotPositiveDefinite;
-  }
-  if (!ok || c->status < CHOLMOD_OK) {
-    message_ = statusMessage("cholmod_factorize", *c);
-    return Status::Failed;
   }
   factorized_ = true;
   return Status::Ok;

@@ -1,0 +1,167 @@
+#include "solvers/supernodal_cholesky.h"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <cmath>
+
+// BLAS and LAPACK's Fortran entry points (the trailing arguments are the character arguments' hidden lengths).
+extern "C" {
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
+            const int* lda, const double* beta, double* c, const int* ldc, std::size_t, std::size_t);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
+            const int* ldc, std::size_t, std::size_t);
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
+            const double* alpha, const double* a, const int* lda, double* b, const int* ldb, std::size_t,
+            std::size_t, std::size_t, std::size_t);
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info, std::size_t);
+}
+
+namespace jetshell {
+
+namespace {
+
+struct Supernodes {
+  int count;
+  const int* super;  // first column of each supernode, and n at the end
+  const int* pi;     // start of each supernode's row indices in s
+  const int* px;     // start of each supernode's block in x
+  const int* s;      // row indices: the supernode's own columns first, then the rows below, increasing
+};
+
+Supernodes supernodes(const cholmod_factor& L) {
+  return {static_cast<int>(L.nsuper), static_cast<const int*>(L.super), static_cast<const int*>(L.pi),
+          static_cast<const int*>(L.px), static_cast<const int*>(L.s)};
+}
+
+}  // namespace
+
+bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMatrix<double>& upper,
+                                 std::string& message) {
+  prepared_ = false;
+  const auto n = static_cast<std::ptrdiff_t>(L.n);
+  if (!L.is_super || L.itype != CHOLMOD_INT || L.Perm == nullptr || upper.rows() != n || upper.cols() != n ||
+      !upper.isCompressed()) {
+    message = "supernodal factorization: the factor is not a supernodal analysis of this matrix";
+    return false;
+  }
+  const Supernodes sn = supernodes(L);
+  const int* perm = static_cast<const int*>(L.Perm);
+  std::vector<int> inverse(static_cast<std::size_t>(n));
+  for (std::ptrdiff_t k = 0; k < n; ++k) inverse[static_cast<std::size_t>(perm[k])] = static_cast<int>(k);
+
+  superOf_.assign(static_cast<std::size_t>(n), 0);
+  diagonal_.assign(static_cast<std::size_t>(n), 0);
+  std::size_t largest = 0;
+  for (int t = 0; t < sn.count; ++t) {
+    const int rows = sn.pi[t + 1] - sn.pi[t];
+    largest = std::max(largest, static_cast<std::size_t>(rows) * static_cast<std::size_t>(rows));
+    for (int k = sn.super[t]; k < sn.super[t + 1]; ++k) {
+      superOf_[static_cast<std::size_t>(k)] = t;
+      diagonal_[static_cast<std::size_t>(k)] = sn.px[t] + static_cast<long>(k - sn.super[t]) * (rows + 1);
+    }
+  }
+  target_.assign(static_cast<std::size_t>(upper.nonZeros()), -1);
+  for (std::ptrdiff_t j = 0; j < n; ++j) {
+    for (int p = upper.outerIndexPtr()[j]; p < upper.outerIndexPtr()[j + 1]; ++p) {
+      const int i = upper.innerIndexPtr()[p];
+      if (i > j) continue;  // below the diagonal: not part of the upper triangle (CHOLMOD ignores it too)
+      const int a = inverse[static_cast<std::size_t>(i)], b = inverse[static_cast<std::size_t>(j)];
+      const int row = std::max(a, b), column = std::min(a, b);
+      const int t = superOf_[static_cast<std::size_t>(column)];
+      const int* first = sn.s + sn.pi[t];
+      const int* last = sn.s + sn.pi[t + 1];
+      // The supernode's own columns come first (increasing), then the rows below (increasing).
+      const int own = sn.super[t + 1] - sn.super[t];
+      const int* at = row < sn.super[t + 1] ? first + (row - sn.super[t]) : std::lower_bound(first + own, last, row);
+      if (at == last || *at != row) {
+        message = "supernodal factorization: an entry of the matrix is outside the analysed pattern";
+        return false;
+      }
+      target_[static_cast<std::size_t>(p)] =
+          sn.px[t] + static_cast<long>(column - sn.super[t]) * (last - first) + (at - first);
+    }
+  }
+  head_.assign(static_cast<std::size_t>(sn.count), -1);
+  next_.assign(static_cast<std::size_t>(sn.count), -1);
+  position_.assign(static_cast<std::size_t>(sn.count), 0);
+  map_.assign(static_cast<std::size_t>(n), 0);
+  update_.resize(std::max<std::size_t>(largest, 1));
+  prepared_ = true;
+  return true;
+}
+
+std::size_t SupernodalCholesky::factorize(cholmod_factor& L, const Eigen::SparseMatrix<double>& upper, double shift) {
+  const Supernodes sn = supernodes(L);
+  double* x = static_cast<double*>(L.x);
+  std::fill(x, x + L.xsize, 0.0);
+  const double* values = upper.valuePtr();
+  for (std::size_t p = 0; p < target_.size(); ++p)
+    if (target_[p] >= 0) x[target_[p]] = values[p];
+  if (shift != 0.0)
+    for (const long d : diagonal_) x[d] += shift;
+
+  std::fill(head_.begin(), head_.end(), -1);
+  const double one = 1.0, zero = 0.0;
+  for (int t = 0; t < sn.count; ++t) {
+    const int k1 = sn.super[t], k2 = sn.super[t + 1];
+    const int columns = k2 - k1;
+    const int rowStart = sn.pi[t];
+    const int rows = sn.pi[t + 1] - rowStart;
+    double* block = x + sn.px[t];
+    for (int r = 0; r < rows; ++r) map_[static_cast<std::size_t>(sn.s[rowStart + r])] = r;
+
+    // Updates from the descendants whose next unprocessed row falls in this supernode's columns.
+    int d = head_[static_cast<std::size_t>(t)];
+    head_[static_cast<std::size_t>(t)] = -1;
+    while (d >= 0) {
+      const int following = next_[static_cast<std::size_t>(d)];
+      const int dStart = sn.pi[d];
+      const int dRows = sn.pi[d + 1] - dStart;
+      const int dColumns = sn.super[d + 1] - sn.super[d];
+      const int first = position_[static_cast<std::size_t>(d)];
+      int end = first;
+      while (end < dRows && sn.s[dStart + end] < k2) ++end;
+      const int inColumns = end - first;  // rows of d that are columns of t
+      const int below = dRows - first;    // rows of d from there to the end
+      const double* dBlock = x + sn.px[d] + first;
+      double* c = update_.data();
+      dsyrk_("L", "N", &inColumns, &dColumns, &one, dBlock, &dRows, &zero, c, &below, 1, 1);
+      if (below > inColumns) {
+        const int rest = below - inColumns;
+        dgemm_("N", "T", &rest, &inColumns, &dColumns, &one, dBlock + inColumns, &dRows, dBlock, &dRows, &zero,
+               c + inColumns, &below, 1, 1);
+      }
+      for (int j = 0; j < inColumns; ++j) {
+        double* column = block + static_cast<long>(sn.s[dStart + first + j] - k1) * rows;
+        const double* cj = c + static_cast<long>(j) * below;
+        for (int i = j; i < below; ++i) column[map_[static_cast<std::size_t>(sn.s[dStart + first + i])]] -= cj[i];
+      }
+      position_[static_cast<std::size_t>(d)] = end;
+      if (end < dRows) {
+        const int owner = superOf_[static_cast<std::size_t>(sn.s[dStart + end])];
+        next_[static_cast<std::size_t>(d)] = head_[static_cast<std::size_t>(owner)];
+        head_[static_cast<std::size_t>(owner)] = d;
+      }
+      d = following;
+    }
+
+    int info = 0;
+    dpotrf_("L", &columns, block, &rows, &info, 1);
+    if (info > 0) return static_cast<std::size_t>(k1 + info - 1);
+    for (int k = 0; k < columns; ++k)
+      if (!std::isfinite(block[static_cast<long>(k) * (rows + 1)])) return static_cast<std::size_t>(k1 + k);
+    if (rows > columns) {
+      const int rest = rows - columns;
+      dtrsm_("R", "L", "T", "N", &rest, &columns, &one, block, &rows, block + columns, &rows, 1, 1, 1, 1);
+      position_[static_cast<std::size_t>(t)] = columns;
+      const int owner = superOf_[static_cast<std::size_t>(sn.s[rowStart + columns])];
+      next_[static_cast<std::size_t>(t)] = head_[static_cast<std::size_t>(owner)];
+      head_[static_cast<std::size_t>(owner)] = t;
+    }
+  }
+  return L.n;
+}
+
+}  // namespace jetshell

@@ -1,0 +1,47 @@
+// The numeric supernodal Cholesky factorization on CHOLMOD's symbolic analysis, with BLAS and LAPACK calls and
+// no OpenMP region of its own. Used by CholmodFactor (solvers/cholmod_factor.h) in place of cholmod_factorize.
+// Why: Debian's CHOLMOD 3 opens an OpenMP region per supernode and per descendant update inside its numeric
+// factorization; a region that its `if` clause serializes, or that is nested in another one (SplitFactor's
+// parts), still builds a team of one and ends with a futex wake, 31,000 system calls per Newton iteration of
+// the T-shirt (BENCHMARKS.md, "Contact → Session 28").
+// The algorithm is CHOLMOD's left-looking supernodal one: each supernode's dense block (column-major, the
+// layout of cholmod_factor's x) receives its columns of P(A + shift·I)Pᵀ, then the updates of every descendant
+// supernode (a syrk and a gemm, scattered through the relative row map), then a potrf of its diagonal block and
+// a trsm of the rows below. The result is the factor CHOLMOD's own solves read.
+// Inputs: the analysed supernodal factor (symbolic or numeric, int indices), the matrix as its upper triangle
+// (Eigen CSC, the analysed pattern). Outputs: L's values; the first column where the matrix is not positive
+// definite (or its pivot not finite).
+#pragma once
+
+#include <Eigen/Sparse>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+struct cholmod_factor_struct;
+
+namespace jetshell {
+
+class SupernodalCholesky {
+ public:
+  /// Maps each stored entry of upper's upper triangle to its place in L's values. Called after each analysis.
+  /// False (with message) if L is not a supernodal factor of upper's size.
+  bool prepare(const cholmod_factor_struct& L, const Eigen::SparseMatrix<double>& upper, std::string& message);
+  /// Fills L's values (allocated, real) with the factor of upper + shift·I. Returns L.n on success, else the
+  /// first column (in L's order) whose pivot is not positive and finite.
+  std::size_t factorize(cholmod_factor_struct& L, const Eigen::SparseMatrix<double>& upper, double shift);
+  bool prepared() const { return prepared_; }
+  /// The number of stored entries of the prepared matrix.
+  std::size_t entries() const { return target_.size(); }
+
+ private:
+  std::vector<long> target_;    // per stored entry of upper: its index in L's values, or −1 (below diagonal)
+  std::vector<long> diagonal_;  // per column (L's order): the index of its diagonal in L's values
+  std::vector<int> superOf_;    // per column: its supernode
+  std::vector<int> head_, next_, position_, map_;  // the left-looking sweep's lists and relative row map
+  std::vector<double> update_;  // one descendant's update block
+  bool prepared_ = false;
+};
+
+}  // namespace jetshell
