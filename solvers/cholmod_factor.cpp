@@ -136,7 +136,10 @@ CholmodFactor::Status CholmodFactor::analyze(const Eigen::SparseMatrix<double>& 
     case CHOLMOD_NATURAL: statistics_.ordering = "natural"; break;
     default: statistics_.ordering = "other"; break;
   }
-  if (!impl_->numeric.prepare(*impl_->factor, upper, message_)) return Status::Failed;
+  if (!impl_->numeric.prepare(*impl_->factor, upper, message_)) {
+    cholmod_free_factor(&impl_->factor, c);
+    return Status::Failed;
+  }
   return Status::Ok;
 }
 

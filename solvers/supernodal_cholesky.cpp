@@ -39,11 +39,13 @@ Supernodes supernodes(const cholmod_factor& L) {
 
 bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMatrix<double>& upper,
                                  std::string& message) {
-  prepared_ = false;
   const auto n = static_cast<std::ptrdiff_t>(L.n);
-  if (!L.is_super || L.itype != CHOLMOD_INT || L.Perm == nullptr || upper.rows() != n || upper.cols() != n ||
-      !upper.isCompressed()) {
+  if (!L.is_super || L.itype != CHOLMOD_INT || L.Perm == nullptr || upper.rows() != n || upper.cols() != n) {
     message = "supernodal factorization: the factor is not a supernodal analysis of this matrix";
+    return false;
+  }
+  if (!upper.isCompressed()) {
+    message = "supernodal factorization: the matrix is not compressed";
     return false;
   }
   const Supernodes sn = supernodes(L);
@@ -88,7 +90,6 @@ bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMat
   position_.assign(static_cast<std::size_t>(sn.count), 0);
   map_.assign(static_cast<std::size_t>(n), 0);
   update_.resize(std::max<std::size_t>(largest, 1));
-  prepared_ = true;
   return true;
 }
 

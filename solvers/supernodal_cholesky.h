@@ -28,10 +28,10 @@ class SupernodalCholesky {
   /// Maps each stored entry of upper's upper triangle to its place in L's values. Called after each analysis.
   /// False (with message) if L is not a supernodal factor of upper's size.
   bool prepare(const cholmod_factor_struct& L, const Eigen::SparseMatrix<double>& upper, std::string& message);
-  /// Fills L's values (allocated, real) with the factor of upper + shift·I. Returns L.n on success, else the
-  /// first column (in L's order) whose pivot is not positive and finite.
+  /// Fills L's values (allocated and real: cholmod_change_factor) with the factor of upper + shift·I, upper
+  /// having the prepared pattern. Returns L.n on success, else the first column (in L's order) whose pivot is
+  /// not positive and finite.
   std::size_t factorize(cholmod_factor_struct& L, const Eigen::SparseMatrix<double>& upper, double shift);
-  bool prepared() const { return prepared_; }
   /// The number of stored entries of the prepared matrix.
   std::size_t entries() const { return target_.size(); }
 
@@ -41,7 +41,6 @@ class SupernodalCholesky {
   std::vector<int> superOf_;    // per column: its supernode
   std::vector<int> head_, next_, position_, map_;  // the left-looking sweep's lists and relative row map
   std::vector<double> update_;  // one descendant's update block
-  bool prepared_ = false;
 };
 
 }  // namespace jetshell
