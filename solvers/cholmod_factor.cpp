@@ -12,9 +12,6 @@ namespace jetshell {
 struct CholmodFactor::Impl {
   cholmod_common common;
   cholmod_factor* factor = nullptr;
-  cholmod_dense* X = nullptr;
-  cholmod_dense* Y = nullptr;
-  cholmod_dense* E = nullptr;
   SupernodalCholesky numeric;  // the numeric factorization, on CHOLMOD's analysis
 };
 
@@ -107,9 +104,6 @@ CholmodFactor::CholmodFactor(FillOrdering ordering, int blasThreads)
 CholmodFactor::~CholmodFactor() {
   cholmod_common* c = &impl_->common;
   if (impl_->factor != nullptr) cholmod_free_factor(&impl_->factor, c);
-  if (impl_->X != nullptr) cholmod_free_dense(&impl_->X, c);
-  if (impl_->Y != nullptr) cholmod_free_dense(&impl_->Y, c);
-  if (impl_->E != nullptr) cholmod_free_dense(&impl_->E, c);
   cholmod_finish(c);
 }
 
@@ -176,20 +170,8 @@ CholmodFactor::Status CholmodFactor::solve(const Eigen::VectorXd& b, Eigen::Vect
     message_ = "solve without a factor";
     return Status::Failed;
   }
-  const ScopedThreads threads(blasThreads_);
-  cholmod_dense B;
-  B.nrow = B.d = B.nzmax = static_cast<std::size_t>(b.size());
-  B.ncol = 1;
-  B.x = const_cast<double*>(b.data());
-  B.z = nullptr;
-  B.xtype = CHOLMOD_REAL;
-  B.dtype = CHOLMOD_DOUBLE;
-  if (!cholmod_solve2(CHOLMOD_A, impl_->factor, &B, nullptr, &impl_->X, nullptr, &impl_->Y, &impl_->E,
-                      &impl_->common)) {
-    message_ = statusMessage("cholmod_solve2", impl_->common);
-    return Status::Failed;
-  }
-  x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(impl_->X->x), b.size());
+  x.resize(b.size());
+  impl_->numeric.solve(*impl_->factor, b.data(), x.data());
   return Status::Ok;
 }
 

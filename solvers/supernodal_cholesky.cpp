@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Core>
+
 // BLAS and LAPACK's Fortran entry points (the trailing arguments are the character arguments' hidden lengths).
 extern "C" {
 void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
@@ -90,6 +92,8 @@ bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMat
   position_.assign(static_cast<std::size_t>(sn.count), 0);
   map_.assign(static_cast<std::size_t>(n), 0);
   update_.resize(std::max<std::size_t>(largest, 1));
+  permuted_.resize(static_cast<std::size_t>(n));
+  rows_.resize(static_cast<std::size_t>(std::sqrt(static_cast<double>(largest))) + 1);
   return true;
 }
 
@@ -163,6 +167,48 @@ std::size_t SupernodalCholesky::factorize(cholmod_factor& L, const Eigen::Sparse
     }
   }
   return L.n;
+}
+
+void SupernodalCholesky::solve(const cholmod_factor& L, const double* b, double* x) {
+  using Vector = Eigen::Map<Eigen::VectorXd>;
+  using ConstVector = Eigen::Map<const Eigen::VectorXd>;
+  const Supernodes sn = supernodes(L);
+  const int* perm = static_cast<const int*>(L.Perm);
+  const double* lx = static_cast<const double*>(L.x);
+  double* y = permuted_.data();
+  double* w = rows_.data();
+  const auto n = static_cast<int>(L.n);
+  for (int k = 0; k < n; ++k) y[k] = b[perm[k]];
+  // L y = Pb, supernode by supernode: the diagonal block's columns, each carried down its whole column.
+  for (int t = 0; t < sn.count; ++t) {
+    const int k1 = sn.super[t], columns = sn.super[t + 1] - k1;
+    const int* rowIndex = sn.s + sn.pi[t];
+    const int rows = sn.pi[t + 1] - sn.pi[t];
+    const double* block = lx + sn.px[t];
+    for (int j = 0; j < columns; ++j) w[j] = y[k1 + j];
+    std::fill(w + columns, w + rows, 0.0);
+    for (int j = 0; j < columns; ++j) {
+      const double* column = block + static_cast<long>(j) * rows;
+      w[j] /= column[j];
+      Vector(w + j + 1, rows - j - 1).noalias() -= w[j] * ConstVector(column + j + 1, rows - j - 1);
+    }
+    for (int j = 0; j < columns; ++j) y[k1 + j] = w[j];
+    for (int i = columns; i < rows; ++i) y[rowIndex[i]] += w[i];
+  }
+  // Lᵀ z = y, in reverse: each column's dot product with its rows' solution, then the diagonal.
+  for (int t = sn.count - 1; t >= 0; --t) {
+    const int k1 = sn.super[t], columns = sn.super[t + 1] - k1;
+    const int* rowIndex = sn.s + sn.pi[t];
+    const int rows = sn.pi[t + 1] - sn.pi[t];
+    const double* block = lx + sn.px[t];
+    for (int i = 0; i < rows; ++i) w[i] = y[rowIndex[i]];
+    for (int j = columns - 1; j >= 0; --j) {
+      const double* column = block + static_cast<long>(j) * rows;
+      w[j] = (w[j] - ConstVector(column + j + 1, rows - j - 1).dot(ConstVector(w + j + 1, rows - j - 1))) / column[j];
+    }
+    for (int j = 0; j < columns; ++j) y[k1 + j] = w[j];
+  }
+  for (int k = 0; k < n; ++k) x[perm[k]] = y[k];
 }
 
 }  // namespace jetshell

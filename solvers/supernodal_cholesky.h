@@ -1,5 +1,6 @@
 // The numeric supernodal Cholesky factorization on CHOLMOD's symbolic analysis, with BLAS and LAPACK calls and
-// no OpenMP region of its own. Used by CholmodFactor (solvers/cholmod_factor.h) in place of cholmod_factorize.
+// no OpenMP region of its own, and its solves. Used by CholmodFactor (solvers/cholmod_factor.h) in place of
+// cholmod_factorize and cholmod_solve2.
 // Why: Debian's CHOLMOD 3 opens an OpenMP region per supernode and per descendant update inside its numeric
 // factorization; a region that its `if` clause serializes, or that is nested in another one (SplitFactor's
 // parts), still builds a team of one and ends with a futex wake, 31,000 system calls per Newton iteration of
@@ -7,7 +8,9 @@
 // The algorithm is CHOLMOD's left-looking supernodal one: each supernode's dense block (column-major, the
 // layout of cholmod_factor's x) receives its columns of P(A + shift·I)Pᵀ, then the updates of every descendant
 // supernode (a syrk and a gemm, scattered through the relative row map), then a potrf of its diagonal block and
-// a trsm of the rows below. The result is the factor CHOLMOD's own solves read.
+// a trsm of the rows below. The result is the factor CHOLMOD's own solves read. The solves sweep the same blocks
+// with plain loops: a T-shirt supernode has about 9 columns, where a BLAS call per block costs more than its work
+// (CG's solves 0.96× whole-process wall against cholmod_solve2's, BENCHMARKS.md).
 // Inputs: the analysed supernodal factor (symbolic or numeric, int indices), the matrix as its upper triangle
 // (Eigen CSC, the analysed pattern). Outputs: L's values; the first column where the matrix is not positive
 // definite (or its pivot not finite).
@@ -32,6 +35,8 @@ class SupernodalCholesky {
   /// having the prepared pattern. Returns L.n on success, else the first column (in L's order) whose pivot is
   /// not positive and finite.
   std::size_t factorize(cholmod_factor_struct& L, const Eigen::SparseMatrix<double>& upper, double shift);
+  /// x = (LLᵀ)⁻¹ b, b and x of size L.n in the matrix's order (x may be b), with L factorized.
+  void solve(const cholmod_factor_struct& L, const double* b, double* x);
   /// The number of stored entries of the prepared matrix.
   std::size_t entries() const { return target_.size(); }
 
@@ -41,6 +46,7 @@ class SupernodalCholesky {
   std::vector<int> superOf_;    // per column: its supernode
   std::vector<int> head_, next_, position_, map_;  // the left-looking sweep's lists and relative row map
   std::vector<double> update_;  // one descendant's update block
+  std::vector<double> permuted_, rows_;  // the solve's right-hand side in L's order, one supernode's rows
 };
 
 }  // namespace jetshell

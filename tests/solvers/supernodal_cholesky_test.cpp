@@ -115,6 +115,31 @@ TEST_CASE("supernodal cholesky: an indefinite matrix fails at CHOLMOD's column, 
   CHECK(f.difference() < 1e-13);
 }
 
+TEST_CASE("supernodal cholesky: the solve is CHOLMOD's to round-off, in place too", "[solvers]") {
+  const Eigen::SparseMatrix<double> H = clothHessian();
+  TwoFactors f(H);
+  const auto [theirs, ours] = f.factor(H, 0.0);
+  REQUIRE(theirs == f.theirs->n);
+  REQUIRE(ours == f.ours->n);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(H.rows(), -1.0, 2.0).array().sin();
+  cholmod_dense B{};
+  B.nrow = B.d = B.nzmax = static_cast<std::size_t>(b.size());
+  B.ncol = 1;
+  B.x = const_cast<double*>(b.data());
+  B.xtype = CHOLMOD_REAL;
+  B.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* X = cholmod_solve(CHOLMOD_A, f.theirs, &B, &f.common);
+  REQUIRE(X != nullptr);
+  const Eigen::Map<const Eigen::VectorXd> expected(static_cast<const double*>(X->x), b.size());
+  Eigen::VectorXd x(b.size());
+  f.numeric.solve(*f.ours, b.data(), x.data());
+  CHECK((x - expected).norm() < 1e-12 * expected.norm());
+  Eigen::VectorXd inPlace = b;
+  f.numeric.solve(*f.ours, inPlace.data(), inPlace.data());
+  CHECK(inPlace == x);
+  cholmod_free_dense(&X, &f.common);
+}
+
 TEST_CASE("cholmod factor: solves with the supernodal factorization, refuses a matrix of another pattern",
           "[solvers]") {
   testing::SingleThread single;
