@@ -57,10 +57,10 @@ bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMat
 
   superOf_.assign(static_cast<std::size_t>(n), 0);
   diagonal_.assign(static_cast<std::size_t>(n), 0);
-  std::size_t largest = 0;
+  std::size_t widest = 0;  // the most rows of a supernode
   for (int t = 0; t < sn.count; ++t) {
     const int rows = sn.pi[t + 1] - sn.pi[t];
-    largest = std::max(largest, static_cast<std::size_t>(rows) * static_cast<std::size_t>(rows));
+    widest = std::max(widest, static_cast<std::size_t>(rows));
     for (int k = sn.super[t]; k < sn.super[t + 1]; ++k) {
       superOf_[static_cast<std::size_t>(k)] = t;
       diagonal_[static_cast<std::size_t>(k)] = sn.px[t] + static_cast<long>(k - sn.super[t]) * (rows + 1);
@@ -91,9 +91,9 @@ bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMat
   next_.assign(static_cast<std::size_t>(sn.count), -1);
   position_.assign(static_cast<std::size_t>(sn.count), 0);
   map_.assign(static_cast<std::size_t>(n), 0);
-  update_.resize(std::max<std::size_t>(largest, 1));
+  update_.resize(std::max<std::size_t>(L.maxcsize, 1));  // CHOLMOD's bound on one update block
   permuted_.resize(static_cast<std::size_t>(n));
-  rows_.resize(static_cast<std::size_t>(std::sqrt(static_cast<double>(largest))) + 1);
+  rows_.resize(std::max<std::size_t>(widest, 1));
   return true;
 }
 
@@ -131,6 +131,8 @@ std::size_t SupernodalCholesky::factorize(cholmod_factor& L, const Eigen::Sparse
       const int inColumns = end - first;  // rows of d that are columns of t
       const int below = dRows - first;    // rows of d from there to the end
       const double* dBlock = x + sn.px[d] + first;
+      const auto updateSize = static_cast<std::size_t>(below) * static_cast<std::size_t>(inColumns);
+      if (updateSize > update_.size()) update_.resize(updateSize);  // not expected: maxcsize bounds it
       double* c = update_.data();
       dsyrk_("L", "N", &inColumns, &dColumns, &one, dBlock, &dRows, &zero, c, &below, 1, 1);
       if (below > inColumns) {
