@@ -5,12 +5,14 @@
 #include "test_problems.h"
 #include "tests/test_util.h"
 
+#include <Eigen/Cholesky>
 #include <catch2/catch.hpp>
 #include <cholmod.h>
 
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 using namespace jetshell;
 
@@ -158,4 +160,38 @@ TEST_CASE("cholmod factor: solves with the supernodal factorization, refuses a m
   other.makeCompressed();
   CHECK(factor.factorize(other, 0.0) == CholmodFactor::Status::Failed);
   CHECK(factor.message().find("pattern") != std::string::npos);
+}
+
+TEST_CASE("cholmod factor: small and degenerate shapes solve like a dense Cholesky", "[solvers]") {
+  testing::SingleThread single;
+  // A dense matrix (one supernode, no descendants), a diagonal one (supernodes of one column each), an arrow
+  // (every column updates the last), and a 1×1.
+  const auto dense = [](int n) {
+    Eigen::MatrixXd m = Eigen::MatrixXd::Constant(n, n, 0.5) + n * Eigen::MatrixXd::Identity(n, n);
+    for (int i = 0; i < n; ++i) m(i, (i + 1) % n) = m((i + 1) % n, i) = 0.25 * (i + 1);
+    return m;
+  };
+  Eigen::MatrixXd arrow = 4.0 * Eigen::MatrixXd::Identity(12, 12);
+  for (int i = 0; i < 11; ++i) arrow(i, 11) = arrow(11, i) = 0.3;
+  arrow(11, 11) = 12.0;
+  const Eigen::MatrixXd diagonal = Eigen::VectorXd::LinSpaced(6, 1.0, 6.0).asDiagonal();
+  const Eigen::MatrixXd one = Eigen::MatrixXd::Constant(1, 1, 2.0);
+  for (const Eigen::MatrixXd& m : std::vector<Eigen::MatrixXd>{dense(5), dense(40), arrow, diagonal, one}) {
+    const Eigen::SparseMatrix<double> upper = m.triangularView<Eigen::Upper>().toDenseMatrix().sparseView();
+    CholmodFactor factor;
+    REQUIRE(factor.analyze(upper) == CholmodFactor::Status::Ok);
+    for (const double shift : {0.0, 0.5}) {
+      REQUIRE(factor.factorize(upper, shift) == CholmodFactor::Status::Ok);
+      const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(m.rows(), 1.0, 2.0);
+      Eigen::VectorXd x;
+      REQUIRE(factor.solve(b, x) == CholmodFactor::Status::Ok);
+      const Eigen::MatrixXd shifted = m + shift * Eigen::MatrixXd::Identity(m.rows(), m.cols());
+      const Eigen::VectorXd expected = shifted.llt().solve(b);
+      CHECK((x - expected).norm() <= 1e-12 * expected.norm());
+    }
+    Eigen::SparseMatrix<double> negative = upper;
+    negative.coeffRef(m.rows() - 1, m.cols() - 1) = -1.0;
+    CHECK(factor.factorize(negative, 0.0) == CholmodFactor::Status::NotPositiveDefinite);
+    CHECK(factor.message().find("not positive definite") != std::string::npos);
+  }
 }
