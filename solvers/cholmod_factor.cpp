@@ -49,22 +49,15 @@ namespace {
 
 /// Runs the enclosing scope with n OpenMP threads (the BLAS's, for OpenBLAS's OpenMP build); n <= 0 leaves the
 /// caller's settings as they are (SplitFactor's parts, each run on one thread of its own parallel region).
-/// With n = 1 it also makes every parallel region inactive (max-active-levels 0): Debian's CHOLMOD 3 opens its
-/// own regions inside the supernodal factorization with a fixed num_threads(4), which on 2 cores with passive
-/// waiting put the factorization's threads to sleep and woke them per supernode. Measured on the 10k-vertex
-/// cloth's one-ring factor: 181 ms -> 44 ms per factorization (BENCHMARKS.md).
+/// (It used to make every region inactive for n = 1 as well, against CHOLMOD's own regions in its numeric
+/// factorization; solvers/supernodal_cholesky.h replaced that factorization and opens none.)
 class ScopedThreads {
  public:
-  explicit ScopedThreads(int n)
-      : active_(n > 0), saved_(omp_get_max_threads()), savedLevels_(omp_get_max_active_levels()) {
-    if (!active_) return;
-    if (n != saved_) omp_set_num_threads(n);
-    if (n == 1) omp_set_max_active_levels(0);
+  explicit ScopedThreads(int n) : active_(n > 0 && n != omp_get_max_threads()), saved_(omp_get_max_threads()) {
+    if (active_) omp_set_num_threads(n);
   }
   ~ScopedThreads() {
-    if (!active_) return;
-    omp_set_max_active_levels(savedLevels_);
-    omp_set_num_threads(saved_);
+    if (active_) omp_set_num_threads(saved_);
   }
   ScopedThreads(const ScopedThreads&) = delete;
   ScopedThreads& operator=(const ScopedThreads&) = delete;
@@ -72,7 +65,6 @@ class ScopedThreads {
  private:
   bool active_;
   int saved_;
-  int savedLevels_;
 };
 
 }  // namespace

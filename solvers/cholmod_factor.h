@@ -6,9 +6,8 @@
 // fill is poor), the matrix. Outputs: the factor, its solves, and the analysis statistics (nnz(L) and the
 // flop count of one numeric factorization, deterministic for a given pattern and ordering).
 // Threads: analyses and factorizations run with `blasThreads` OpenMP threads (default 1), restored afterwards
-// (solves call no BLAS); with 1, CHOLMOD's own parallel regions are made inactive too (see ScopedThreads in the
-// .cpp); with 0, the caller's OpenMP settings are left as they are (solvers/split_factor.h runs its parts on its
-// own threads).
+// (solves call no BLAS); with 0, the caller's OpenMP settings are left as they are (solvers/split_factor.h runs
+// its parts on its own threads).
 // OpenBLAS's OpenMP build (scripts/install-deps.sh) follows omp_get_max_threads() per call; other BLAS builds
 // ignore it. Measured on the 2-core machine under load: the one-ring factor of the 2.6k-vertex cloth took
 // 12–15 ms with one thread and 59–78 ms with two (small supernodes: the threads mostly wait at BLAS barriers).
