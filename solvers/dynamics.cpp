@@ -30,6 +30,10 @@ namespace {
 /// The correction test needs the residual estimate to have fallen at least this much over the last iteration
 /// (evidence that Newton contracts, so the error left is below the last correction).
 constexpr double kCorrectionContraction = 0.5;
+/// With contact terms, the correction test's RMS threshold is at least this fraction of the narrowest contact
+/// ramp δ: a time-error threshold below it (a shell at rest: ‖x − x̃‖ of micrometres) asks for more than the
+/// contact forces resolve.
+constexpr double kContactCorrectionFloor = 0.01;
 
 double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
   if (!(std::isfinite(o.timeStep) && o.timeStep > 0.0)) {
@@ -40,6 +44,9 @@ double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
   if (o.maxCuts < 0) throw InputError("dynamics: maxCuts must be >= 0");
   if (!(std::isfinite(o.updateTolerance) && o.updateTolerance >= 0.0))
     throw InputError("dynamics: updateTolerance must be finite and >= 0");
+  if (!(std::isfinite(o.contactCorrectionFraction) && o.contactCorrectionFraction >= 0.0 &&
+        o.contactCorrectionFraction <= 1.0))
+    throw InputError("dynamics: contactCorrectionFraction must be in [0, 1]");
   if (system.kind() == AnalysisKind::Statics)
     throw InputError("dynamics: the system was built for statics (no inertia)");
   const double alpha = o.massDampingOverride >= 0.0 ? o.massDampingOverride
@@ -165,22 +172,30 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
     const Eigen::VectorXd& m = sys.vertexMass();
     const double eta = options_.updateTolerance, floor = 1e-9 * sys.objective().scales().length;
     const double totalMass = m.sum();
-    // Not with contact: a penalty's stiffness makes a small correction no bound on the penetration left (the
-    // T-shirt's landing went 3.6 mm below the plane with it, against its test's 2.5 mm).
-    const bool correctionTest = options_.correctionTest && sys.contact.empty();
+    // With contact terms the correction is also judged on the contact's own length (see the header): its largest
+    // vertex move against κ δ, its RMS against the threshold or δ/100, whichever is larger.
+    const bool withContact = !sys.contact.empty();
+    const double contactMove = withContact ? options_.contactCorrectionFraction * sys.contact.narrowestRamp : 0.0;
+    const double contactFloor = withContact ? kContactCorrectionFloor * sys.contact.narrowestRamp : 0.0;
+    const bool correctionTest = options_.correctionTest && (!withContact || contactMove > 0.0);
     newton_.setIterateTest([&predictor, &extrapolated, &m, &lastIterate, &lastResidualEstimate, eta, floor, totalMass,
-                            inertiaCoefficient, correctionTest, bdf2](const IterateView& it) {
+                            inertiaCoefficient, correctionTest, bdf2, withContact, contactMove,
+                            contactFloor](const IterateView& it) {
       const Eigen::VectorXd& xk = it.x;
       const Eigen::VectorXd& g = it.gradient;
       // The correction x_k − x_{k−1} is a Newton correction only after a full Newton step.
       const bool haveCorrection = correctionTest && it.newtonStepFraction == 1.0 && lastIterate.size() == xk.size();
-      double errorSq = 0.0, changeSq = 0.0, extrapolationSq = 0.0, correctionSq = 0.0;
+      double errorSq = 0.0, changeSq = 0.0, extrapolationSq = 0.0, correctionSq = 0.0, largestMoveSq = 0.0;
       for (Eigen::Index v = 0; v < m.size(); ++v) {
         if (!(m[v] > 0.0)) continue;
         errorSq += g.segment<3>(3 * v).squaredNorm() / m[v];
         changeSq += m[v] * (xk.segment<3>(3 * v) - predictor.segment<3>(3 * v)).squaredNorm();
         if (bdf2) extrapolationSq += m[v] * (xk.segment<3>(3 * v) - extrapolated.segment<3>(3 * v)).squaredNorm();
-        if (haveCorrection) correctionSq += m[v] * (xk.segment<3>(3 * v) - lastIterate.segment<3>(3 * v)).squaredNorm();
+        if (haveCorrection) {
+          const double moveSq = (xk.segment<3>(3 * v) - lastIterate.segment<3>(3 * v)).squaredNorm();
+          correctionSq += m[v] * moveSq;
+          largestMoveSq = std::max(largestMoveSq, moveSq);
+        }
       }
       const double residualEstimate = std::sqrt(errorSq / totalMass) / inertiaCoefficient;
       if (bdf2) changeSq = std::min(changeSq, extrapolationSq);
@@ -188,7 +203,12 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       IterateTestResult result{residualEstimate <= threshold, residualEstimate, threshold, "residual estimate"};
       if (!result.passed && haveCorrection && residualEstimate <= kCorrectionContraction * lastResidualEstimate) {
         const double correction = std::sqrt(correctionSq / totalMass);
-        if (correction <= threshold) result = {true, correction, threshold, "Newton correction"};
+        if (!withContact) {
+          if (correction <= threshold) result = {true, correction, threshold, "Newton correction"};
+        } else if (correction <= std::max(threshold, contactFloor)) {
+          const double largestMove = std::sqrt(largestMoveSq);
+          if (largestMove <= contactMove) result = {true, largestMove, contactMove, "Newton correction's largest move"};
+        }
       }
       if (correctionTest) {
         lastIterate = xk;

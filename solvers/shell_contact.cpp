@@ -1,5 +1,8 @@
 #include "solvers/shell_contact.h"
 
+#include <algorithm>
+#include <limits>
+
 namespace jetshell {
 
 std::vector<std::string> ShellContact::termNames() const {
@@ -61,6 +64,10 @@ ShellContact addShellContact(Objective& objective, const std::vector<ShellContac
     if (!dynamic) c.pointCloud.friction = nullptr;
   }
   if (c.empty()) return c;
+  double narrowest = std::numeric_limits<double>::infinity();
+  for (const ShellContactActor& a : actors) narrowest = std::min(narrowest, a.contact.smoothingDistance);
+  for (const VolumeColliderPart& v : volumes) narrowest = std::min(narrowest, v.contact.smoothingDistance);
+  c.narrowestRamp = narrowest;
   const std::vector<VolumeContactTerms> volume = c.volume;
   const std::shared_ptr<PointCloudState> cloud = c.pointCloud.state;
   if (dynamic) {

@@ -45,6 +45,10 @@ struct ShellContact {
   std::vector<VolumeContactTerms> volume;
   PointCloudTerms pointCloud;  // state null when no point-cloud contact
   bool empty() const { return volume.empty() && !pointCloud.state; }
+  /// The narrowest ramp smoothing δ of any contact pair [m] (pairs combine by geometric mean, so no pair's δ is
+  /// below the smallest of its actors'): the length over which a contact force can change from nothing to its
+  /// penalty's full slope. 0 when empty.
+  double narrowestRamp = 0.0;
   /// Names of the contact terms (for timing splits).
   std::vector<std::string> termNames() const;
   /// Seconds spent in the point-cloud broad phase so far.
