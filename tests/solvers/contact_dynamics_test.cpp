@@ -1,6 +1,7 @@
 // Shells meeting rigid volume actors and each other, through the solver (ShellSystem + DynamicsSolver):
 // friction on an incline, a cloth draped on a sphere and sliding off a box, two cloths dropped on each other,
-// and a problem without colliders that builds no contact at all. Small meshes, a few hundred steps at most.
+// a problem without colliders that builds no contact at all, and the Newton correction test on contact steps.
+// Small meshes, a few hundred steps at most.
 #include "core/mesh_generators.h"
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
@@ -256,6 +257,7 @@ TEST_CASE("contact dynamics: the Newton correction ends a contact step only when
                          << (off.x - tight.x).lpNorm<Eigen::Infinity>() << " m)");
   CHECK(newtonError <= 0.2 * discretization);
 }
+
 TEST_CASE("contact dynamics: the contact correction fraction is validated", "[contact]") {
   ShellProblem p;
   p.mesh = square(0.2, 4, {0, 1, 0});
