@@ -24,6 +24,14 @@
 // gets the options of each evaluate() call copied there before its elements run, for terms that offer a model
 // Hessian beside the exact one (the friction terms read options.frictionHessian). The exact Hessian must stay
 // the default options' (EvalOptions{}), which is what the conformance suite and check-derivatives evaluate.
+//
+// Translation invariance (optional, detected at compile time): a functor of K ≥ 2 vertices whose energy depends
+// only on the differences x_k − x_0 may declare
+//     static constexpr bool kTranslationInvariant = true;
+// Its Jets then carry the 3(K−1) coordinates of vertices 1 … K−1 with vertex 0 held as a constant, and vertex 0's
+// gradient and Hessian blocks are completed from the others' sums (the same completion as the stage graphs'
+// difference coordinates): for a point pair, second-order Jets over 3 dofs instead of 6. A false declaration gives
+// a wrong vertex-0 derivative, which the conformance suite's finite differences in full coordinates catch.
 #pragma once
 
 #include "core/assembly.h"
@@ -31,6 +39,7 @@
 #include "core/fixed_stencil_term.h"
 #include "core/flatten.h"
 #include "core/parameter_derivatives.h"
+#include "core/psd_projection.h"
 #include "core/scalar.h"
 #include "core/term.h"
 
@@ -59,12 +68,21 @@ template <typename Functor>
 struct FunctorTakesOptions<Functor, std::void_t<decltype(std::declval<Functor&>().options)>>
     : std::is_same<std::decay_t<decltype(std::declval<Functor&>().options)>, EvalOptions> {};
 
+/// Whether Functor declares `static constexpr bool kTranslationInvariant = true` (see the file comment).
+template <typename Functor, typename = void>
+struct FunctorTranslationInvariant : std::false_type {};
+template <typename Functor>
+struct FunctorTranslationInvariant<Functor, std::void_t<decltype(Functor::kTranslationInvariant)>>
+    : std::bool_constant<Functor::kTranslationInvariant> {};
+
 template <typename Functor>
 class ElementEnergyTerm : public FixedStencilTerm {
  public:
   static constexpr int K = Functor::kVertices;
   static constexpr int M = 3 * K;
   static constexpr int P = FunctorParameterCount<Functor>::value;
+  /// Derivatives in the difference coordinates of vertices 1 … K−1 (see the file comment).
+  static constexpr bool kDifferences = K >= 2 && FunctorTranslationInvariant<Functor>::value;
 
   ElementEnergyTerm(std::string name, StencilTable stencils, int numVertices, Functor functor,
                     bool zeroAtRest = true, bool rigidInvariant = true)
@@ -149,6 +167,9 @@ class ElementEnergyTerm : public FixedStencilTerm {
   /// Value, and gradient and Hessian when asked, of element e at its positions xe.
   double derivatives(const double* xe, int e, bool wantG, bool wantH, Eigen::Matrix<double, M, 1>& g,
                      Eigen::Matrix<double, M, M>& H) const {
+    if constexpr (kDifferences) {
+      if (wantG || wantH) return differenceDerivatives(xe, e, wantH, g, H);
+    }
     if (wantH) {
       J2 xj[M];
       for (int i = 0; i < M; ++i) xj[i] = secondOrderVariable<M>(xe[i], i);
@@ -168,6 +189,38 @@ class ElementEnergyTerm : public FixedStencilTerm {
       return E.a;
     }
     return energy(static_cast<const double*>(xe), e);
+  }
+
+  /// derivatives() of a translation-invariant energy: Jets over vertices 1 … K−1, vertex 0 a constant; vertex 0's
+  /// gradient is minus the others' sum, its Hessian blocks completed by completeTranslationInvariant.
+  double differenceDerivatives(const double* xe, int e, bool wantH, Eigen::Matrix<double, M, 1>& g,
+                               Eigen::Matrix<double, M, M>& H) const {
+    constexpr int R = M - 3;
+    double value;
+    if (wantH) {
+      using D2 = SecondOrderJet<R>;
+      D2 xj[M];
+      for (int i = 0; i < 3; ++i) xj[i] = constant<D2>(xe[i]);
+      for (int i = 3; i < M; ++i) xj[i] = secondOrderVariable<R>(xe[i], i - 3);
+      const D2 E = energy(static_cast<const D2*>(xj), e);
+      for (int i = 0; i < R; ++i) {
+        g[3 + i] = E.a.v[i];
+        for (int j = 0; j < R; ++j) H(3 + i, 3 + j) = 0.5 * (E.v[i].v[j] + E.v[j].v[i]);
+      }
+      completeTranslationInvariant(H);
+      value = E.a.a;
+    } else {
+      using D1 = ceres::Jet<double, R>;
+      D1 xj[M];
+      for (int i = 0; i < 3; ++i) xj[i] = constant<D1>(xe[i]);
+      for (int i = 3; i < M; ++i) xj[i] = D1(xe[i], i - 3);
+      const D1 E = energy(static_cast<const D1*>(xj), e);
+      g.template tail<R>() = E.v;
+      value = E.a;
+    }
+    g.template head<3>().setZero();
+    for (int k = 1; k < K; ++k) g.template head<3>() -= g.template segment<3>(3 * k);
+    return value;
   }
 
   Functor functor_;

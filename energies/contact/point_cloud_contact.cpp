@@ -13,6 +13,7 @@ namespace {
 
 struct PointPairPenaltyEnergy {
   static constexpr int kVertices = 2;
+  static constexpr bool kTranslationInvariant = true;  // a function of x_1 − x_0
   std::shared_ptr<const PointPairData> data;
   template <typename T>
   T operator()(const T* x, int e) const {
@@ -29,6 +30,7 @@ struct PointPairPenaltyEnergy {
 
 struct PointPairFrictionEnergy {
   static constexpr int kVertices = 2;
+  static constexpr bool kTranslationInvariant = true;  // a function of x_0 − x_1
   explicit PointPairFrictionEnergy(std::shared_ptr<const PointPairData> d) : data(std::move(d)) {}
   std::shared_ptr<const PointPairData> data;
   EvalOptions options;  // options.frictionHessian (energies/element_energy_term.h)
