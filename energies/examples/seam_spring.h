@@ -16,6 +16,8 @@ namespace jetshell {
 
 struct SeamSpringEnergy {
   static constexpr int kVertices = 2;  // one element = one vertex pair
+  // A function of x_j − x_i alone: the Jets need only vertex j's 3 coordinates, not the pair's 6.
+  static constexpr bool kTranslationInvariant = true;
   // The stiffness k is a differentiable parameter: ∂E/∂k and ∂²E/∂x∂k come from duals seeded on it.
   static constexpr int kParameters = 1;
   static constexpr std::array<const char*, 1> kParameterNames{{"stiffness"}};
