@@ -1,7 +1,9 @@
 // ElementEnergyTerm's difference coordinates: a functor that declares kTranslationInvariant gets the same value,
-// gradient and Hessian (exact and projected) as the same energy differentiated in full coordinates.
+// gradient and Hessian (exact and projected) as the same energy differentiated in full coordinates, and the
+// derivative checks (tools/checks/term_check.h) refuse a false claim.
 #include "core/assembly.h"
 #include "energies/element_energy_term.h"
+#include "tools/checks/term_check.h"
 
 #include <catch2/catch.hpp>
 
@@ -48,6 +50,18 @@ struct Pair {
   }
 };
 struct PairInDifferences : Pair {
+  static constexpr bool kTranslationInvariant = true;
+};
+
+/// A pair energy that also depends on where the pair is (a height term): not translation-invariant.
+struct Anchored : Pair {
+  template <typename T>
+  T operator()(const T* x, int e) const {
+    return Pair::operator()(x, e) + x[1] * x[1] * x[4];
+  }
+};
+/// The same, falsely declared translation-invariant.
+struct FalselyInvariant : Anchored {
   static constexpr bool kTranslationInvariant = true;
 };
 
@@ -101,4 +115,14 @@ TEST_CASE("element energy term: a translation-invariant energy gives the same de
     StencilTable t{2, {0, 1, 1, 2, 3, 0}};
     checkSameDerivatives<Pair, PairInDifferences>(t, 4);
   }
+}
+
+TEST_CASE("element energy term: the derivative checks catch a false translation-invariance claim") {
+  const StencilTable t{2, {0, 1, 1, 2}};
+  Eigen::VectorXd x(9);
+  for (int i = 0; i < x.size(); ++i) x[i] = 0.02 * std::sin(1.3 * i + 0.2) + 0.01 * (i % 4);
+  ElementEnergyTerm<Anchored> honest("anchored", t, 3, Anchored{}, false, false);
+  ElementEnergyTerm<FalselyInvariant> claimed("falsely_invariant", t, 3, FalselyInvariant{}, false, false);
+  CHECK(termCheckFailures(honest, x).empty());
+  CHECK_FALSE(termCheckFailures(claimed, x).empty());
 }
