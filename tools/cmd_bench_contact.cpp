@@ -2,7 +2,9 @@
 // of 60 Hz steps. Prints steps per second, Newton iterations per step, and where a step's time goes: the
 // point-cloud broad phase, the contact terms (their evaluation plus stencil updates and pattern rebuilds), the
 // other terms, the linear solves (factorization + solve) and the rest (line-search bookkeeping, the Newton
-// loop, the stepping), the symbolic analyses against the numeric factorizations. `--pattern both` runs the scene
+// loop, the stepping), the symbolic analyses against the numeric factorizations, and how the steps' solves ended
+// (Newton's residual test, the time-step rule's residual estimate or Newton correction, or moved on at the
+// iteration cap: solvers/dynamics.h). `--pattern both` runs the scene
 // twice, with the Hessian pattern rebuilt exactly to the contacts and then grow-only, and prints their ratio.
 // `--solver both` runs it with the scene's time-step linear algebra (solvers/time_step_policy.h: CG preconditioned
 // by the one-ring factor, element Hessians projected only where needed) and then with the direct solver
@@ -91,6 +93,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   const auto start = std::chrono::steady_clock::now();
   const double cpuStart = processCpuSeconds();
   int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0, cg = 0;
+  // How the steps' solves ended: Newton's residual test, the time-step rule's residual estimate or its Newton
+  // correction (solvers/dynamics.h), or moved on at the iteration cap.
+  int endedResidual = 0, endedEstimate = 0, endedCorrection = 0, endedAtCap = 0;
   double factorSeconds = 0.0;
   double linear = 0.0;
   // The guards of the T-shirt's checks: the deepest sample in a volume collider (signed distance, m) and the
@@ -139,7 +144,15 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
       exactSteps += solve.exactHessianSteps;
       fallbacks += solve.projectionFallbacks;
       for (const IterationRecord& it : solve.trace) cg += it.cgIterations;
+      if (!solve.converged()) continue;
+      if (solve.convergenceTest != "iterate")
+        ++endedResidual;
+      else if (solve.message.find("Newton correction") != std::string::npos)
+        ++endedCorrection;
+      else
+        ++endedEstimate;
     }
+    endedAtCap += r.movedOn;
     if (!r.success) {
       ++failed;
       std::printf("step %d failed: %s\n", s + 1, r.message.c_str());
@@ -171,6 +184,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               1e-9 * fs.flops, fs.ordering.c_str(), fs.factors, fs.factors == 1 ? "" : "s (one per part)");
   std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one\n", exactSteps,
               fallbacks);
+  std::printf("solves ended: %d by Newton's residual test, %d by the residual estimate, %d by the Newton correction, "
+              "%d moved on at the iteration cap\n",
+              endedResidual, endedEstimate, endedCorrection, endedAtCap);
   std::printf("time split: broad phase %.1f%% (within contact), contact terms %.1f%%, other terms %.1f%%, "
               "linear solve %.1f%%, rest %.1f%%\n",
               pct(broad), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
@@ -199,6 +215,10 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
           {"cg_iterations", cg},
           {"factorization_seconds", factorSeconds},
           {"projection_fallbacks", fallbacks},
+          {"solves_ended", {{"residual", endedResidual},
+                            {"residual_estimate", endedEstimate},
+                            {"newton_correction", endedCorrection},
+                            {"moved_on_at_cap", endedAtCap}}},
           {"deepest_in_volume_m", deepest},
           {"closest_pair_ratio", closest},
           {"final_kinetic_energy", solver.kineticEnergy()},
