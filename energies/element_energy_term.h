@@ -129,8 +129,6 @@ class ElementEnergyTerm : public FixedStencilTerm {
   }
 
  private:
-  using J1 = ceres::Jet<double, M>;
-  using J2 = SecondOrderJet<M>;
 
   /// The functor's energy with the current parameters as constants of type T (when it has any).
   template <typename T>
@@ -164,62 +162,43 @@ class ElementEnergyTerm : public FixedStencilTerm {
     return derivatives(xe, e, wantG, wantH, g, H);
   }
 
-  /// Value, and gradient and Hessian when asked, of element e at its positions xe.
+  /// Value, and gradient and Hessian when asked, of element e at its positions xe. The Jets carry the
+  /// coordinates from S on: all of them, or (difference coordinates) those of vertices 1 … K−1, vertex 0 held as a
+  /// constant and its gradient and Hessian blocks completed from the others' afterwards.
   double derivatives(const double* xe, int e, bool wantG, bool wantH, Eigen::Matrix<double, M, 1>& g,
                      Eigen::Matrix<double, M, M>& H) const {
-    if constexpr (kDifferences) {
-      if (wantG || wantH) return differenceDerivatives(xe, e, wantH, g, H);
-    }
-    if (wantH) {
-      J2 xj[M];
-      for (int i = 0; i < M; ++i) xj[i] = secondOrderVariable<M>(xe[i], i);
-      const J2 E = energy(static_cast<const J2*>(xj), e);
-      for (int i = 0; i < M; ++i) {
-        g[i] = E.a.v[i];
-        for (int j = 0; j < M; ++j) H(i, j) = E.v[i].v[j];
-      }
-      H = 0.5 * (H + H.transpose()).eval();
-      return E.a.a;
-    }
-    if (wantG) {
-      J1 xj[M];
-      for (int i = 0; i < M; ++i) xj[i] = J1(xe[i], i);
-      const J1 E = energy(static_cast<const J1*>(xj), e);
-      g = E.v;
-      return E.a;
-    }
-    return energy(static_cast<const double*>(xe), e);
-  }
-
-  /// derivatives() of a translation-invariant energy: Jets over vertices 1 … K−1, vertex 0 a constant; vertex 0's
-  /// gradient is minus the others' sum, its Hessian blocks completed by completeTranslationInvariant.
-  double differenceDerivatives(const double* xe, int e, bool wantH, Eigen::Matrix<double, M, 1>& g,
-                               Eigen::Matrix<double, M, M>& H) const {
-    constexpr int R = M - 3;
+    constexpr int S = kDifferences ? 3 : 0;
+    constexpr int R = M - S;
     double value;
     if (wantH) {
       using D2 = SecondOrderJet<R>;
       D2 xj[M];
-      for (int i = 0; i < 3; ++i) xj[i] = constant<D2>(xe[i]);
-      for (int i = 3; i < M; ++i) xj[i] = secondOrderVariable<R>(xe[i], i - 3);
+      for (int i = 0; i < S; ++i) xj[i] = constant<D2>(xe[i]);
+      for (int i = S; i < M; ++i) xj[i] = secondOrderVariable<R>(xe[i], i - S);
       const D2 E = energy(static_cast<const D2*>(xj), e);
+      Eigen::Matrix<double, R, R> C;
       for (int i = 0; i < R; ++i) {
-        g[3 + i] = E.a.v[i];
-        for (int j = 0; j < R; ++j) H(3 + i, 3 + j) = 0.5 * (E.v[i].v[j] + E.v[j].v[i]);
+        g[S + i] = E.a.v[i];
+        for (int j = 0; j < R; ++j) C(i, j) = E.v[i].v[j];
       }
-      completeTranslationInvariant(H);
+      H.template bottomRightCorner<R, R>() = 0.5 * (C + C.transpose());
+      if constexpr (S > 0) completeTranslationInvariant(H);
       value = E.a.a;
-    } else {
+    } else if (wantG) {
       using D1 = ceres::Jet<double, R>;
       D1 xj[M];
-      for (int i = 0; i < 3; ++i) xj[i] = constant<D1>(xe[i]);
-      for (int i = 3; i < M; ++i) xj[i] = D1(xe[i], i - 3);
+      for (int i = 0; i < S; ++i) xj[i] = constant<D1>(xe[i]);
+      for (int i = S; i < M; ++i) xj[i] = D1(xe[i], i - S);
       const D1 E = energy(static_cast<const D1*>(xj), e);
       g.template tail<R>() = E.v;
       value = E.a;
+    } else {
+      return energy(static_cast<const double*>(xe), e);
     }
-    g.template head<3>().setZero();
-    for (int k = 1; k < K; ++k) g.template head<3>() -= g.template segment<3>(3 * k);
+    if constexpr (S > 0) {
+      g.template head<3>().setZero();
+      for (int k = 1; k < K; ++k) g.template head<3>() -= g.template segment<3>(3 * k);
+    }
     return value;
   }
 
