@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -173,14 +174,15 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
     const double eta = options_.updateTolerance, floor = 1e-9 * sys.objective().scales().length;
     const double totalMass = m.sum();
     // With contact terms the correction is also judged on the contact's own length (see the header): its largest
-    // vertex move against κ δ, its RMS against the threshold or δ/100, whichever is larger.
+    // vertex move at most κ δ, its RMS threshold at least δ/100. Without them no vertex move is too large.
     const bool withContact = !sys.contact.empty();
-    const double contactMove = withContact ? options_.contactCorrectionFraction * sys.contact.narrowestRamp : 0.0;
-    const double contactFloor = withContact ? kContactCorrectionFloor * sys.contact.narrowestRamp : 0.0;
-    const bool correctionTest = options_.correctionTest && (!withContact || contactMove > 0.0);
+    const double largestMoveBound = withContact ? options_.contactCorrectionFraction * sys.contact.narrowestRamp
+                                                : std::numeric_limits<double>::infinity();
+    const double correctionFloor = withContact ? kContactCorrectionFloor * sys.contact.narrowestRamp : 0.0;
+    const bool correctionTest = options_.correctionTest && largestMoveBound > 0.0;
     newton_.setIterateTest([&predictor, &extrapolated, &m, &lastIterate, &lastResidualEstimate, eta, floor, totalMass,
-                            inertiaCoefficient, correctionTest, bdf2, withContact, contactMove,
-                            contactFloor](const IterateView& it) {
+                            inertiaCoefficient, correctionTest, bdf2, largestMoveBound,
+                            correctionFloor](const IterateView& it) {
       const Eigen::VectorXd& xk = it.x;
       const Eigen::VectorXd& g = it.gradient;
       // The correction x_k − x_{k−1} is a Newton correction only after a full Newton step.
@@ -203,12 +205,9 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       IterateTestResult result{residualEstimate <= threshold, residualEstimate, threshold, "residual estimate"};
       if (!result.passed && haveCorrection && residualEstimate <= kCorrectionContraction * lastResidualEstimate) {
         const double correction = std::sqrt(correctionSq / totalMass);
-        if (!withContact) {
-          if (correction <= threshold) result = {true, correction, threshold, "Newton correction"};
-        } else if (correction <= std::max(threshold, contactFloor)) {
-          const double largestMove = std::sqrt(largestMoveSq);
-          if (largestMove <= contactMove) result = {true, largestMove, contactMove, "Newton correction's largest move"};
-        }
+        const double bound = std::max(threshold, correctionFloor);
+        if (correction <= bound && std::sqrt(largestMoveSq) <= largestMoveBound)
+          result = {true, correction, bound, "Newton correction"};
       }
       if (correctionTest) {
         lastIterate = xk;

@@ -239,6 +239,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
         std::ostringstream m;
         m << "iterate test: " << t.estimateName << " " << t.estimate << " m <= " << t.threshold << " m; residual " << r << " N";
         s.convergenceTest = "iterate";
+        s.iterateEstimate = t.estimateName;
         return finish(TerminationReason::Converged, m.str());
       }
 

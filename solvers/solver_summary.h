@@ -60,6 +60,8 @@ struct SolverSummary {
   double roundOffFloor = 0.0;       // N: the residual round-off alone can leave (0 while below the tolerance)
   std::string convergenceTest;      // when converged: "residual", "round_off" (solvers/newton.h), or "iterate"
                                     // (a time step's update test, in m)
+  std::string iterateEstimate;      // with "iterate": the estimate that passed (solvers/dynamics.h: "residual
+                                    // estimate" or "Newton correction")
 
   double assemblySeconds = 0.0;       // energy + gradient + Hessian at the iterates
   double factorizationSeconds = 0.0;  // symbolic + numeric factorization or preconditioner

@@ -147,7 +147,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
       if (!solve.converged()) continue;
       if (solve.convergenceTest != "iterate")
         ++endedResidual;
-      else if (solve.message.find("Newton correction") != std::string::npos)
+      else if (solve.iterateEstimate == "Newton correction")
         ++endedCorrection;
       else
         ++endedEstimate;
