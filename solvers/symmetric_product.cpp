@@ -10,6 +10,81 @@ namespace {
 /// buffers stay few, small enough for several chunks per thread.
 constexpr Eigen::Index kChunkNonZeros = 1 << 16;
 
+/// Whether columns j, j+1, j+2 are one vertex's: the same rows above j in all three (the blocks of the vertices
+/// before it), then the diagonal block's upper triangle (j; j, j+1; j, j+1, j+2). Checked on every call, so a
+/// changed pattern is never read as blocks it does not have.
+bool vertexColumns(const int* outer, const int* inner, Eigen::Index j) {
+  const int a = outer[j], b = outer[j + 1], c = outer[j + 2], d = outer[j + 3];
+  const int m = b - a - 1;  // rows above j
+  if (m < 0 || c - b != m + 2 || d - c != m + 3) return false;
+  const auto row = static_cast<int>(j);
+  if (inner[b - 1] != row || inner[c - 2] != row || inner[c - 1] != row + 1 || inner[d - 3] != row ||
+      inner[d - 2] != row + 1 || inner[d - 1] != row + 2)
+    return false;
+  return std::equal(inner + a, inner + a + m, inner + b) && std::equal(inner + a, inner + a + m, inner + c);
+}
+
+/// Column j's row-side sum into y[j] and its column-side terms into s (rows below j).
+template <bool Absolute>
+void column(const int* outer, const int* inner, const double* value, const double* p, double* y, double* s,
+            Eigen::Index j) {
+  const double pj = p[j];
+  double row = 0.0;
+  for (int k = outer[j]; k < outer[j + 1]; ++k) {
+    const int i = inner[k];
+    const double h = Absolute ? std::abs(value[k]) : value[k];
+    row += h * p[i];
+    if (i != j) s[i] += h * pj;
+  }
+  y[j] = row;
+}
+
+/// Columns j, j+1, j+2 of one vertex (vertexColumns) in one pass over their shared rows: each row's index and
+/// p_i read once, its scatter entry read and written once. Every sum adds its terms in the order column()
+/// would.
+template <bool Absolute>
+void columnTriple(const int* outer, const int* inner, const double* value, const double* p, double* y, double* s,
+                  Eigen::Index j) {
+  const int a = outer[j], b = outer[j + 1], c = outer[j + 2];
+  const int m = b - a - 1;
+  const double* h0 = value + a;
+  const double* h1 = value + b;
+  const double* h2 = value + c;
+  const double p0 = p[j], p1 = p[j + 1], p2 = p[j + 2];
+  double row0 = 0.0, row1 = 0.0, row2 = 0.0;
+  for (int k = 0; k < m; ++k) {
+    const int i = inner[a + k];
+    const double pi = p[i];
+    const double g0 = Absolute ? std::abs(h0[k]) : h0[k];
+    const double g1 = Absolute ? std::abs(h1[k]) : h1[k];
+    const double g2 = Absolute ? std::abs(h2[k]) : h2[k];
+    row0 += g0 * pi;
+    row1 += g1 * pi;
+    row2 += g2 * pi;
+    double si = s[i];
+    si += g0 * p0;
+    si += g1 * p1;
+    si += g2 * p2;
+    s[i] = si;
+  }
+  // The diagonal block, in column order: (j,j); (j,j+1), (j+1,j+1); (j,j+2), (j+1,j+2), (j+2,j+2).
+  const auto mag = [](double v) { return Absolute ? std::abs(v) : v; };
+  const double d00 = mag(h0[m]), d01 = mag(h1[m]), d11 = mag(h1[m + 1]);
+  const double d02 = mag(h2[m]), d12 = mag(h2[m + 1]), d22 = mag(h2[m + 2]);
+  row0 += d00 * p0;
+  y[j] = row0;
+  row1 += d01 * p0;
+  s[j] += d01 * p1;
+  row1 += d11 * p1;
+  y[j + 1] = row1;
+  row2 += d02 * p0;
+  s[j] += d02 * p2;
+  row2 += d12 * p1;
+  s[j + 1] += d12 * p2;
+  row2 += d22 * p2;
+  y[j + 2] = row2;
+}
+
 }  // namespace
 
 void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
@@ -18,8 +93,10 @@ void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
   chunks_.clear();
   Eigen::Index begin = 0;
   while (begin < n) {
-    Eigen::Index end = begin + 1;
-    while (end < n && outer[end + 1] - outer[begin] <= kChunkNonZeros) ++end;
+    // Whole vertices (three columns) per chunk, so the triples of columnTriple stay together.
+    Eigen::Index end = std::min<Eigen::Index>(begin + 3, n);
+    while (end + 3 <= n && outer[end + 3] - outer[begin] <= kChunkNonZeros) end += 3;
+    if (n - end < 3) end = n;
     Chunk c;
     c.begin = begin;
     c.end = end;
@@ -72,16 +149,15 @@ void SymmetricProduct::product(const Eigen::SparseMatrix<double>& upper, const E
       }
       chunk.scatter.assign(static_cast<std::size_t>(chunk.end - chunk.firstRow), 0.0);
       double* s = chunk.scatter.data() - chunk.firstRow;
-      for (Eigen::Index j = chunk.begin; j < chunk.end; ++j) {
-        const double pj = p[j];
-        double row = 0.0;
-        for (int k = outer[j]; k < outer[j + 1]; ++k) {
-          const int i = inner[k];
-          const double h = Absolute ? std::abs(value[k]) : value[k];
-          row += h * p[i];
-          if (i != j) s[i] += h * pj;
+      Eigen::Index j = chunk.begin;
+      while (j < chunk.end) {
+        if (j + 2 < chunk.end && vertexColumns(outer, inner, j)) {
+          columnTriple<Absolute>(outer, inner, value, p.data(), y.data(), s, j);
+          j += 3;
+          continue;
         }
-        y[j] = row;
+        column<Absolute>(outer, inner, value, p.data(), y.data(), s, j);
+        ++j;
       }
     }
     // Buffers into y, each row summing the chunks that reach it in chunk order.

@@ -7,6 +7,11 @@
 // y_j = Σ_{i<=j} H_ij p_i directly into y, and scatters the column-side terms H_ij p_j (i < j) into a buffer of its
 // own that spans rows [first row it touches, its last column]. The buffers are then added into y in chunk
 // order. Every sum runs in a fixed order, so the result has the same bits on any number of threads.
+// Chunks hold whole vertices (three columns). Three columns that are one vertex's (the same rows above the
+// vertex, then the diagonal block's upper triangle; checked on every call) are swept together: each of their
+// shared rows' index, p_i and scatter entry is read once instead of three times. Every sum adds its terms in
+// the order of the column-by-column sweep, so the two agree to the bit unless the compiler fuses multiplies and
+// adds differently in them (-march=native: within an ulp); the thread count never changes the bits.
 #pragma once
 
 #include <Eigen/Core>
