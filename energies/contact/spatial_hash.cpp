@@ -3,6 +3,7 @@
 #include "core/mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <omp.h>
@@ -10,12 +11,29 @@
 namespace jetshell {
 namespace {
 
-std::uint64_t cellHash(std::int64_t x, std::int64_t y, std::int64_t z) {
-  std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull;
-  h ^= static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-  h ^= static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+using Cell = std::array<std::int64_t, 3>;
+
+std::uint64_t cellHash(const Cell& cell) {
+  std::uint64_t h = static_cast<std::uint64_t>(cell[0]) * 0x9E3779B97F4A7C15ull;
+  h ^= static_cast<std::uint64_t>(cell[1]) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+  h ^= static_cast<std::uint64_t>(cell[2]) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
   return h ^ (h >> 29);
 }
+
+/// A point in its bucket's run: its cell, coordinates and id.
+struct Slot {
+  Cell cell;
+  std::array<double, 3> point;
+  int id;
+};
+
+/// The 13 offsets to adjacent cells that come after (0, 0, 0) lexicographically: with the cell itself, every
+/// unordered pair of adjacent cells once.
+constexpr std::array<Cell, 13> kForward = {{{0, 0, 1},
+                                           {0, 1, -1}, {0, 1, 0}, {0, 1, 1},
+                                           {1, -1, -1}, {1, -1, 0}, {1, -1, 1},
+                                           {1, 0, -1}, {1, 0, 0}, {1, 0, 1},
+                                           {1, 1, -1}, {1, 1, 0}, {1, 1, 1}}};
 
 }  // namespace
 
@@ -28,57 +46,66 @@ std::vector<PointPair> findClosePairs(const std::vector<double>& points, double 
   while (buckets < 2 * static_cast<std::size_t>(n)) buckets <<= 1;
   const std::uint64_t mask = buckets - 1;
   const double inv = 1.0 / radius;
-  std::vector<std::int64_t> cell(3 * static_cast<std::size_t>(n));
+  std::vector<Cell> cellOf(static_cast<std::size_t>(n));
   std::vector<std::uint32_t> bucketOf(static_cast<std::size_t>(n));
   bool finite = true;
 #pragma omp parallel for schedule(static) reduction(&& : finite) if (n >= 4096)
   for (int i = 0; i < n; ++i) {
+    Cell& cell = cellOf[static_cast<std::size_t>(i)];
     for (int c = 0; c < 3; ++c) {
       const double v = points[3 * static_cast<std::size_t>(i) + c] * inv;
       finite = finite && std::isfinite(v) && std::abs(v) < 1e15;
-      cell[3 * static_cast<std::size_t>(i) + c] = std::isfinite(v) ? static_cast<std::int64_t>(std::floor(v)) : 0;
+      cell[static_cast<std::size_t>(c)] = std::isfinite(v) ? static_cast<std::int64_t>(std::floor(v)) : 0;
     }
-    bucketOf[i] = static_cast<std::uint32_t>(
-        cellHash(cell[3 * static_cast<std::size_t>(i)], cell[3 * static_cast<std::size_t>(i) + 1],
-                 cell[3 * static_cast<std::size_t>(i) + 2]) & mask);
+    bucketOf[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(cellHash(cell) & mask);
   }
   if (!finite) throw InputError("broad phase: non-finite or huge point coordinates");
-  // Counting sort of the points by bucket.
-  std::vector<std::uint32_t> start(buckets + 1, 0), order(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) ++start[bucketOf[i] + 1];
+  // Counting sort of the points by bucket; each slot keeps its point's id, cell and coordinates side by side.
+  std::vector<std::uint32_t> start(buckets + 1, 0);
+  for (int i = 0; i < n; ++i) ++start[bucketOf[static_cast<std::size_t>(i)] + 1];
   for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<Slot> slots(static_cast<std::size_t>(n));
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (int i = 0; i < n; ++i) order[fill[bucketOf[i]]++] = static_cast<std::uint32_t>(i);
+    for (int i = 0; i < n; ++i) {
+      const std::size_t k = fill[bucketOf[static_cast<std::size_t>(i)]]++;
+      slots[k] = {cellOf[static_cast<std::size_t>(i)],
+                  {points[3 * static_cast<std::size_t>(i)], points[3 * static_cast<std::size_t>(i) + 1],
+                   points[3 * static_cast<std::size_t>(i) + 2]},
+                  i};
+    }
   }
+  // A pair closer than r lies in one cell or in two adjacent ones. Each slot looks in its own cell at the slots
+  // after it, and in the 13 adjacent cells that follow its own (lexicographically): every pair is seen once.
+  // A bucket may also hold other cells' points (hash collisions): only the looked-for cell's are compared.
   const double r2 = radius * radius;
   const int threads = n >= 4096 ? omp_get_max_threads() : 1;
   std::vector<std::vector<PointPair>> found(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {
     std::vector<PointPair>& mine = found[static_cast<std::size_t>(omp_get_thread_num())];
-    std::uint32_t visited[27];
+    auto consider = [&](const Slot& a, const Slot& b) {
+      double d2 = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const double d = b.point[static_cast<std::size_t>(c)] - a.point[static_cast<std::size_t>(c)];
+        d2 += d * d;
+      }
+      if (!(d2 < r2)) return;
+      const int i = std::min(a.id, b.id), j = std::max(a.id, b.id);
+      if (!filter || filter(i, j)) mine.push_back({i, j});
+    };
 #pragma omp for schedule(static)
-    for (int i = 0; i < n; ++i) {
-      const std::int64_t* ci = &cell[3 * static_cast<std::size_t>(i)];
-      int nv = 0;
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz) {
-            const std::uint32_t b = static_cast<std::uint32_t>(cellHash(ci[0] + dx, ci[1] + dy, ci[2] + dz) & mask);
-            if (std::find(visited, visited + nv, b) != visited + nv) continue;  // two cells in one bucket
-            visited[nv++] = b;
-            for (std::uint32_t k = start[b]; k < start[b + 1]; ++k) {
-              const int j = static_cast<int>(order[k]);
-              if (j <= i) continue;
-              double d2 = 0.0;
-              for (int c = 0; c < 3; ++c) {
-                const double d = points[3 * static_cast<std::size_t>(j) + c] - points[3 * static_cast<std::size_t>(i) + c];
-                d2 += d * d;
-              }
-              if (d2 < r2 && (!filter || filter(i, j))) mine.push_back({i, j});
-            }
-          }
+    for (int k = 0; k < n; ++k) {
+      const Slot& a = slots[static_cast<std::size_t>(k)];
+      const std::uint32_t own = bucketOf[static_cast<std::size_t>(a.id)];
+      for (std::uint32_t m = static_cast<std::uint32_t>(k) + 1; m < start[own + 1]; ++m)
+        if (slots[m].cell == a.cell) consider(a, slots[m]);
+      for (const Cell& d : kForward) {
+        const Cell target = {a.cell[0] + d[0], a.cell[1] + d[1], a.cell[2] + d[2]};
+        const std::uint32_t b = static_cast<std::uint32_t>(cellHash(target) & mask);
+        for (std::uint32_t m = start[b]; m < start[b + 1]; ++m)
+          if (slots[m].cell == target) consider(a, slots[m]);
+      }
     }
   }
   for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());

@@ -2,8 +2,9 @@
 //
 // Input: n points (3n flat, or gathered from x by vertex ids), a radius r > 0 and a pair filter. Output: the
 // pairs (i < j, indices into the point list) with ‖p_i − p_j‖ < r that the filter accepts, sorted. Points go
-// into cells of size r (a counting sort by hashed cell: O(n)); each point visits the 27 cells around its own,
-// in parallel. The sorted output does not depend on the thread count. Rebuilt by the caller as points move.
+// into cells of size r (a counting sort by hashed cell: O(n)); each point looks in its own cell and the 13
+// adjacent cells that follow it, so every pair is measured once, in parallel. The sorted output does not depend
+// on the thread count. Rebuilt by the caller as points move.
 #pragma once
 
 #include <Eigen/Core>
