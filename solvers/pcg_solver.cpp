@@ -331,7 +331,7 @@ class PcgSolver : public LinearSolver {
     double rz = r.dot(z);
     const double target = relativeTolerance() * bNorm;
     for (int k = 1; k <= maxIterations; ++k) {
-      product_.apply(H, p, Ap);
+      product_.apply(H, p, Ap, solvingPatternVersion());
       Ap += shift * p;
       const double pAp = p.dot(Ap);
       report.cgIterations = k;

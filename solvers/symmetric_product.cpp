@@ -11,16 +11,22 @@ namespace {
 constexpr Eigen::Index kChunkNonZeros = 1 << 16;
 
 /// Whether columns j, j+1, j+2 are one vertex's: the same rows above j in all three (the blocks of the vertices
-/// before it), then the diagonal block's upper triangle (j; j, j+1; j, j+1, j+2). Checked on every call, so a
-/// changed pattern is never read as blocks it does not have.
-bool vertexColumns(const int* outer, const int* inner, Eigen::Index j) {
-  const int a = outer[j], b = outer[j + 1], c = outer[j + 2], d = outer[j + 3];
-  const int m = b - a - 1;  // rows above j
+/// before it), then the diagonal block's upper triangle (j; j, j+1; j, j+1, j+2). The shape alone (the
+/// columns' lengths and their diagonal blocks) is a few reads; the rows above are compared only by
+/// vertexColumns.
+bool vertexColumnsShape(const int* outer, const int* inner, Eigen::Index j) {
+  const int b = outer[j + 1], c = outer[j + 2], d = outer[j + 3];
+  const int m = b - outer[j] - 1;  // rows above j
   if (m < 0 || c - b != m + 2 || d - c != m + 3) return false;
   const auto row = static_cast<int>(j);
-  if (inner[b - 1] != row || inner[c - 2] != row || inner[c - 1] != row + 1 || inner[d - 3] != row ||
-      inner[d - 2] != row + 1 || inner[d - 1] != row + 2)
-    return false;
+  return inner[b - 1] == row && inner[c - 2] == row && inner[c - 1] == row + 1 && inner[d - 3] == row &&
+         inner[d - 2] == row + 1 && inner[d - 1] == row + 2;
+}
+
+bool vertexColumns(const int* outer, const int* inner, Eigen::Index j) {
+  if (!vertexColumnsShape(outer, inner, j)) return false;
+  const int a = outer[j], b = outer[j + 1], c = outer[j + 2];
+  const int m = b - a - 1;
   return std::equal(inner + a, inner + a + m, inner + b) && std::equal(inner + a, inner + a + m, inner + c);
 }
 
@@ -107,19 +113,19 @@ void SymmetricProduct::prepare(const Eigen::SparseMatrix<double>& upper) {
   nonZeros_ = upper.nonZeros();
 }
 
-void SymmetricProduct::apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
-                             Eigen::VectorXd& y) {
-  product<false>(upper, p, y);
+void SymmetricProduct::apply(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p, Eigen::VectorXd& y,
+                             std::uint64_t patternVersion) {
+  product<false>(upper, p, y, patternVersion);
 }
 
 void SymmetricProduct::applyAbsolute(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
                                      Eigen::VectorXd& y) {
-  product<true>(upper, p, y);
+  product<true>(upper, p, y, 0);
 }
 
 template <bool Absolute>
 void SymmetricProduct::product(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& p,
-                               Eigen::VectorXd& y) {
+                               Eigen::VectorXd& y, std::uint64_t patternVersion) {
   if (!upper.isCompressed()) {
     if constexpr (Absolute) {
       const Eigen::SparseMatrix<double> magnitudes = upper.cwiseAbs();
@@ -136,6 +142,13 @@ void SymmetricProduct::product(const Eigen::SparseMatrix<double>& upper, const E
   const int* inner = upper.innerIndexPtr();
   const double* value = upper.valuePtr();
   const int numChunks = static_cast<int>(chunks_.size());
+  // Which columns start a vertex: compared in full once per pattern version (0: on every call), then only their
+  // shape is looked at again.
+  const bool known = patternVersion != 0 && patternVersion == checkedVersion_ &&
+                     static_cast<Eigen::Index>(vertexStart_.size()) == n;
+  const bool record = patternVersion != 0 && !known;
+  if (record) vertexStart_.assign(static_cast<std::size_t>(n), 0);
+  char* starts = vertexStart_.data();
 #pragma omp parallel if (numChunks > 1)
   {
 #pragma omp for schedule(dynamic, 1)
@@ -151,7 +164,16 @@ void SymmetricProduct::product(const Eigen::SparseMatrix<double>& upper, const E
       double* s = chunk.scatter.data() - chunk.firstRow;
       Eigen::Index j = chunk.begin;
       while (j < chunk.end) {
-        if (j + 2 < chunk.end && vertexColumns(outer, inner, j)) {
+        bool triple = false;
+        if (j + 2 < chunk.end) {
+          if (known) {
+            triple = starts[j] && vertexColumnsShape(outer, inner, j);
+          } else {
+            triple = vertexColumns(outer, inner, j);
+            if (record) starts[j] = triple;
+          }
+        }
+        if (triple) {
           columnTriple<Absolute>(outer, inner, value, p.data(), y.data(), s, j);
           j += 3;
           continue;
@@ -174,6 +196,7 @@ void SymmetricProduct::product(const Eigen::SparseMatrix<double>& upper, const E
       }
     }
   }
+  if (record) checkedVersion_ = patternVersion;
 }
 
 }  // namespace jetshell

@@ -196,3 +196,22 @@ TEST_CASE("symmetric product: a vertex-block pattern agrees with the column-by-c
   CHECK(one == two);
   CHECK((one - want).norm() <= 1e-13 * want.norm());
 }
+
+TEST_CASE("symmetric product: vertex columns found once per pattern version, and again for a new one") {
+  const Eigen::SparseMatrix<double> A = vertexBlockUpper(3000, 100, 8);
+  // B: the same size, other blocks, and vertex 2000's columns not a vertex's.
+  const Eigen::SparseMatrix<double> B = vertexBlockUpper(3000, 2000, 9);
+  const Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(A.cols(), -1.0, 1.0).array().exp();
+  SymmetricProduct product;
+  Eigen::VectorXd y, unversioned;
+  std::uint64_t version = 1;
+  for (const Eigen::SparseMatrix<double>* H : {&A, &A, &B, &B, &A}) {
+    if (H == &B && version == 1) version = 2;
+    if (H == &A && version == 2) version = 3;
+    product.apply(*H, p, y, version);
+    product.apply(*H, p, unversioned);
+    const Eigen::VectorXd want = H->selfadjointView<Eigen::Upper>() * p;
+    CHECK((y - want).norm() <= 1e-13 * want.norm());
+    CHECK(y == unversioned);
+  }
+}
