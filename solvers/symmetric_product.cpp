@@ -56,14 +56,13 @@ void columnTriple(const int* outer, const int* inner, const double* value, const
   const double* h0 = value + a;
   const double* h1 = value + b;
   const double* h2 = value + c;
+  const auto mag = [](double v) { return Absolute ? std::abs(v) : v; };
   const double p0 = p[j], p1 = p[j + 1], p2 = p[j + 2];
   double row0 = 0.0, row1 = 0.0, row2 = 0.0;
   for (int k = 0; k < m; ++k) {
     const int i = inner[a + k];
     const double pi = p[i];
-    const double g0 = Absolute ? std::abs(h0[k]) : h0[k];
-    const double g1 = Absolute ? std::abs(h1[k]) : h1[k];
-    const double g2 = Absolute ? std::abs(h2[k]) : h2[k];
+    const double g0 = mag(h0[k]), g1 = mag(h1[k]), g2 = mag(h2[k]);
     row0 += g0 * pi;
     row1 += g1 * pi;
     row2 += g2 * pi;
@@ -74,7 +73,6 @@ void columnTriple(const int* outer, const int* inner, const double* value, const
     s[i] = si;
   }
   // The diagonal block, in column order: (j,j); (j,j+1), (j+1,j+1); (j,j+2), (j+1,j+2), (j+2,j+2).
-  const auto mag = [](double v) { return Absolute ? std::abs(v) : v; };
   const double d00 = mag(h0[m]), d01 = mag(h1[m]), d11 = mag(h1[m + 1]);
   const double d02 = mag(h2[m]), d12 = mag(h2[m + 1]), d22 = mag(h2[m + 2]);
   row0 += d00 * p0;

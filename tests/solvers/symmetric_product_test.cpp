@@ -34,6 +34,21 @@ Eigen::SparseMatrix<double> randomUpper(int n, int band, unsigned seed) {
   return H;
 }
 
+/// The product of H and p on one thread and on two: the same bits, and Eigen's product to rounding.
+void checkOneAndTwoThreads(const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& p) {
+  SymmetricProduct product;
+  Eigen::VectorXd one, two;
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  product.apply(H, p, one);
+  omp_set_num_threads(2);
+  product.apply(H, p, two);
+  omp_set_num_threads(before);
+  CHECK(one == two);
+  const Eigen::VectorXd want = H.selfadjointView<Eigen::Upper>() * p;
+  CHECK((one - want).norm() <= 1e-13 * want.norm());
+}
+
 }  // namespace
 
 TEST_CASE("symmetric product: matches the serial symmetric product on one chunk and on many") {
@@ -54,18 +69,7 @@ TEST_CASE("symmetric product: matches the serial symmetric product on one chunk 
 TEST_CASE("symmetric product: the same bits on one thread and on two") {
   const Eigen::SparseMatrix<double> H = randomUpper(8000, 60, 7);
   REQUIRE(H.nonZeros() > 4 * (1 << 16));  // several chunks
-  const Eigen::VectorXd p = Eigen::VectorXd::LinSpaced(H.cols(), 0.0, 3.0).array().cos();
-  SymmetricProduct product;
-  Eigen::VectorXd one, two;
-  const int before = omp_get_max_threads();
-  omp_set_num_threads(1);
-  product.apply(H, p, one);
-  omp_set_num_threads(2);
-  product.apply(H, p, two);
-  omp_set_num_threads(before);
-  CHECK(one == two);
-  const Eigen::VectorXd want = H.selfadjointView<Eigen::Upper>() * p;
-  CHECK((one - want).norm() <= 1e-13 * want.norm());
+  checkOneAndTwoThreads(H, Eigen::VectorXd::LinSpaced(H.cols(), 0.0, 3.0).array().cos());
 }
 
 TEST_CASE("symmetric product: a new pattern is picked up without prepare") {
@@ -184,17 +188,7 @@ TEST_CASE("symmetric product: a vertex-block pattern agrees with the column-by-c
   // Many chunks: against Eigen's product, and the same bits on one thread and on two.
   const Eigen::SparseMatrix<double> big = vertexBlockUpper(8000, 2999, 5);
   REQUIRE(big.nonZeros() > 4 * (1 << 16));
-  const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(big.cols(), 0.0, 3.0).array().cos();
-  const Eigen::VectorXd want = big.selfadjointView<Eigen::Upper>() * q;
-  Eigen::VectorXd one, two;
-  const int before = omp_get_max_threads();
-  omp_set_num_threads(1);
-  product.apply(big, q, one);
-  omp_set_num_threads(2);
-  product.apply(big, q, two);
-  omp_set_num_threads(before);
-  CHECK(one == two);
-  CHECK((one - want).norm() <= 1e-13 * want.norm());
+  checkOneAndTwoThreads(big, Eigen::VectorXd::LinSpaced(big.cols(), 0.0, 3.0).array().cos());
 }
 
 TEST_CASE("symmetric product: vertex columns found once per pattern version, and again for a new one") {
