@@ -147,7 +147,9 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
     for (auto& r : keptRows_) sortUnique(r);
     baseSlots_ = base;
   }
-  std::vector<std::vector<int>> rowsOf = keptRows_;
+  std::vector<std::vector<int>> rowsOf = std::move(spareRows_);
+  rowsOf.resize(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) rowsOf[j].assign(keptRows_[j].begin(), keptRows_[j].end());
   std::vector<char> touched(static_cast<std::size_t>(n), 0);
   for (std::size_t k = 0; k < slots_.size(); ++k)
     if (!base[k]) addPairs(slots_[k], rowsOf, &touched);
@@ -179,7 +181,7 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
     if (!grew) {
       newPattern = false;
     } else if (static_cast<double>(mergedPairs - used) <= pruneFraction_ * static_cast<double>(used)) {
-      rowsOf = std::move(merged);
+      rowsOf.swap(merged);
     }
   }
   // Slots not replaced keep their scatter tables with the pattern, or translate them to a new one: only over
@@ -187,12 +189,11 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
   const bool translatable = patternBuilds_ > 0 && static_cast<int>(rows_.size()) == n && fixed == fixedDof_;
   bool everything = !translatable;
   if (newPattern) {
-    for (auto& r : rowsOf) r.shrink_to_fit();
     std::vector<std::int32_t> translation;
     bool anyKept = false;
     for (const Slot& s : slots_) anyKept = anyKept || !s.stale;
     if (translatable && anyKept) translation = translationTo(rowsOf);
-    rows_ = std::move(rowsOf);
+    rows_.swap(rowsOf);  // rowsOf keeps the old pattern's buffers for the next finalize
     buildMatrix(n);
     ++patternBuilds_;
     ++patternVersion_;
@@ -218,6 +219,7 @@ void HessianAssembler::finalize(int numVertices, const std::vector<char>& fixedD
   } else {
     ++patternReuses_;
   }
+  spareRows_ = std::move(rowsOf);
   fixedDof_ = std::move(fixed);
   patternPairs_ = 0;
   for (const auto& r : rows_) patternPairs_ += static_cast<std::int64_t>(r.size());
@@ -244,6 +246,7 @@ void HessianAssembler::buildMatrix(int numVertices) {
   int* outerPtr = matrix_.outerIndexPtr();
   int* innerPtr = matrix_.innerIndexPtr();
   for (int d = 0; d <= ndof; ++d) outerPtr[d] = static_cast<int>(outer[d]);
+#pragma omp parallel for schedule(static) if (n >= 4096)
   for (int j = 0; j < n; ++j) {
     for (int c = 0; c < 3; ++c) {
       int p = outerPtr[3 * j + c];
@@ -455,6 +458,7 @@ std::size_t HessianAssembler::memoryBytes() const {
   bytes += columnStride_.size() * sizeof(std::int32_t);
   for (const auto& r : rows_) bytes += r.size() * sizeof(int);
   for (const auto& r : keptRows_) bytes += r.size() * sizeof(int);
+  for (const auto& r : spareRows_) bytes += r.capacity() * sizeof(int);
   return bytes;
 }
 

@@ -101,6 +101,9 @@ class HessianAssembler {
   std::vector<std::vector<int>> rows_;  // the matrix pattern's vertex pairs: per column vertex j, rows i <= j
   // The adjacency (as rows_) of the base slots (never replaced since declared), and which slots they were.
   std::vector<std::vector<int>> keptRows_;
+  // The next finalize's working rows: the previous pattern's buffers (or a discarded candidate's), filled again in
+  // place so that a finalize allocates only where a column outgrows its old capacity.
+  std::vector<std::vector<int>> spareRows_;
   std::vector<char> baseSlots_;
   std::vector<char> fixedDof_;
   Eigen::SparseMatrix<double> matrix_;

@@ -56,11 +56,13 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
   }
   // Only a Hessian needs the pattern: value and gradient evaluations (line-search trials, iterate tests) leave it
   // stale, and the next Hessian evaluation, which compares the versions again, rebuilds it once.
+  // A pattern finalized here starts with zero values (HessianAssembler::finalize): only a kept one is cleared.
+  const bool zeroed = (changed && hessian) || !finalized();
   if (changed && hessian) rebuildPattern();
   stencilSeconds_ += std::chrono::duration<double>(Clock::now() - stencilStart).count();
   finalize();
   if (gradient != nullptr) gradient->setZero(numDofs());
-  if (hessian) assembler_.setZero();
+  if (hessian && !zeroed) assembler_.setZero();
   // The Potential terms' partial sum is kept when they all come first (lastPotentialGradient()).
   bool potentialsFirst = gradient != nullptr;
   if (gradient != nullptr) potentialGradientValid_ = false;
