@@ -58,7 +58,11 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
   // stale, and the next Hessian evaluation, which compares the versions again, rebuilds it once.
   // A pattern finalized here starts with zero values (HessianAssembler::finalize): only a kept one is cleared.
   const bool zeroed = (changed && hessian) || !finalized();
-  if (changed && hessian) rebuildPattern();
+  if (changed && hessian) {
+    const auto patternStart = Clock::now();
+    rebuildPattern();
+    patternSeconds_ += std::chrono::duration<double>(Clock::now() - patternStart).count();
+  }
   stencilSeconds_ += std::chrono::duration<double>(Clock::now() - stencilStart).count();
   finalize();
   if (gradient != nullptr) gradient->setZero(numDofs());

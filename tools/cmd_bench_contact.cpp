@@ -169,6 +169,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   for (std::size_t i = 0; i < names.size(); ++i)
     (contact.count(names[i]) ? contactTerms : otherTerms) += objective.termSeconds()[i];
   const double broad = system.contact.broadPhaseSeconds();
+  const double pattern = objective.patternSeconds();
   const double rest = wall - contactTerms - otherTerms - linear;
   auto pct = [&](double t) { return 100.0 * t / wall; };
   const double perStep = steps ? static_cast<double>(iterations) / steps : 0.0;
@@ -187,9 +188,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("solves ended: %d by Newton's residual test, %d by the residual estimate, %d by the Newton correction, "
               "%d moved on at the iteration cap\n",
               endedResidual, endedEstimate, endedCorrection, endedAtCap);
-  std::printf("time split: broad phase %.1f%% (within contact), contact terms %.1f%%, other terms %.1f%%, "
-              "linear solve %.1f%%, rest %.1f%%\n",
-              pct(broad), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
+  std::printf("time split: broad phase %.1f%% and pattern rebuilds %.1f%% (both within contact), contact terms "
+              "%.1f%%, other terms %.1f%%, linear solve %.1f%%, rest %.1f%%\n",
+              pct(broad), pct(pattern), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
   std::printf("contact detection + assembly: %.1f%% of a step (target <= 30%%)\n", pct(contactTerms));
   std::printf("guards: deepest sample in a volume %.2f mm (last step %.2f mm), closest pair %.3f x 2r (last step "
               "%.3f x 2r), kinetic energy at the end %.3g J, largest energy gain over the start %.3g J\n",
@@ -224,6 +225,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
           {"final_kinetic_energy", solver.kineticEnergy()},
           {"largest_energy_gain", mostGained},
           {"seconds", {{"broad_phase", broad},
+                       {"pattern_rebuilds", pattern},
                        {"contact_terms", contactTerms},
                        {"other_terms", otherTerms},
                        {"linear_solve", linear},
