@@ -33,7 +33,8 @@ class HessianAssembler {
  public:
   /// Declares one term's stencils; returns its slot. Call before finalize().
   int addStencils(const StencilTable& table);
-  /// Builds the pattern for numVertices vertices. fixedDof (size 3N, or empty) marks eliminated dofs.
+  /// Builds the pattern for numVertices vertices. fixedDof (size 3N, or empty) marks eliminated dofs. The values
+  /// end as setZero() leaves them, whether the pattern is new or kept (callers rely on it: no second setZero).
   void finalize(int numVertices, const std::vector<char>& fixedDof = {});
   bool finalized() const { return finalized_; }
   /// Forgets every slot so that stencils can be declared anew (a pattern that follows moving contacts); the

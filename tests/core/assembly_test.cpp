@@ -39,6 +39,17 @@ bool sameBits(const Eigen::SparseMatrix<double>& a, const Eigen::SparseMatrix<do
          std::memcmp(a.valuePtr(), b.valuePtr(), sizeof(double) * static_cast<std::size_t>(a.nonZeros())) == 0;
 }
 
+/// Whether A's values are what setZero() leaves: zero, and 1 on the diagonal of each fixed dof.
+bool valuesAsSetZero(const HessianAssembler& A, const std::vector<char>& fixed) {
+  const Eigen::SparseMatrix<double>& m = A.matrix();
+  for (Eigen::Index j = 0; j < m.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m, j); it; ++it) {
+      const double expected = it.row() == j && fixed[static_cast<std::size_t>(j)] ? 1.0 : 0.0;
+      if (it.value() != expected) return false;
+    }
+  return true;
+}
+
 struct ShellFixture {
   TriMesh mesh;
   Topology topology;
@@ -303,6 +314,8 @@ TEST_CASE("assembly: replacing one slot's stencils gives the pattern and the bit
     for (const StencilTable& c : contacts) {
       replaced.replaceStencils(slotC, c);
       replaced.finalize(n, fixed);
+      // The previous iteration's values are gone, whether the pattern is new or kept (grow-only).
+      CHECK(valuesAsSetZero(replaced, fixed));
       declared.clearStencils();
       slotM = declared.addStencils(f.membrane->stencils());
       slotB = declared.addStencils(f.bending->stencils());
