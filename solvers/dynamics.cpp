@@ -216,9 +216,36 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       return result;
     });
   }
+  // No step ends worse than staying put (see the header). x_n's incremental potential is taken here, where the
+  // contact terms' candidates were just gathered around x_n (beginStep), so it costs no broad phase.
+  Eigen::VectorXd stay;
+  double stayEnergy = 0.0, stayNoise = 0.0;
+  if (options_.guardedEnd) {
+    stay = x_;
+    sys.objective().applyPrescribed(t_ + h, stay);
+    if (stay != x) {
+      stayEnergy = sys.objective().evaluate(stay, nullptr, false, EvalOptions{});
+      stayNoise = 1e-13 * sys.objective().energyMagnitude();
+    } else {
+      stay.resize(0);  // the start is x_n
+    }
+  }
   SolverSummary summary = newton_.minimize(x);
   addTimes(report, summary);
-  const bool movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
+  bool movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
+  if (stay.size() > 0 && (summary.converged() || movedOn)) {
+    if (!(summary.finalEnergy <= stayEnergy + stayNoise)) {  // solved again from x_n
+      ++report.stayRestarts;
+      summary.discarded = true;
+      report.solves.push_back(std::move(summary));
+      lastIterate.resize(0);
+      lastResidualEstimate = 0.0;
+      x = std::move(stay);
+      summary = newton_.minimize(x);
+      addTimes(report, summary);
+      movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
+    }
+  }
   const bool ok = summary.converged() || movedOn;
   if (!ok) {
     std::ostringstream s;
@@ -298,6 +325,7 @@ DynamicsResult simulate(DynamicsSolver& solver, double duration, const StepCallb
     result.newtonIterations += r.newtonIterations;
     result.cuts += r.cuts;
     result.movedOn += r.movedOn;
+    result.stayRestarts += r.stayRestarts;
     result.time = solver.time();
     if (!r.success) {
       result.message = r.message;
@@ -315,6 +343,8 @@ DynamicsResult simulate(DynamicsSolver& solver, double duration, const StepCallb
   s << result.steps << " steps to t = " << result.time << " s (" << result.newtonIterations << " Newton iterations, "
     << result.cuts << " cuts";
   if (result.movedOn > 0) s << "; moved on unconverged at the iteration cap in " << result.movedOn << " solves";
+  if (result.stayRestarts > 0)
+    s << "; " << result.stayRestarts << " solves done again from the previous positions, the first having ended above them";
   s << ")";
   result.message = s.str();
   return result;

@@ -19,6 +19,14 @@
 // (v_{n+1} = v_n + Δt a) and x_n + Δt v_n + ½Δt² a for BDF2 (exact for a parabola); else from the inertial
 // predictor x_n + Δt v_n. (BDF2 used backward Euler's formula until 2026-11-23: off by ½Δt² a, about the whole
 // step's change; the 2,601-vertex falling cloth took 273 Newton iterations, against 178 now: BENCHMARKS.md.)
+// A step ends no higher than staying put (guardedEnd): when a solve that converged or moved on at the cap ends
+// with a higher incremental potential than x_n's (x_n with the prescribed positions of the step's end, a point
+// the step could always have taken), the step is solved again from x_n, and Newton's line search, which only
+// lowers the potential, keeps it there. An extrapolated start can crush elements: the T-shirt without
+// self-contact (so without the point cloud's step bound) extrapolated a landing into a start whose bending energy
+// was 109 J (−2.5 J of potential at x_n) with a gradient of 1.4e6 N; a tiny correction against that stiffness
+// passed the correction test below, and the shirt blew up over the following steps (BENCHMARKS.md, Contact,
+// session 32). It costs one energy value a step; the T-shirt with self-contact never needs the second solve.
 // Time-discretization stopping rule (updateTolerance η > 0, with inertia): Newton stops at the first iterate x_k
 // whose error estimate e_k = ‖M⁻¹g‖_M / c (c = 1/Δt² for backward Euler, 9/(4Δt²) for BDF2; g the step
 // objective's gradient) is at most η · ‖x_k − x̃‖_M, x̃ the inertial predictor; both are mass-weighted RMS vertex
@@ -81,6 +89,9 @@ struct DynamicsOptions {
   double massDampingOverride = -1.0;
   /// Start Newton from the constant-acceleration extrapolation of the trajectory (see the file comment).
   bool extrapolatedStart = true;
+  /// Solve a step again from x_n when its solve ended with a higher incremental potential than x_n's (see the
+  /// file comment).
+  bool guardedEnd = true;
   /// η of the time-discretization stopping rule (see the file comment); 0: off (only Newton's own tests).
   /// The default is jetshell's (solvers/time_step_policy.h, chosen by `jetshell bench dynamics`).
   double updateTolerance = 0.1;
@@ -119,6 +130,7 @@ struct StepReport {
   bool success = false;
   int substeps = 0;          // Newton solves that were accepted (1 without cuts)
   int movedOn = 0;           // of them, accepted at the iteration cap without convergence (acceptIterationCap)
+  int stayRestarts = 0;      // solves done again from x_n, the first having ended above it (guardedEnd)
   int cuts = 0;              // halvings
   int newtonIterations = 0;  // over every attempt
   double assemblySeconds = 0.0, factorizationSeconds = 0.0, solveSeconds = 0.0, lineSearchSeconds = 0.0;
@@ -195,6 +207,7 @@ struct DynamicsResult {
   int newtonIterations = 0;
   int cuts = 0;
   int movedOn = 0;  // substeps accepted unconverged at the iteration cap
+  int stayRestarts = 0;  // solves done again from the previous positions (DynamicsOptions::guardedEnd)
   std::vector<std::string> activeTerms;
   std::string message;
 };

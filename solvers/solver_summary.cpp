@@ -61,6 +61,7 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                       {"iterations", m.iterations},
                       {"initial_energy", m.initialEnergy},
                       {"final_energy", m.finalEnergy},
+                      {"discarded", m.discarded},
                       {"initial_residual", m.initialResidual},
                       {"final_residual", m.finalResidual},
                       {"final_decrement", m.finalDecrement},

@@ -62,6 +62,8 @@ struct SolverSummary {
                                     // (a time step's update test, in m)
   std::string iterateEstimate;      // with "iterate": the estimate that passed (solvers/dynamics.h: "residual
                                     // estimate" or "Newton correction")
+  bool discarded = false;           // its result was not kept: it ended above the time step's previous
+                                    // positions, and the step was solved again from them (solvers/dynamics.h)
 
   double assemblySeconds = 0.0;       // energy + gradient + Hessian at the iterates
   double factorizationSeconds = 0.0;  // symbolic + numeric factorization or preconditioner

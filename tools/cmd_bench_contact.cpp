@@ -96,6 +96,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   // How the steps' solves ended: Newton's residual test, the time-step rule's residual estimate or its Newton
   // correction (solvers/dynamics.h), or moved on at the iteration cap.
   int endedResidual = 0, endedEstimate = 0, endedCorrection = 0, endedAtCap = 0;
+  int stayRestarts = 0;  // steps solved again from x_n, the first solve having ended above it (guardedEnd)
   double factorSeconds = 0.0;
   double linear = 0.0;
   // The guards of the T-shirt's checks: the deepest sample in a volume collider (signed distance, m) and the
@@ -144,7 +145,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
       exactSteps += solve.exactHessianSteps;
       fallbacks += solve.projectionFallbacks;
       for (const IterationRecord& it : solve.trace) cg += it.cgIterations;
-      if (!solve.converged()) continue;
+      if (!solve.converged() || solve.discarded) continue;
       if (solve.convergenceTest != "iterate")
         ++endedResidual;
       else if (solve.iterateEstimate == "Newton correction")
@@ -153,6 +154,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
         ++endedEstimate;
     }
     endedAtCap += r.movedOn;
+    stayRestarts += r.stayRestarts;
     if (!r.success) {
       ++failed;
       std::printf("step %d failed: %s\n", s + 1, r.message.c_str());
@@ -186,8 +188,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one\n", exactSteps,
               fallbacks);
   std::printf("solves ended: %d by Newton's residual test, %d by the residual estimate, %d by the Newton correction, "
-              "%d moved on at the iteration cap\n",
-              endedResidual, endedEstimate, endedCorrection, endedAtCap);
+              "%d moved on at the iteration cap; %d solved again from x_n (the first solve ended above it)\n",
+              endedResidual, endedEstimate, endedCorrection, endedAtCap, stayRestarts);
   std::printf("time split: broad phase %.1f%% and pattern rebuilds %.1f%% (both within contact), contact terms "
               "%.1f%%, other terms %.1f%%, linear solve %.1f%%, rest %.1f%%\n",
               pct(broad), pct(pattern), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
@@ -220,6 +222,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                             {"residual_estimate", endedEstimate},
                             {"newton_correction", endedCorrection},
                             {"moved_on_at_cap", endedAtCap}}},
+          {"solved_again_from_previous_position", stayRestarts},
           {"deepest_in_volume_m", deepest},
           {"closest_pair_ratio", closest},
           {"final_kinetic_energy", solver.kineticEnergy()},

@@ -29,6 +29,9 @@ TEST_CASE("safeguards: every kind of safeguard is counted by what fired", "[safe
   capped.reason = TerminationReason::IterationCap;
   r.add(capped, true);   // moved on
   r.add(capped, false);  // cut
+  SolverSummary discarded = capped;
+  discarded.discarded = true;  // ended above its step's previous positions: solved again from them
+  r.add(discarded, true);
   const nlohmann::json j = r.toJson("move_on");
   CHECK(j["step_cuts"] == 2);
   CHECK(j["step_cuts_by_reason"]["line_search_failure"] == 1);
@@ -39,6 +42,7 @@ TEST_CASE("safeguards: every kind of safeguard is counted by what fired", "[safe
   CHECK(j["largest_shift"] == 1e-6);
   CHECK(j["iteration_cap_outcome"] == "move_on");
   CHECK(j["steps_accepted_at_iteration_cap"] == 1);
+  CHECK(j["steps_solved_again_from_previous_positions"] == 1);
   SafeguardReport copy;
   copy.restore(r.state());
   CHECK(copy.toJson("move_on") == j);

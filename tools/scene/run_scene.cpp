@@ -314,7 +314,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       std::ostringstream line;
       line << "step " << s.step << "  t = " << formatNumber("%.4f", d.time()) << " s  Newton " << s.newtonIterations
            << "  residual " << formatNumber("%.3e", residual) << " N  E_pot " << formatNumber("%.6e", potentialEnergy(d.positions()))
-           << " J  E_kin " << formatNumber("%.6e", d.kineticEnergy()) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+           << " J  E_kin " << formatNumber("%.6e", d.kineticEnergy()) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "")
+           << (s.stayRestarts ? "  (solved again from the previous positions)" : "");
       progress.log(line.str());
       progress.update(d.time() / duration, "t = " + formatNumber("%.3f", d.time()) + " s");
       doneIterations += s.newtonIterations;
@@ -352,7 +353,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       std::ostringstream line;
       line << "step " << s.step << "  t = " << formatNumber("%.4f", s.time) << " s  Newton " << s.newtonIterations
            << "  static residual " << formatNumber("%.3e", staticResidual) << " N  E_pot "
-           << formatNumber("%.6e", potentialEnergy(x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+           << formatNumber("%.6e", potentialEnergy(x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "")
+           << (s.stayRestarts ? "  (solved again from the previous positions)" : "");
       progress.log(line.str());
       // Progress in orders of magnitude of the residual still to go, or in steps when that says more.
       const double threshold = o.residualTolerance * objective.forceScale(x, firstResidual).value;

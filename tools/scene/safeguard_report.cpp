@@ -5,7 +5,9 @@
 namespace jetshell {
 
 void SafeguardReport::add(const SolverSummary& s, bool accepted) {
-  if (!s.converged()) {
+  if (s.discarded) {
+    ++discarded_;
+  } else if (!s.converged()) {
     if (accepted) ++acceptedAtCap_;
     else ++cuts_[toString(s.reason)];
   }
@@ -27,13 +29,14 @@ nlohmann::json SafeguardReport::toJson(const std::string& iterationCapPolicy) co
           {"largest_shift", largestShift_},
           {"projection_fallbacks", projectionFallbacks_},
           {"iteration_cap_outcome", iterationCapPolicy},
-          {"steps_accepted_at_iteration_cap", acceptedAtCap_}};
+          {"steps_accepted_at_iteration_cap", acceptedAtCap_},
+          {"steps_solved_again_from_previous_positions", discarded_}};
 }
 
 nlohmann::json SafeguardReport::state() const {
   return {{"cuts", cuts_},           {"non_finite_trials", nonFiniteTrials_}, {"regularized_solves", regularizedSolves_},
           {"regularizations", regularizations_}, {"projection_fallbacks", projectionFallbacks_},
-          {"accepted_at_cap", acceptedAtCap_}, {"largest_shift", largestShift_}};
+          {"accepted_at_cap", acceptedAtCap_}, {"largest_shift", largestShift_}, {"solved_again", discarded_}};
 }
 
 void SafeguardReport::restore(const nlohmann::json& j) {
@@ -43,6 +46,7 @@ void SafeguardReport::restore(const nlohmann::json& j) {
   regularizations_ = j.at("regularizations").get<int>();
   projectionFallbacks_ = j.at("projection_fallbacks").get<int>();
   acceptedAtCap_ = j.at("accepted_at_cap").get<int>();
+  discarded_ = j.value("solved_again", 0);  // absent from checkpoints written before it was counted
   largestShift_ = j.at("largest_shift").get<double>();
 }
 

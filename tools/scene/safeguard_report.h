@@ -2,7 +2,8 @@
 // its step (by reason: line_search_failure, non_finite, linear_solver_failure, iteration_cap, stalled, ...),
 // line-search trial points rejected for a non-finite energy, indefinite systems regularized with a diagonal
 // shift (count and largest shift), unprojected Hessians that fell back to the projected one, and steps accepted
-// at the iteration cap (the scene's choice to move on instead of cutting: "iteration_cap_outcome").
+// at the iteration cap (the scene's choice to move on instead of cutting: "iteration_cap_outcome"), and time
+// steps solved again from their previous positions because the first solve ended above them (solvers/dynamics.h).
 #pragma once
 
 #include "solvers/solver_summary.h"
@@ -27,7 +28,7 @@ class SafeguardReport {
  private:
   std::map<std::string, int> cuts_;
   int nonFiniteTrials_ = 0, regularizedSolves_ = 0, regularizations_ = 0, projectionFallbacks_ = 0;
-  int acceptedAtCap_ = 0;
+  int acceptedAtCap_ = 0, discarded_ = 0;
   double largestShift_ = 0.0;
 };
 
