@@ -8,9 +8,11 @@
 //     are geometric means;
 //   when at least two actors have point-cloud colliders, or one has self-contact: pointcloud_penalty
 //     (Potential) and, in dynamics, pointcloud_friction (Transient);
-//   the objective's step-start hooks (lagged normal forces, damping origins, friction pairs) and, with point
-//     clouds, its step bound: no sample approaches another by more than `stepFraction` of their distance in one
-//     Newton step (volumes are solid: their penalty pushes back from any depth, so they need none).
+//   the objective's step-start hooks (lagged normal forces, damping origins, friction pairs) and its step
+//     bounds: with point clouds, no sample approaches another by more than `stepFraction` of their distance in
+//     one Newton step; with a solid of finite thickness (not the half-space), no sample approaches it by more than
+//     `stepFraction` of its distance, of the activation distance or of the solid's thinnest half-width, whichever
+//     is largest, so nothing passes through a thin solid in one step.
 // With no volume collider and no interacting point cloud nothing is built and no detection ever runs.
 #pragma once
 

@@ -16,6 +16,8 @@ class GridShape : public VolumeShape {
  public:
   explicit GridShape(SdfGrid g) : g_(std::move(g)) {}
   std::string kind() const override { return "sdf_grid"; }
+  // A sampled solid resolves no part thinner than its spacing; nothing bounds it from below more tightly.
+  double thinnestHalfWidth() const override { return g_.spacing; }
 
   SdfSample signedDistance(const Eigen::Vector3d& p) const override {
     const double h = g_.spacing;

@@ -173,7 +173,8 @@ double VolumeContactState::stepBound(const Eigen::VectorXd& x, const Eigen::Vect
       const SdfSample s = collider->query(p, time);
       const double approach = -s.gradient.dot(point(d, e, q));
       if (approach <= 0.0) continue;
-      const double room = fraction * std::max(s.distance, params.activationDistance);
+      const double room =
+          fraction * std::max({s.distance, params.activationDistance, collider->shape().thinnestHalfWidth()});
       alpha = std::min(alpha, room / approach);
     }
   return alpha;

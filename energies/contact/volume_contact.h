@@ -44,7 +44,8 @@ struct VolumeContactState {
   /// Lags the step-start data from x_n (3N) at t_n; the step ends at t_n + h.
   void beginStep(const Eigen::VectorXd& xStart, double tStart, double h);
   /// Largest α ≤ 1 such that no sample point approaches the surface by more than `fraction` of its distance
-  /// to it (at least the activation distance) along x + α d.
+  /// to it, of the activation distance, or of the solid's thinnest half-width, whichever is largest, along
+  /// x + α d: so no sample passes through the solid in one step (1 for the half-space).
   double stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double fraction) const;
   /// Min over sample points of the signed distance (m): how deep the shell is in the collider.
   double minDistance(const Eigen::VectorXd& x) const;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace jetshell {
 namespace {
@@ -36,6 +37,7 @@ class PlaneShape : public VolumeShape {
     s.distance = p.z();
     return s;
   }
+  double thinnestHalfWidth() const override { return std::numeric_limits<double>::infinity(); }
 };
 
 class SphereShape : public VolumeShape {
@@ -45,6 +47,7 @@ class SphereShape : public VolumeShape {
   SdfSample signedDistance(const Eigen::Vector3d& p) const override {
     return roundDistance(p, Eigen::Vector3d::Zero(), r_);
   }
+  double thinnestHalfWidth() const override { return r_; }
 
  private:
   double r_;
@@ -78,6 +81,7 @@ class BoxShape : public VolumeShape {
         if (w[i] > 0.0 && w[j] > 0.0) s.hessian(i, j) = ((i == j ? 1.0 : 0.0) - s.gradient[i] * s.gradient[j]) / d;
     return s;
   }
+  double thinnestHalfWidth() const override { return h_.minCoeff(); }
 
  private:
   Eigen::Vector3d h_;
@@ -92,6 +96,7 @@ class CapsuleShape : public VolumeShape {
     const bool side = std::abs(p.z()) < l_;
     return roundDistance(p, Eigen::Vector3d(0.0, 0.0, z), r_, side ? 2 : -1);
   }
+  double thinnestHalfWidth() const override { return r_; }
 
  private:
   double r_, l_;

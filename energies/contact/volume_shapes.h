@@ -28,6 +28,9 @@ class VolumeShape {
   virtual std::string kind() const = 0;
   /// Thread-safe: called concurrently by the element loops.
   virtual SdfSample signedDistance(const Eigen::Vector3d& p) const = 0;
+  /// Half the width of the solid's thinnest part [m] (infinite for the half-space): a point that moves less than
+  /// this from outside cannot come out on the far side, so contact's step bound allows at least a fraction of it.
+  virtual double thinnestHalfWidth() const = 0;
 };
 
 using VolumeShapePtr = std::shared_ptr<const VolumeShape>;

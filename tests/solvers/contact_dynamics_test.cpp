@@ -152,6 +152,28 @@ TEST_CASE("contact dynamics: a square cloth dropped on a sphere drapes over it",
   for (const VolumeContactTerms& v : system.contact.volume) CHECK(v.state->minDistance(x) > -0.001);
 }
 
+TEST_CASE("contact dynamics: a cloth falling at 6 m/s does not pass through a small ball", "[contact]") {
+  // A step at 60 Hz moves the cloth 10 cm, more than the ball's diameter (6 cm): without a step bound for the
+  // ball the start of a step lands the centre past the ball's middle, and the penalty pushes it out below.
+  ShellProblem p;
+  p.mesh = square(0.3, 8, {0.0, 0.05, 0.0});
+  p.material = cloth();
+  p.volumes = {collider("ball", makeSphereShape(0.03), Eigen::Vector3d::Zero())};
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsOptions o = options();
+  o.acceptIterationCap = true;
+  DynamicsSolver solver(system, o);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(solver.positions().size());
+  for (Eigen::Index i = 1; i < v.size(); i += 3) v[i] = -6.0;
+  solver.setState(solver.positions(), v, 0.0);
+  for (int s = 0; s < 6; ++s) REQUIRE(solver.step().success);
+  const Eigen::VectorXd& x = solver.positions();
+  REQUIRE(x.allFinite());
+  const int centre = 4 * 9 + 4;
+  CHECK(x[3 * centre + 1] > 0.02);  // held on top of the ball (its top at y = 0.03), not below it
+  CHECK(system.contact.volume[0].state->minDistance(x) > -0.005);
+}
+
 TEST_CASE("contact dynamics: a cloth dropped on the edge of a box slides off it", "[contact]") {
   ShellProblem p;
   // Most of the cloth beyond the box's edge at x = 0: its weight pulls it over the edge.
