@@ -222,7 +222,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                             {"residual_estimate", endedEstimate},
                             {"newton_correction", endedCorrection},
                             {"moved_on_at_cap", endedAtCap}}},
-          {"solved_again_from_previous_position", stayRestarts},
+          {"solved_again_from_previous_positions", stayRestarts},
           {"deepest_in_volume_m", deepest},
           {"closest_pair_ratio", closest},
           {"final_kinetic_energy", solver.kineticEnergy()},
