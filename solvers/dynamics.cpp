@@ -218,22 +218,15 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   }
   // No step ends worse than staying put (see the header). x_n's incremental potential is taken here, where the
   // contact terms' candidates were just gathered around x_n (beginStep), so it costs no broad phase.
-  Eigen::VectorXd stay;
-  double stayEnergy = 0.0, stayNoise = 0.0;
-  if (options_.guardedEnd) {
-    stay = x_;
-    sys.objective().applyPrescribed(t_ + h, stay);
-    if (stay != x) {
-      stayEnergy = sys.objective().evaluate(stay, nullptr, false, EvalOptions{});
-      stayNoise = 1e-13 * sys.objective().energyMagnitude();
-    } else {
-      stay.resize(0);  // the start is x_n
-    }
-  }
+  Eigen::VectorXd stay = x_;
+  sys.objective().applyPrescribed(t_ + h, stay);
+  const bool guarded = options_.guardedEnd && stay != x;  // nothing to guard when the start is x_n
+  const double stayEnergy = guarded ? sys.objective().evaluate(stay, nullptr, false, EvalOptions{}) : 0.0;
+  const double stayNoise = guarded ? 1e-13 * sys.objective().energyMagnitude() : 0.0;
   SolverSummary summary = newton_.minimize(x);
   addTimes(report, summary);
   bool movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
-  if (stay.size() > 0 && (summary.converged() || movedOn)) {
+  if (guarded && (summary.converged() || movedOn)) {
     if (!(summary.finalEnergy <= stayEnergy + stayNoise)) {  // solved again from x_n
       ++report.stayRestarts;
       summary.discarded = true;

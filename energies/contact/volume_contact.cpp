@@ -167,14 +167,14 @@ void VolumeContactState::beginStep(const Eigen::VectorXd& xStart, double tStart,
 double VolumeContactState::stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double fraction) const {
   const int Q = sampling.pointsPerElement;
   double alpha = 1.0;
+  const double thinnest = collider->shape().thinnestHalfWidth();
   for (int e = 0; e < sampling.numElements(); ++e)
     for (int q = 0; q < Q; ++q) {
       const Eigen::Vector3d p = point(x, e, q);
       const SdfSample s = collider->query(p, time);
       const double approach = -s.gradient.dot(point(d, e, q));
       if (approach <= 0.0) continue;
-      const double room =
-          fraction * std::max({s.distance, params.activationDistance, collider->shape().thinnestHalfWidth()});
+      const double room = fraction * std::max({s.distance, params.activationDistance, thinnest});
       alpha = std::min(alpha, room / approach);
     }
   return alpha;
