@@ -6,7 +6,7 @@
 # threads than OMP_NUM_THREADS between them (the pthread build would keep a second pool). jetshell works with any
 # BLAS: this only makes the factorizations faster (about 2× against Debian's default reference/ATLAS BLAS).
 set -euo pipefail
-pkgs=(build-essential cmake libeigen3-dev libceres-dev libsuitesparse-dev libnlopt-dev libnlopt-cxx-dev
+pkgs=(build-essential cmake ninja-build libeigen3-dev libceres-dev libsuitesparse-dev libnlopt-dev libnlopt-cxx-dev
       catch2 nlohmann-json3-dev libcli11-dev libcairo2-dev fonts-dejavu-core libpng-dev libblas-dev liblapack-dev
       libopenblas0-openmp)
 missing=()
