@@ -74,9 +74,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   addSceneEdgeRules(scene, problem, system);
   Objective& objective = system.objective();
   objective.setGrowOnlyPattern(growOnly);
-  DynamicsOptions d;
-  d.timeStep = scene.analysis.timeStep;
-  d.newton = newtonOptionsFor(scene.solver, d.newton.maxIterations);
+  // The scene's integrator, time step and Newton settings, as `jetshell run` takes them.
+  DynamicsOptions d = dynamicsOptionsFor(scene);
   if (v.direct) {
     d.newton.linear.type = LinearSolverType::Cholmod;
     d.newton.adaptiveLinearTolerance = false;
@@ -86,7 +85,6 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   d.newton.fallbackBendingHessian = hessianModelFromString(o.fallbackBending);
   d.newton.linear.ordering = fillOrderingFromString(o.ordering);
   d.newton.linear.oneRingParts = oneRingPartsFromString(o.oneRingParts);
-  d.acceptIterationCap = scene.solver.acceptIterationCap;
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
               v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
@@ -241,8 +239,10 @@ int runContactBench(const ContactBenchOptions& o) {
   const Scene scene = loadSceneFile(o.scene);
   if (scene.analysis.type != AnalysisType::Dynamic) throw InputError(o.scene + ": bench contact needs a dynamic scene");
   const SceneModel model = buildSceneModel(scene);
-  std::printf("jetshell bench contact: %s, %d vertices, %d faces, %d steps of %.4f s, %d threads\n", o.scene.c_str(),
-              model.numVertices(), model.world.numFaces(), o.steps, scene.analysis.timeStep, omp_get_max_threads());
+  const char* integrator = toString(dynamicsOptionsFor(scene).integrator);
+  std::printf("jetshell bench contact: %s, %d vertices, %d faces, %d steps of %.4f s (%s), %d threads\n",
+              o.scene.c_str(), model.numVertices(), model.world.numFaces(), o.steps, scene.analysis.timeStep, integrator,
+              omp_get_max_threads());
   if (o.pattern == "both" && o.solver == "both") throw InputError("bench contact: --pattern both and --solver both together");
   std::vector<Variant> variants;
   for (bool growOnly : {false, true}) {
@@ -262,6 +262,7 @@ int runContactBench(const ContactBenchOptions& o) {
   out["scene"] = o.scene;
   out["vertices"] = model.numVertices();
   out["threads"] = omp_get_max_threads();
+  out["integrator"] = integrator;
   if (runs.size() == 2) {
     const double wallRatio = runs[0]["wall_seconds"].get<double>() / runs[1]["wall_seconds"].get<double>();
     const double cpuRatio = runs[0]["cpu_seconds"].get<double>() / runs[1]["cpu_seconds"].get<double>();

@@ -78,11 +78,7 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
     // The dynamic path of `jetshell run`, with Newton run to the scene's residual tolerance in every step (the
     // time-discretization stopping rule, which ends Newton early by design, is off: the trajectory is then a
     // smooth function of the parameters and its sensitivities are exact).
-    DynamicsOptions o;
-    o.integrator = file_.scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
-    o.timeStep = file_.scene.analysis.timeStep;
-    o.newton = newtonOptionsFor(file_.scene.solver, o.newton.maxIterations);
-    o.acceptIterationCap = file_.scene.solver.acceptIterationCap;
+    DynamicsOptions o = dynamicsOptionsFor(file_.scene);
     o.updateTolerance = 0.0;
     std::vector<int> steps;
     for (double t : levels) steps.push_back(static_cast<int>(std::lround(t / o.timeStep)));

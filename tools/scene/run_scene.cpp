@@ -83,6 +83,15 @@ NewtonOptions newtonOptionsFor(const SolverSettings& s, int defaultIterations, b
   return n;
 }
 
+DynamicsOptions dynamicsOptionsFor(const Scene& scene) {
+  DynamicsOptions o;
+  o.integrator = scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
+  o.timeStep = scene.analysis.timeStep;
+  o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
+  o.acceptIterationCap = scene.solver.acceptIterationCap;
+  return o;
+}
+
 RunResult runScene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const SceneModel model = buildSceneModel(scene);
@@ -235,11 +244,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     for (const SolverSummary& f : r.failedSolves) safeguards.add(f, false);
     for (const LoadStepResult& step : r.steps) safeguards.add(step.summary, true);
   } else if (type == AnalysisType::Dynamic) {
-    DynamicsOptions o;
-    o.integrator = scene.analysis.integrator == Integrator::BDF2 ? TimeIntegrator::BDF2 : TimeIntegrator::BackwardEuler;
-    o.timeStep = scene.analysis.timeStep;
-    o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
-    o.acceptIterationCap = scene.solver.acceptIterationCap;
+    const DynamicsOptions o = dynamicsOptionsFor(scene);
     DynamicsSolver solver(system, o);
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
     const double duration = scene.analysis.duration;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "tools/output/run_output.h"
+#include "solvers/dynamics.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
 #include "tools/scene/scene.h"
@@ -43,6 +44,10 @@ struct RunResult {
 /// "auto": none on static paths (`statics`; the projected Hessian makes Newton linear near large-rotation
 /// equilibria: 2x the iterations, and stalls; VALIDATION.md), clamp otherwise.
 NewtonOptions newtonOptionsFor(const SolverSettings& settings, int defaultIterations, bool statics = false);
+
+/// Time-stepping options from a dynamic scene: its integrator, time step, Newton settings and iteration-cap
+/// outcome, as `jetshell run` uses them (and `jetshell fit` and `bench contact` with it).
+DynamicsOptions dynamicsOptionsFor(const Scene& scene);
 
 /// Runs the scene. Throws InputError for scenes the solver cannot take yet (see SCENES.md: shell actors with
 /// different materials or gravity flags), for static problems with an unbalanced rigid-body mode
