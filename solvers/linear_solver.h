@@ -63,6 +63,10 @@ struct LinearSolverOptions {
   int autoDirectMaxDofs = 300000;
   double cgRelativeTolerance = 1e-10;  // ‖r‖ ≤ tol ‖b‖
   int cgMaxIterations = 20000;
+  /// PCG (every preconditioner but the lagged factor): when CG has not converged after this many iterations,
+  /// the whole matrix is factored and CG finishes with that factor (0: never). Time steps set 100
+  /// (solvers/time_step_policy.cpp); their solves take 1-32 iterations on the T-shirt.
+  int cgDirectAfter = 0;
   int lagRefactorIterations = 12;  // LaggedCholesky: refactor when CG with the old factor needs more
   /// Diagonal-shift retries before giving up (δ from 1e-8 to 1e-8·10^(n−1) times the mean diagonal).
   int maxRegularizations = 10;
@@ -85,6 +89,7 @@ struct LinearSolveReport {
   double shift = 0.0;             // the δ of the successful attempt (0 = none)
   int cgIterations = 0;
   int numericFactorizations = 0;      // Cholesky factorizations done (direct, or the lagged preconditioner)
+  int directFallbacks = 0;            // PCG solves finished with the whole matrix's factor (cgDirectAfter)
   double factorizationSeconds = 0.0;  // analysis + numeric factorization, or preconditioner set-up
   double solveSeconds = 0.0;          // triangular solves, or CG iterations
   /// The preconditioner was factored ahead, while the Hessian's wide terms were assembled

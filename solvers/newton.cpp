@@ -309,15 +309,20 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       const LinearSolveReport first = lin;
       lin = linear_->solve(obj.assembler(), b, d);
       lin.symbolicAnalysis = lin.symbolicAnalysis || first.symbolicAnalysis;
+      lin.cgIterations += first.cgIterations;
+      lin.directFallbacks += first.directFallbacks;
+      rec.projectionFallback = true;
     }
     s.assemblySeconds += rec.assemblySeconds;
-    rec.exactHessian = haveExact;
+    rec.exactHessian = haveExact;  // false after a fallback: its assembly was the projected one
     rec.factorizationSeconds += lin.factorizationSeconds;
     rec.overlappedFactorizationSeconds += lin.preparedSeconds;
     rec.solveSeconds += lin.solveSeconds;
     rec.regularizations = lin.regularizations;
     rec.shift = lin.shift;
     rec.cgIterations = lin.cgIterations;
+    rec.directFallbacks = lin.directFallbacks;
+    s.directFallbacks += lin.directFallbacks;
     rec.numericFactorizations = lin.numericFactorizations;
     s.numericFactorizations += lin.numericFactorizations;
     s.factorizationSeconds += rec.factorizationSeconds;

@@ -39,7 +39,7 @@ std::string SolverSummary::fullReport() const {
                   "  %4d  %12.6e  %12.4e  %12.4e  %6.3f  %9.3e  %2d  %5.0e  %c  %8.2fms  %6.2fms  %6.2fms  %8.2fms\n",
                   r.iteration, r.energy, r.residual, r.decrement, r.stepLength, r.largestMove, r.lineSearchEvaluations,
                   r.shift,
-                  r.exactHessian ? 'e' : 'p',
+                  r.exactHessian ? 'e' : (r.projectionFallback ? 'f' : 'p'),
                   1e3 * r.assemblySeconds, 1e3 * r.factorizationSeconds, 1e3 * r.solveSeconds,
                   1e3 * r.lineSearchSeconds);
     s << buf;
@@ -81,6 +81,7 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                       {"regularizations", m.regularizations},
                       {"exact_hessian_steps", m.exactHessianSteps},
                       {"projection_fallbacks", m.projectionFallbacks},
+                      {"direct_factor_fallbacks", m.directFallbacks},
                       {"non_finite_trials", m.nonFiniteTrials},
                       {"energy_evaluations", m.energyEvaluations},
                       {"gradient_evaluations", m.gradientEvaluations},
@@ -100,6 +101,8 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                    {"cg_iterations", r.cgIterations},
                    {"numeric_factorizations", r.numericFactorizations},
                    {"exact_hessian", r.exactHessian},
+                   {"projection_fallback", r.projectionFallback},
+                   {"direct_factor_fallbacks", r.directFallbacks},
                    {"assembly_seconds", r.assemblySeconds},
                    {"factorization_seconds", r.factorizationSeconds},
                    {"solve_seconds", r.solveSeconds},

@@ -34,7 +34,11 @@ struct IterationRecord {
   double shift = 0.0;
   int cgIterations = 0;
   int numericFactorizations = 0;
-  bool exactHessian = false;  // the step used the unprojected Hessian
+  bool exactHessian = false;  // the step's direction came from the unprojected ("exact") Hessian
+  /// The exact Hessian was tried and found indefinite (or its direction did not descend), so the direction came
+  /// from the projected one; cgIterations counts both solves.
+  bool projectionFallback = false;
+  int directFallbacks = 0;  // PCG solves finished with the whole Hessian's factor (LinearSolverOptions::cgDirectAfter)
   double assemblySeconds = 0.0;
   double factorizationSeconds = 0.0;
   /// The preconditioner's factorization run during the assembly (NewtonOptions::overlapPreconditioner): its
@@ -75,6 +79,7 @@ struct SolverSummary {
   int regularizations = 0;   // diagonal-shift retries during this minimization
   int exactHessianSteps = 0;     // Newton steps taken with the unprojected Hessian
   int projectionFallbacks = 0;   // unprojected Hessians found indefinite and reassembled projected
+  int directFallbacks = 0;       // PCG solves that spent LinearSolverOptions::cgDirectAfter and factored H whole
   int nonFiniteTrials = 0;       // line-search trial points rejected for a non-finite energy or gradient
   int energyEvaluations = 0, gradientEvaluations = 0, hessianEvaluations = 0;
   std::vector<IterationRecord> trace;

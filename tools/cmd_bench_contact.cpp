@@ -91,6 +91,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   const auto start = std::chrono::steady_clock::now();
   const double cpuStart = processCpuSeconds();
   int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0, cg = 0;
+  int directFallbacks = 0;  // CG solves finished with the whole Hessian's factor (LinearSolverOptions::cgDirectAfter)
   // How the steps' solves ended: Newton's residual test, the time-step rule's residual estimate or its Newton
   // correction (solvers/dynamics.h), or moved on at the iteration cap.
   int endedResidual = 0, endedEstimate = 0, endedCorrection = 0, endedAtCap = 0;
@@ -131,8 +132,11 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                   r.solves.empty() ? "" : r.solves.back().message.c_str());
       for (const SolverSummary& solve : r.solves)
         for (const IterationRecord& it : solve.trace)
-          std::printf("  iteration %d: residual %.3g N, alpha %.3g, %d CG, largest move %.3f mm\n", it.iteration + 1,
-                      it.residual, it.stepLength, it.cgIterations, 1e3 * it.largestMove);
+          std::printf("  iteration %d: residual %.3g N, alpha %.3g, %d CG (%s), largest move %.3f mm\n",
+                      it.iteration + 1, it.residual, it.stepLength, it.cgIterations,
+                      it.exactHessian ? "exact Hessian"
+                                      : (it.projectionFallback ? "exact Hessian indefinite, then projected" : "projected"),
+                      1e3 * it.largestMove);
     }
     iterations += r.newtonIterations;
     linear += r.factorizationSeconds + r.solveSeconds;
@@ -142,6 +146,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
       factorizations += solve.numericFactorizations;
       exactSteps += solve.exactHessianSteps;
       fallbacks += solve.projectionFallbacks;
+      directFallbacks += solve.directFallbacks;
       for (const IterationRecord& it : solve.trace) cg += it.cgIterations;
       if (!solve.converged() || solve.discarded) continue;
       if (solve.convergenceTest != "iterate")
@@ -183,8 +188,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   const FactorStatistics fs = solver.newton().linearSolver().factorStatistics();
   std::printf("factor: nnz(L) %.0f, %.3f GFlop per factorization, ordering %s, %d factor%s\n", fs.nnzL,
               1e-9 * fs.flops, fs.ordering.c_str(), fs.factors, fs.factors == 1 ? "" : "s (one per part)");
-  std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one\n", exactSteps,
-              fallbacks);
+  std::printf("Hessian: %d Newton steps on the unprojected Hessian, %d fallbacks to the projected one; %d CG solves "
+              "finished with the whole Hessian's factor\n",
+              exactSteps, fallbacks, directFallbacks);
   std::printf("solves ended: %d by Newton's residual test, %d by the residual estimate, %d by the Newton correction, "
               "%d moved on at the iteration cap; %d solved again from x_n (the first solve ended above it)\n",
               endedResidual, endedEstimate, endedCorrection, endedAtCap, stayRestarts);
@@ -216,6 +222,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
           {"cg_iterations", cg},
           {"factorization_seconds", factorSeconds},
           {"projection_fallbacks", fallbacks},
+          {"direct_factor_fallbacks", directFallbacks},
           {"solves_ended", {{"residual", endedResidual},
                             {"residual_estimate", endedEstimate},
                             {"newton_correction", endedCorrection},

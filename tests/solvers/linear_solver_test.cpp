@@ -96,6 +96,48 @@ TEST_CASE("linear solver: the lagged Cholesky preconditioner reuses an old facto
   CHECK(solver->symbolicAnalyses() == 1);
 }
 
+TEST_CASE("linear solver: PCG that spends its iteration budget finishes with the whole matrix's factor") {
+  testing::SingleThread single;
+  System sys;
+  const Eigen::VectorXd b = -sys.g;
+  const Eigen::MatrixXd H = testing::symmetricFromUpper(sys.assembler().matrix());
+  LinearSolverOptions o;
+  o.type = LinearSolverType::PCG;
+  o.preconditioner = Preconditioner::Jacobi;
+  o.cgRelativeTolerance = 1e-10;
+  // Jacobi-preconditioned CG on the bent plate's Hessian needs many iterations.
+  Eigen::VectorXd plain;
+  const LinearSolveReport slow = makeLinearSolver(o, static_cast<int>(b.size()))->solve(sys.assembler(), b, plain);
+  REQUIRE(slow.success);
+  REQUIRE(slow.cgIterations > 20);
+  CHECK(slow.directFallbacks == 0);
+  // With a budget of 10 iterations the whole Hessian is factored and CG ends in an iteration or two more.
+  o.cgDirectAfter = 10;
+  auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
+  Eigen::VectorXd x;
+  LinearSolveReport r = solver->solve(sys.assembler(), b, x);
+  INFO(r.message);
+  REQUIRE(r.success);
+  CHECK(r.directFallbacks == 1);
+  CHECK(r.numericFactorizations == 1);
+  CHECK(r.cgIterations <= 10 + 3);
+  CHECK((H * x - b).norm() <= 1e-9 * b.norm());
+  // A nearby matrix of the same pattern reuses the analysis; a budget larger than CG needs changes nothing.
+  sys.bend(0.051);
+  r = solver->solve(sys.assembler(), b, x);
+  REQUIRE(r.success);
+  CHECK(r.directFallbacks == 1);
+  CHECK((testing::symmetricFromUpper(sys.assembler().matrix()) * x - b).norm() <= 1e-9 * b.norm());
+  o.cgDirectAfter = 0;
+  const LinearSolveReport unbudgeted = makeLinearSolver(o, static_cast<int>(b.size()))->solve(sys.assembler(), b, x);
+  REQUIRE(unbudgeted.success);
+  o.cgDirectAfter = unbudgeted.cgIterations + 1;
+  r = makeLinearSolver(o, static_cast<int>(b.size()))->solve(sys.assembler(), b, x);
+  REQUIRE(r.success);
+  CHECK(r.directFallbacks == 0);
+  CHECK(r.cgIterations == unbudgeted.cgIterations);
+}
+
 TEST_CASE("linear solver: an indefinite matrix is shifted, retried and reported") {
   testing::SingleThread single;
   System sys;

@@ -16,6 +16,7 @@ void SafeguardReport::add(const SolverSummary& s, bool accepted) {
   if (s.regularizations > 0) ++regularizedSolves_;
   for (const IterationRecord& r : s.trace) largestShift_ = std::max(largestShift_, r.shift);
   projectionFallbacks_ += s.projectionFallbacks;
+  directFallbacks_ += s.directFallbacks;
 }
 
 nlohmann::json SafeguardReport::toJson(const std::string& iterationCapPolicy) const {
@@ -28,6 +29,7 @@ nlohmann::json SafeguardReport::toJson(const std::string& iterationCapPolicy) co
           {"regularization_retries", regularizations_},
           {"largest_shift", largestShift_},
           {"projection_fallbacks", projectionFallbacks_},
+          {"direct_factor_fallbacks", directFallbacks_},
           {"iteration_cap_outcome", iterationCapPolicy},
           {"steps_accepted_at_iteration_cap", acceptedAtCap_},
           {"steps_solved_again_from_previous_positions", discarded_}};
@@ -36,7 +38,8 @@ nlohmann::json SafeguardReport::toJson(const std::string& iterationCapPolicy) co
 nlohmann::json SafeguardReport::state() const {
   return {{"cuts", cuts_},           {"non_finite_trials", nonFiniteTrials_}, {"regularized_solves", regularizedSolves_},
           {"regularizations", regularizations_}, {"projection_fallbacks", projectionFallbacks_},
-          {"accepted_at_cap", acceptedAtCap_}, {"largest_shift", largestShift_}, {"solved_again", discarded_}};
+          {"accepted_at_cap", acceptedAtCap_}, {"largest_shift", largestShift_}, {"solved_again", discarded_},
+          {"direct_fallbacks", directFallbacks_}};
 }
 
 void SafeguardReport::restore(const nlohmann::json& j) {
@@ -47,6 +50,7 @@ void SafeguardReport::restore(const nlohmann::json& j) {
   projectionFallbacks_ = j.at("projection_fallbacks").get<int>();
   acceptedAtCap_ = j.at("accepted_at_cap").get<int>();
   discarded_ = j.value("solved_again", 0);  // absent from checkpoints written before it was counted
+  directFallbacks_ = j.value("direct_fallbacks", 0);  // likewise
   largestShift_ = j.at("largest_shift").get<double>();
 }
 

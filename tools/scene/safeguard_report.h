@@ -28,6 +28,7 @@ class SafeguardReport {
  private:
   std::map<std::string, int> cuts_;
   int nonFiniteTrials_ = 0, regularizedSolves_ = 0, regularizations_ = 0, projectionFallbacks_ = 0;
+  int directFallbacks_ = 0;  // PCG solves finished with the whole Hessian's factor (LinearSolverOptions::cgDirectAfter)
   int acceptedAtCap_ = 0, discarded_ = 0;
   double largestShift_ = 0.0;
 };
