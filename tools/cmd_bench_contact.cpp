@@ -192,7 +192,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               "finished with the whole Hessian's factor\n",
               exactSteps, fallbacks, directFallbacks);
   std::printf("solves ended: %d by Newton's residual test, %d by the residual estimate, %d by the Newton correction, "
-              "%d moved on at the iteration cap; %d solved again from x_n (the first solve ended above it)\n",
+              "%d moved on at the iteration cap; %d solved again from x_n (the first solve ended above it, or crushed)\n",
               endedResidual, endedEstimate, endedCorrection, endedAtCap, stayRestarts);
   std::printf("time split: broad phase %.1f%% and pattern rebuilds %.1f%% (both within contact), contact terms "
               "%.1f%%, other terms %.1f%%, linear solve %.1f%%, rest %.1f%%\n",

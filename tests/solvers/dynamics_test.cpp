@@ -331,3 +331,16 @@ TEST_CASE("dynamics: a step whose solve ends above staying put is solved again f
   CHECK(guardedMove < 1e-9);  // at rest, unloaded: staying put is the step's solution
   CHECK(guarded.solves.back().finalEnergy <= guarded.solves.front().finalEnergy);
 }
+
+TEST_CASE("dynamics: the Newton correction test does not judge an iterate whose stiffness hides a large residual") {
+  // Residual estimates and thresholds measured at the correction test's passes (BENCHMARKS.md, Contact, session
+  // 33). The T-shirt's largest healthy ratio: 95.
+  CHECK(correctionTestApplies(95.0 * 4.0e-4, 1.0, 4.0e-4));
+  // The T-shirt without self-contact, crushed and tangled: residual estimates of 1.0e4 m and 6.3e5 m (the error
+  // under the inertia alone) against thresholds under 1 mm passed on Newton corrections of 0.9 and 0.06 µm.
+  CHECK_FALSE(correctionTestApplies(1.014e4, 1e9, 3.806e-4));
+  CHECK_FALSE(correctionTestApplies(6.349e5, 1e9, 7.953e-4));
+  // And without contraction over the last iteration, never.
+  CHECK_FALSE(correctionTestApplies(2.0e-3, 3.0e-3, 4.0e-4));
+  CHECK(correctionTestApplies(1.5e-3, 3.0e-3, 4.0e-4));
+}
