@@ -87,9 +87,9 @@ void addTimes(StepReport& r, const SolverSummary& s) {
 
 }  // namespace
 
-bool correctionTestApplies(double residualEstimate, double lastResidualEstimate, double threshold) {
+bool correctionTestApplies(double residualEstimate, double lastResidualEstimate, double bound) {
   return residualEstimate <= kCorrectionContraction * lastResidualEstimate &&
-         residualEstimate <= kCorrectionOverstatementLimit * threshold;
+         residualEstimate <= kCorrectionOverstatementLimit * bound;
 }
 
 DynamicsSolver::DynamicsSolver(ShellSystem& system, const DynamicsOptions& options)
@@ -218,10 +218,10 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       if (bdf2) changeSq = std::min(changeSq, extrapolationSq);
       const double threshold = eta * std::max(std::sqrt(changeSq / totalMass), floor);
       IterateTestResult result{residualEstimate <= threshold, residualEstimate, threshold, "residual estimate"};
-      crushedIterate = !result.passed && residualEstimate > kCorrectionOverstatementLimit * threshold;
-      if (!result.passed && haveCorrection && correctionTestApplies(residualEstimate, lastResidualEstimate, threshold)) {
+      const double bound = std::max(threshold, correctionFloor);  // the correction's
+      crushedIterate = !result.passed && residualEstimate > kCorrectionOverstatementLimit * bound;
+      if (!result.passed && haveCorrection && correctionTestApplies(residualEstimate, lastResidualEstimate, bound)) {
         const double correction = std::sqrt(correctionSq / totalMass);
-        const double bound = std::max(threshold, correctionFloor);
         if (correction <= bound && std::sqrt(largestMoveSq) <= largestMoveBound)
           result = {true, correction, bound, "Newton correction"};
       }

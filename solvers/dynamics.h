@@ -27,8 +27,8 @@
 // was 109 J (−2.5 J of potential at x_n) with a gradient of 1.4e6 N; a tiny correction against that stiffness
 // passed the correction test below, and the shirt blew up over the following steps (BENCHMARKS.md, Contact,
 // session 32). It costs one energy value a step; the T-shirt with self-contact never needs the second solve.
-// A solve that moved on at the cap from a crushed iterate (its residual estimate over 1e4 times the correction
-// test's threshold, below) is solved again from x_n as well: it is lower than x_n, but no state to step from.
+// A solve that moved on at the cap from a crushed iterate (its residual estimate over 1e4 times the bound of the
+// correction test, below) is solved again from x_n as well: it is lower than x_n, but no state to step from.
 // Time-discretization stopping rule (updateTolerance η > 0, with inertia): Newton stops at the first iterate x_k
 // whose error estimate e_k = ‖M⁻¹g‖_M / c (c = 1/Δt² for backward Euler, 9/(4Δt²) for BDF2; g the step
 // objective's gradient) is at most η · ‖x_k − x̃‖_M, x̃ the inertial predictor; both are mass-weighted RMS vertex
@@ -61,8 +61,8 @@
 // Contact, session 29): 3.22 instead of 3.58 Newton iterations per step, its frames within 0.05 mm RMS (1 mm at
 // most) of the run without it, against 6.3–6.9 mm RMS between that run and the same steps solved on to 40
 // iterations.
-// The correction is trusted only while the residual estimate overstates the threshold by at most 1e4, a bound on
-// the stiffness-to-inertia ratio it relies on (7–95 at every pass on the T-shirt and its variants): crushed,
+// The correction is trusted only while the residual estimate overstates the bound the correction must meet by
+// at most 1e4, a bound on the stiffness-to-inertia ratio it relies on (7–95 at every pass on the T-shirt and its variants): crushed,
 // tangled elements made Newton's steps sub-micrometre under residuals of 1e4–6e5 N, and passed at 7e5–5e9.
 #pragma once
 
@@ -112,9 +112,9 @@ struct DynamicsOptions {
 };
 
 /// Whether the Newton correction test may judge an iterate (see the file comment): its residual estimate fell at
-/// least ×2 from the previous iterate's, and overstates the test's threshold by at most the stiffness-to-inertia
-/// ratio a correction is trusted at. Estimates and threshold in metres.
-bool correctionTestApplies(double residualEstimate, double lastResidualEstimate, double threshold);
+/// least ×2 from the previous iterate's, and overstates the bound the correction must meet by at most the
+/// stiffness-to-inertia ratio a correction is trusted at. Estimates and bound in metres.
+bool correctionTestApplies(double residualEstimate, double lastResidualEstimate, double bound);
 
 /// One accepted Newton solve of a step (a whole step, or a part of a cut one), seen before the state moves on:
 /// the terms still hold this solve's centres, origins and coefficients. Time-step sensitivities
