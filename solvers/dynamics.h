@@ -62,8 +62,9 @@
 // most) of the run without it, against 6.3–6.9 mm RMS between that run and the same steps solved on to 40
 // iterations.
 // The correction is trusted only while the residual estimate overstates the bound the correction must meet by
-// at most 1e4, a bound on the stiffness-to-inertia ratio it relies on (7–95 at every pass on the T-shirt and its variants): crushed,
-// tangled elements made Newton's steps sub-micrometre under residuals of 1e4–6e5 N, and passed at 7e5–5e9.
+// at most 1e4, a bound on the stiffness-to-inertia ratio it relies on (7–95 at every pass on the T-shirt and its
+// variants): crushed, tangled elements made Newton's steps sub-micrometre under residuals of 1e4–6e5 N, and
+// passed at 7e5–5e9.
 #pragma once
 
 #include "solvers/newton.h"

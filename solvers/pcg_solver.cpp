@@ -73,7 +73,7 @@ class PcgSolver : public LinearSolver {
   Attempt directAttempt(const Eigen::SparseMatrix<double>& upper, double shift, const Eigen::VectorXd& b,
                         Eigen::VectorXd& x, LinearSolveReport& report) {
     using Status = CholmodFactor::Status;
-    Timer timer;
+    const Timer timer;
     if (!factor_.analyzed() || directVersion_ != solvingPatternVersion()) {
       if (factor_.analyze(upper) != Status::Ok) {
         report.factorizationSeconds += timer.seconds();
@@ -83,17 +83,7 @@ class PcgSolver : public LinearSolver {
       directVersion_ = solvingPatternVersion();
     }
     report.factorizationSeconds += timer.seconds();
-    const Attempt f = refactor(upper, shift, report);
-    if (f != Attempt::Ok) return f;
-    ++report.directFallbacks;
-    timer.reset();
-    const int before = report.cgIterations;
-    directPreconditioner_ = true;
-    const Attempt a = iterate(upper, shift, b, x, options().cgMaxIterations, report);
-    directPreconditioner_ = false;
-    report.cgIterations += before;
-    report.solveSeconds += timer.seconds();
-    return a;
+    return solveWithFreshFactor(upper, shift, b, x, report, true);
   }
 
  public:
@@ -226,11 +216,21 @@ class PcgSolver : public LinearSolver {
     report.solveSeconds += timer.seconds();
     if (a != Attempt::Failed || fresh) return a;
     // The old factor no longer preconditions well: factor the current Hessian and solve again.
+    return solveWithFreshFactor(upper, shift, b, x, report, false);
+  }
+
+  /// Factors the current matrix into factor_ (already analysed for its pattern) and runs CG again with that
+  /// factor, the earlier iterations counted in. `direct`: counted as a cgDirectAfter fallback.
+  Attempt solveWithFreshFactor(const Eigen::SparseMatrix<double>& upper, double shift, const Eigen::VectorXd& b,
+                               Eigen::VectorXd& x, LinearSolveReport& report, bool direct) {
     const Attempt f = refactor(upper, shift, report);
     if (f != Attempt::Ok) return f;
-    timer.reset();
+    if (direct) ++report.directFallbacks;
+    const Timer timer;
     const int before = report.cgIterations;
-    a = iterate(upper, shift, b, x, options().cgMaxIterations, report);
+    withFactor_ = true;
+    const Attempt a = iterate(upper, shift, b, x, options().cgMaxIterations, report);
+    withFactor_ = false;
     report.cgIterations += before;
     report.solveSeconds += timer.seconds();
     return a;
@@ -322,7 +322,7 @@ class PcgSolver : public LinearSolver {
   }
 
   void precondition(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
-    if (directPreconditioner_) {
+    if (withFactor_ || options().preconditioner == Preconditioner::LaggedCholesky) {
       if (factor_.solve(r, z) != CholmodFactor::Status::Ok) z = r;
       return;
     }
@@ -340,9 +340,7 @@ class PcgSolver : public LinearSolver {
       case Preconditioner::IncompleteCholesky:
         z = ic_.solve(r);
         return;
-      case Preconditioner::LaggedCholesky:
-        if (factor_.solve(r, z) != CholmodFactor::Status::Ok) z = r;
-        return;
+      case Preconditioner::LaggedCholesky: return;  // above
       case Preconditioner::OneRingCholesky:
         if (ring_.solve(r, z) != SplitFactor::Status::Ok) z = r;
         return;
@@ -413,7 +411,7 @@ class PcgSolver : public LinearSolver {
   std::string preparedMessage_;  // why the prepared factorization failed
   CholmodFactor factor_;  // the lagged factor, or the whole matrix's after CG spent cgDirectAfter iterations
   std::uint64_t directVersion_ = 0;    // the pattern version factor_ was analysed for in directAttempt
-  bool directPreconditioner_ = false;  // CG runs with factor_ (directAttempt)
+  bool withFactor_ = false;            // CG runs with factor_ (solveWithFreshFactor)
   SplitFactor ring_;      // the one-ring factor
   SymmetricProduct product_;
 };
