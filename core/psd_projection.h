@@ -77,12 +77,14 @@ bool edgeSpaceBlockIsPositiveDefinite(const Eigen::Matrix<double, N, N>& H) {
   return Eigen::LLT<Reduced>(Reduced(H.template bottomRightCorner<R, R>())).info() == Eigen::Success;
 }
 
-/// The matrix type an N×N block's eigen-decomposition works in: the block's own fixed size up to 9 rows, and above
+/// The matrix type an N×N block's eigen-decomposition works in: the block's own fixed size up to 5 rows, and above
 /// that one bounded dynamic-size type of at most 18 rows (no heap allocation). A fixed-size eigen-solver is among
-/// the slowest code to compile (15-20 s per size with g++ 12 -O3), and from 12 rows on the bounded one is as fast
-/// (within ±6% on random symmetric blocks of 12, 15 and 18 rows), so the larger sizes share one instantiation.
+/// the slowest code to compile (15-20 s per size with g++ 12 -O3); the bounded one costs 1.10× the fixed one's
+/// time at 6 rows, 1.02× at 9 and within ±6% from 12 to 18 (random symmetric blocks), while at 3 rows the fixed
+/// one is 1.45× faster and stays. So the sizes from 6 rows share one instantiation: psd_projection.cpp compiles in
+/// 27 s instead of 48 (BENCHMARKS.md "CI time").
 template <int N>
-using SpectrumWork = std::conditional_t<(N > 9 && N <= 18),
+using SpectrumWork = std::conditional_t<(N > 5 && N <= 18),
                                         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 18, 18>,
                                         Eigen::Matrix<double, N, N>>;
 
