@@ -101,3 +101,32 @@ TEST_CASE("support check: faces pushed through their neighbours are inverted, ri
   }
   CHECK(flipped > 0);
 }
+
+TEST_CASE("support check: a fold of the reference is measured from its own angle, so a seam folded flatter is not inverted", "[support]") {
+  // A 2 x 1 strip folded about the grid line x = 1 by phi: the half x > 1 turns about the y axis.
+  const TriMesh flat = makeRectangleGrid(2.0, 1.0, 4, 2);
+  auto folded = [&](double degrees) {
+    const double phi = degrees * 3.14159265358979323846 / 180.0;
+    Eigen::MatrixXd V = flat.V;
+    for (int v = 0; v < V.rows(); ++v) {
+      const double s = flat.V(v, 0) - 1.0;
+      if (s <= 0.0) continue;
+      V(v, 0) = 1.0 + s * std::cos(phi);
+      V(v, 2) = s * std::sin(phi);
+    }
+    return V;
+  };
+  TriMesh reference = flat;
+  reference.V = folded(100.0);  // a seam: the two halves' normals 100° apart at rest
+  const Topology t = buildTopology(reference);
+  // Folded on to 125° on the same side: 25° from the reference, although the normals are now more than 120° apart.
+  CHECK(invertedFaces(reference, t, flatten(folded(125.0))).empty());
+  CHECK(invertedFaces(reference, t, flatten(folded(100.0))).empty());
+  // Folded back through the flat strip to −30° on the other side: 130° from the reference.
+  const std::vector<int> through = invertedFaces(reference, t, flatten(folded(-30.0)));
+  CHECK(through.size() == 4);  // the two faces on each side of the fold line's two edges
+  // The same strip with a flat reference: 125° is an inversion there.
+  const Topology flatTopology = buildTopology(flat);
+  CHECK(invertedFaces(flat, flatTopology, flatten(folded(125.0))).size() == 4);
+  CHECK(invertedFaces(flat, flatTopology, flatten(folded(100.0))).empty());
+}

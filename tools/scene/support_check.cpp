@@ -1,7 +1,10 @@
 #include "tools/scene/support_check.h"
 
+#include "core/math_constants.h"
+
 #include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace jetshell {
@@ -52,25 +55,39 @@ void checkRigidModes(const Scene& scene, const SceneModel& model) {
 
 std::vector<int> invertedFaces(const TriMesh& mesh, const Topology& topology, const Eigen::VectorXd& x) {
   const int nf = mesh.numFaces();
+  auto point = [&](int v, bool deformed) -> Eigen::Vector3d {
+    return deformed ? Eigen::Vector3d(x.segment<3>(3 * v)) : Eigen::Vector3d(mesh.V.row(v).transpose());
+  };
   auto normal = [&](int f, bool deformed) -> Eigen::Vector3d {
-    Eigen::Vector3d p[3];
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.F(f, k);
-      p[k] = deformed ? Eigen::Vector3d(x.segment<3>(3 * v)) : Eigen::Vector3d(mesh.V.row(v).transpose());
-    }
-    return (p[1] - p[0]).cross(p[2] - p[0]);
+    const Eigen::Vector3d p0 = point(mesh.F(f, 0), deformed);
+    return (point(mesh.F(f, 1), deformed) - p0).cross(point(mesh.F(f, 2), deformed) - p0);
   };
-  // Turned against a neighbour: the unit normals across an edge make more than 120° (cos < −1/2).
-  auto turned = [&](int f, int g, bool deformed) {
-    const Eigen::Vector3d a = normal(f, deformed), b = normal(g, deformed);
-    const double n = a.norm() * b.norm();
-    return !(n > 0.0) || a.dot(b) < -0.5 * n;
+  // The signed angle from f's normal to g's, turning about their shared edge (a → b as f lists it), in [−π, π];
+  // NaN when a face or the edge has no direction.
+  auto dihedral = [&](int f, int g, int a, int b, bool deformed) {
+    const Eigen::Vector3d u = normal(f, deformed), w = normal(g, deformed);
+    const Eigen::Vector3d e = point(b, deformed) - point(a, deformed);
+    const double scale = u.norm() * w.norm() * e.norm();
+    if (!(scale > 0.0) || !std::isfinite(scale)) return std::numeric_limits<double>::quiet_NaN();
+    return std::atan2(e.dot(u.cross(w)) / e.norm(), u.dot(w));
   };
+  // Turned against a neighbour: the angle between the two faces' normals changed by more than 120° from the
+  // reference's across their edge. On a flat reference that is the angle between the normals itself; on a curved
+  // one (a garment's seams, a cylinder) the reference's own angle is not counted, so a seam folded flat as the
+  // garment lies down is not an inversion, while a face pushed through its neighbour is.
+  constexpr double kTurnLimit = 2.0 * kPi / 3.0;
   std::vector<char> mark(static_cast<std::size_t>(nf), 0);
   for (int f = 0; f < nf; ++f)
     for (int i = 0; i < 3; ++i) {
       const int g = topology.faceNeighbors(f, i);
-      if (g > f && turned(f, g, true) && !turned(f, g, false)) mark[static_cast<std::size_t>(f)] = mark[static_cast<std::size_t>(g)] = 1;
+      if (g <= f) continue;
+      const int a = mesh.F(f, (i + 1) % 3), b = mesh.F(f, (i + 2) % 3);
+      const double reference = dihedral(f, g, a, b, false);
+      if (std::isnan(reference)) continue;  // degenerate in the reference: nothing to compare with
+      const double turned = dihedral(f, g, a, b, true);
+      // The change, wrapped into [−π, π]; a face without a normal now counts as turned.
+      const double change = std::remainder(turned - reference, 2.0 * kPi);
+      if (!(std::abs(change) <= kTurnLimit)) mark[static_cast<std::size_t>(f)] = mark[static_cast<std::size_t>(g)] = 1;
     }
   std::vector<int> out;
   for (int f = 0; f < nf; ++f)

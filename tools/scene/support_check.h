@@ -6,9 +6,11 @@
 // shell would accelerate away, and Newton only meets a singular system. Rotations are not checked (a load can
 // be balanced by a rotated shape, as a pendulum hangs from one point).
 //
-// Inverted faces: after a solve, faces turned by more than 120° against an edge neighbour (the angle between
-// their normals) although they were not in the reference shape: an element pushed through itself, or folded
-// flat onto its neighbour. Rigid motions of the whole shell turn no face against another.
+// Inverted faces: after a solve, faces turned by more than 120° against an edge neighbour, measured from the
+// reference's own angle across their edge (the signed angle between the two normals about the edge): an element
+// pushed through itself, or folded flat onto its neighbour. A fold of the reference (a garment's seam) that
+// closes further as the garment lies flat is not one. Rigid motions of the whole shell turn no face against
+// another.
 #pragma once
 
 #include "core/mesh.h"
