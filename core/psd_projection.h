@@ -82,7 +82,7 @@ bool edgeSpaceBlockIsPositiveDefinite(const Eigen::Matrix<double, N, N>& H) {
 /// the slowest code to compile (15-20 s per size with g++ 12 -O3); the bounded one costs 1.10× the fixed one's
 /// time at 6 rows, 1.02× at 9 and within ±6% from 12 to 18 (random symmetric blocks), while at 3 rows the fixed
 /// one is 1.45× faster and stays. So the sizes from 6 rows share one instantiation: psd_projection.cpp compiles in
-/// 27 s instead of 48 (BENCHMARKS.md "CI time").
+/// 25 s instead of 48 (BENCHMARKS.md "CI time", session 34).
 template <int N>
 using SpectrumWork = std::conditional_t<(N > 5 && N <= 18),
                                         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 18, 18>,

@@ -395,7 +395,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     summary.extra["inverted_faces"] = inverted.size();
     if (!inverted.empty()) {
       std::ostringstream w;
-      w << inverted.size() << " inverted face(s) at the end of the run (turned by more than 120° against a neighbour), e.g. face "
+      w << inverted.size()
+        << " inverted face(s) at the end of the run (turned by more than 120° against a neighbour, from their angle "
+           "in the reference shape), e.g. face "
         << inverted.front() << ": an element was pushed through itself; the result there is not physical";
       result.warnings.push_back(w.str());
       progress.log("warning: " + w.str());
