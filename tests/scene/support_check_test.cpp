@@ -1,3 +1,4 @@
+#include "core/math_constants.h"
 #include "core/mesh_generators.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
@@ -106,7 +107,7 @@ TEST_CASE("support check: a fold of the reference is measured from its own angle
   // A 2 x 1 strip folded about the grid line x = 1 by phi: the half x > 1 turns about the y axis.
   const TriMesh flat = makeRectangleGrid(2.0, 1.0, 4, 2);
   auto folded = [&](double degrees) {
-    const double phi = degrees * 3.14159265358979323846 / 180.0;
+    const double phi = degrees * kPi / 180.0;
     Eigen::MatrixXd V = flat.V;
     for (int v = 0; v < V.rows(); ++v) {
       const double s = flat.V(v, 0) - 1.0;

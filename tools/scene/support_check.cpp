@@ -67,9 +67,10 @@ std::vector<int> invertedFaces(const TriMesh& mesh, const Topology& topology, co
   auto dihedral = [&](int f, int g, int a, int b, bool deformed) {
     const Eigen::Vector3d u = normal(f, deformed), w = normal(g, deformed);
     const Eigen::Vector3d e = point(b, deformed) - point(a, deformed);
-    const double scale = u.norm() * w.norm() * e.norm();
+    const double length = e.norm();
+    const double scale = u.norm() * w.norm() * length;
     if (!(scale > 0.0) || !std::isfinite(scale)) return std::numeric_limits<double>::quiet_NaN();
-    return std::atan2(e.dot(u.cross(w)) / e.norm(), u.dot(w));
+    return std::atan2(e.dot(u.cross(w)) / length, u.dot(w));
   };
   // Turned against a neighbour: the angle between the two faces' normals changed by more than 120° from the
   // reference's across their edge. On a flat reference that is the angle between the normals itself; on a curved
