@@ -1,5 +1,5 @@
-// Membrane term: per face, x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the
-// templated density, differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
+// Membrane term: per face, x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (the metric stage) -> W_m(a) (the density
+// stage), the two stages chained by the framework (core/stage.h, ComposedStage).
 #include "energies/shell/membrane_term.h"
 
 #include "core/element_loop.h"
@@ -9,7 +9,6 @@
 #include "energies/shell/membrane_projection.h"
 #include "energies/shell/shell_geometry.h"
 #include "energies/shell/shell_terms.h"
-#include "core/stage_derivatives.h"
 
 namespace jetshell {
 
@@ -35,13 +34,19 @@ void MembraneTerm::setStaged(bool staged) {
   graphEvaluator_ = std::make_unique<StageGraphEvaluator<Graph>>(*graph_);
 }
 
-void MembraneTerm::bindStages() {
-  MembraneDensityStage& density = graph_->stage<1>();
-  density.ref = &ref_;
-  density.lambda = lambda_;
-  density.mu = mu_;
-  density.scale = energyScale();
+namespace {
+
+/// Points a density stage at the term's reference and current parameters (before each evaluation).
+void bindDensity(MembraneDensityStage& density, const ShellReference& ref, double lambda, double mu, double scale) {
+  density.ref = &ref;
+  density.lambda = lambda;
+  density.mu = mu;
+  density.scale = scale;
 }
+
+}  // namespace
+
+void MembraneTerm::bindStages() { bindDensity(graph_->stage<1>(), ref_, lambda_, mu_, energyScale()); }
 
 double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
   if (staged_) {
@@ -50,14 +55,13 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
     exact.hessianModel = HessianModel::Exact;
     return graphEvaluator_->evaluate(x, request, exact, schedule_, elementEnergy_);
   }
-  const bool ad = options.path == DerivativePath::AutoDiff;
-  if (ad && request.hessian != nullptr) updateDensityHessians();
+  bindDensity(energy_.outer, ref_, lambda_, mu_, energyScale());
   // The element projects its own block (energies/shell/membrane_projection.h), so the loop projects nothing.
   const PsdProjection projection = options.projection;
   return runElementLoop<3>(table_, schedule_, x, request, PsdProjection::None, elementEnergy_,
                            [&](int f, const int* ids, bool wantG, bool wantH, Eigen::Matrix<double, 9, 1>& g,
                                Eigen::Matrix<double, 9, 9>& H) {
-                             return element(x, f, ids, wantG, wantH, ad, projection, g, H);
+                             return element(x, f, ids, wantG, wantH, options.path, projection, g, H);
                            });
 }
 
@@ -69,11 +73,13 @@ void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale)
       ref_.metric[static_cast<std::size_t>(f)] = {a[0], a[1], a[2]};
     });
   } else {
+    // The metric stage element() differentiates, so that ε vanishes at the origin to the bit there too.
     for (std::size_t f = 0; f < ref_.metric.size(); ++f) {
       const int* ids = table_.element(static_cast<int>(f));
       const Eigen::Vector3d x0 = xOrigin.segment<3>(3 * ids[0]);
       const Eigen::Vector3d e0 = xOrigin.segment<3>(3 * ids[1]) - x0, e1 = xOrigin.segment<3>(3 * ids[2]) - x0;
-      ref_.metric[f] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
+      const double z[6] = {e0[0], e0[1], e0[2], e1[0], e1[1], e1[2]};
+      energy_.inner(z, ref_.metric[f].data(), static_cast<int>(f));
     }
   }
   origin_ = xOrigin;
@@ -81,71 +87,31 @@ void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale)
   originMoved_ = true;
 }
 
-double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
-                             PsdProjection projection, Eigen::Matrix<double, 9, 1>& g,
+double MembraneTerm::element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH,
+                             DerivativePath path, PsdProjection projection, Eigen::Matrix<double, 9, 1>& g,
                              Eigen::Matrix<double, 9, 9>& H) const {
-    const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]), x1 = x.segment<3>(3 * ids[1]), x2 = x.segment<3>(3 * ids[2]);
-    const Eigen::Vector3d e0 = x1 - x0, e1 = x2 - x0;
-    const double a[3] = {e0.dot(e0), e0.dot(e1), e1.dot(e1)};
-    const double* A = ref_.metric[f].data();
-    const double* P = ref_.inverseMetric[f].data();
-    const double area = energyScale() * ref_.area[f];
-    if (!wantG && !wantH) return area * membraneDensity(a, A, P, lambda_, mu_);
-
+  const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]);
+  const Eigen::Vector3d e0 = x.segment<3>(3 * ids[1]) - x0, e1 = x.segment<3>(3 * ids[2]) - x0;
+  const double z[6] = {e0[0], e0[1], e0[2], e1[0], e1[1], e1[2]};
+  if (!wantG && !wantH) {
     double W;
-    Eigen::Vector3d w;
-    Eigen::Matrix3d Waa;
-    if (ad) {
-      auto density = [&](const auto* z) { return membraneDensity(z, A, P, lambda_, mu_); };
-      scalarStageGradient<3>(density, a, W, w);
-      if (wantH) Waa = densityHessian_[static_cast<std::size_t>(f)];
-    } else {
-      const double d[3] = {a[0] - A[0], a[1] - A[1], a[2] - A[2]};
-      analytic::stvkQuadratic(P, 0.25 * lambda_, 0.25 * mu_, d, W, w, Waa);
-    }
-    // ∂a/∂e (3×6): a00 -> (2e0, 0), a01 -> (e1, e0), a11 -> (0, 2e1).
-    Eigen::Matrix<double, 3, 6> Ja;
-    Ja << 2.0 * e0.transpose(), Eigen::RowVector3d::Zero(), e1.transpose(), e0.transpose(),
-        Eigen::RowVector3d::Zero(), 2.0 * e1.transpose();
-    const Eigen::Matrix<double, 6, 1> ge = Ja.transpose() * w;
-    g.segment<3>(3) = area * ge.head<3>();
-    g.segment<3>(6) = area * ge.tail<3>();
-    g.head<3>() = -(g.segment<3>(3) + g.segment<3>(6));
-    if (wantH) {
-      Eigen::Matrix<double, 6, 6> He = Ja.transpose() * Waa * Ja;
-      He.topLeftCorner<3, 3>().diagonal().array() += 2.0 * w[0];
-      He.bottomRightCorner<3, 3>().diagonal().array() += 2.0 * w[2];
-      He.topRightCorner<3, 3>().diagonal().array() += w[1];
-      He.bottomLeftCorner<3, 3>().diagonal().array() += w[1];
-      He *= area;
-      const MembraneProjection projected = projectMembraneEdgeBlock(He, e0, e1, projection);
-      // e0 = x1 − x0, e1 = x2 − x0: H_x = Lᵀ H_e L.
-      H.block<6, 6>(3, 3) = He;
-      for (int j = 0; j < 2; ++j) {
-        const Eigen::Matrix3d s = -(He.block<3, 3>(0, 3 * j) + He.block<3, 3>(3, 3 * j));
-        H.block<3, 3>(0, 3 + 3 * j) = s;
-        H.block<3, 3>(3 + 3 * j, 0) = s.transpose();
-      }
-      H.block<3, 3>(0, 0) = -(H.block<3, 3>(0, 3) + H.block<3, 3>(0, 6));
-      if (projected == MembraneProjection::Degenerate) projectPsd<9>(H, projection);
-    }
-  return area * W;
-}
-
-void MembraneTerm::updateDensityHessians() {
-  const std::size_t nf = ref_.inverseMetric.size();
-  if (densityHessian_.size() == nf && hessianLambda_ == lambda_ && hessianMu_ == mu_) return;
-  densityHessian_.resize(nf);
-  const double zero[3] = {0.0, 0.0, 0.0};
-  for (std::size_t f = 0; f < nf; ++f) {
-    const double* P = ref_.inverseMetric[f].data();
-    auto density = [&](const auto* z) { return membraneDensity(z, zero, P, lambda_, mu_); };
-    double W;
-    Eigen::Vector3d w;
-    scalarStageDerivatives<3>(density, zero, W, w, densityHessian_[f]);
+    energy_(z, &W, f);
+    return W;
   }
-  hessianLambda_ = lambda_;
-  hessianMu_ = mu_;
+  // The face's energy as one stage of its edge vectors, metric then density, chained by the framework
+  // (core/stage.h, ComposedStage): the gradient and Hessian over (e0, e1), then over the three vertices.
+  StageDerivativesOf<EnergyStage> d;
+  evaluateStage(energy_, z, f, wantH ? 2 : 1, path, d);
+  g.tail<6>() = d.jacobian.transpose();
+  g.head<3>() = -(g.segment<3>(3) + g.segment<3>(6));
+  if (wantH) {
+    Eigen::Matrix<double, 6, 6> He = d.hessians[0];
+    const MembraneProjection projected = projectMembraneEdgeBlock(He, e0, e1, projection);
+    H.bottomRightCorner<6, 6>() = He;
+    completeTranslationInvariant(H);
+    if (projected == MembraneProjection::Degenerate) projectPsd<9>(H, projection);
+  }
+  return d.value[0];
 }
 
 void MembraneTerm::makeStiffnessDamping(double betaR) {

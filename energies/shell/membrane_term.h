@@ -1,6 +1,8 @@
 // Membrane term: Σ_f scale · area_f · W_m(ε_f), ε = ½(a − A_origin), traces with the reference A⁻¹.
-// Stages: x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (bilinear primitive) -> W_m(a) (the templated density,
-// differentiated with Jet<Jet<double,3>,3> on the AD path, by hand on the analytic path).
+// Stages: x (9) -> e0, e1 (linear) -> a = [e_a·e_b] (MetricStage, constant Hessians) -> W_m(a)
+// (MembraneDensityStage: Jets on the AD path, its analytic twin on the analytic path), one ComposedStage per face
+// whose chain rule is the framework's (core/stage.h); the term adds only the translation-invariant completion
+// over the face's vertices and the membrane's own projection of the edge block.
 // setStaged(): the same energy as a stage graph (core/stage_graph.h): a = Metric(e0, e1) -> MembraneDensity(a)
 // (energies/shell/shell_stages.h), chained by the framework, no derivative by hand.
 #pragma once
@@ -61,18 +63,12 @@ class MembraneTerm : public EnergyTerm {
   std::unique_ptr<Graph> graph_;
   std::unique_ptr<StageGraphEvaluator<Graph>> graphEvaluator_;
 
+  /// The face's energy over its edge vectors (e0, e1): the metric, then the density at the current parameters.
+  using EnergyStage = ComposedStage<MetricStage, MembraneDensityStage>;
+  EnergyStage energy_;
   /// One face; with a projection its block comes back projected (energies/shell/membrane_projection.h).
-  double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, bool ad,
+  double element(const Eigen::VectorXd& x, int f, const int* ids, bool wantG, bool wantH, DerivativePath path,
                  PsdProjection projection, Eigen::Matrix<double, 9, 1>& g, Eigen::Matrix<double, 9, 9>& H) const;
-  /// Brings densityHessian_ up to date with λ and μ (before a Hessian pass of the AD path).
-  void updateDensityHessians();
-  // W_m is a quadratic form in the metric a, so its 3×3 Hessian W'' is constant per face (it depends on A⁻¹, λ
-  // and μ only). The AD path takes it once per face from nested Jets and, per evaluation, only w from first-order
-  // Jets: the nested Jets per face and evaluation were half of the AD path's Hessian cost. The derivative checks
-  // compare this Hessian with the finite-difference Jacobian of the per-evaluation gradient, so a density that
-  // was not quadratic would fail them. Kept for the λ, μ it was taken with.
-  std::vector<Eigen::Matrix3d> densityHessian_;
-  double hessianLambda_ = 0.0, hessianMu_ = 0.0;
 
   std::string name_ = "membrane";
   StencilTable table_;
