@@ -5,7 +5,6 @@
 #include "core/element_loop.h"
 #include "core/origin_derivatives.h"
 #include "core/parameter_derivatives.h"
-#include "energies/shell/analytic_stages.h"
 #include "energies/shell/membrane_projection.h"
 #include "energies/shell/shell_geometry.h"
 #include "energies/shell/shell_terms.h"
