@@ -248,6 +248,30 @@ struct ComposedStage {
           if (o.jacobian(k, m) != 0.0) d.hessians[k].noalias() += o.jacobian(k, m) * i.hessians[m];
     }
   }
+  /// C = Σ_k w_k ∇²y_k at z, each on `path`, contracted before it is chained (one product through the inner
+  /// Jacobian instead of one per output): C = J_iᵀ (Σ_k w_k ∇²o_k) J_i + Σ_m (J_oᵀ w)_m ∇²i_m.
+  void contractedHessian(const double* z, int entity, DerivativePath path, const double* w,
+                         Eigen::Matrix<double, kInputs, kInputs>& C) const {
+    constexpr int P = Inner::kOutputs, M = Outer::kOutputs;
+    StageDerivativesOf<Inner> i;
+    StageDerivativesOf<Outer> o;
+    evaluateStage(inner, z, entity, HasConstantHessian<Inner>::value ? 1 : 2, path, i);
+    evaluateStage(outer, i.value.data(), entity, 2, path, o);
+    Eigen::Matrix<double, P, P> X = w[0] * o.hessians[0];
+    for (int k = 1; k < M; ++k) X.noalias() += w[k] * o.hessians[static_cast<std::size_t>(k)];
+    C.noalias() = i.jacobian.transpose() * (X * i.jacobian);
+    const Eigen::Matrix<double, P, 1> v = o.jacobian.transpose() * Eigen::Map<const Eigen::Matrix<double, M, 1>>(w);
+    if constexpr (HasConstantHessian<Inner>::value) {
+      const auto& c = constantStageHessians<Inner>();
+      for (int e = 0; e < c.numEntries; ++e) {
+        const auto& t = c.entries[static_cast<std::size_t>(e)];
+        C(t.i, t.j) += v[t.k] * t.h;
+      }
+    } else {
+      for (int m = 0; m < P; ++m)
+        if (v[m] != 0.0) C.noalias() += v[m] * i.hessians[static_cast<std::size_t>(m)];
+    }
+  }
 };
 
 /// The stage's derivatives up to `order` on `path`: the analytic twin when there is one and path is
@@ -303,7 +327,7 @@ double affineDiscrepancy(const S& s, const double* z, int entity) {
 }
 
 /// Largest relative difference between a composed stage's chained derivatives on `path` and its own Jets at z
-/// (value, Jacobian, Hessians; 0 for any other stage).
+/// (value, Jacobian, Hessians, and a contracted Hessian; 0 for any other stage).
 template <typename S>
 double composedStageDiscrepancy(const S& s, const double* z, int entity, DerivativePath path) {
   if constexpr (!IsComposedStage<S>::value) {
@@ -314,6 +338,15 @@ double composedStageDiscrepancy(const S& s, const double* z, int entity, Derivat
     s.chained(z, entity, 2, path, chained);
     double worst = std::max(relativeDifference(chained.value, jets.value), relativeDifference(chained.jacobian, jets.jacobian));
     for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(chained.hessians[k], jets.hessians[k]));
+    // The contracted Hessian, with weights 1, −2, 3, … on the outputs, against the same sum of the Jets'.
+    double w[S::kOutputs];
+    Eigen::Matrix<double, S::kInputs, S::kInputs> sum = Eigen::Matrix<double, S::kInputs, S::kInputs>::Zero(), contracted;
+    for (int k = 0; k < S::kOutputs; ++k) {
+      w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
+      sum += w[k] * jets.hessians[static_cast<std::size_t>(k)];
+    }
+    s.contractedHessian(z, entity, path, w, contracted);
+    worst = std::max(worst, relativeDifference(contracted, sum));
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }

@@ -405,14 +405,24 @@ class StageGraphEvaluator {
           Product P;
           if constexpr (la >= 0) {
             const Eigen::Matrix<double, 3 * wa, na> Zt = total(groupA).transpose();
-            P.noalias() = Zt.lazyProduct(Y);
             // A Local group spans the element's stencil in its own order (its slots are 0 … K−1), so Z_aᵀ C_aa Z_a
-            // is the element block itself, symmetric: added whole (the lower triangle, when not Full, is never
-            // read).
+            // is the element block itself, symmetric: added whole when Full, else by column panels down to the
+            // diagonal block (the lower triangle is never read), each panel one fixed-size product.
             if constexpr (same && !S::Groups::fromShared[a]) {
-              H += P;
+              if constexpr (Full) {
+                H.noalias() += Zt.lazyProduct(Y);
+              } else {
+                forEachImpl(
+                    [&](auto column) {
+                      constexpr int c = decltype(column)::value, rows = 3 * (c + 1);
+                      H.template block<rows, 3>(0, 3 * c).noalias() +=
+                          Zt.template topRows<rows>().lazyProduct(Y.template middleCols<3>(3 * c));
+                    },
+                    std::make_integer_sequence<int, wa>());
+              }
               return;
             }
+            P.noalias() = Zt.lazyProduct(Y);
           }
           for (int sa = 0; sa < wa; ++sa) {
             const int r = slot[a][static_cast<std::size_t>(sa)];
@@ -871,10 +881,19 @@ class StageGraphEvaluator {
         errors.run([&] {
           double z[S::N];
           gather<I>(x, n, nullptr, z);
-          StageDerivatives<S::N, S::M> d;
-          derivatives<I>(std::get<I>(graph_.stages()), z, n, 2, mode.path, d);
-          if (!contract<I>(w.data(), &d.hessians, b.curvature[static_cast<std::size_t>(n)]))
-            b.curvature[static_cast<std::size_t>(n)].setZero();
+          auto& C = b.curvature[static_cast<std::size_t>(n)];
+          if constexpr (IsComposedStage<Stage>::value) {
+            // Contracted inside the composition: one product through the inner stage, not one per output.
+            if (w.isZero(0.0)) {
+              C.setZero();
+              return;
+            }
+            std::get<I>(graph_.stages()).contractedHessian(z, n, mode.path, w.data(), C);
+          } else {
+            StageDerivatives<S::N, S::M> d;
+            derivatives<I>(std::get<I>(graph_.stages()), z, n, 2, mode.path, d);
+            if (!contract<I>(w.data(), &d.hessians, C)) C.setZero();
+          }
         });
       }
     }

@@ -7,10 +7,10 @@
 //   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear
 //   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin
 //   FaceNormalStage       (e0, e1): the two above composed (core/stage.h) -> n                6 -> 3
-//   EdgeMeanStage         (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B)  6 -> 3, affine;
+//   EdgeMeanStage         (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B)  6 -> 3, affine, twin;
 //                         on a boundary edge (n, n)                     -> m = ½(n + n_ghost(n)), the edge's rule
 //   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin
-//   SecondFormStage       (e0, e1, n̄0, n̄1, n̄2) of a face                -> b                15 -> 3, bilinear
+//   SecondFormStage       (e0, e1, n̄0, n̄1, n̄2) of a face                -> b                15 -> 3, bilinear, twin
 //   BendingDensityStage   b                                             -> s·area·W_b(B − b) 3 -> 1, twin
 //   MetricStage           (e0, e1)                                      -> a = [e_a·e_b]    6 -> 3, bilinear
 //   MembraneDensityStage  a                                             -> s·area·W_m(½(a − A)) 3 -> 1, twin
@@ -79,6 +79,17 @@ struct EdgeMeanStage {
     const auto e = static_cast<std::size_t>(edge);
     store3(constant<T>(0.5) * (n + ghostNormal((*rules)[e], n, (*data)[e])), m);
   }
+  /// Twin: on an interior edge ½(n_A + n_B), Jacobian [½I ½I]; a boundary edge's rule is differentiated by its
+  /// Jets (few edges, every rule).
+  void derivatives(const double* z, int edge, int order, StageDerivatives<6, 3>& d) const {
+    if (isBoundary(edge)) return stageDerivativesFromJets(*this, z, edge, order, d);
+    for (int k = 0; k < 3; ++k) d.value[k] = 0.5 * (z[k] + z[3 + k]);
+    if (order < 1) return;
+    d.jacobian.setZero();
+    for (int k = 0; k < 3; ++k) d.jacobian(k, k) = d.jacobian(k, 3 + k) = 0.5;
+    if (order < 2) return;
+    for (auto& h : d.hessians) h.setZero();
+  }
 };
 
 struct KelvinStage {
@@ -100,6 +111,23 @@ struct SecondFormStage {
   template <typename T>
   void operator()(const T* z, T* b, int /*face*/) const {
     secondFundamentalForm(load3(z), load3(z + 3), load3(z + 6), load3(z + 9), load3(z + 12), b);
+  }
+  /// Twin: b00 = 2(n̄1 − n̄0)·e0, b01 = −2 n̄0·e1, b11 = 2(n̄2 − n̄0)·e1, each row's gradient written out (the
+  /// Hessians are the declared constant ones).
+  void derivatives(const double* z, int face, int order, StageDerivatives<15, 3>& d) const {
+    (*this)(z, d.value.data(), face);
+    if (order < 1) return;
+    const Eigen::Map<const Eigen::Vector3d> e0(z), e1(z + 3), n0(z + 6), n1(z + 9), n2(z + 12);
+    d.jacobian.setZero();
+    d.jacobian.block<1, 3>(0, 0) = 2.0 * (n1 - n0).transpose();
+    d.jacobian.block<1, 3>(0, 6) = -2.0 * e0.transpose();
+    d.jacobian.block<1, 3>(0, 9) = 2.0 * e0.transpose();
+    d.jacobian.block<1, 3>(1, 3) = -2.0 * n0.transpose();
+    d.jacobian.block<1, 3>(1, 6) = -2.0 * e1.transpose();
+    d.jacobian.block<1, 3>(2, 3) = 2.0 * (n2 - n0).transpose();
+    d.jacobian.block<1, 3>(2, 6) = -2.0 * e1.transpose();
+    d.jacobian.block<1, 3>(2, 12) = 2.0 * e1.transpose();
+    if (order >= 2) d.hessians = constantStageHessians<SecondFormStage>().hessians;
   }
 };
 
