@@ -33,8 +33,9 @@
 //       element's own nodes (its Local nodes and the Shared nodes it reads, directly or not);
 //     - exact, contracted (no projection): a first element sweep sends each Local node's adjoint to the
 //       Shared nodes it reads; a reverse sweep over the Shared layers sums each node's adjoint over all its
-//       readers; each Shared node's curvature is then added once, into the block of one element that reads it
-//       (its owner), whose stencil holds the node's support. The same Hessian, each term in another block.
+//       readers; each Shared node's curvature is then contracted and added once, by the one element that reads
+//       it as its owner (whose stencil holds the node's support), into that element's block: nothing is kept per
+//       node but its adjoint. The same Hessian, each term in another block.
 // Each fact lives in one place: a node's inputs and support in its layer's tables; its value, Jacobians and
 // adjoint in the layer's per-evaluation buffers; the element's slots in the stencil table.
 #pragma once

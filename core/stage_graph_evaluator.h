@@ -77,7 +77,7 @@ class StageGraphEvaluator {
       sendLocalAdjoints(x, mode);
       forEachLayerBackwards([&](auto layer) {
         constexpr int I = decltype(layer)::value;
-        if constexpr (Shape<I>::kShared) gatherAdjoints<I>(x, mode);
+        if constexpr (Shape<I>::kShared) gatherAdjoints<I>(mode);
       });
     }
     return runElementLoop<K>(graph_.elements(), schedule, x, request, options.projection, elementEnergy,
@@ -125,7 +125,6 @@ class StageGraphEvaluator {
     std::vector<Eigen::Matrix<double, M, 3 * W>> total;
     std::vector<std::array<Eigen::Matrix<double, N, N>, M>> hessian;
     std::vector<Eigen::Matrix<double, M, 1>> adjoint;
-    std::vector<Eigen::Matrix<double, N, N>> curvature;  // contracted: Σ_k w̄_k ∇²y_k (stages with non-constant Hessians)
     std::vector<Eigen::Matrix<double, N, 1>> inputAdjoint;  // gradient sweep: Jᵀw̄ over the node's inputs
   };
   // ---- per Local layer: one node of one element ----
@@ -565,8 +564,29 @@ class StageGraphEvaluator {
     });
   }
 
+  /// C = Σ_k w_k ∇²y_k of Shared node `entity` of layer I (a stage with non-constant Hessians) at x, on the mode's
+  /// path; a composed stage contracts inside the composition (one product through its inner stage). False when
+  /// w is zero (no curvature).
+  template <int I>
+  bool contractShared(const Eigen::VectorXd& x, int entity, const double* w, const Mode& mode,
+                      Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C) {
+    using S = Shape<I>;
+    if (Eigen::Map<const Eigen::Matrix<double, S::M, 1>>(w).isZero(0.0)) return false;
+    double z[S::N];
+    gather<I>(x, entity, nullptr, z);
+    const auto& stage = std::get<I>(graph_.stages());
+    if constexpr (IsComposedStage<typename S::Stage>::value) {
+      stage.contractedHessian(z, entity, mode.path, w, C);
+      return true;
+    } else {
+      StageDerivatives<S::N, S::M> d;
+      derivatives<I>(stage, z, entity, 2, mode.path, d);
+      return contract<I>(w, &d.hessians, C);
+    }
+  }
+
   /// The curvature of Shared node `entity` of layer I into H, its support at the element slots `nodeSlot`:
-  /// C = Σ_k w_k ∇²y_k given (contracted: from the adjoint sweep), or formed from the adjoint w and the stage
+  /// C = Σ_k w_k ∇²y_k given (contracted: by the owner, from the total adjoint), or formed from the adjoint w and the stage
   /// Hessians h (per element: those kept by the forward sweep; null for a stage with constant ones).
   template <int I>
   void addSharedCurvature(int entity, const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>* given, const double* w,
@@ -689,17 +709,17 @@ class StageGraphEvaluator {
       // Only the corner accumulates; expandHessian writes the base's row and column whole.
       WorkHessian work = hessian.template bottomRightCorner<Dw, Dw>();
       work.setZero();
-      addCurvatures(e, mode, s, work);
+      addCurvatures(x, e, mode, s, work);
       expandHessian(mode.full, hessian);
     } else {
       hessian.setZero();
-      addCurvatures(e, mode, s, hessian);
+      addCurvatures(x, e, mode, s, hessian);
     }
     return root.d.value[0];
   }
 
   /// The element's curvature terms into `work` (its Hessian over the working slots).
-  void addCurvatures(int e, const Mode& mode, ElementState& s, WorkHessian& work) {
+  void addCurvatures(const Eigen::VectorXd& x, int e, const Mode& mode, ElementState& s, WorkHessian& work) {
     // Per-element exact Hessian: the element's own reverse sweep through every node it reads. Contracted or
     // Gauss–Newton: its Local nodes only, then (contracted) the Shared nodes it owns, with their total adjoints.
     reverse(e, mode, mode.sharedHessians, s, nullptr, &work);
@@ -712,11 +732,16 @@ class StageGraphEvaluator {
           for (int o = t.ownedStart[static_cast<std::size_t>(e)]; o < t.ownedStart[static_cast<std::size_t>(e) + 1]; ++o) {
             const int listed = begin + t.ownedIndex[static_cast<std::size_t>(o)];
             const int entity = t.elementNode[static_cast<std::size_t>(listed)];
-            const auto k = static_cast<std::size_t>(entity);
-            constexpr bool stored = !HasConstantHessian<typename Shape<I>::Stage>::value;
-            addSharedCurvature<I>(entity, stored ? &buffers<I>().curvature[k] : nullptr, buffers<I>().adjoint[k].data(),
-                                  nullptr, t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W, mode,
-                                  work);
+            const double* w = buffers<I>().adjoint[static_cast<std::size_t>(entity)].data();
+            const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W;
+            using Stage = typename Shape<I>::Stage;
+            if constexpr (!HasConstantHessian<Stage>::value && !IsAffineStage<Stage>::value) {
+              // The node's curvature with its total adjoint, contracted here by its one owner (not kept).
+              Eigen::Matrix<double, Shape<I>::N, Shape<I>::N> C;
+              if (contractShared<I>(x, entity, w, mode, C)) addSharedCurvature<I>(entity, &C, w, nullptr, nodeSlot, mode, work);
+            } else {
+              addSharedCurvature<I>(entity, nullptr, w, nullptr, nodeSlot, mode, work);
+            }
           }
         }
       });
@@ -763,7 +788,7 @@ class StageGraphEvaluator {
         });
     forEachLayerBackwards([&](auto layer) {
       constexpr int I = decltype(layer)::value;
-      if constexpr (Shape<I>::kShared) gatherAdjoints<I>(x, mode);
+      if constexpr (Shape<I>::kShared) gatherAdjoints<I>(mode);
     });
     const auto& start = graph_.vertexReaderStart();
     const auto& readers = graph_.vertexReaders();
@@ -839,17 +864,13 @@ class StageGraphEvaluator {
   /// Each node of Shared layer I: its adjoint, summed over its readers (later Shared layers, whose adjoints
   /// are complete, and the elements' Local nodes).
   template <int I>
-  void gatherAdjoints(const Eigen::VectorXd& x, const Mode& mode) {
+  void gatherAdjoints(const Mode& mode) {
     using S = Shape<I>;
-    using Stage = typename S::Stage;
-    constexpr bool curved = !HasConstantHessian<Stage>::value && !IsAffineStage<Stage>::value;
     SharedBuffers<I>& b = buffers<I>();
     const auto& t = graph_.tables(I);
     b.adjoint.resize(static_cast<std::size_t>(t.count));
-    if (curved && mode.contracted) b.curvature.resize(static_cast<std::size_t>(t.count));
     const bool inputs = !mode.contracted;  // the gradient sweep: Jᵀw̄ for the vertices' gather
     if (inputs) b.inputAdjoint.resize(static_cast<std::size_t>(t.count));
-    ParallelErrors errors;
 #pragma omp parallel for schedule(static) if (t.count >= kParallelMinElements)
     for (int n = 0; n < t.count; ++n) {
       Eigen::Matrix<double, S::M, 1> w = Eigen::Matrix<double, S::M, 1>::Zero();
@@ -875,29 +896,7 @@ class StageGraphEvaluator {
       });
       b.adjoint[static_cast<std::size_t>(n)] = w;
       if (inputs) b.inputAdjoint[static_cast<std::size_t>(n)].noalias() = b.jacobian[static_cast<std::size_t>(n)].transpose() * w;
-      // The node's curvature with its total adjoint, once: its stage Hessians from the Jets (or the twin) here.
-      if constexpr (curved) {
-        if (!mode.contracted) continue;
-        errors.run([&] {
-          double z[S::N];
-          gather<I>(x, n, nullptr, z);
-          auto& C = b.curvature[static_cast<std::size_t>(n)];
-          if constexpr (IsComposedStage<Stage>::value) {
-            // Contracted inside the composition: one product through the inner stage, not one per output.
-            if (w.isZero(0.0)) {
-              C.setZero();
-              return;
-            }
-            std::get<I>(graph_.stages()).contractedHessian(z, n, mode.path, w.data(), C);
-          } else {
-            StageDerivatives<S::N, S::M> d;
-            derivatives<I>(std::get<I>(graph_.stages()), z, n, 2, mode.path, d);
-            if (!contract<I>(w.data(), &d.hessians, C)) C.setZero();
-          }
-        });
-      }
     }
-    errors.rethrow();
   }
 
   Graph& graph_;
