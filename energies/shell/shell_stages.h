@@ -4,7 +4,7 @@
 // connect is the stage graph of each term (membrane_term.h, bending_term.h); the chain rule between them is the
 // framework's (core/stage_graph_evaluator.h).
 //
-//   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear
+//   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear, twin
 //   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin
 //   FaceNormalStage       (e0, e1): the two above composed (core/stage.h) -> n                6 -> 3
 //   EdgeMeanStage         (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B)  6 -> 3, affine, twin;
@@ -43,6 +43,15 @@ struct FaceCrossStage {
   template <typename T>
   void operator()(const T* z, T* c, int /*face*/) const {
     store3(cross(load3(z), load3(z + 3)), c);
+  }
+  /// Twin: ∂c/∂e0 = −[e1]×, ∂c/∂e1 = [e0]× (the Hessians are the declared constant ones).
+  void derivatives(const double* z, int face, int order, StageDerivatives<6, 3>& d) const {
+    (*this)(z, d.value.data(), face);
+    if (order < 1) return;
+    d.jacobian << 0.0, z[5], -z[4], 0.0, -z[2], z[1],  //
+        -z[5], 0.0, z[3], z[2], 0.0, -z[0],               //
+        z[4], -z[3], 0.0, -z[1], z[0], 0.0;
+    if (order >= 2) d.hessians = constantStageHessians<FaceCrossStage>().hessians;
   }
 };
 

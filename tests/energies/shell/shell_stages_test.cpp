@@ -65,6 +65,7 @@ TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian decla
     // fundamental form's rows.
     for (int e = 0; e < static_cast<int>(edgeRules.size()); ++e) CHECK(stageTwinDiscrepancy(edgeMean, z, e) <= 1e-15);
     CHECK(stageTwinDiscrepancy(SecondFormStage(), z, 0) <= 1e-15);
+    CHECK(stageTwinDiscrepancy(FaceCrossStage(), z, 0) <= 1e-15);
     CHECK(constantHessianDiscrepancy(MetricStage(), z, 0) == 0.0);
   }
   CHECK_FALSE(constantStageHessians<SecondFormStage>().zero);
