@@ -31,7 +31,8 @@
 // ComposedStage<Inner, Outer>: Outer ∘ Inner as one stage (for example a face normal 6 → 3 from the cross product
 // 6 → 3 and the normalisation 3 → 3), so that a stage graph (core/stage_graph.h) keeps it as one node. Its derivatives come from
 // the two stages' own (each on its Jets, twin or constant Hessians) by the chain rule, once per entity:
-// J = J_o J_i, ∇²y_k = J_iᵀ ∇²o_k J_i + Σ_m (J_o)_km ∇²i_m. Its Jets (stageDerivativesFromJets) remain the
+// J = J_o J_i, ∇²y_k = J_iᵀ ∇²o_k J_i + Σ_m (J_o)_km ∇²i_m, or contracted with output weights w before chaining
+// (contractedHessian, what a stage graph's exact Hessian needs). Its Jets (stageDerivativesFromJets) remain the
 // reference it is tested against.
 #pragma once
 
