@@ -8,6 +8,13 @@
 
 namespace jetshell::analytic {
 
+/// [v]×, the matrix of v × (·): [v]× u = v × u. The cross product c = e0 × e1 has ∂c/∂e0 = −[e1]×, ∂c/∂e1 = [e0]×.
+inline Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d s;
+  s << 0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0;
+  return s;
+}
+
 /// Value, gradient and Hessian of the St. Venant–Kirchhoff quadratic in a symmetric 2×2 tensor d stored as
 /// (d00, d01, d11):  W = c1/2 (tr_P d)² + c2 tr(P d P d), traces with the symmetric P = A⁻¹.
 /// Membrane: d = a − A, c1 = λ/4, c2 = μ/4. Bending: d = b − B, c1 = α, c2 = β/2.

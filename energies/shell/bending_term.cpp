@@ -44,17 +44,11 @@ using Mat3x12 = Eigen::Matrix<double, 3, 12>;
 using Mat3x18 = Eigen::Matrix<double, 3, 18>;
 using Mat18 = Eigen::Matrix<double, 18, 18>;
 
-Mat3 skew(const Vec3& v) {
-  Mat3 s;
-  s << 0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0;
-  return s;
-}
-
 /// ∂c/∂x (3×9) for c = (x1 − x0) × (x2 − x0).
 Mat39 crossJacobian(const Vec3& e0, const Vec3& e1) {
   Mat39 C;
-  C.block<3, 3>(0, 3) = -skew(e1);
-  C.block<3, 3>(0, 6) = skew(e0);
+  C.block<3, 3>(0, 3) = -analytic::crossMatrix(e1);
+  C.block<3, 3>(0, 6) = analytic::crossMatrix(e0);
   C.block<3, 3>(0, 0) = -(C.block<3, 3>(0, 3) + C.block<3, 3>(0, 6));
   return C;
 }
@@ -551,7 +545,7 @@ void BendingTerm::contractCurvature(const Eigen::VectorXd& x, bool ad) {
     FaceCurvature& out = faceCurvature_[f];
     out.c = h[0] * hs[0] + h[1] * hs[1] + h[2] * hs[2];
     if (anyGhost) out.c.noalias() += s.dndc.transpose() * ghostCurvature * s.dndc;
-    out.q = -skew(s.dndc.transpose() * h);
+    out.q = -analytic::crossMatrix(s.dndc.transpose() * h);
   }
 }
 
@@ -766,7 +760,7 @@ void BendingTerm::addCurvatureOfB(int f, bool contracted, const Vec3& e0, const 
       if (j == 0 && anyGhost) Hc.noalias() += s.dndc.transpose() * ghostCurvature * s.dndc;
       // k·c = k·(e0 × e1) = e0ᵀ Q e1 with Q = −[k]×, k = (∂n/∂c)ᵀ h: the (x1, x2) block gets Q; Q is
       // antisymmetric, so the blocks of x0 that translation invariance gives carry its share.
-      const Mat3 Q = -skew(s.dndc.transpose() * h);
+      const Mat3 Q = -analytic::crossMatrix(s.dndc.transpose() * h);
       addTranslationInvariant<3>(crossJacobians[j].rightCols<6>(), Hc, local, upper, H, &Q);
     }
   }

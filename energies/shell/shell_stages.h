@@ -48,9 +48,8 @@ struct FaceCrossStage {
   void derivatives(const double* z, int face, int order, StageDerivatives<6, 3>& d) const {
     (*this)(z, d.value.data(), face);
     if (order < 1) return;
-    d.jacobian << 0.0, z[5], -z[4], 0.0, -z[2], z[1],  //
-        -z[5], 0.0, z[3], z[2], 0.0, -z[0],               //
-        z[4], -z[3], 0.0, -z[1], z[0], 0.0;
+    d.jacobian << -analytic::crossMatrix(Eigen::Vector3d(z[3], z[4], z[5])),
+        analytic::crossMatrix(Eigen::Vector3d(z[0], z[1], z[2]));
     if (order >= 2) d.hessians = constantStageHessians<FaceCrossStage>().hessians;
   }
 };
