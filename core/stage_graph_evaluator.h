@@ -341,61 +341,85 @@ class StageGraphEvaluator {
     }
   }
 
-  /// Which blocks C_ab of a node's contracted Hessian can be nonzero: those of its constant Hessians for a
-  /// stage declaring them (a bilinear stage couples only some of its input groups), all otherwise.
+  /// What each block C_ab of a node's contracted Hessian can be: for a stage declaring constant Hessians, zero
+  /// (a bilinear stage couples only some of its input groups), diagonal (every entry on the block's diagonal, as
+  /// for a dot product of two groups: C_ab Z_b is then a row scaling) or dense; for any other stage, dense.
+  enum class BlockKind : std::int8_t { Zero, Diagonal, Dense };
   template <int I>
-  static const std::array<bool, Shape<I>::G * Shape<I>::G>& blockMask() {
+  static const std::array<BlockKind, Shape<I>::G * Shape<I>::G>& blockKinds() {
     using S = Shape<I>;
-    static const std::array<bool, S::G * S::G> mask = [] {
-      std::array<bool, S::G * S::G> m{};
+    static const std::array<BlockKind, S::G * S::G> kinds = [] {
+      std::array<BlockKind, S::G * S::G> m{};
       if constexpr (HasConstantHessian<typename S::Stage>::value) {
+        m.fill(BlockKind::Zero);
         const auto& c = constantStageHessians<typename S::Stage>();
         for (int e = 0; e < c.numEntries; ++e) {
           const auto& t = c.entries[static_cast<std::size_t>(e)];
           int a = 0, b = 0;
           while (S::offset(a + 1) <= t.i) ++a;
           while (S::offset(b + 1) <= t.j) ++b;
-          m[static_cast<std::size_t>(a * S::G + b)] = true;
+          BlockKind& k = m[static_cast<std::size_t>(a * S::G + b)];
+          const bool diagonal = S::Groups::size[static_cast<std::size_t>(a)] == S::Groups::size[static_cast<std::size_t>(b)] &&
+                                t.i - S::offset(a) == t.j - S::offset(b);
+          if (k == BlockKind::Zero) k = diagonal ? BlockKind::Diagonal : BlockKind::Dense;
+          else if (!diagonal) k = BlockKind::Dense;
         }
       } else {
-        m.fill(true);
+        m.fill(BlockKind::Dense);
       }
       return m;
     }();
-    return mask;
+    return kinds;
+  }
+
+  /// Y = C_ab Z_b over b's support slots: a leaf's Z is ±I (its columns are ±C_ab); a From group's T scaled by
+  /// rows when the block is diagonal.
+  template <int I, int a, int b, typename Cab, typename Totals, typename Y>
+  static void curvatureColumns(const Cab& C, BlockKind kind, Totals&& total, Y& out) {
+    using S = Shape<I>;
+    if constexpr (S::Groups::layer[b] < 0) {
+      if constexpr (S::Groups::isDifference[b]) {
+        out.template middleCols<3>(0) = -C;  // x_j − x_i: −I at i (slot 0), +I at j (slot 1)
+        out.template middleCols<3>(3) = C;
+      } else {
+        out = C;
+      }
+    } else {
+      if constexpr (S::Groups::size[a] == S::Groups::size[b]) {
+        if (kind == BlockKind::Diagonal) {
+          out.noalias() = C.diagonal().asDiagonal() * total(std::integral_constant<int, b>());
+          return;
+        }
+      }
+      out.noalias() = C.lazyProduct(total(std::integral_constant<int, b>()));
+    }
   }
 
   /// H += the node's curvature Zᵀ C Z (C = Σ_k w_k ∇²y_k, N×N) in element coordinates, block by block: per
   /// pair of input groups a ≤ b with C_ab possibly nonzero, Y = C_ab Z_b over b's support slots, then per pair
-  /// of support slots the 3×3 block Z_a(·, slot)ᵀ Y(·, slot') at their element slots. `slot[g]` maps group g's
-  /// support slots to the element's (−1: none); `total(group)` gives a From group's T.
+  /// of support slots the 3×3 block Z_a(·, slot)ᵀ Y(·, slot') at their element slots; a leaf group a's pairs
+  /// with the later groups through its strip (addLeafStrip). `slot[g]` maps group g's support slots to the
+  /// element's (−1: none); `total(group)` gives a From group's T.
   template <int I, bool Full, typename Totals>
   static void addCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
                            const std::array<Slots, Shape<I>::G>& slot, Totals&& total, WorkHessian& H) {
     using S = Shape<I>;
-    const auto& mask = blockMask<I>();
+    const auto& kinds = blockKinds<I>();
     forEachGroup<I>([&](auto groupA) {
       constexpr int a = decltype(groupA)::value;
       constexpr int na = S::Groups::size[a], oa = S::offset(a), la = S::Groups::layer[a], wa = groupWidth<I>(a);
+      if constexpr (la < 0) addLeafStrip<I, a, Full>(C, slot, total, H);
       forEachGroup<I>([&](auto groupB) {
         constexpr int b = decltype(groupB)::value;
-        if constexpr (b >= a) {
-          if (!mask[static_cast<std::size_t>(a * S::G + b)]) return;
-          constexpr int nb = S::Groups::size[b], ob = S::offset(b), lb = S::Groups::layer[b];
+        // A leaf's pairs with later groups went into its strip.
+        if constexpr (b == a || (b > a && la >= 0)) {
+          const BlockKind kind = kinds[static_cast<std::size_t>(a * S::G + b)];
+          if (kind == BlockKind::Zero) return;
+          constexpr int nb = S::Groups::size[b], ob = S::offset(b);
           constexpr int wb = groupWidth<I>(b);
           const auto Cab = C.template block<na, nb>(oa, ob);
-          // Y = C_ab Z_b over b's support slots (a leaf's Z is ±I: its columns are ±C_ab).
           Eigen::Matrix<double, na, 3 * wb> Y;
-          if constexpr (lb < 0) {
-            if constexpr (S::Groups::isDifference[b]) {
-              Y.template middleCols<3>(0) = -Cab;  // x_j − x_i: −I at i (slot 0), +I at j (slot 1)
-              Y.template middleCols<3>(3) = Cab;
-            } else {
-              Y = Cab;
-            }
-          } else {
-            Y.noalias() = Cab.lazyProduct(total(groupB));
-          }
+          curvatureColumns<I, a, b>(Cab, kind, total, Y);
           constexpr bool same = a == b;
           // A From group's blocks all at once, Z_aᵀ Y = (Z_aᵀ) Y with Z_aᵀ stored by columns: each column of the
           // product is a combination of Z_aᵀ's columns, which vectorizes (Z_a(·, slot)ᵀ Y(·, slot') per block
@@ -443,6 +467,52 @@ class StageGraphEvaluator {
         }
       });
     });
+  }
+
+  /// A leaf group a's pairs with the later groups b > a, S = Σ_b Z_aᵀ C_ab Z_b (and its transpose): Z_a is ±I at
+  /// a's one or two slots, so S is the strip R = Σ_b C_ab Z_b (na × the working columns) in a's rows, added once
+  /// per row and column block instead of once per pair and support slot (a bilinear stage such as the second
+  /// fundamental form couples each edge vector with several normals).
+  template <int I, int a, bool Full, typename Totals>
+  static void addLeafStrip(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
+                           const std::array<Slots, Shape<I>::G>& slot, Totals&& total, WorkHessian& H) {
+    using S = Shape<I>;
+    constexpr int na = S::Groups::size[a], oa = S::offset(a);
+    static_assert(na == 3, "a leaf group is one vertex's three coordinates");
+    const auto& kinds = blockKinds<I>();
+    Eigen::Matrix<double, 3, Dw> R;
+    std::array<bool, Kw> touched{};
+    bool any = false;
+    forEachGroup<I>([&](auto groupB) {
+      constexpr int b = decltype(groupB)::value;
+      if constexpr (b > a) {
+        const BlockKind kind = kinds[static_cast<std::size_t>(a * S::G + b)];
+        if (kind == BlockKind::Zero) return;
+        constexpr int nb = S::Groups::size[b], wb = groupWidth<I>(b);
+        Eigen::Matrix<double, 3, 3 * wb> Y;
+        curvatureColumns<I, a, b>(C.template block<na, nb>(oa, S::offset(b)), kind, total, Y);
+        if (!any) R.setZero();
+        any = true;
+        for (int sb = 0; sb < wb; ++sb) {
+          const int c = slot[b][static_cast<std::size_t>(sb)];
+          if (c < 0) continue;
+          R.template middleCols<3>(3 * c) += Y.template middleCols<3>(3 * sb);
+          touched[static_cast<std::size_t>(c)] = true;
+        }
+      }
+    });
+    if (!any) return;
+    constexpr int rows = S::Groups::isDifference[a] ? 2 : 1;
+    for (int sa = 0; sa < rows; ++sa) {
+      const int r = slot[a][static_cast<std::size_t>(sa)];
+      if (r < 0) continue;
+      const double sign = S::Groups::isDifference[a] && sa == 0 ? -1.0 : 1.0;
+      for (int c = 0; c < Kw; ++c) {
+        if (!touched[static_cast<std::size_t>(c)]) continue;
+        const Eigen::Matrix3d M = sign * R.template middleCols<3>(3 * c);
+        addBlock<Full>(r, c, M, true, H);
+      }
+    }
   }
 
   /// A constant-Hessian stage's entries in the blocks C_ab with a ≤ b, and those blocks.
