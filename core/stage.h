@@ -15,6 +15,12 @@
 // is evaluated by it on DerivativePath::Analytic; stageTwinDiscrepancy() measures it against the Jets (the
 // conformance tests call it), so a twin is an optimisation that is always checked, never a second truth.
 //
+// Optional weighted-Hessian twin, detected at compile time: a stage with a twin may also declare
+//     void weightedHessian(const double* z, int entity, const double* w, Eigen::Matrix<double, N, N>& C) const;
+// C = Σ_k w_k ∇²y_k in closed form, without forming the M Hessians (what a stage graph's exact Hessian needs of
+// a shared node, and a composed stage of its outer part). It is used on DerivativePath::Analytic;
+// stageTwinDiscrepancy() checks it against the same sum of the Jets' Hessians.
+//
 // Optional declaration `static constexpr bool kConstantHessian = true;`: the stage is a polynomial of degree
 // at most 2 with fixed coefficients (a bilinear product such as a cross product, a metric or a second
 // fundamental form): its Hessians and its Jacobian at z = 0 do not depend on the input, the entity or the
@@ -72,6 +78,15 @@ struct HasStageTwin : std::false_type {};
 template <typename S>
 struct HasStageTwin<S, std::void_t<decltype(std::declval<const S&>().derivatives(
                            static_cast<const double*>(nullptr), 0, 0, std::declval<StageDerivativesOf<S>&>()))>>
+    : std::true_type {};
+
+/// True when stage S declares a weighted-Hessian twin `weightedHessian(z, entity, w, C)`.
+template <typename S, typename = void>
+struct HasWeightedHessianTwin : std::false_type {};
+template <typename S>
+struct HasWeightedHessianTwin<S, std::void_t<decltype(std::declval<const S&>().weightedHessian(
+                                     static_cast<const double*>(nullptr), 0, static_cast<const double*>(nullptr),
+                                     std::declval<Eigen::Matrix<double, S::kInputs, S::kInputs>&>()))>>
     : std::true_type {};
 
 /// True when stage S declares kConstantHessian = true.
@@ -257,9 +272,15 @@ struct ComposedStage {
     StageDerivativesOf<Inner> i;
     StageDerivativesOf<Outer> o;
     evaluateStage(inner, z, entity, HasConstantHessian<Inner>::value ? 1 : 2, path, i);
-    evaluateStage(outer, i.value.data(), entity, 2, path, o);
-    Eigen::Matrix<double, P, P> X = w[0] * o.hessians[0];
-    for (int k = 1; k < M; ++k) X.noalias() += w[k] * o.hessians[static_cast<std::size_t>(k)];
+    Eigen::Matrix<double, P, P> X;
+    if (HasWeightedHessianTwin<Outer>::value && path == DerivativePath::Analytic) {
+      evaluateStage(outer, i.value.data(), entity, 1, path, o);
+      if constexpr (HasWeightedHessianTwin<Outer>::value) outer.weightedHessian(i.value.data(), entity, w, X);
+    } else {
+      evaluateStage(outer, i.value.data(), entity, 2, path, o);
+      X = w[0] * o.hessians[0];
+      for (int k = 1; k < M; ++k) X.noalias() += w[k] * o.hessians[static_cast<std::size_t>(k)];
+    }
     C.noalias() = i.jacobian.transpose() * (X * i.jacobian);
     const Eigen::Matrix<double, P, 1> v = o.jacobian.transpose() * Eigen::Map<const Eigen::Matrix<double, M, 1>>(w);
     if constexpr (HasConstantHessian<Inner>::value) {
@@ -353,7 +374,8 @@ double composedStageDiscrepancy(const S& s, const double* z, int entity, Derivat
 }
 
 /// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
-/// relative to the largest Jet entry of its kind, floor 1). 0 for a stage without a twin.
+/// relative to the largest Jet entry of its kind, floor 1), and a weighted-Hessian twin's against the Jets'
+/// Σ_k w_k ∇²y_k with weights 1, −2, 3, …. 0 for a stage without a twin.
 template <typename S>
 double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
   if constexpr (!HasStageTwin<S>::value) {
@@ -364,6 +386,16 @@ double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
     s.derivatives(z, entity, 2, twin);
     double worst = std::max(relativeDifference(twin.value, jets.value), relativeDifference(twin.jacobian, jets.jacobian));
     for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(twin.hessians[k], jets.hessians[k]));
+    if constexpr (HasWeightedHessianTwin<S>::value) {
+      double w[S::kOutputs];
+      Eigen::Matrix<double, S::kInputs, S::kInputs> sum = Eigen::Matrix<double, S::kInputs, S::kInputs>::Zero(), weighted;
+      for (int k = 0; k < S::kOutputs; ++k) {
+        w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
+        sum += w[k] * jets.hessians[static_cast<std::size_t>(k)];
+      }
+      s.weightedHessian(z, entity, w, weighted);
+      worst = std::max(worst, relativeDifference(weighted, sum));
+    }
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }

@@ -635,8 +635,8 @@ class StageGraphEvaluator {
   }
 
   /// C = Σ_k w_k ∇²y_k of Shared node `entity` of layer I (a stage with non-constant Hessians) at x, on the mode's
-  /// path; a composed stage contracts inside the composition (one product through its inner stage). False when
-  /// w is zero (no curvature).
+  /// path; a composed stage contracts inside the composition (one product through its inner stage), a stage with
+  /// a weighted-Hessian twin (core/stage.h) takes it on the analytic path. False when w is zero (no curvature).
   template <int I>
   bool contractShared(const Eigen::VectorXd& x, int entity, const double* w, const Mode& mode,
                       Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C) {
@@ -649,6 +649,12 @@ class StageGraphEvaluator {
       stage.contractedHessian(z, entity, mode.path, w, C);
       return true;
     } else {
+      if constexpr (HasWeightedHessianTwin<typename S::Stage>::value) {
+        if (mode.path == DerivativePath::Analytic) {
+          stage.weightedHessian(z, entity, w, C);
+          return true;
+        }
+      }
       StageDerivatives<S::N, S::M> d;
       derivatives<I>(stage, z, entity, 2, mode.path, d);
       return contract<I>(w, &d.hessians, C);

@@ -2,6 +2,8 @@
 
 #include <Eigen/Dense>
 
+#include <cmath>
+
 namespace jetshell::analytic {
 
 void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
@@ -58,6 +60,23 @@ void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Mat
     H.row(k) -= (2.0 / q2) * m.transpose();
     H.col(k) -= (2.0 / q2) * m;
   }
+}
+
+void unitNormalWeightedHessian(const Eigen::Vector3d& c, const Eigen::Vector3d& w, Eigen::Matrix3d& C) {
+  const double r2 = c.squaredNorm();
+  const Eigen::Vector3d n = c / std::sqrt(r2);
+  const double wn = w.dot(n);
+  const Eigen::Vector3d a = 1.5 * wn * n - w;  // 3(w·n) n nᵀ − w nᵀ − n wᵀ = a nᵀ + n aᵀ
+  C = (a * n.transpose() + n * a.transpose()) / r2;
+  C.diagonal().array() -= wn / r2;
+}
+
+void kelvinInversionWeightedHessian(const Eigen::Vector3d& m, const Eigen::Vector3d& w, Eigen::Matrix3d& C) {
+  const double q = m.squaredNorm(), q2 = q * q;
+  const double wm = w.dot(m);
+  const Eigen::Vector3d a = (2.0 * wm / q) * m - w;  // 8(w·m)/q m mᵀ − 2(w mᵀ + m wᵀ) = 2(a mᵀ + m aᵀ)
+  C = (2.0 / q2) * (a * m.transpose() + m * a.transpose());
+  C.diagonal().array() -= 2.0 * wm / q2;
 }
 
 }  // namespace jetshell::analytic

@@ -25,11 +25,18 @@ void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], d
 void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian,
                 std::array<Eigen::Matrix3d, 3>& hessians);
 
+/// n = c/‖c‖: C = Σ_k w_k ∇²n_k = (3(w·n) n nᵀ − w nᵀ − n wᵀ − (w·n) I)/‖c‖², without the three Hessians.
+void unitNormalWeightedHessian(const Eigen::Vector3d& c, const Eigen::Vector3d& w, Eigen::Matrix3d& C);
+
 /// n = c/‖c‖: value and Jacobian only.
 void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian);
 
 /// n̄ = m/‖m‖²: value and Jacobian only.
 void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian);
+
+/// n̄ = m/‖m‖²: C = Σ_k w_k ∇²n̄_k = 8(w·m) m mᵀ/q³ − 2(w mᵀ + m wᵀ + (w·m) I)/q² (q = ‖m‖²), without the three
+/// Hessians.
+void kelvinInversionWeightedHessian(const Eigen::Vector3d& m, const Eigen::Vector3d& w, Eigen::Matrix3d& C);
 
 /// n̄ = m/‖m‖²: value, Jacobian, and Hessian of each component.
 void kelvinInversion(const Eigen::Vector3d& m, Eigen::Vector3d& nbar, Eigen::Matrix3d& jacobian,

@@ -5,11 +5,11 @@
 // framework's (core/stage_graph_evaluator.h).
 //
 //   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear, twin
-//   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin
+//   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin, weighted-Hessian twin
 //   FaceNormalStage       (e0, e1): the two above composed (core/stage.h) -> n                6 -> 3
 //   EdgeMeanStage         (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B)  6 -> 3, affine, twin;
 //                         on a boundary edge (n, n)                     -> m = ½(n + n_ghost(n)), the edge's rule
-//   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin
+//   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin, weighted-Hessian twin
 //   SecondFormStage       (e0, e1, n̄0, n̄1, n̄2) of a face                -> b                15 -> 3, bilinear, twin
 //   BendingDensityStage   b                                             -> s·area·W_b(B − b) 3 -> 1, twin
 //   MetricStage           (e0, e1)                                      -> a = [e_a·e_b]    6 -> 3, bilinear
@@ -65,6 +65,9 @@ struct UnitNormalStage {
     if (order == 1) return analytic::unitNormal(Eigen::Vector3d(c[0], c[1], c[2]), d.value, d.jacobian);
     analytic::unitNormal(Eigen::Vector3d(c[0], c[1], c[2]), d.value, d.jacobian, d.hessians);
   }
+  void weightedHessian(const double* c, int /*face*/, const double* w, Eigen::Matrix3d& C) const {
+    analytic::unitNormalWeightedHessian(Eigen::Vector3d(c[0], c[1], c[2]), Eigen::Vector3d(w[0], w[1], w[2]), C);
+  }
 };
 
 /// The face normal as one node of a chain (cached per face): derivatives chained from the two stages' own.
@@ -110,6 +113,9 @@ struct KelvinStage {
     if (order <= 0) return (*this)(m, d.value.data(), edge);
     if (order == 1) return analytic::kelvinInversion(Eigen::Vector3d(m[0], m[1], m[2]), d.value, d.jacobian);
     analytic::kelvinInversion(Eigen::Vector3d(m[0], m[1], m[2]), d.value, d.jacobian, d.hessians);
+  }
+  void weightedHessian(const double* m, int /*edge*/, const double* w, Eigen::Matrix3d& C) const {
+    analytic::kelvinInversionWeightedHessian(Eigen::Vector3d(m[0], m[1], m[2]), Eigen::Vector3d(w[0], w[1], w[2]), C);
   }
 };
 

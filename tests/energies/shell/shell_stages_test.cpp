@@ -44,7 +44,11 @@ TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian decla
   const EdgeMeanStage edgeMean{&edgeRules, &edgeData, &topology};
   for (int trial = 0; trial < 20; ++trial) {
     double z[15];
-    // Twins, relative to the Jets' largest entry (measured <= 4e-16; limit 1e-12).
+    // Twins, relative to the Jets' largest entry (measured <= 4e-16; limit 1e-12). The unit normal's and the
+    // Kelvin inversion's include their weighted-Hessian twins Σ_k w_k ∇²y_k (and the face normal's contracted
+    // Hessian on the analytic path goes through the unit normal's).
+    STATIC_REQUIRE(HasWeightedHessianTwin<UnitNormalStage>::value);
+    STATIC_REQUIRE(HasWeightedHessianTwin<KelvinStage>::value);
     randomInput<UnitNormalStage>(rng, z);
     CHECK(stageTwinDiscrepancy(UnitNormalStage(), z, 0) <= 1e-12);
     randomInput<FaceNormalStage>(rng, z);
