@@ -5,17 +5,18 @@
 // framework's (core/stage_graph_evaluator.h).
 //
 //   FaceCrossStage        (e0, e1) of a face, its own vertex order      -> c = e0 × e1      6 -> 3, bilinear, twin
-//   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin, weighted-Hessian twin
+//   UnitNormalStage       c                                             -> n = c/‖c‖        3 -> 3, twin
 //   FaceNormalStage       (e0, e1): the two above composed (core/stage.h) -> n                6 -> 3
 //   EdgeMeanStage         (n_A, n_B) of an edge's faces, the edge's order -> m = ½(n_A + n_B)  6 -> 3, affine, twin;
 //                         on a boundary edge (n, n)                     -> m = ½(n + n_ghost(n)), the edge's rule
-//   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin, weighted-Hessian twin
+//   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin
 //   SecondFormStage       (e0, e1, n̄0, n̄1, n̄2) of a face                -> b                15 -> 3, bilinear, twin
 //   BendingDensityStage   b                                             -> s·area·W_b(B − b) 3 -> 1, twin
 //   MetricStage           (e0, e1)                                      -> a = [e_a·e_b]    6 -> 3, bilinear
 //   MembraneDensityStage  a                                             -> s·area·W_m(½(a − A)) 3 -> 1, twin
 // The bilinear stages declare kConstantHessian: their Hessians are computed once, not per element; the edge mean
-// declares kAffine: no Hessian is ever computed for it.
+// declares kAffine: no Hessian is ever computed for it. The unit normal and the Kelvin inversion also declare
+// weighted-Hessian twins (Σ_k w_k ∇²y_k in closed form, core/stage.h) for the exact Hessian's shared nodes.
 #pragma once
 
 #include "core/stage.h"
