@@ -348,6 +348,17 @@ double affineDiscrepancy(const S& s, const double* z, int entity) {
   }
 }
 
+/// The checks' output weights w_k = 1, −2, 3, … (into w) and the Jets' Σ_k w_k ∇²y_k with them.
+template <int N, int M>
+Eigen::Matrix<double, N, N> checkWeightedHessian(const StageDerivatives<N, M>& jets, double (&w)[M]) {
+  Eigen::Matrix<double, N, N> sum = Eigen::Matrix<double, N, N>::Zero();
+  for (int k = 0; k < M; ++k) {
+    w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
+    sum += w[k] * jets.hessians[static_cast<std::size_t>(k)];
+  }
+  return sum;
+}
+
 /// Largest relative difference between a composed stage's chained derivatives on `path` and its own Jets at z
 /// (value, Jacobian, Hessians, and a contracted Hessian; 0 for any other stage).
 template <typename S>
@@ -360,13 +371,10 @@ double composedStageDiscrepancy(const S& s, const double* z, int entity, Derivat
     s.chained(z, entity, 2, path, chained);
     double worst = std::max(relativeDifference(chained.value, jets.value), relativeDifference(chained.jacobian, jets.jacobian));
     for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(chained.hessians[k], jets.hessians[k]));
-    // The contracted Hessian, with weights 1, −2, 3, … on the outputs, against the same sum of the Jets'.
+    // The contracted Hessian, with the check's weights, against the same sum of the Jets'.
     double w[S::kOutputs];
-    Eigen::Matrix<double, S::kInputs, S::kInputs> sum = Eigen::Matrix<double, S::kInputs, S::kInputs>::Zero(), contracted;
-    for (int k = 0; k < S::kOutputs; ++k) {
-      w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
-      sum += w[k] * jets.hessians[static_cast<std::size_t>(k)];
-    }
+    Eigen::Matrix<double, S::kInputs, S::kInputs> contracted;
+    const auto sum = checkWeightedHessian(jets, w);
     s.contractedHessian(z, entity, path, w, contracted);
     worst = std::max(worst, relativeDifference(contracted, sum));
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
@@ -375,7 +383,7 @@ double composedStageDiscrepancy(const S& s, const double* z, int entity, Derivat
 
 /// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
 /// relative to the largest Jet entry of its kind, floor 1), and a weighted-Hessian twin's against the Jets'
-/// Σ_k w_k ∇²y_k with weights 1, −2, 3, …. 0 for a stage without a twin.
+/// Σ_k w_k ∇²y_k (checkWeightedHessian). 0 for a stage without a twin.
 template <typename S>
 double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
   if constexpr (!HasStageTwin<S>::value) {
@@ -388,11 +396,8 @@ double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
     for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(twin.hessians[k], jets.hessians[k]));
     if constexpr (HasWeightedHessianTwin<S>::value) {
       double w[S::kOutputs];
-      Eigen::Matrix<double, S::kInputs, S::kInputs> sum = Eigen::Matrix<double, S::kInputs, S::kInputs>::Zero(), weighted;
-      for (int k = 0; k < S::kOutputs; ++k) {
-        w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
-        sum += w[k] * jets.hessians[static_cast<std::size_t>(k)];
-      }
+      Eigen::Matrix<double, S::kInputs, S::kInputs> weighted;
+      const auto sum = checkWeightedHessian(jets, w);
       s.weightedHessian(z, entity, w, weighted);
       worst = std::max(worst, relativeDifference(weighted, sum));
     }
