@@ -4,10 +4,12 @@
 // Energy code writes plain constants and Eigen algebra directly (2.0 * x, a.dot(b), a.cross(b).norm(): see
 // core/jet_arithmetic.h, included here). What stays here:
 //   vec3(p)          the 3-vector stored at p[0..2] as an Eigen vector of T (writable when p is)
-//   constant<T>(c)   a constant of type T at any nesting depth (also for Ceres' own nested Jets)
+//   constant<T>(c)   a constant of type T at any nesting depth (also for Ceres' own nested Jets). In a product,
+//                    prefer the plain number: 2.0 * x scales each level of a Jet, constant<T>(2.0) * x is a
+//                    full Jet product (for a nested Jet of 3 inputs, 16 products against about 50)
 //   valueOf(x)       the plain double value of x
-//   V3<T>            a 3-vector as a plain array with dot/cross/norm, from before Eigen worked for nested Jets;
-//                    existing stages still use it.
+//   V3<T>            a 3-vector as a plain array with dot/cross/norm and a scale by T or by a plain number, from
+//                    before Eigen worked for nested Jets; existing stages still use it.
 // tests/core/scalar_test.cpp compile-tests every helper for every supported scalar type.
 #pragma once
 
@@ -17,6 +19,7 @@
 #include <ceres/jet.h>
 
 #include <cmath>
+#include <type_traits>
 
 namespace jetshell {
 
@@ -83,6 +86,11 @@ inline V3<T> operator-(const V3<T>& a, const V3<T>& b) {
 }
 template <typename T>
 inline V3<T> operator*(const T& s, const V3<T>& a) {
+  return {{s * a[0], s * a[1], s * a[2]}};
+}
+/// A plain number times a vector of Jets scales each component (no promotion of the number to a Jet).
+template <typename T, std::enable_if_t<!std::is_same_v<T, double>, int> = 0>
+inline V3<T> operator*(double s, const V3<T>& a) {
   return {{s * a[0], s * a[1], s * a[2]}};
 }
 template <typename T>

@@ -10,8 +10,6 @@
 #include "core/scalar.h"
 #include "energies/shell/edge_rules.h"
 
-#include <type_traits>
-
 namespace jetshell {
 
 /// Metric a = (e0·e0, e0·e1, e1·e1).
@@ -25,90 +23,73 @@ void metric(const V3<T>& e0, const V3<T>& e1, T a[3]) {
 /// Unit normal from the (unnormalized) cross product c = e0 × e1.
 template <typename T>
 V3<T> unitNormal(const V3<T>& c) {
-  const T inv = constant<T>(1.0) / norm(c);
+  const T inv = 1.0 / norm(c);
   return inv * c;
 }
 
 /// Kelvin inversion of the mean normal m = ½(n_A + n_B): n̄ = m / ‖m‖².
 template <typename T>
 V3<T> kelvinInversion(const V3<T>& m) {
-  const T inv = constant<T>(1.0) / squaredNorm(m);
+  const T inv = 1.0 / squaredNorm(m);
   return inv * m;
 }
 
 /// Mid-edge normal of an edge whose two adjacent unit face normals are nA and nB (nB = nA on the boundary).
 template <typename T>
 V3<T> midEdgeNormal(const V3<T>& nA, const V3<T>& nB) {
-  return kelvinInversion(constant<T>(0.5) * (nA + nB));
+  return kelvinInversion(0.5 * (nA + nB));
 }
 
 /// Discrete second fundamental form from the face's edge vectors and its three mid-edge normals.
 template <typename T>
 void secondFundamentalForm(const V3<T>& e0, const V3<T>& e1, const V3<T>& n0, const V3<T>& n1, const V3<T>& n2,
                            T b[3]) {
-  const T two = constant<T>(2.0);
-  b[0] = two * dot(n1 - n0, e0);
-  b[1] = -two * dot(n0, e1);
-  b[2] = two * dot(n2 - n0, e1);
+  b[0] = 2.0 * dot(n1 - n0, e0);
+  b[1] = -2.0 * dot(n0, e1);
+  b[2] = 2.0 * dot(n2 - n0, e1);
 }
 
 /// tr(P t) for symmetric P, t stored as (00, 01, 11).
 template <typename T>
 T trace(const double P[3], const T t[3]) {
-  return constant<T>(P[0]) * t[0] + constant<T>(2.0 * P[1]) * t[1] + constant<T>(P[2]) * t[2];
+  return P[0] * t[0] + (2.0 * P[1]) * t[1] + P[2] * t[2];
 }
 
 /// tr(P t P t) for symmetric P, t.
 template <typename T>
 T traceOfSquare(const double P[3], const T t[3]) {
-  const T p0 = constant<T>(P[0]), p1 = constant<T>(P[1]), p2 = constant<T>(P[2]);
-  const T pt00 = p0 * t[0] + p1 * t[1], pt01 = p0 * t[1] + p1 * t[2];
-  const T pt10 = p1 * t[0] + p2 * t[1], pt11 = p1 * t[1] + p2 * t[2];
-  return pt00 * pt00 + constant<T>(2.0) * pt01 * pt10 + pt11 * pt11;
-}
-
-/// c·q as a scalar of type T, for a material parameter q that is either a plain double (folded into one
-/// constant) or a dual of type T (parameters seeded as duals, core/parameter_derivatives.h).
-template <typename T, typename Q>
-T scaledParameter(double c, const Q& q) {
-  if constexpr (std::is_same_v<Q, T>) {
-    return constant<T>(c) * q;
-  } else {
-    return constant<T>(c * q);
-  }
+  const T pt00 = P[0] * t[0] + P[1] * t[1], pt01 = P[0] * t[1] + P[1] * t[2];
+  const T pt10 = P[1] * t[0] + P[2] * t[1], pt11 = P[1] * t[1] + P[2] * t[2];
+  return pt00 * pt00 + 2.0 * pt01 * pt10 + pt11 * pt11;
 }
 
 /// St. Venant–Kirchhoff membrane energy density W_m = λ/2 (tr ε)² + μ tr(ε²), ε = ½(a − A), traces with A⁻¹.
 /// λ and μ are doubles or duals of type T.
 template <typename T, typename Q>
 T membraneDensity(const T a[3], const double A[3], const double Ainv[3], const Q& lambda, const Q& mu) {
-  const T half = constant<T>(0.5);
-  const T eps[3] = {half * (a[0] - constant<T>(A[0])), half * (a[1] - constant<T>(A[1])),
-                    half * (a[2] - constant<T>(A[2]))};
+  const T eps[3] = {0.5 * (a[0] - A[0]), 0.5 * (a[1] - A[1]), 0.5 * (a[2] - A[2])};
   const T tr = trace(Ainv, eps);
-  return scaledParameter<T>(0.5, lambda) * tr * tr + scaledParameter<T>(1.0, mu) * traceOfSquare(Ainv, eps);
+  return 0.5 * lambda * tr * tr + mu * traceOfSquare(Ainv, eps);
 }
 
 /// Bending energy density W_b = ½(α (tr κ)² + β tr(κ²)), κ = B − b, traces with A⁻¹. α and β are doubles or
 /// duals of type T.
 template <typename T, typename Q>
 T bendingDensity(const T b[3], const double B[3], const double Ainv[3], const Q& alpha, const Q& beta) {
-  const T kappa[3] = {constant<T>(B[0]) - b[0], constant<T>(B[1]) - b[1], constant<T>(B[2]) - b[2]};
+  const T kappa[3] = {B[0] - b[0], B[1] - b[1], B[2] - b[2]};
   const T tr = trace(Ainv, kappa);
-  return scaledParameter<T>(0.5, alpha) * tr * tr + scaledParameter<T>(0.5, beta) * traceOfSquare(Ainv, kappa);
+  return 0.5 * alpha * tr * tr + 0.5 * beta * traceOfSquare(Ainv, kappa);
 }
 
 /// G(u, v) = α tr(Pu) tr(Pv) + β tr(PuPv) for symmetric u, v, P (stored as (00, 01, 11)): the symmetric
 /// bilinear form of W_b, W_b(κ) = ½ G(κ, κ). α and β are doubles or duals of type T.
 template <typename T, typename Q>
 T bendingBilinear(const T u[3], const T v[3], const double P[3], const Q& alpha, const Q& beta) {
-  const T p0 = constant<T>(P[0]), p1 = constant<T>(P[1]), p2 = constant<T>(P[2]);
-  const T pu00 = p0 * u[0] + p1 * u[1], pu01 = p0 * u[1] + p1 * u[2];
-  const T pu10 = p1 * u[0] + p2 * u[1], pu11 = p1 * u[1] + p2 * u[2];
-  const T pv00 = p0 * v[0] + p1 * v[1], pv01 = p0 * v[1] + p1 * v[2];
-  const T pv10 = p1 * v[0] + p2 * v[1], pv11 = p1 * v[1] + p2 * v[2];
-  return scaledParameter<T>(1.0, alpha) * (pu00 + pu11) * (pv00 + pv11) +
-         scaledParameter<T>(1.0, beta) * (pu00 * pv00 + pu01 * pv10 + pu10 * pv01 + pu11 * pv11);
+  const T pu00 = P[0] * u[0] + P[1] * u[1], pu01 = P[0] * u[1] + P[1] * u[2];
+  const T pu10 = P[1] * u[0] + P[2] * u[1], pu11 = P[1] * u[1] + P[2] * u[2];
+  const T pv00 = P[0] * v[0] + P[1] * v[1], pv01 = P[0] * v[1] + P[1] * v[2];
+  const T pv10 = P[1] * v[0] + P[2] * v[1], pv11 = P[1] * v[1] + P[2] * v[2];
+  return alpha * (pu00 + pu11) * (pv00 + pv11) + beta * (pu00 * pv00 + pu01 * pv10 + pu10 * pv01 + pu11 * pv11);
 }
 
 /// The face's bending density with its boundary edges' rules: W_b(B − b) when no edge is moment-free, else
@@ -118,7 +99,7 @@ template <typename T, typename Q>
 T ruledBendingDensity(const T b[3], const double B[3], const double Ainv[3], const Q& alpha, const Q& beta,
                       const bool minimized[3]) {
   if (!(minimized[0] || minimized[1] || minimized[2])) return bendingDensity(b, B, Ainv, alpha, beta);
-  const T kappa[3] = {constant<T>(B[0]) - b[0], constant<T>(B[1]) - b[1], constant<T>(B[2]) - b[2]};
+  const T kappa[3] = {B[0] - b[0], B[1] - b[1], B[2] - b[2]};
   return minimizedOverMomentFreeEdges(
       kappa, minimized, [&](const T* u, const T* v) { return bendingBilinear(u, v, Ainv, alpha, beta); });
 }

@@ -87,9 +87,9 @@ struct EdgeMeanStage {
   template <typename T>
   void operator()(const T* z, T* m, int edge) const {
     const V3<T> n = load3(z);
-    if (!isBoundary(edge)) return store3(constant<T>(0.5) * (n + load3(z + 3)), m);
+    if (!isBoundary(edge)) return store3(0.5 * (n + load3(z + 3)), m);
     const auto e = static_cast<std::size_t>(edge);
-    store3(constant<T>(0.5) * (n + ghostNormal((*rules)[e], n, (*data)[e])), m);
+    store3(0.5 * (n + ghostNormal((*rules)[e], n, (*data)[e])), m);
   }
   /// Twin: on an interior edge ½(n_A + n_B), Jacobian [½I ½I]; a boundary edge's rule is differentiated by its
   /// Jets (few edges, every rule).
@@ -182,9 +182,8 @@ struct BendingDensityStage {
   }
   template <typename T>
   void operator()(const T* b, T* w, int f) const {
-    w[0] = constant<T>(scale * ref->area[f]) * ruledBendingDensity(b, ref->secondFundamentalForm[f].data(),
-                                                                   ref->inverseMetric[f].data(), alpha, beta,
-                                                                   minimizedEdges(f));
+    w[0] = (scale * ref->area[f]) * ruledBendingDensity(b, ref->secondFundamentalForm[f].data(),
+                                                        ref->inverseMetric[f].data(), alpha, beta, minimizedEdges(f));
   }
   void derivatives(const double* b, int f, int order, StageDerivatives<3, 1>& d) const {
     if (order <= 0) return (*this)(b, d.value.data(), f);
@@ -210,8 +209,7 @@ struct MembraneDensityStage {
   double lambda = 0.0, mu = 0.0, scale = 1.0;
   template <typename T>
   void operator()(const T* a, T* w, int f) const {
-    w[0] = constant<T>(scale * ref->area[f]) *
-           membraneDensity(a, ref->metric[f].data(), ref->inverseMetric[f].data(), lambda, mu);
+    w[0] = (scale * ref->area[f]) * membraneDensity(a, ref->metric[f].data(), ref->inverseMetric[f].data(), lambda, mu);
   }
   void derivatives(const double* a, int f, int order, StageDerivatives<3, 1>& d) const {
     if (order <= 0) return (*this)(a, d.value.data(), f);

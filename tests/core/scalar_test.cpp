@@ -18,8 +18,9 @@ T composite(const T* p) {
   const V3<T> a = load3(p);
   const V3<T> q{{constant<T>(0.3), constant<T>(-1.2), constant<T>(0.7)}};
   const V3<T> s = constant<T>(2.0) * (a + q) - q - q;  // = 2a
+  const V3<T> h = 0.5 * s;                              // = a: a plain number times a vector
   const V3<T> c = cross(a, q);
-  return squaredNorm(a) + constant<T>(0.5) * dot(s, q) * norm(c) - constant<T>(0.5) * norm(a - q + q);
+  return squaredNorm(a) + constant<T>(0.5) * dot(s, q) * norm(c) - 0.5 * norm(h - q + q);
 }
 
 double compositeValue(const double* p) { return composite(p); }
