@@ -22,25 +22,24 @@ template <typename T>
 T contactRamp(const T& p, double delta) {
   const double v = valueOf(p);
   if (v <= 0.0) return constant<T>(0.0);
-  if (v < delta) return p * p * p * constant<T>(1.0 / (6.0 * delta));
-  return constant<T>(0.5) * p * p - constant<T>(0.5 * delta) * p + constant<T>(delta * delta / 6.0);
+  if (v < delta) return p * p * p * (1.0 / (6.0 * delta));
+  return 0.5 * p * p - (0.5 * delta) * p + delta * delta / 6.0;
 }
 
 template <typename T>
 T contactRampForce(const T& p, double delta) {
   const double v = valueOf(p);
   if (v <= 0.0) return constant<T>(0.0);
-  if (v < delta) return p * p * constant<T>(0.5 / delta);
-  return p - constant<T>(0.5 * delta);
+  if (v < delta) return p * p * (0.5 / delta);
+  return p - 0.5 * delta;
 }
 
 template <typename T>
 T contactRampMoment(const T& p, double delta) {
   const double v = valueOf(p);
   if (v <= 0.0) return constant<T>(0.0);
-  if (v < delta) return p * p * p * p * constant<T>(1.0 / (8.0 * delta));
-  return p * p * p * constant<T>(1.0 / 3.0) - constant<T>(0.25 * delta) * p * p +
-         constant<T>(delta * delta * delta / 24.0);
+  if (v < delta) return p * p * p * p * (1.0 / (8.0 * delta));
+  return p * p * p * (1.0 / 3.0) - (0.25 * delta) * p * p + delta * delta * delta / 24.0;
 }
 
 /// The regularized Coulomb friction primitive f₀ (Li et al., IPC 2020) minus its value at zero slip, for a
@@ -66,12 +65,12 @@ T frictionPrimitive(const T& y2, double epsV, FrictionHessian model = FrictionHe
   if (model == FrictionHessian::Majorizer) {
     // The tangent at s = v2: F(s) and F'(s) = f₁(y)/(2y) from the exact formula below, on one first-order dual.
     const ceres::Jet<double, 1> F = frictionPrimitive(ceres::Jet<double, 1>(v2, 0), epsV);
-    return constant<T>(F.v[0]) * (y2 - constant<T>(v2)) + constant<T>(F.a);
+    return F.v[0] * (y2 - v2) + F.a;
   }
-  if (v2 >= epsV * epsV) return sqrt(y2) - constant<T>(epsV / 3.0);
+  if (v2 >= epsV * epsV) return sqrt(y2) - epsV / 3.0;
   // y³ = y²·y has zero first and second derivatives at y = 0, where sqrt's derivative is not finite.
   const T cubic = v2 > 1e-300 ? y2 * sqrt(y2) : constant<T>(0.0);
-  return y2 * constant<T>(1.0 / epsV) - cubic * constant<T>(1.0 / (3.0 * epsV * epsV));
+  return y2 * (1.0 / epsV) - cubic * (1.0 / (3.0 * epsV * epsV));
 }
 
 }  // namespace jetshell

@@ -24,7 +24,7 @@ struct PointPairPenaltyEnergy {
     const double delta = data->smoothing[e];
     if (v2 < 1e-24 * D * D) return constant<T>(data->weight[e] * contactRamp(D, delta));  // no direction
     using std::sqrt;
-    return constant<T>(data->weight[e]) * contactRamp(constant<T>(D) - sqrt(d2), delta);
+    return data->weight[e] * contactRamp(D - sqrt(d2), delta);
   }
 };
 
@@ -40,12 +40,12 @@ struct PointPairFrictionEnergy {
     const Eigen::Vector3d& n = data->normal[e];
     const Eigen::Vector3d& s = data->startDifference[e];
     V3<T> u;
-    for (int k = 0; k < 3; ++k) u[k] = x[k] - x[3 + k] - constant<T>(s[k]);
-    const T un = constant<T>(n[0]) * u[0] + constant<T>(n[1]) * u[1] + constant<T>(n[2]) * u[2];
+    for (int k = 0; k < 3; ++k) u[k] = x[k] - x[3 + k] - s[k];
+    const T un = n[0] * u[0] + n[1] * u[1] + n[2] * u[2];
     V3<T> ut;
-    for (int k = 0; k < 3; ++k) ut[k] = u[k] - constant<T>(n[k]) * un;
-    return constant<T>(data->frictionForce[e]) *
-           frictionPrimitive(squaredNorm(ut), data->slipRegularization, options.frictionHessian);
+    for (int k = 0; k < 3; ++k) ut[k] = u[k] - n[k] * un;
+    const T slip2 = squaredNorm(ut);
+    return data->frictionForce[e] * frictionPrimitive(slip2, data->slipRegularization, options.frictionHessian);
   }
 };
 

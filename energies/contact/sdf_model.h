@@ -17,12 +17,12 @@ inline Eigen::Vector3d valueOf3(const V3<T>& x) {
 template <typename T>
 T signedDistanceModel(const SdfSample& s, const V3<T>& x, const Eigen::Vector3d& x0) {
   V3<T> dx;
-  for (int i = 0; i < 3; ++i) dx[i] = x[i] - constant<T>(x0[i]);
+  for (int i = 0; i < 3; ++i) dx[i] = x[i] - x0[i];
   T d = constant<T>(s.distance);
   for (int i = 0; i < 3; ++i) {
-    d += constant<T>(s.gradient[i]) * dx[i];
+    d += s.gradient[i] * dx[i];
     for (int j = 0; j < 3; ++j)
-      if (s.hessian(i, j) != 0.0) d += constant<T>(0.5 * s.hessian(i, j)) * dx[i] * dx[j];
+      if (s.hessian(i, j) != 0.0) d += (0.5 * s.hessian(i, j)) * dx[i] * dx[j];
   }
   return d;
 }

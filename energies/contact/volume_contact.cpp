@@ -17,8 +17,8 @@ template <int K, typename T>
 V3<T> samplePoint(const VolumeContactState& s, const T* x, int e, int q) {
   const double* w = s.sampling.weights.data() + (static_cast<std::size_t>(e) * s.sampling.pointsPerElement + q) * K;
   if (K == 1) return load3(x);
-  V3<T> p = constant<T>(w[0]) * load3(x);
-  for (int k = 1; k < K; ++k) p = p + constant<T>(w[k]) * load3(x + 3 * k);
+  V3<T> p = w[0] * load3(x);
+  for (int k = 1; k < K; ++k) p = p + w[k] * load3(x + 3 * k);
   return p;
 }
 
@@ -29,7 +29,7 @@ bool penetration(const VolumeContactState& s, const T* x, int e, int q, T& p) {
   const Eigen::Vector3d x0 = valueOf3(xq);
   const SdfSample d = s.collider->query(x0, s.time);
   if (d.distance >= s.params.activationDistance) return false;
-  p = constant<T>(s.params.activationDistance) - signedDistanceModel(d, xq, x0);
+  p = s.params.activationDistance - signedDistanceModel(d, xq, x0);
   return true;
 }
 
@@ -45,7 +45,7 @@ struct VolumePenaltyEnergy {
       T p;
       if (!penetration<K>(*s, x, e, q, p)) continue;
       const double area = s->sampling.area[static_cast<std::size_t>(e) * s->sampling.pointsPerElement + q];
-      energy += constant<T>(area * c.penaltyStiffness) * contactRamp(p, c.smoothingDistance);
+      energy += (area * c.penaltyStiffness) * contactRamp(p, c.smoothingDistance);
     }
     return energy;
   }
@@ -66,8 +66,7 @@ struct VolumeDampingEnergy {
       const std::size_t i = static_cast<std::size_t>(e) * s->sampling.pointsPerElement + q;
       const double a = s->previousPenetration[i];
       const double scale = s->sampling.area[i] * c.huntCrossleyDamping * c.penaltyStiffness / s->timeStep;
-      energy += constant<T>(scale) *
-                (contactRampMoment(p, c.smoothingDistance) - constant<T>(a) * contactRamp(p, c.smoothingDistance));
+      energy += scale * (contactRampMoment(p, c.smoothingDistance) - a * contactRamp(p, c.smoothingDistance));
     }
     return energy;
   }
@@ -91,13 +90,12 @@ struct VolumeFrictionEnergy {
       if (lambda <= 0.0) continue;
       const V3<T> xq = samplePoint<K>(*s, x, e, q);
       V3<T> u;
-      for (int k = 0; k < 3; ++k) u[k] = xq[k] - constant<T>(s->start[i][k] + s->colliderShift[i][k]);
+      for (int k = 0; k < 3; ++k) u[k] = xq[k] - (s->start[i][k] + s->colliderShift[i][k]);
       const Eigen::Vector3d& n = s->normal[i];
-      const T un = constant<T>(n[0]) * u[0] + constant<T>(n[1]) * u[1] + constant<T>(n[2]) * u[2];
+      const T un = n[0] * u[0] + n[1] * u[1] + n[2] * u[2];
       V3<T> ut;
-      for (int k = 0; k < 3; ++k) ut[k] = u[k] - constant<T>(n[k]) * un;
-      energy += constant<T>(c.frictionCoefficient * lambda) *
-                frictionPrimitive(squaredNorm(ut), epsV, options.frictionHessian);
+      for (int k = 0; k < 3; ++k) ut[k] = u[k] - n[k] * un;
+      energy += (c.frictionCoefficient * lambda) * frictionPrimitive(squaredNorm(ut), epsV, options.frictionHessian);
     }
     return energy;
   }
