@@ -12,7 +12,7 @@
 //   KelvinStage           m                                             -> n̄ = m/‖m‖²      3 -> 3, twin
 //   SecondFormStage       (e0, e1, n̄0, n̄1, n̄2) of a face                -> b                15 -> 3, bilinear, twin
 //   BendingDensityStage   b                                             -> s·area·W_b(B − b) 3 -> 1, twin
-//   MetricStage           (e0, e1)                                      -> a = [e_a·e_b]    6 -> 3, bilinear
+//   MetricStage           (e0, e1)                                      -> a = [e_a·e_b]    6 -> 3, bilinear, twin
 //   MembraneDensityStage  a                                             -> s·area·W_m(½(a − A)) 3 -> 1, twin
 // The bilinear stages declare kConstantHessian: their Hessians are computed once, not per element; the edge mean
 // declares kAffine: no Hessian is ever computed for it. The unit normal and the Kelvin inversion also declare
@@ -152,6 +152,18 @@ struct MetricStage {
   template <typename T>
   void operator()(const T* z, T* a, int /*face*/) const {
     metric(load3(z), load3(z + 3), a);
+  }
+  /// Twin: ∂a00 = (2e0, 0), ∂a01 = (e1, e0), ∂a11 = (0, 2e1) (the Hessians are the declared constant ones).
+  void derivatives(const double* z, int face, int order, StageDerivatives<6, 3>& d) const {
+    (*this)(z, d.value.data(), face);
+    if (order < 1) return;
+    const Eigen::Map<const Eigen::Vector3d> e0(z), e1(z + 3);
+    d.jacobian.setZero();
+    d.jacobian.block<1, 3>(0, 0) = 2.0 * e0.transpose();
+    d.jacobian.block<1, 3>(1, 0) = e1.transpose();
+    d.jacobian.block<1, 3>(1, 3) = e0.transpose();
+    d.jacobian.block<1, 3>(2, 3) = 2.0 * e1.transpose();
+    if (order >= 2) d.hessians = constantStageHessians<MetricStage>().hessians;
   }
 };
 

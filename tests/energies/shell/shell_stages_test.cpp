@@ -66,11 +66,12 @@ TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian decla
     // The edge mean is affine in the normals on interior edges and under every boundary rule.
     for (int e = 0; e < static_cast<int>(edgeRules.size()); ++e) CHECK(affineDiscrepancy(edgeMean, z, e) == 0.0);
     // The twins of the edge mean (on the interior edge, and its rule's Jets on each boundary edge), of the second
-    // fundamental form and of the cross product.
+    // fundamental form, of the cross product and of the metric.
     for (int e = 0; e < static_cast<int>(edgeRules.size()); ++e) CHECK(stageTwinDiscrepancy(edgeMean, z, e) <= 1e-15);
     CHECK(stageTwinDiscrepancy(SecondFormStage(), z, 0) <= 1e-15);
     CHECK(stageTwinDiscrepancy(FaceCrossStage(), z, 0) <= 1e-15);
     CHECK(constantHessianDiscrepancy(MetricStage(), z, 0) == 0.0);
+    CHECK(stageTwinDiscrepancy(MetricStage(), z, 0) <= 1e-15);
   }
   CHECK_FALSE(constantStageHessians<SecondFormStage>().zero);
 }
