@@ -13,12 +13,15 @@
 // Optional analytic twin, detected at compile time: a stage that also declares
 //     void derivatives(const double* z, int entity, int order, StageDerivatives<N, M>& d) const;
 // is evaluated by it on DerivativePath::Analytic; stageTwinDiscrepancy() measures it against the Jets (the
-// conformance tests call it), so a twin is an optimisation that is always checked, never a second truth.
+// conformance tests call it), so a twin is an optimisation that is always checked, never a second truth. The twin
+// of a stage declaring kConstantHessian (below) gives only its value and Jacobian: the framework fills the
+// Hessians (twinDerivatives()).
 //
 // Optional weighted-Hessian twin, detected at compile time: a stage with a twin may also declare
 //     void weightedHessian(const double* z, int entity, const double* w, Eigen::Matrix<double, N, N>& C) const;
 // C = Σ_k w_k ∇²y_k in closed form, without forming the M Hessians (what a stage graph's exact Hessian needs of
-// a shared node, and a composed stage of its outer part). It is used on DerivativePath::Analytic;
+// a shared node, and a composed stage of its outer part). It is used on DerivativePath::Analytic, and
+// weightedStageHessian() is the one place that chooses between it and the M Hessians summed;
 // stageTwinDiscrepancy() checks it against the same sum of the Jets' Hessians.
 //
 // Optional declaration `static constexpr bool kConstantHessian = true;`: the stage is a polynomial of degree
@@ -226,6 +229,14 @@ struct IsComposedStage<ComposedStage<Inner, Outer>> : std::true_type {};
 template <typename S>
 void evaluateStage(const S& s, const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<S>& d);
 
+/// C = Σ_k w_k ∇²y_k of stage s at z on `path`: the weighted-Hessian twin on the analytic path when s declares
+/// one, a composed stage's own contraction, else its M Hessians summed. `d`, when given, also receives the value
+/// and Jacobian (computed only then): a stage graph's shared node asks for C alone, a composed stage's outer part
+/// for both.
+template <typename S>
+void weightedStageHessian(const S& s, const double* z, int entity, DerivativePath path, const double* w,
+                          Eigen::Matrix<double, S::kInputs, S::kInputs>& C, StageDerivativesOf<S>* d = nullptr);
+
 /// Outer ∘ Inner (Inner: N → P, Outer: P → M) as one stage; see the top of this file.
 template <typename Inner, typename Outer>
 struct ComposedStage {
@@ -273,14 +284,7 @@ struct ComposedStage {
     StageDerivativesOf<Outer> o;
     evaluateStage(inner, z, entity, HasConstantHessian<Inner>::value ? 1 : 2, path, i);
     Eigen::Matrix<double, P, P> X;
-    if (HasWeightedHessianTwin<Outer>::value && path == DerivativePath::Analytic) {
-      evaluateStage(outer, i.value.data(), entity, 1, path, o);
-      if constexpr (HasWeightedHessianTwin<Outer>::value) outer.weightedHessian(i.value.data(), entity, w, X);
-    } else {
-      evaluateStage(outer, i.value.data(), entity, 2, path, o);
-      X = w[0] * o.hessians[0];
-      for (int k = 1; k < M; ++k) X.noalias() += w[k] * o.hessians[static_cast<std::size_t>(k)];
-    }
+    weightedStageHessian(outer, i.value.data(), entity, path, w, X, &o);
     C.noalias() = i.jacobian.transpose() * (X * i.jacobian);
     const Eigen::Matrix<double, P, 1> v = o.jacobian.transpose() * Eigen::Map<const Eigen::Matrix<double, M, 1>>(w);
     if constexpr (HasConstantHessian<Inner>::value) {
@@ -295,6 +299,18 @@ struct ComposedStage {
     }
   }
 };
+
+/// A stage's analytic twin up to `order`. A stage declaring kConstantHessian gives its value and Jacobian only:
+/// its Hessians are the declared constant ones (constantStageHessians()), filled here.
+template <typename S>
+void twinDerivatives(const S& s, const double* z, int entity, int order, StageDerivativesOf<S>& d) {
+  if constexpr (HasConstantHessian<S>::value) {
+    s.derivatives(z, entity, std::min(order, 1), d);
+    if (order >= 2) d.hessians = constantStageHessians<S>().hessians;
+  } else {
+    s.derivatives(z, entity, order, d);
+  }
+}
 
 /// The stage's derivatives up to `order` on `path`: the analytic twin when there is one and path is
 /// Analytic, the Jets otherwise (a composed stage: its parts' derivatives, chained).
@@ -315,7 +331,7 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
   }
   if constexpr (HasStageTwin<S>::value) {
     if (path == DerivativePath::Analytic) {
-      s.derivatives(z, entity, order, d);
+      twinDerivatives(s, z, entity, order, d);
       return;
     }
   }
@@ -330,6 +346,30 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
     stageDerivativesFromJets(s, z, entity, order, d);  // values only (order 0): nothing to differentiate
   } else {
     stageDerivativesFromJetsInlined(s, z, entity, order, d);
+  }
+}
+
+template <typename S>
+void weightedStageHessian(const S& s, const double* z, int entity, DerivativePath path, const double* w,
+                          Eigen::Matrix<double, S::kInputs, S::kInputs>& C, StageDerivativesOf<S>* d) {
+  if constexpr (IsComposedStage<S>::value) {
+    if (d != nullptr) evaluateStage(s, z, entity, 1, path, *d);
+    s.contractedHessian(z, entity, path, w, C);
+    return;
+  } else {
+    if constexpr (HasWeightedHessianTwin<S>::value) {
+      if (path == DerivativePath::Analytic) {
+        if (d != nullptr) evaluateStage(s, z, entity, 1, path, *d);
+        s.weightedHessian(z, entity, w, C);
+        return;
+      }
+    }
+    StageDerivativesOf<S> own;
+    StageDerivativesOf<S>& h = d != nullptr ? *d : own;
+    evaluateStage(s, z, entity, 2, path, h);
+    C = w[0] * h.hessians[0];
+    for (int k = 1; k < S::kOutputs; ++k)
+      if (w[k] != 0.0) C.noalias() += w[k] * h.hessians[static_cast<std::size_t>(k)];
   }
 }
 
@@ -391,7 +431,7 @@ double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
   } else {
     StageDerivativesOf<S> jets, twin;
     stageDerivativesFromJets(s, z, entity, 2, jets);
-    s.derivatives(z, entity, 2, twin);
+    twinDerivatives(s, z, entity, 2, twin);
     double worst = std::max(relativeDifference(twin.value, jets.value), relativeDifference(twin.jacobian, jets.jacobian));
     for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(twin.hessians[k], jets.hessians[k]));
     if constexpr (HasWeightedHessianTwin<S>::value) {

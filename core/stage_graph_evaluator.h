@@ -635,8 +635,8 @@ class StageGraphEvaluator {
   }
 
   /// C = Σ_k w_k ∇²y_k of Shared node `entity` of layer I (a stage with non-constant Hessians) at x, on the mode's
-  /// path; a composed stage contracts inside the composition (one product through its inner stage), a stage with
-  /// a weighted-Hessian twin (core/stage.h) takes it on the analytic path. False when w is zero (no curvature).
+  /// path (weightedStageHessian, core/stage.h: a composed stage contracts inside the composition, a stage with a
+  /// weighted-Hessian twin takes it on the analytic path). False when w is zero (no curvature).
   template <int I>
   bool contractShared(const Eigen::VectorXd& x, int entity, const double* w, const Mode& mode,
                       Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C) {
@@ -644,21 +644,8 @@ class StageGraphEvaluator {
     if (Eigen::Map<const Eigen::Matrix<double, S::M, 1>>(w).isZero(0.0)) return false;
     double z[S::N];
     gather<I>(x, entity, nullptr, z);
-    const auto& stage = std::get<I>(graph_.stages());
-    if constexpr (IsComposedStage<typename S::Stage>::value) {
-      stage.contractedHessian(z, entity, mode.path, w, C);
-      return true;
-    } else {
-      if constexpr (HasWeightedHessianTwin<typename S::Stage>::value) {
-        if (mode.path == DerivativePath::Analytic) {
-          stage.weightedHessian(z, entity, w, C);
-          return true;
-        }
-      }
-      StageDerivatives<S::N, S::M> d;
-      derivatives<I>(stage, z, entity, 2, mode.path, d);
-      return contract<I>(w, &d.hessians, C);
-    }
+    weightedStageHessian(std::get<I>(graph_.stages()), z, entity, mode.path, w, C);
+    return true;
   }
 
   /// The curvature of Shared node `entity` of layer I into H, its support at the element slots `nodeSlot`:

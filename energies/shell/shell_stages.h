@@ -45,13 +45,12 @@ struct FaceCrossStage {
   void operator()(const T* z, T* c, int /*face*/) const {
     store3(cross(load3(z), load3(z + 3)), c);
   }
-  /// Twin: ∂c/∂e0 = −[e1]×, ∂c/∂e1 = [e0]× (the Hessians are the declared constant ones).
+  /// Twin: ∂c/∂e0 = −[e1]×, ∂c/∂e1 = [e0]× (value and Jacobian; the framework fills the constant Hessians).
   void derivatives(const double* z, int face, int order, StageDerivatives<6, 3>& d) const {
     (*this)(z, d.value.data(), face);
     if (order < 1) return;
     d.jacobian << -analytic::crossMatrix(Eigen::Vector3d(z[3], z[4], z[5])),
         analytic::crossMatrix(Eigen::Vector3d(z[0], z[1], z[2]));
-    if (order >= 2) d.hessians = constantStageHessians<FaceCrossStage>().hessians;
   }
 };
 
@@ -128,7 +127,7 @@ struct SecondFormStage {
     secondFundamentalForm(load3(z), load3(z + 3), load3(z + 6), load3(z + 9), load3(z + 12), b);
   }
   /// Twin: b00 = 2(n̄1 − n̄0)·e0, b01 = −2 n̄0·e1, b11 = 2(n̄2 − n̄0)·e1, each row's gradient written out (the
-  /// Hessians are the declared constant ones).
+  /// framework fills the constant Hessians).
   void derivatives(const double* z, int face, int order, StageDerivatives<15, 3>& d) const {
     (*this)(z, d.value.data(), face);
     if (order < 1) return;
@@ -142,7 +141,6 @@ struct SecondFormStage {
     d.jacobian.block<1, 3>(2, 3) = 2.0 * (n2 - n0).transpose();
     d.jacobian.block<1, 3>(2, 6) = -2.0 * e1.transpose();
     d.jacobian.block<1, 3>(2, 12) = 2.0 * e1.transpose();
-    if (order >= 2) d.hessians = constantStageHessians<SecondFormStage>().hessians;
   }
 };
 
@@ -153,7 +151,7 @@ struct MetricStage {
   void operator()(const T* z, T* a, int /*face*/) const {
     metric(load3(z), load3(z + 3), a);
   }
-  /// Twin: ∂a00 = (2e0, 0), ∂a01 = (e1, e0), ∂a11 = (0, 2e1) (the Hessians are the declared constant ones).
+  /// Twin: ∂a00 = (2e0, 0), ∂a01 = (e1, e0), ∂a11 = (0, 2e1) (the framework fills the constant Hessians).
   void derivatives(const double* z, int face, int order, StageDerivatives<6, 3>& d) const {
     (*this)(z, d.value.data(), face);
     if (order < 1) return;
@@ -163,7 +161,6 @@ struct MetricStage {
     d.jacobian.block<1, 3>(1, 0) = e1.transpose();
     d.jacobian.block<1, 3>(1, 3) = e0.transpose();
     d.jacobian.block<1, 3>(2, 3) = 2.0 * e1.transpose();
-    if (order >= 2) d.hessians = constantStageHessians<MetricStage>().hessians;
   }
 };
 
