@@ -55,19 +55,19 @@ struct EndMomentEnergy {
     const V3<T> p0 = load3(x), p1 = load3(x + 3), p2 = load3(x + 6);
     const V3<T> c = cross(p1 - p0, p2 - p0);
     const V3<T> segment = load3(x + 3 * el.to) - load3(x + 3 * el.from);
-    const V3<T> a = (constant<T>(1.0) / norm(segment)) * segment;
+    const V3<T> a = (1.0 / norm(segment)) * segment;
     const V3<T> o{{constant<T>(el.origin[0]), constant<T>(el.origin[1]), constant<T>(el.origin[2])}};
     const V3<T> u{{constant<T>(el.originAxis[0]), constant<T>(el.originAxis[1]), constant<T>(el.originAxis[2])}};
     const V3<T> w = cross(u, a);
     const T cosine = dot(u, a);
-    const V3<T> carried = cosine * o + cross(w, o) + (dot(w, o) / (constant<T>(1.0) + cosine)) * w;
+    const V3<T> carried = cosine * o + cross(w, o) + (dot(w, o) / (1.0 + cosine)) * w;
     using std::atan2;
-    return constant<T>(el.originAngle) + atan2(dot(a, cross(carried, c)), dot(carried, c));
+    return el.originAngle + atan2(dot(a, cross(carried, c)), dot(carried, c));
   }
 
   template <typename T>
   T operator()(const T* x, const T* p, int e) const {
-    return -p[0] * constant<T>(state->elements[static_cast<std::size_t>(e)].moment) * rotation(x, e);
+    return -p[0] * state->elements[static_cast<std::size_t>(e)].moment * rotation(x, e);
   }
 };
 

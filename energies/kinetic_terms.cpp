@@ -42,7 +42,7 @@ void DiagonalQuadraticTerm::evaluateParameterDerivatives(const Eigen::VectorXd& 
                                   using T = std::remove_const_t<std::remove_pointer_t<decltype(xv)>>;
                                   const V3<T> y{{constant<T>(centre_[3 * v]), constant<T>(centre_[3 * v + 1]),
                                                  constant<T>(centre_[3 * v + 2])}};
-                                  return constant<T>(k * mass_[v]) * q[0] * squaredNorm(load3(xv) - y);
+                                  return (k * mass_[v]) * q[0] * squaredNorm(load3(xv) - y);
                                 },
                                 out);
 }

@@ -12,7 +12,7 @@ namespace {
 /// the parameter derivatives of the linear loads.
 template <typename T>
 T linearLoad(const T* x, const T& s, const double* w) {
-  return -s * (constant<T>(w[0]) * x[0] + constant<T>(w[1]) * x[1] + constant<T>(w[2]) * x[2]);
+  return -s * (w[0] * x[0] + w[1] * x[1] + w[2] * x[2]);
 }
 
 }  // namespace
@@ -46,8 +46,7 @@ void GravityTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, Paramet
   const double inv = loadFactor_ / referenceDensity_;
   addParameterDerivatives<1, 1>(vertexStencils(static_cast<int>(x.size() / 3)), x, &density_,
                                 [&](const auto* xv, const auto* p, int v) {
-                                  using T = std::remove_const_t<std::remove_pointer_t<decltype(xv)>>;
-                                  return linearLoad(xv, constant<T>(inv) * p[0], weight_.data() + 3 * v);
+                                  return linearLoad(xv, inv * p[0], weight_.data() + 3 * v);
                                 },
                                 out);
 }

@@ -250,9 +250,9 @@ void BendingTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, Paramet
     const double* P = ref_.inverseMetric[f].data();
     const bool* m = minimized_[f].data();
     if (dampingReference_ > 0.0)
-      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] *
+      return (scale_ * ref_.area[f] / dampingReference_) * p[0] *
              ruledBendingDensity(b, B, P, p[1], p[2], m);
-    return constant<T>(scale_ * ref_.area[f]) * ruledBendingDensity(b, B, P, p[0], p[1], m);
+    return (scale_ * ref_.area[f]) * ruledBendingDensity(b, B, P, p[0], p[1], m);
   };
   const std::vector<double> p = parameterValues();
   resetParameterDerivatives(out, x.size(), static_cast<int>(p.size()));
@@ -279,7 +279,7 @@ Eigen::MatrixXd BendingTerm::originCrossDerivatives(const Eigen::VectorXd& x, co
     stencilSecondFundamentalForm(xe, edges[f], bx);
     stencilSecondFundamentalForm(ye, edges[f], by);
     const T d[3] = {bx[0] - by[0], bx[1] - by[1], bx[2] - by[2]};
-    return constant<T>(s * ref_.area[f]) *
+    return (s * ref_.area[f]) *
            ruledBendingDensity(d, zero, ref_.inverseMetric[f].data(), alpha_, beta_, minimized_[f].data());
   };
   addOriginCrossDerivatives<6>(table_, x, origin_, S, energy, out);
@@ -780,7 +780,7 @@ struct BendingStencilEnergy {
   T operator()(const T* x, const T* p, int f) const {
     T b[3];
     stencilSecondFundamentalForm(x, edges[f], b);
-    return constant<T>(ref.area[f]) *
+    return ref.area[f] *
            bendingDensity(b, ref.secondFundamentalForm[f].data(), ref.inverseMetric[f].data(), p[0], p[1]);
   }
 };

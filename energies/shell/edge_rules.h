@@ -80,11 +80,11 @@ V3<T> ghostNormal(EdgeRule rule, const V3<T>& n, const EdgeRuleData& data) {
     case EdgeRule::MirroredClamp: {
       const V3<T> r{{constant<T>(data.reference[0]), constant<T>(data.reference[1]), constant<T>(data.reference[2])}};
       if (rule == EdgeRule::ReferenceClamp) return r;
-      return (constant<T>(2.0) * dot(n, r)) * r - n;
+      return (2.0 * dot(n, r)) * r - n;
     }
     case EdgeRule::SymmetryPlane: {
       const V3<T> p{{constant<T>(data.axis[0]), constant<T>(data.axis[1]), constant<T>(data.axis[2])}};
-      return n - (constant<T>(2.0) * dot(n, p)) * p;
+      return n - (2.0 * dot(n, p)) * p;
     }
     case EdgeRule::PageFree:
     case EdgeRule::SecondOrderFree:  // a = 0: the mid-edge normal is the face's
@@ -116,8 +116,7 @@ T minimizedOverMomentFreeEdges(const T kappa[3], const bool minimized[3], const 
     for (int k = 0; k < 3; ++k) d[m][k] = constant<T>(momentFreeDirection(i)[k]);
     ++m;
   }
-  const T half = constant<T>(0.5);
-  T energy = half * G(kappa, kappa);
+  T energy = 0.5 * G(kappa, kappa);
   if (m == 0) return energy;
   T g[3], Q[3][3];
   for (int j = 0; j < m; ++j) {
@@ -139,7 +138,7 @@ T minimizedOverMomentFreeEdges(const T kappa[3], const bool minimized[3], const 
     for (int k = c + 1; k < m; ++k) z[c] = z[c] - Q[c][k] * z[k];
     z[c] = z[c] / Q[c][c];
   }
-  for (int j = 0; j < m; ++j) energy = energy - half * g[j] * z[j];
+  for (int j = 0; j < m; ++j) energy = energy - 0.5 * g[j] * z[j];
   return energy;
 }
 

@@ -147,8 +147,8 @@ void MembraneTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, Parame
     const double* A = ref_.metric[f].data();
     const double* P = ref_.inverseMetric[f].data();
     if (dampingReference_ > 0.0)
-      return constant<T>(scale_ * ref_.area[f] / dampingReference_) * p[0] * membraneDensity(a, A, P, p[1], p[2]);
-    return constant<T>(scale_ * ref_.area[f]) * membraneDensity(a, A, P, p[0], p[1]);
+      return (scale_ * ref_.area[f] / dampingReference_) * p[0] * membraneDensity(a, A, P, p[1], p[2]);
+    return (scale_ * ref_.area[f]) * membraneDensity(a, A, P, p[0], p[1]);
   };
   const std::vector<double> p = parameterValues();
   resetParameterDerivatives(out, x.size(), static_cast<int>(p.size()));
@@ -171,7 +171,7 @@ Eigen::MatrixXd MembraneTerm::originCrossDerivatives(const Eigen::VectorXd& x, c
     metric(load3(xe + 3) - load3(xe), load3(xe + 6) - load3(xe), a);
     metric(load3(ye + 3) - load3(ye), load3(ye + 6) - load3(ye), b);
     const T d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-    return constant<T>(s * ref_.area[f]) * membraneDensity(d, zero, ref_.inverseMetric[f].data(), lambda_, mu_);
+    return (s * ref_.area[f]) * membraneDensity(d, zero, ref_.inverseMetric[f].data(), lambda_, mu_);
   };
   addOriginCrossDerivatives<3>(table_, x, origin_, S, energy, out);
   return out;
