@@ -12,6 +12,7 @@
 #include "core/scalar.h"
 #include "core/term.h"
 
+#include <Eigen/Core>
 #include <ceres/jet.h>
 
 #include <cmath>
@@ -71,6 +72,16 @@ T frictionPrimitive(const T& y2, double epsV, FrictionHessian model = FrictionHe
   // y³ = y²·y has zero first and second derivatives at y = 0, where sqrt's derivative is not finite.
   const T cubic = v2 > 1e-300 ? y2 * sqrt(y2) : constant<T>(0.0);
   return y2 * (1.0 / epsV) - cubic * (1.0 / (3.0 * epsV * epsV));
+}
+
+/// |u − (n·u) n|²: the squared length of a displacement u's part in the plane normal to the unit vector n, the
+/// slip y² that frictionPrimitive takes (point pairs and volume contact alike).
+template <typename T>
+T tangentialSlipSquared(const V3<T>& u, const Eigen::Vector3d& n) {
+  const T un = n[0] * u[0] + n[1] * u[1] + n[2] * u[2];
+  V3<T> ut;
+  for (int k = 0; k < 3; ++k) ut[k] = u[k] - n[k] * un;
+  return squaredNorm(ut);
 }
 
 }  // namespace jetshell

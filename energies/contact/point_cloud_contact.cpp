@@ -37,15 +37,11 @@ struct PointPairFrictionEnergy {
   template <typename T>
   T operator()(const T* x, int e) const {
     if (data->frictionForce[e] == 0.0) return constant<T>(0.0);  // not in contact at the step start
-    const Eigen::Vector3d& n = data->normal[e];
     const Eigen::Vector3d& s = data->startDifference[e];
     V3<T> u;
     for (int k = 0; k < 3; ++k) u[k] = x[k] - x[3 + k] - s[k];
-    const T un = n[0] * u[0] + n[1] * u[1] + n[2] * u[2];
-    V3<T> ut;
-    for (int k = 0; k < 3; ++k) ut[k] = u[k] - n[k] * un;
-    const T slip2 = squaredNorm(ut);
-    return data->frictionForce[e] * frictionPrimitive(slip2, data->slipRegularization, options.frictionHessian);
+    return data->frictionForce[e] * frictionPrimitive(tangentialSlipSquared(u, data->normal[e]),
+                                                      data->slipRegularization, options.frictionHessian);
   }
 };
 

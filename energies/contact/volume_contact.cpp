@@ -91,11 +91,8 @@ struct VolumeFrictionEnergy {
       const V3<T> xq = samplePoint<K>(*s, x, e, q);
       V3<T> u;
       for (int k = 0; k < 3; ++k) u[k] = xq[k] - (s->start[i][k] + s->colliderShift[i][k]);
-      const Eigen::Vector3d& n = s->normal[i];
-      const T un = n[0] * u[0] + n[1] * u[1] + n[2] * u[2];
-      V3<T> ut;
-      for (int k = 0; k < 3; ++k) ut[k] = u[k] - n[k] * un;
-      energy += (c.frictionCoefficient * lambda) * frictionPrimitive(squaredNorm(ut), epsV, options.frictionHessian);
+      energy += (c.frictionCoefficient * lambda) *
+                frictionPrimitive(tangentialSlipSquared(u, s->normal[i]), epsV, options.frictionHessian);
     }
     return energy;
   }
