@@ -6,12 +6,17 @@
 #   <build-dir>-fuzz      the libFuzzer harnesses of tests/fuzz (clang 14, scripts/install-fuzz-deps.sh), each
 #                         run for FUZZ_SECONDS (default 30) from the committed seed corpus.
 # Every pass runs; the script fails if any of them failed.
-# Usage: bash scripts/test.sh [--all] [build-dir]
+# With --sanitize-long instead, only the runs the sanitizer pass leaves out (sanitizeExclude below: the long
+# numerical runs, the `jetshell` program's tests), built with the sanitizers in <build-dir>-sanitize-long: on demand,
+# not in CI (about 10 min of build and 2 min of tests on 2 cores).
+# Usage: bash scripts/test.sh [--all | --sanitize-long] [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 all=0
+long=0
 [ "${CI:-}" = "true" ] && all=1
 if [ "${1:-}" = "--all" ]; then all=1; shift; fi
+if [ "${1:-}" = "--sanitize-long" ]; then long=1; shift; fi
 build="${1:-build-test}"
 jobs="$(nproc)"
 fuzzSeconds="${FUZZ_SECONDS:-30}"
@@ -34,14 +39,6 @@ configure() {
   cmake -G Ninja -S . -B "$dir" "$@"
 }
 
-bash scripts/install-deps.sh
-configure "$build" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF "${unity[@]}"
-cmake --build "$build" -j"$jobs"
-(cd "$build" && ctest --output-on-failure -j"$jobs" --timeout 900)
-echo "test.sh: set-up, build and main suite took ${SECONDS} s"
-[ "$all" -eq 1 ] || exit 0
-
-failed=()
 # The sanitizer pass builds the test program and the corpus replays, not the `jetshell` program (its parsers are
 # fuzzed, and its subcommands' set-up runs in tests/tools/subcommand_test.cpp), and runs the unit suites, not the
 # long numerical runs (each over 4 s in Release): the stress matrix gives every cell a wall-clock budget, which
@@ -65,6 +62,29 @@ sanitize() {
       ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
         ctest --output-on-failure -j"$jobs" --timeout 900 -E "$sanitizeExclude")
 }
+# The runs the sanitizer pass leaves out, under the sanitizers (--sanitize-long): the test program with every test
+# file, and the `jetshell` program its tests call, in a build directory of their own.
+sanitizeLong() {
+  configure "$build-sanitize-long" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF -DJETSHELL_SANITIZE=ON \
+    -DJETSHELL_SANITIZE_LONG_TESTS=ON "${unity[@]}" &&
+    cmake --build "$build-sanitize-long" -j"$jobs" --target jetshell_tests jetshell &&
+    (cd "$build-sanitize-long" &&
+      ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        ctest --output-on-failure -j"$jobs" --timeout 2400 -R "$sanitizeExclude")
+}
+
+bash scripts/install-deps.sh
+if [ "$long" -eq 1 ]; then
+  sanitizeLong
+  exit $?
+fi
+configure "$build" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF "${unity[@]}"
+cmake --build "$build" -j"$jobs"
+(cd "$build" && ctest --output-on-failure -j"$jobs" --timeout 900)
+echo "test.sh: set-up, build and main suite took ${SECONDS} s"
+[ "$all" -eq 1 ] || exit 0
+
+failed=()
 fuzz() {
   bash scripts/install-fuzz-deps.sh &&
     configure "$build-fuzz" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++-14 &&
