@@ -55,22 +55,21 @@ sanitizeExclude+="|fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta .*|
 # Leak detection is off: the OpenMP and OpenBLAS thread pools keep their memory until exit, which LeakSanitizer
 # reports as leaks of the runtime, not of jetshell. Addresses are checked in full, undefined behaviour with the
 # checks CMakeLists.txt lists under JETSHELL_SANITIZE.
+sanitizeConfig=(-DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF -DJETSHELL_SANITIZE=ON "${unity[@]}")
+sanitizeEnv=(ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1)
 sanitize() {
-  configure "$build-sanitize" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF -DJETSHELL_SANITIZE=ON "${unity[@]}" &&
+  configure "$build-sanitize" "${sanitizeConfig[@]}" &&
     cmake --build "$build-sanitize" -j"$jobs" --target "${sanitizeTargets[@]}" &&
     (cd "$build-sanitize" &&
-      ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-        ctest --output-on-failure -j"$jobs" --timeout 900 -E "$sanitizeExclude")
+      env "${sanitizeEnv[@]}" ctest --output-on-failure -j"$jobs" --timeout 900 -E "$sanitizeExclude")
 }
 # The runs the sanitizer pass leaves out, under the sanitizers (--sanitize-long): the test program with every test
 # file, and the `jetshell` program its tests call, in a build directory of their own.
 sanitizeLong() {
-  configure "$build-sanitize-long" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF -DJETSHELL_SANITIZE=ON \
-    -DJETSHELL_SANITIZE_LONG_TESTS=ON "${unity[@]}" &&
+  configure "$build-sanitize-long" "${sanitizeConfig[@]}" -DJETSHELL_SANITIZE_LONG_TESTS=ON &&
     cmake --build "$build-sanitize-long" -j"$jobs" --target jetshell_tests jetshell &&
     (cd "$build-sanitize-long" &&
-      ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-        ctest --output-on-failure -j"$jobs" --timeout 2400 -R "$sanitizeExclude")
+      env "${sanitizeEnv[@]}" ctest --output-on-failure -j"$jobs" --timeout 2400 -R "$sanitizeExclude")
 }
 
 bash scripts/install-deps.sh
