@@ -861,7 +861,10 @@ class StageGraphEvaluator {
     for (int v = 0; v < nv; ++v) {
       double gv[3] = {0.0, 0.0, 0.0};
       for (int r = start[static_cast<std::size_t>(v)]; r < start[static_cast<std::size_t>(v) + 1]; ++r) {
-        const auto& [layer, entity, group, sign] = readers[static_cast<std::size_t>(r)];
+        // Named fields, not a structured binding: a lambda may not capture one before C++20 (g++ allows it,
+        // clang rejects it).
+        const std::array<int, 4>& reader = readers[static_cast<std::size_t>(r)];
+        const int layer = reader[0], entity = reader[1], group = reader[2], sign = reader[3];
         forEachLayer([&](auto l) {
           constexpr int I = decltype(l)::value;
           if constexpr (Shape<I>::kShared) {
