@@ -29,6 +29,15 @@ bool IndefiniteFactor::factorize(const Eigen::SparseMatrix<double>& upper, std::
   return true;
 }
 
+bool IndefiniteFactor::negativeCurvatureDirection(Eigen::VectorXd& d) const {
+  if (negative_ == 0) return false;
+  const Eigen::VectorXd& D = ldlt_.vectorD();
+  Eigen::VectorXd z = (D.array() < 0.0).cast<double>().matrix();
+  ldlt_.matrixU().solveInPlace(z);  // Lᵀ z = u
+  d = ldlt_.permutationPinv() * z;
+  return d.allFinite();
+}
+
 bool IndefiniteFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   x = ldlt_.solve(b);
   return x.allFinite();

@@ -6,7 +6,8 @@
 // Outputs: the factor (analysed once per pattern version, AMD ordering, no pivoting: Eigen's SimplicialLDLT),
 // solves with it, and the number of negative pivots, which by Sylvester's law of inertia is the number of
 // negative eigenvalues (fixed dofs are identity rows, so they count none): 0 on a stable equilibrium, 1 on the
-// unstable branch of a snap-through. A zero or non-finite pivot is a failure, never a solution.
+// unstable branch of a snap-through. A zero or non-finite pivot is a failure, never a solution. Also used by load
+// control (solvers/statics.h) to leave an unstable equilibrium along a direction of negative curvature.
 #pragma once
 
 #include <Eigen/Core>
@@ -26,6 +27,11 @@ class IndefiniteFactor {
   bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   /// Negative pivots of the last successful factor: the count of the matrix's negative eigenvalues.
   int negativePivots() const { return negative_; }
+  /// A direction of negative curvature of the last successful factor's matrix A: with P A Pᵀ = L D Lᵀ and u the
+  /// sum of the unit vectors e_i of its negative pivots, d = Pᵀ L⁻ᵀ u, so that dᵀ A d = Σ D_ii < 0 (every negative
+  /// direction at once: a saddle that is symmetric in several independent ways is left in one step). False when
+  /// there is none (no negative pivot) or d is not finite.
+  bool negativeCurvatureDirection(Eigen::VectorXd& d) const;
   /// The symbolic analyses done (one per pattern version).
   int analyses() const { return analyses_; }
   const std::string& message() const { return message_; }

@@ -1,6 +1,7 @@
 #include "solvers/statics.h"
 
 #include "core/mesh.h"
+#include "solvers/indefinite_factor.h"
 #include "solvers/path_following.h"
 
 #include <algorithm>
@@ -15,6 +16,40 @@ void check(bool ok, const char* field, double value, const char* rule) {
   std::ostringstream s;
   s << "load stepping: " << field << " = " << value << ": " << rule;
   throw InputError(s.str());
+}
+
+/// The check of LoadSteppingOptions::saddleEscapes on the equilibrium x that `summary` reached: the negative
+/// eigenvalues of the exact Hessian at the equilibrium finally kept (-1: the factorization failed, so unknown).
+/// x and summary are replaced when a saddle is left for a lower equilibrium.
+int leaveSaddles(Objective& objective, NewtonSolver& newton, const LoadSteppingOptions& o, Eigen::VectorXd& x,
+                 SolverSummary& summary, StaticsResult& result) {
+  IndefiniteFactor factor;
+  EvalOptions exact;
+  exact.path = o.newton.derivatives;
+  exact.projection = PsdProjection::None;
+  exact.hessianModel = HessianModel::Exact;
+  Eigen::VectorXd gradient(x.size());
+  for (int escape = 0;; ++escape) {
+    gradient.setZero();
+    const double energy = objective.evaluate(x, &gradient, true, exact);
+    const double roundOff = 1e-13 * objective.energyMagnitude();
+    if (!factor.factorize(objective.assembler().matrix(), objective.assembler().patternVersion())) return -1;
+    const int negative = factor.negativePivots();
+    Eigen::VectorXd d;
+    if (negative == 0 || escape == o.saddleEscapes || !factor.negativeCurvatureDirection(d)) return negative;
+    objective.zeroFixed(d);
+    const double largest = largestVertexNorm(d);
+    if (!(largest > 0.0) || !std::isfinite(largest)) return negative;
+    d *= o.saddleStep * objective.scales().length / largest;
+    if (gradient.dot(d) > 0.0) d = -d;
+    Eigen::VectorXd trial = x + d;
+    SolverSummary solve = newton.minimize(trial);
+    result.newtonIterations += solve.iterations;
+    if (!solve.converged() || !(solve.finalEnergy < energy - roundOff)) return negative;
+    x = trial;
+    summary = std::move(solve);
+    ++result.saddleEscapes;
+  }
 }
 
 }  // namespace
@@ -78,6 +113,9 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   check(o.growth >= 1.0, "growth", o.growth, "must be >= 1");
   check(o.predictorOrder >= 0 && o.predictorOrder <= 5, "predictorOrder", o.predictorOrder, "must be in 0..5");
   check(o.levels.size() <= 1000000, "levels (count)", static_cast<double>(o.levels.size()), "must be <= 1e6");
+  check(o.saddleEscapes >= 0 && o.saddleEscapes <= 100, "saddleEscapes", o.saddleEscapes, "must be in 0..100");
+  check(std::isfinite(o.saddleStep) && o.saddleStep > 0.0 && o.saddleStep <= 10.0, "saddleStep", o.saddleStep,
+        "must be in (0, 10]");
   if (x.size() != objective.numDofs()) throw InputError("load stepping: x has the wrong size");
 
   if (o.path.control != PathControl::Load) return followPath(objective, loads, x, o, callback);
@@ -131,6 +169,11 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
       }
       continue;
     }
+    int negativePivots = -1;
+    if (o.checkStability && summary.regularizations > 0) {
+      negativePivots = leaveSaddles(objective, newton, o, trial, summary, result);
+      if (negativePivots > 0) ++result.unstableSteps;
+    }
     first = false;
     // A polynomial through a strongly curved or unevenly spaced stretch of the path can land farther from the
     // equilibrium than the last one was: then the order drops by one (down to 0, the last equilibrium); it
@@ -158,6 +201,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     if (landing) ++nextStop;
     step.x = x;
     step.cuts = cuts;
+    step.negativePivots = negativePivots;
     // The next increment aims at easyIterations Newton iterations: Δλ ×= √(easy / taken), within [½, growth].
     const double factor =
         std::clamp(std::sqrt(static_cast<double>(o.easyIterations) / std::max(1, summary.iterations)), 0.5, o.growth);
@@ -177,6 +221,9 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   std::ostringstream s;
   s << "reached lambda = " << target << " in " << result.steps.size() << " steps (" << result.totalCuts << " cuts, "
     << result.newtonIterations << " Newton iterations)";
+  if (result.saddleEscapes > 0) s << "; left " << result.saddleEscapes << " unstable equilibria downhill";
+  if (result.unstableSteps > 0)
+    s << "; " << result.unstableSteps << " step(s) ended on an unstable equilibrium (a saddle of the potential)";
   result.message = s.str();
   return result;
 }

@@ -64,6 +64,18 @@ struct LoadSteppingOptions {
                                   // (Newton iterations over the validation set, orders 2 -> 3: slit plate 256 -> 187,
                                   // page ring 274 -> 208, end shear 93 -> 66, end moment 165 -> 151; VALIDATION.md)
   NewtonOptions newton;
+  /// Unstable equilibria (load control). With checkStability, a step whose Newton solve needed a shifted system
+  /// (the tangent stiffness was indefinite on the way) is checked: the exact Hessian at its equilibrium is factored
+  /// (LDLᵀ, solvers/indefinite_factor.h) and its negative eigenvalues counted (LoadStepResult::negativePivots).
+  /// Steps solved without a shift are not checked, so no factorization is added to them. A saddle of the
+  /// potential, such as a flat sheet in compression that a symmetric start never leaves (Newton's steps keep the
+  /// symmetry to the bit), is left downhill: the equilibrium moves by saddleStep × the mean edge length along
+  /// the negative pivots' direction of negative curvature and Newton solves again, up to saddleEscapes times (0:
+  /// report only). A saddle that is not left (no escape allowed, or the new solve failed or did not lower the
+  /// energy) is kept and counted (StaticsResult::unstableSteps).
+  bool checkStability = true;
+  int saddleEscapes = 3;
+  double saddleStep = 0.1;
   /// The control (solvers/path_control.h). Load: the above as stated. ArcLength: levels and the target are
   /// load factors, landed on at every crossing, the path ends at the target; the increments are load-factor
   /// increments turned into arc lengths by the start's tangent. Displacement: levels and increments are
@@ -79,7 +91,8 @@ struct LoadStepResult {
   SolverSummary summary;    // the Newton solve that reached it
   int cuts = 0;             // failed attempts before this step was accepted
   double pathParameter = 0.0;  // arc length from the start (ArcLength), τ (Displacement) or λ (Load)
-  int negativePivots = -1;     // negative eigenvalues of the tangent stiffness there (path control; -1: unknown)
+  int negativePivots = -1;     // negative eigenvalues of the tangent stiffness there (path control, and load
+                               // control's check of unstable equilibria; -1: not checked)
 };
 
 struct StaticsResult {
@@ -92,6 +105,8 @@ struct StaticsResult {
   std::vector<SolverSummary> failedSolves;  // the attempts that were cut (without their traces)
   std::vector<std::string> activeTerms;
   std::vector<LimitPoint> limitPoints;  // where λ turned (arc-length and displacement control), in path order
+  int saddleEscapes = 0;  // unstable equilibria left downhill (load control, LoadSteppingOptions::saddleEscapes)
+  int unstableSteps = 0;  // accepted steps whose equilibrium was found unstable and kept so
   std::string message;
 };
 

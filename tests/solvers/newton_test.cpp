@@ -2,6 +2,7 @@
 #include "solvers/lbfgs.h"
 #include "solvers/newton.h"
 #include "test_problems.h"
+#include "wells_term.h"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -173,52 +174,13 @@ TEST_CASE("newton: exact-Hessian-first time steps leave wide blocks unprojected 
   CHECK((positions[1] - positions[0]).lpNorm<Eigen::Infinity>() < 1e-3 * sag);
 }
 
-namespace {
-
-/// A double well per coordinate, E = Σ (x_i² − 1)² / 4: its Hessian 3x_i² − 1 is negative for |x_i| < 1/√3.
-/// One single-vertex element per vertex (3×3 blocks), projected as asked.
-class DoubleWells : public EnergyTerm {
- public:
-  explicit DoubleWells(int n) : n_(n) {}
-  std::string name() const override { return "double_wells"; }
-  StencilTable stencils() const override {
-    StencilTable t;
-    t.width = 1;
-    for (int v = 0; v < n_; ++v) t.ids.push_back(v);
-    return t;
-  }
-  bool zeroAtRest() const override { return false; }
-  bool rigidInvariant() const override { return false; }
-  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
-    double e = 0.0;
-    for (int v = 0; v < n_; ++v) {
-      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-      for (int c = 0; c < 3; ++c) {
-        const double xi = x[3 * v + c];
-        e += 0.25 * (xi * xi - 1.0) * (xi * xi - 1.0);
-        if (request.gradient != nullptr) (*request.gradient)[3 * v + c] += xi * (xi * xi - 1.0);
-        H(c, c) = 3.0 * xi * xi - 1.0;
-      }
-      if (request.hessian != nullptr) {
-        projectPsd<3>(H, options.projection);
-        request.hessian->addElementHessian(request.hessianSlot, v, H.data());
-      }
-    }
-    return e;
-  }
-
- private:
-  int n_;
-};
-
-}  // namespace
-
 TEST_CASE("newton: exact-Hessian-first falls back to the projected Hessian where the system is indefinite") {
   // Starting inside the wells' concave part the unprojected Hessian is indefinite: those iterations are redone
   // projected, and the solve still reaches a minimum (every coordinate at ±1).
   constexpr int n = 4;
   Objective objective(n);
-  objective.addTerm(std::make_shared<DoubleWells>(n));
+  // A double well per coordinate, E = Σ (x_i² − 1)² / 4: its Hessian 3x_i² − 1 is negative for |x_i| < 1/√3.
+  objective.addTerm(std::make_shared<testing::WellsTerm>(n, std::array<double, 3>{1.0, 1.0, 1.0}));
   PhysicalScales scales;
   scales.force = 1.0;
   objective.setScales(scales);

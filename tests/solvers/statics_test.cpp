@@ -1,6 +1,7 @@
 #include "solvers/statics.h"
 #include "energies/shell/boundary_rules.h"
 #include "tests/solvers/test_problems.h"
+#include "tests/solvers/wells_term.h"
 
 #include <catch2/catch.hpp>
 
@@ -140,4 +141,78 @@ TEST_CASE("statics: invalid levels and options are rejected", "[statics]") {
   o.levels = {};
   o.predictorOrder = 9;
   CHECK_THROWS_AS(solveStatics(system, x, o), InputError);
+  o.predictorOrder = 3;
+  o.saddleEscapes = -1;
+  CHECK_THROWS_AS(solveStatics(system, x, o), InputError);
+  o.saddleEscapes = 3;
+  o.saddleStep = 0.0;
+  CHECK_THROWS_AS(solveStatics(system, x, o), InputError);
+}
+
+namespace {
+
+struct SaddleRun {
+  StaticsResult result;
+  Eigen::VectorXd x;
+};
+
+SaddleRun solveSaddleWells(bool check, int escapes) {
+  constexpr int n = 2;
+  Objective objective(n);
+  // Per vertex a saddle at the origin, E = Σ_v ½(x_v² + y_v²) + ¼ε(z_v² − 1)²: z_v = 0 is a maximum along z, z_v = ±1
+  // the minima. With every z exactly 0 the gradient's z part is exactly 0, so Newton never leaves z = 0 by itself.
+  // ε = 0.1 keeps the shift that makes the system positive definite at z = 0 small enough for Newton to converge
+  // in x and y.
+  objective.addTerm(std::make_shared<testing::WellsTerm>(n, std::array<double, 3>{0.0, 0.0, 0.1}));
+  PhysicalScales scales;
+  scales.force = 1.0;
+  scales.length = 1.0;
+  objective.setScales(scales);
+  SaddleRun run;
+  run.x = Eigen::VectorXd::Zero(3 * n);
+  for (int v = 0; v < n; ++v) run.x[3 * v] = run.x[3 * v + 1] = 0.5 + 0.1 * v;  // in-plane off balance, z = 0
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.checkStability = check;
+  o.saddleEscapes = escapes;
+  run.result = solveStatics(objective, LoadFactorHooks{}, run.x, o);
+  return run;
+}
+
+}  // namespace
+
+TEST_CASE("statics: an equilibrium reached through an indefinite system is checked, and a saddle is left downhill",
+          "[statics]") {
+  testing::SingleThread single;
+  SECTION("no check: Newton stops on the saddle (every z = 0), as it did before the check existed") {
+    const SaddleRun r = solveSaddleWells(false, 3);
+    REQUIRE(r.result.completed);
+    REQUIRE(r.result.steps.size() == 1);
+    CHECK(r.result.steps[0].summary.regularizations > 0);  // the system was indefinite on the way
+    CHECK(r.result.steps[0].negativePivots == -1);         // not checked
+    CHECK(r.x[2] == 0.0);
+    CHECK(r.x[5] == 0.0);
+  }
+  SECTION("the check leaves the saddle for a minimum, along both negative directions at once") {
+    const SaddleRun r = solveSaddleWells(true, 3);
+    INFO(r.result.message);
+    REQUIRE(r.result.completed);
+    CHECK(r.result.saddleEscapes == 1);
+    CHECK(r.result.unstableSteps == 0);
+    CHECK(r.result.steps.back().negativePivots == 0);
+    // At the residual tolerance (1e-6 N) a well's gradient ε z (z² − 1) ≈ 2ε (|z| − 1) leaves |z| − 1 within 5e-6.
+    CHECK(std::abs(std::abs(r.x[2]) - 1.0) < 1e-5);
+    CHECK(std::abs(std::abs(r.x[5]) - 1.0) < 1e-5);
+    CHECK(std::abs(r.x[0]) < 1e-6);
+    CHECK(r.result.steps.back().summary.finalEnergy < 1e-10);
+  }
+  SECTION("with no escape allowed, the saddle is kept and reported") {
+    const SaddleRun r = solveSaddleWells(true, 0);
+    REQUIRE(r.result.completed);
+    CHECK(r.result.saddleEscapes == 0);
+    CHECK(r.result.unstableSteps == 1);
+    CHECK(r.result.steps.back().negativePivots == 2);
+    CHECK(r.x[2] == 0.0);
+    CHECK(r.result.message.find("unstable equilibrium") != std::string::npos);
+  }
 }

@@ -241,6 +241,23 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       summary.extra["limit_points"] = limits;
     }
     summary.extra["load_step_cuts"] = r.totalCuts;
+    // Load control's check of equilibria reached through an indefinite tangent stiffness (solvers/statics.h); path
+    // control traces unstable branches on purpose and reports its limit points instead.
+    if (o.path.control == PathControl::Load) {
+      summary.extra["saddle_escapes"] = r.saddleEscapes;
+      summary.extra["unstable_equilibria"] = r.unstableSteps;
+    }
+    if (r.saddleEscapes > 0)
+      progress.log("left " + std::to_string(r.saddleEscapes) +
+                   " unstable equilibrium(s) downhill along negative curvature");
+    if (r.unstableSteps > 0) {
+      const std::string w = std::to_string(r.unstableSteps) +
+                            " load step(s) ended on an unstable equilibrium (a saddle of the potential energy: the "
+                            "tangent stiffness there has negative eigenvalues), which no step along negative curvature "
+                            "could leave for a lower one";
+      result.warnings.push_back(w);
+      progress.log("warning: " + w);
+    }
     for (const SolverSummary& f : r.failedSolves) safeguards.add(f, false);
     for (const LoadStepResult& step : r.steps) safeguards.add(step.summary, true);
   } else if (type == AnalysisType::Dynamic) {
