@@ -18,9 +18,10 @@ void check(bool ok, const char* field, double value, const char* rule) {
   throw InputError(s.str());
 }
 
-/// The check of LoadSteppingOptions::saddleEscapes on the equilibrium x that `summary` reached: the negative
+/// LoadSteppingOptions::checkStability on the equilibrium x that `summary` reached: returns the negative
 /// eigenvalues of the exact Hessian at the equilibrium finally kept (-1: the factorization failed, so unknown).
-/// x and summary are replaced when a saddle is left for a lower equilibrium.
+/// x and summary are replaced when a saddle is left for a lower equilibrium (at most saddleEscapes times). The
+/// factorization is Eigen's simplicial LDLᵀ on one thread (solvers/indefinite_factor.h), as path control's.
 int leaveSaddles(Objective& objective, NewtonSolver& newton, const LoadSteppingOptions& o, Eigen::VectorXd& x,
                  SolverSummary& summary, StaticsResult& result) {
   IndefiniteFactor factor;
