@@ -21,10 +21,10 @@ void check(bool ok, const char* field, double value, const char* rule) {
 /// LoadSteppingOptions::checkStability on the equilibrium x that `summary` reached: returns the negative
 /// eigenvalues of the exact Hessian at the equilibrium finally kept (-1: the factorization failed, so unknown).
 /// x and summary are replaced when a saddle is left for a lower equilibrium (at most saddleEscapes times). The
-/// factorization is Eigen's simplicial LDLᵀ on one thread (solvers/indefinite_factor.h), as path control's.
-int leaveSaddles(Objective& objective, NewtonSolver& newton, const LoadSteppingOptions& o, Eigen::VectorXd& x,
-                 SolverSummary& summary, StaticsResult& result) {
-  IndefiniteFactor factor;
+/// factorization is Eigen's simplicial LDLᵀ on one thread (solvers/indefinite_factor.h); `factor` is the path's
+/// own, as in path control, so its symbolic analysis is done once per Hessian pattern, not once per check.
+int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& factor, const LoadSteppingOptions& o,
+                 Eigen::VectorXd& x, SolverSummary& summary, StaticsResult& result) {
   EvalOptions exact;
   exact.path = o.newton.derivatives;
   exact.projection = PsdProjection::None;
@@ -127,6 +127,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   StaticsResult result;
   result.activeTerms = objective.activeTermNames();
   NewtonSolver newton(objective, o.newton);
+  IndefiniteFactor stability;  // checkStability's factor, analysed once per pattern
   double lambda = start;
   double increment = std::min(o.initialIncrement, o.maxIncrement);
   int cuts = 0;
@@ -172,7 +173,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     }
     int negativePivots = -1;
     if (o.checkStability && summary.regularizations > 0) {
-      negativePivots = leaveSaddles(objective, newton, o, trial, summary, result);
+      negativePivots = leaveSaddles(objective, newton, stability, o, trial, summary, result);
       if (negativePivots > 0) ++result.unstableSteps;
     }
     first = false;
