@@ -14,6 +14,7 @@ class CholmodSolver : public LinearSolver {
   FactorStatistics factorStatistics() const override { return factor_.statistics(); }
 
  protected:
+  bool factorProvesDefiniteness() const override { return true; }  // LLᵀ fails on a non-positive pivot
   Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift, const Eigen::VectorXd& b,
                   Eigen::VectorXd& x, LinearSolveReport& report) override {
     using Status = CholmodFactor::Status;

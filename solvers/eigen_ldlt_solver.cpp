@@ -16,6 +16,7 @@ class EigenLdltSolver : public LinearSolver {
   std::string name() const override { return "ldlt"; }
 
  protected:
+  bool factorProvesDefiniteness() const override { return true; }  // attempt() fails on a non-positive pivot
   Attempt attempt(const Eigen::SparseMatrix<double>& upper, bool analyze, double shift, const Eigen::VectorXd& b,
                   Eigen::VectorXd& x, LinearSolveReport& report) override {
     Timer timer;

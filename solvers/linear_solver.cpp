@@ -106,6 +106,7 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
       report.success = true;
       factorValid_ = true;
       report.shift = shift;
+      report.positiveDefinite = k == 0 && factorProvesDefiniteness();
       if (k > 0) {
         std::ostringstream s;
         s << "regularized with shift " << shift << " after " << k << " retr" << (k == 1 ? "y" : "ies") << " ("

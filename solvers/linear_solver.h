@@ -87,6 +87,9 @@ struct LinearSolveReport {
   bool analysisReused = false;    // set by a solver whose factored pattern did not change with H's pattern
   int regularizations = 0;        // retries with a diagonal shift
   double shift = 0.0;             // the δ of the successful attempt (0 = none)
+  /// A direct solver factored H itself, unshifted, as LLᵀ or as LDLᵀ with a positive D: H is positive definite
+  /// (a statement about the matrix solved; iterative solvers never make it).
+  bool positiveDefinite = false;
   int cgIterations = 0;
   int numericFactorizations = 0;      // Cholesky factorizations done (direct, or the lagged preconditioner)
   int directFallbacks = 0;            // PCG solves finished with the whole matrix's factor (cgDirectAfter)
@@ -171,6 +174,10 @@ class LinearSolver {
   const LinearSolverOptions& options() const { return options_; }
   /// The pattern version of the solve in progress (for attempt()).
   std::uint64_t solvingPatternVersion() const { return solvingVersion_; }
+
+  /// A successful unshifted attempt() factored H itself and would have failed on an H that is not positive
+  /// definite (the direct solvers; sets LinearSolveReport::positiveDefinite).
+  virtual bool factorProvesDefiniteness() const { return false; }
 
   /// Failed: a shift may help (e.g. CG did not converge). Fatal: it will not (e.g. out of memory).
   enum class Attempt { Ok, NotPositiveDefinite, Failed, Fatal };

@@ -41,6 +41,12 @@ double absoluteHessianTimesPositions(SymmetricProduct& product, const Eigen::Spa
   return m;
 }
 
+/// The options assemble the energy's own Hessian: nothing projected, no term's curvature left out.
+bool isTrueHessian(const EvalOptions& e) {
+  return e.projection == PsdProjection::None && e.hessianModel == HessianModel::Exact &&
+         e.frictionHessian == FrictionHessian::Exact;
+}
+
 /// Mean |H_ii| of the assembled upper triangle (the steepest-descent fallback's scale).
 double meanDiagonal(const Eigen::SparseMatrix<double>& H) {
   const Eigen::VectorXd d = H.diagonal();
@@ -319,6 +325,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.overlappedFactorizationSeconds += lin.preparedSeconds;
     rec.solveSeconds += lin.solveSeconds;
     rec.regularizations = lin.regularizations;
+    if (!reused) s.lastHessianPositiveDefinite = lin.positiveDefinite && isTrueHessian(haveExact ? exact : fallback);
     rec.shift = lin.shift;
     rec.cgIterations = lin.cgIterations;
     rec.directFallbacks = lin.directFallbacks;

@@ -79,6 +79,11 @@ struct SolverSummary {
   int regularizations = 0;   // diagonal-shift retries during this minimization
   int exactHessianSteps = 0;     // Newton steps taken with the unprojected Hessian
   int projectionFallbacks = 0;   // unprojected Hessians found indefinite and reassembled projected
+  /// The last Hessian this solve factored was the true one (unprojected, exact model) and a direct solver factored
+  /// it unshifted (LinearSolveReport::positiveDefinite): the equilibrium reached next to it is a minimum of the
+  /// energy, not a saddle. False when the solve factored nothing (it converged at its start, or only reused an
+  /// earlier factor), or shifted, projected or solved iteratively (solvers/statics.h: checkStability).
+  bool lastHessianPositiveDefinite = false;
   int directFallbacks = 0;       // PCG solves that spent LinearSolverOptions::cgDirectAfter and factored H whole
   int nonFiniteTrials = 0;       // line-search trial points rejected for a non-finite energy or gradient
   int energyEvaluations = 0, gradientEvaluations = 0, hessianEvaluations = 0;

@@ -56,6 +56,8 @@ TEST_CASE("linear solver: CHOLMOD, Eigen LDLT and PCG agree") {
     INFO(solver->name() << ": " << r.message);
     REQUIRE(r.success);
     CHECK(r.regularizations == 0);
+    // Only a direct factorization of H itself says H is positive definite.
+    CHECK(r.positiveDefinite == (c.type != LinearSolverType::PCG));
     CHECK(r.symbolicAnalysis);
     CHECK((x - reference).norm() <= c.tolerance * reference.norm());
     CHECK((H * x - b).norm() <= c.tolerance * 10.0 * b.norm());
@@ -159,6 +161,7 @@ TEST_CASE("linear solver: an indefinite matrix is shifted, retried and reported"
     REQUIRE(r.success);
     CHECK(r.regularizations > 0);
     CHECK(r.shift > 0.0);
+    CHECK_FALSE(r.positiveDefinite);  // the shifted matrix was, not H
     CHECK(x.allFinite());
     CHECK(b.dot(x) > 0.0);  // a descent direction for the gradient −b
     // Without retries the same matrix is reported, not solved.

@@ -344,3 +344,33 @@ TEST_CASE("newton: each iteration records the largest vertex move of its accepte
   CHECK(j.at("trace")[1].at("largest_move").get<double>() == two.trace[1].largestMove);
   CHECK(two.fullReport().find("move [m]") != std::string::npos);
 }
+
+TEST_CASE("newton: a solve says whether its last factor was the true Hessian's and positive definite") {
+  testing::SingleThread single;
+  auto solve = [](const NewtonOptions& o, Eigen::VectorXd* start = nullptr, bool mustConverge = true) {
+    ShellSystem system(testing::cantileverPlate(8, 3, 0.02), AnalysisKind::Statics);
+    Eigen::VectorXd x = start != nullptr ? *start : system.restPositions();
+    NewtonSolver newton(system.objective(), o);
+    const SolverSummary s = newton.minimize(x);
+    INFO(s.fullReport());
+    if (mustConverge) REQUIRE(s.converged());
+    if (start != nullptr) *start = x;
+    return s;
+  };
+  NewtonOptions unprojected;
+  unprojected.projection = PsdProjection::None;
+  Eigen::VectorXd x;
+  {
+    ShellSystem system(testing::cantileverPlate(8, 3, 0.02), AnalysisKind::Statics);
+    x = system.restPositions();
+  }
+  CHECK(solve(unprojected, &x).lastHessianPositiveDefinite);  // CHOLMOD factored the exact Hessian unshifted
+  CHECK_FALSE(solve(unprojected, &x).lastHessianPositiveDefinite);  // from the equilibrium: nothing factored
+  NewtonOptions projected;
+  projected.exactHessianNearSolution = false;
+  projected.maxIterations = 3;  // projected Newton converges linearly here; its factors are what counts
+  CHECK_FALSE(solve(projected, nullptr, false).lastHessianPositiveDefinite);  // clamped: says nothing of the energy
+  NewtonOptions iterative = unprojected;
+  iterative.linear.type = LinearSolverType::PCG;
+  CHECK_FALSE(solve(iterative).lastHessianPositiveDefinite);  // CG proves no definiteness
+}
