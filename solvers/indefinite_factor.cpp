@@ -1,5 +1,6 @@
 #include "solvers/indefinite_factor.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace jetshell {
@@ -17,22 +18,23 @@ bool IndefiniteFactor::factorize(const Eigen::SparseMatrix<double>& upper, std::
     return false;
   }
   const Eigen::VectorXd& D = ldlt_.vectorD();
-  int negative = 0;
+  double largest = 0.0;
   for (Eigen::Index i = 0; i < D.size(); ++i) {
     if (!std::isfinite(D[i]) || D[i] == 0.0) {
       message_ = "LDLT: zero or non-finite pivot";
       return false;
     }
-    if (D[i] < 0.0) ++negative;
+    largest = std::max(largest, std::abs(D[i]));
   }
-  negative_ = negative;
+  negativeBelow_ = -kRoundOffPivot * largest;
+  negative_ = static_cast<int>((D.array() < negativeBelow_).count());
   return true;
 }
 
 bool IndefiniteFactor::negativeCurvatureDirection(Eigen::VectorXd& d) const {
   if (negative_ == 0) return false;
   const Eigen::VectorXd& D = ldlt_.vectorD();
-  Eigen::VectorXd z = (D.array() < 0.0).cast<double>().matrix();
+  Eigen::VectorXd z = (D.array() < negativeBelow_).cast<double>().matrix();
   ldlt_.matrixU().solveInPlace(z);  // Lᵀ z = u
   d = ldlt_.permutationPinv() * z;
   return d.allFinite();
