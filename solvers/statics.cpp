@@ -50,6 +50,7 @@ int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& f
     x = trial;
     summary = std::move(solve);
     ++result.saddleEscapes;
+    if (summary.lastHessianPositiveDefinite) return 0;  // the new solve's own last factor says so
   }
 }
 
@@ -172,7 +173,8 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
       continue;
     }
     int negativePivots = -1;
-    if (o.checkStability && summary.regularizations > 0) {
+    if (o.checkStability && !summary.lastHessianPositiveDefinite) {
+      ++result.stabilityChecks;
       negativePivots = leaveSaddles(objective, newton, stability, o, trial, summary, result);
       if (negativePivots > 0) ++result.unstableSteps;
     }

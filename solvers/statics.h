@@ -64,15 +64,19 @@ struct LoadSteppingOptions {
                                   // (Newton iterations over the validation set, orders 2 -> 3: slit plate 256 -> 187,
                                   // page ring 274 -> 208, end shear 93 -> 66, end moment 165 -> 151; VALIDATION.md)
   NewtonOptions newton;
-  /// Unstable equilibria (load control). With checkStability, a step whose Newton solve needed a shifted system
-  /// (the tangent stiffness was indefinite on the way) is checked: the exact Hessian at its equilibrium is factored
-  /// (LDLᵀ, solvers/indefinite_factor.h) and its negative eigenvalues counted (LoadStepResult::negativePivots).
-  /// Steps solved without a shift are not checked, so no factorization is added to them. A saddle of the
-  /// potential, such as a flat sheet in compression that a symmetric start never leaves (Newton's steps keep the
-  /// symmetry to the bit), is left downhill: the equilibrium moves by saddleStep × the mean edge length along
-  /// the negative pivots' direction of negative curvature and Newton solves again, up to saddleEscapes times (0:
-  /// report only). A saddle that is not left (no escape allowed, or the new solve failed or did not lower the
-  /// energy) is kept and counted (StaticsResult::unstableSteps).
+  /// Unstable equilibria (load control). With checkStability, every step whose Newton solve did not end on an
+  /// unshifted Cholesky factorization of the true Hessian (SolverSummary::lastHessianPositiveDefinite) is checked:
+  /// the exact Hessian at its equilibrium is factored (LDLᵀ, solvers/indefinite_factor.h) and its negative
+  /// eigenvalues counted (LoadStepResult::negativePivots). So are checked: steps that needed a shifted system (the
+  /// tangent stiffness was indefinite on the way), steps that converged without factoring anything (a predictor
+  /// that lands on the equilibrium, as on a flat column's straight path past its buckling load), and every step
+  /// solved with a projected Hessian or an iterative linear solver, which cannot tell. Steps that end on a positive
+  /// definite factor get no extra factorization. A saddle of the potential, such as a flat sheet in compression
+  /// that a symmetric start never leaves (Newton's steps keep the symmetry to the bit), is left downhill: the
+  /// equilibrium moves by saddleStep × the mean edge length along the negative pivots' direction of negative
+  /// curvature and Newton solves again, up to saddleEscapes times (0: report only). A saddle that is not left (no
+  /// escape allowed, or the new solve failed or did not lower the energy) is kept and counted
+  /// (StaticsResult::unstableSteps).
   bool checkStability = true;
   int saddleEscapes = 3;
   double saddleStep = 0.1;
@@ -107,6 +111,7 @@ struct StaticsResult {
   std::vector<LimitPoint> limitPoints;  // where λ turned (arc-length and displacement control), in path order
   int saddleEscapes = 0;  // unstable equilibria left downhill (load control, LoadSteppingOptions::saddleEscapes)
   int unstableSteps = 0;  // accepted steps whose equilibrium was found unstable and kept so
+  int stabilityChecks = 0;  // equilibria factored by checkStability (each one LDLᵀ, and one more per escape)
   std::string message;
 };
 

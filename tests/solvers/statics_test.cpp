@@ -216,3 +216,56 @@ TEST_CASE("statics: an equilibrium reached through an indefinite system is check
     CHECK(r.result.message.find("unstable equilibrium") != std::string::npos);
   }
 }
+
+namespace {
+
+/// The cantilever plate of test_problems.h (1 × 0.4, h 0.01, E 1e6, ν 0.3) compressed in its plane by a total end
+/// force P (−x, spread over the free edge), flat: P_cr = π² D b / (4 L²) = 0.090 N for a plate strip (D = E h³ /
+/// (12 (1 − ν²))). Every out-of-plane gradient stays exactly 0, so load control follows the flat path whatever P.
+StaticsResult compressFlatPlate(double total, int escapes, Eigen::VectorXd& x) {
+  constexpr int nx = 8, ny = 2;
+  ShellProblem p = testing::cantileverPlate(nx, ny, 0.0);
+  for (int j = 0; j <= ny; ++j) {
+    const int right = j * (nx + 1) + nx;
+    p.nodalForces[3 * right] = -total * ((j == 0 || j == ny) ? 0.5 : 1.0) / ny;
+  }
+  ShellSystem system(p, AnalysisKind::Statics);
+  x = system.restPositions();
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.saddleEscapes = escapes;
+  o.initialIncrement = o.maxIncrement = 0.1;
+  return solveStatics(system, x, o);
+}
+
+}  // namespace
+
+TEST_CASE("statics: a flat plate compressed in its plane is checked at every step no factor vouched for",
+          "[statics]") {
+  testing::SingleThread single;
+  Eigen::VectorXd x;
+  SECTION("below its buckling load every equilibrium is stable, including those reached without a factorization") {
+    const StaticsResult r = compressFlatPlate(0.4 * 0.090, 3, x);
+    REQUIRE(r.completed);
+    CHECK(r.unstableSteps == 0);
+    int unfactored = 0;
+    for (const LoadStepResult& s : r.steps) {
+      INFO("step " << s.step << ": " << s.summary.iterations << " Newton iterations");
+      CHECK(s.negativePivots <= 0);
+      if (s.summary.lastHessianPositiveDefinite) continue;
+      CHECK(s.negativePivots == 0);  // checked, and stable
+      if (s.summary.iterations == 0) ++unfactored;
+    }
+    CHECK(unfactored > 0);  // the predictor lands on the flat path: steps that factored nothing
+    CHECK(r.stabilityChecks >= unfactored);
+  }
+  SECTION("past it the flat equilibrium is a saddle and is reported, where no Newton solve would have told") {
+    const StaticsResult r = compressFlatPlate(2.0 * 0.090, 0, x);
+    INFO(r.message);
+    REQUIRE(r.completed);
+    CHECK(r.unstableSteps > 0);
+    CHECK(r.steps.back().negativePivots == 1);  // the first buckling mode
+    CHECK(r.message.find("unstable equilibrium") != std::string::npos);
+    for (Eigen::Index i = 2; i < x.size(); i += 3) CHECK(x[i] == 0.0);  // flat to the bit
+  }
+}

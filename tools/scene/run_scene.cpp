@@ -211,6 +211,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       line << "load step " << step << "  λ = " << formatNumber("%.4f", s.loadFactor) << "  Newton " << s.summary.iterations
            << "  residual " << formatNumber("%.3e", s.summary.finalResidual) << " N  E_pot "
            << formatNumber("%.6e", potentialEnergy(s.x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
+      if (s.negativePivots > 0) line << "  (unstable: " << s.negativePivots << " negative eigenvalue(s))";
       progress.log(line.str());
       progress.update(s.loadFactor, "λ = " + formatNumber("%.3f", s.loadFactor));
       return !shouldStop(level);
@@ -241,11 +242,12 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       summary.extra["limit_points"] = limits;
     }
     summary.extra["load_step_cuts"] = r.totalCuts;
-    // Load control's check of equilibria reached through an indefinite tangent stiffness (solvers/statics.h); path
+    // Load control's check of equilibria that no positive definite factor vouched for (solvers/statics.h); path
     // control traces unstable branches on purpose and reports its limit points instead.
     if (o.path.control == PathControl::Load) {
       summary.extra["saddle_escapes"] = r.saddleEscapes;
       summary.extra["unstable_equilibria"] = r.unstableSteps;
+      summary.extra["stability_checks"] = r.stabilityChecks;
     }
     if (r.saddleEscapes > 0)
       progress.log("left " + std::to_string(r.saddleEscapes) +
@@ -254,7 +256,10 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       const std::string w = std::to_string(r.unstableSteps) +
                             " load step(s) ended on an unstable equilibrium (a saddle of the potential energy: the "
                             "tangent stiffness there has negative eigenvalues), which no step along negative curvature "
-                            "could leave for a lower one";
+                            "could leave for a lower one. A symmetric problem loaded past a bifurcation (a flat plate "
+                            "or a straight column in compression) keeps to its unstable branch; a small imperfection "
+                            "(a load or a rest shape slightly off the symmetry) lets load stepping follow the stable "
+                            "one";
       result.warnings.push_back(w);
       progress.log("warning: " + w);
     }
