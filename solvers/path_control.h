@@ -34,4 +34,14 @@ struct LimitPoint {
   bool maximum = true;       // true: λ rose and turns down (a snap-through starts); false: it turns back up
 };
 
+/// A bifurcation passed by arc-length or displacement control: the count of negative eigenvalues of the tangent
+/// stiffness changed between two successive path points with no limit point at either, so another branch crosses
+/// the path there (a straight column's buckled one, say). The path keeps to the branch it was on, now unstable
+/// if the count rose.
+struct BifurcationPoint {
+  int step = 0;                 // the accepted step after the change (LoadStepResult::step)
+  double loadFactorBefore = 0.0, loadFactorAfter = 0.0;  // λ at the two path points
+  int negativeBefore = 0, negativeAfter = 0;             // negative eigenvalues there
+};
+
 }  // namespace jetshell

@@ -109,6 +109,7 @@ struct StaticsResult {
   std::vector<SolverSummary> failedSolves;  // the attempts that were cut (without their traces)
   std::vector<std::string> activeTerms;
   std::vector<LimitPoint> limitPoints;  // where λ turned (arc-length and displacement control), in path order
+  std::vector<BifurcationPoint> bifurcationPoints;  // the same controls, in path order
   int saddleEscapes = 0;  // unstable equilibria left downhill (load control, LoadSteppingOptions::saddleEscapes)
   int unstableSteps = 0;  // accepted steps whose equilibrium was found unstable and kept so
   int stabilityChecks = 0;  // equilibria factored by checkStability (each one LDLᵀ, and one more per escape)

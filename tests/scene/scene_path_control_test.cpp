@@ -66,6 +66,7 @@ TEST_CASE("scene path control: displacement control drives the probe to its disp
   CHECK(s["probes"]["tip"][2].get<double>() == Approx(0.5).epsilon(1e-9));
   CHECK(s["final_load_factor_reached"].get<double>() > 0.0);
   CHECK(s["limit_points"].empty());
+  CHECK(s["bifurcation_points"].empty());  // a strip bent by an end force crosses no other branch
 }
 
 TEST_CASE("scene path control: arc length takes the hinged roof through its snap-through", "[scene][path]") {

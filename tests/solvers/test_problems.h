@@ -47,6 +47,19 @@ inline ShellProblem cantileverPlate(int nx, int ny, double force) {
   return p;
 }
 
+/// The cantilever plate above (8 × 2 squares) compressed in its plane by a total end force P (−x, spread over the
+/// free edge), flat: P_cr = π² D b / (4 L²) = 0.090 N for a plate strip (D = E h³ / (12 (1 − ν²))). Every
+/// out-of-plane gradient stays exactly 0, so a solver follows the flat path whatever P.
+inline ShellProblem compressedPlate(double total) {
+  constexpr int nx = 8, ny = 2;
+  ShellProblem p = cantileverPlate(nx, ny, 0.0);
+  for (int j = 0; j <= ny; ++j) {
+    const int right = j * (nx + 1) + nx;
+    p.nodalForces[3 * right] = -total * ((j == 0 || j == ny) ? 0.5 : 1.0) / ny;
+  }
+  return p;
+}
+
 /// A cloth [0, w] × [0, h] in the z = 0 plane hanging in its own plane: gravity −y, the two top corners
 /// (y = h) fixed. Material: the spec's defaults (a light cloth).
 inline ShellProblem hangingCloth(double w, double h, int nx, int ny) {

@@ -240,6 +240,29 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                      " at lambda = " + formatNumber("%.6g", l.loadFactor) + " (load step " + std::to_string(l.step + 1) + ")");
       }
       summary.extra["limit_points"] = limits;
+      nlohmann::json bifurcations = nlohmann::json::array();
+      for (const BifurcationPoint& b : r.bifurcationPoints) {
+        bifurcations.push_back({{"load_step", b.step + 1},
+                                {"load_factor_before", b.loadFactorBefore},
+                                {"load_factor_after", b.loadFactorAfter},
+                                {"negative_eigenvalues_before", b.negativeBefore},
+                                {"negative_eigenvalues_after", b.negativeAfter}});
+        progress.log("bifurcation: the tangent stiffness's negative eigenvalues go from " +
+                     std::to_string(b.negativeBefore) + " to " + std::to_string(b.negativeAfter) +
+                     " between lambda = " + formatNumber("%.6g", b.loadFactorBefore) + " and " +
+                     formatNumber("%.6g", b.loadFactorAfter) + " (load step " + std::to_string(b.step + 1) +
+                     "), with no limit point");
+      }
+      summary.extra["bifurcation_points"] = bifurcations;
+      if (!r.bifurcationPoints.empty()) {
+        const std::string w = "the path passed " + std::to_string(r.bifurcationPoints.size()) +
+                              " bifurcation point(s), where another branch of equilibria crosses it, and kept to its "
+                              "own branch, which may be the unstable one (negative_eigenvalues_after > 0); a small "
+                              "imperfection (a load or a rest shape slightly off the symmetry) makes the path follow "
+                              "the other";
+        result.warnings.push_back(w);
+        progress.log("warning: " + w);
+      }
     }
     summary.extra["load_step_cuts"] = r.totalCuts;
     // Load control's check of equilibria that no positive definite factor vouched for (solvers/statics.h); path
