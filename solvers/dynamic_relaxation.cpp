@@ -1,9 +1,11 @@
 #include "solvers/dynamic_relaxation.h"
 
 #include "core/mesh.h"
+#include "solvers/stability_check.h"
 
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace jetshell {
 
@@ -15,6 +17,10 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   if (!(std::isfinite(alpha) && alpha > 0.0))
     throw InputError("dynamic relaxation: massDamping (or the material's massDampingCoefficient) must be > 0");
   if (o.maxSteps < 1) throw InputError("dynamic relaxation: maxSteps must be >= 1");
+  if (o.saddleEscapes < 0 || o.saddleEscapes > 100)
+    throw InputError("dynamic relaxation: saddleEscapes = " + std::to_string(o.saddleEscapes) + ": must be in 0..100");
+  if (!(std::isfinite(o.saddleStep) && o.saddleStep > 0.0 && o.saddleStep <= 10.0))
+    throw InputError("dynamic relaxation: saddleStep = " + std::to_string(o.saddleStep) + ": must be in (0, 10]");
 
   DynamicsOptions d;
   d.integrator = TimeIntegrator::BackwardEuler;
@@ -54,12 +60,30 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
   result.forceScaleSource = F.source;
   result.residualThreshold = o.residualTolerance * F.value;
   result.staticResidual = r0;
-  if (r0 <= result.residualThreshold) {
+  IndefiniteFactor factor;  // the stability check's, analysed once per Hessian pattern
+  // An equilibrium reached is checked (RelaxationOptions::checkStability); from a saddle the state moves downhill
+  // along negative curvature, at rest, and the relaxation goes on, within the same step budget.
+  auto unstable = [&](bool mayEscape) {
+    if (!o.checkStability) return false;
+    const Stability s = assessStability(obj, factor, solver.positions(), o.newton.derivatives, o.saddleStep,
+                                        TermSelection::PotentialOnly);
+    result.negativeEigenvalues = s.negativeEigenvalues;
+    if (s.negativeEigenvalues <= 0 || !mayEscape || result.saddleEscapes == o.saddleEscapes || s.downhill.size() == 0)
+      return false;
+    ++result.saddleEscapes;
+    solver.setState(solver.positions() + s.downhill, Eigen::VectorXd::Zero(x.size()), solver.time());
+    x = solver.positions();
+    return true;
+  };
+  if (r0 <= result.residualThreshold && !unstable(true)) {
     result.converged = true;
     result.message = "already in equilibrium";
+    if (result.negativeEigenvalues > 0)
+      result.message += ", which is unstable (a saddle of the potential energy: " +
+                        std::to_string(result.negativeEigenvalues) + " negative eigenvalue(s))";
     return result;
   }
-  for (int i = 0; i < o.maxSteps; ++i) {
+  while (result.steps < o.maxSteps) {
     const StepReport r = solver.step();
     result.newtonIterations += r.newtonIterations;
     result.cuts += r.cuts;
@@ -73,12 +97,13 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
     result.staticResidual = staticResidual(true);
     result.residualHistory.push_back(result.staticResidual);
     const bool converged = result.staticResidual <= result.residualThreshold;
-    if (callback && !callback(r, result.staticResidual) && !converged) {
+    const bool stop = callback && !callback(r, result.staticResidual);
+    if (stop && !converged) {
       result.stopped = true;
       result.message = "stopped by the callback";
       return result;
     }
-    if (converged) {
+    if (converged && !unstable(!stop)) {  // asked to stop: checked, not left
       result.converged = true;
       break;
     }
@@ -88,6 +113,10 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
     s << (result.converged ? "static residual " : "not converged: static residual ") << result.staticResidual
       << " N (threshold " << result.residualThreshold << " N) after " << result.steps << " steps, "
       << result.newtonIterations << " Newton iterations";
+    if (result.saddleEscapes > 0) s << "; left " << result.saddleEscapes << " unstable equilibria downhill";
+    if (result.converged && result.negativeEigenvalues > 0)
+      s << "; the equilibrium is unstable (a saddle of the potential energy: " << result.negativeEigenvalues
+        << " negative eigenvalue(s))";
     result.message = s.str();
   }
   return result;

@@ -32,6 +32,15 @@ struct RelaxationOptions {
   /// (newton.linear Cholmod, or Auto resolving to it): other solvers keep no factor. false: newton's own setting
   /// (a fresh Hessian and factor at every iteration by default).
   bool reuseFactor = true;
+  /// An equilibrium reached is checked as load control checks one (solvers/stability_check.h): the potential
+  /// terms' exact Hessian is factored (LDLᵀ) and its negative eigenvalues counted. From a saddle (a sheet or a
+  /// column in compression that a symmetric start keeps flat or straight to round-off: relaxation from rest does
+  /// not break the symmetry) the state moves by saddleStep × the mean edge length along negative curvature, at rest,
+  /// and relaxes on, up to saddleEscapes times, within maxSteps. A saddle kept is reported
+  /// (RelaxationResult::negativeEigenvalues > 0).
+  bool checkStability = true;
+  int saddleEscapes = 3;
+  double saddleStep = 0.1;
   NewtonOptions newton;
 };
 
@@ -48,6 +57,8 @@ struct RelaxationResult {
   int newtonIterations = 0;
   int cuts = 0;
   int reusedGradients = 0;  // static residuals read from the step's own last gradient (reuseStepGradient)
+  int negativeEigenvalues = -1;  // of the potential's Hessian at the last equilibrium checked (-1: none checked)
+  int saddleEscapes = 0;         // saddles left downhill (checkStability)
   std::vector<std::string> activeTerms;
   std::string message;
 };

@@ -3,6 +3,7 @@
 #include "core/mesh.h"
 #include "solvers/indefinite_factor.h"
 #include "solvers/path_following.h"
+#include "solvers/stability_check.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,32 +22,18 @@ void check(bool ok, const char* field, double value, const char* rule) {
 /// LoadSteppingOptions::checkStability on the equilibrium x that `summary` reached: returns the negative
 /// eigenvalues of the exact Hessian at the equilibrium finally kept (-1: the factorization failed, so unknown).
 /// x and summary are replaced when a saddle is left for a lower equilibrium (at most saddleEscapes times). The
-/// factorization is Eigen's simplicial LDLᵀ on one thread (solvers/indefinite_factor.h); `factor` is the path's
+/// factorization is Eigen's simplicial LDLᵀ on one thread (solvers/stability_check.h); `factor` is the path's
 /// own, as in path control, so its symbolic analysis is done once per Hessian pattern, not once per check.
 int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& factor, const LoadSteppingOptions& o,
                  Eigen::VectorXd& x, SolverSummary& summary, StaticsResult& result) {
-  EvalOptions exact;
-  exact.path = o.newton.derivatives;
-  exact.projection = PsdProjection::None;
-  exact.hessianModel = HessianModel::Exact;
-  Eigen::VectorXd gradient(x.size());
   for (int escape = 0;; ++escape) {
-    gradient.setZero();
-    const double energy = objective.evaluate(x, &gradient, true, exact);
+    const Stability s = assessStability(objective, factor, x, o.newton.derivatives, o.saddleStep);
+    if (s.negativeEigenvalues <= 0 || escape == o.saddleEscapes || s.downhill.size() == 0) return s.negativeEigenvalues;
     const double roundOff = 1e-13 * objective.energyMagnitude();
-    if (!factor.factorize(objective.assembler().matrix(), objective.assembler().patternVersion())) return -1;
-    const int negative = factor.negativePivots();
-    Eigen::VectorXd d;
-    if (negative == 0 || escape == o.saddleEscapes || !factor.negativeCurvatureDirection(d)) return negative;
-    objective.zeroFixed(d);
-    const double largest = largestVertexNorm(d);
-    if (!(largest > 0.0) || !std::isfinite(largest)) return negative;
-    d *= o.saddleStep * objective.scales().length / largest;
-    if (gradient.dot(d) > 0.0) d = -d;
-    Eigen::VectorXd trial = x + d;
+    Eigen::VectorXd trial = x + s.downhill;
     SolverSummary solve = newton.minimize(trial);
     result.newtonIterations += solve.iterations;
-    if (!solve.converged() || !(solve.finalEnergy < energy - roundOff)) return negative;
+    if (!solve.converged() || !(solve.finalEnergy < s.energy - roundOff)) return s.negativeEigenvalues;
     x = trial;
     summary = std::move(solve);
     ++result.saddleEscapes;

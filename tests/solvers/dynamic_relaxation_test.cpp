@@ -80,3 +80,68 @@ TEST_CASE("dynamic relaxation: reusing an earlier step's factor reaches the stat
   CHECK(lagged.factorizations < fresh.factorizations);
   CHECK(lagged.hessians < fresh.hessians);
 }
+
+namespace {
+
+/// testing::compressedPlate at twice its buckling load, relaxed from the flat rest state: the out-of-plane
+/// coordinates stay at round-off size (1e-20 m here) unless something breaks the symmetry.
+RelaxationResult relaxCompressedPlate(bool check, int escapes, Eigen::VectorXd& x) {
+  ShellProblem problem = testing::compressedPlate(2.0 * 0.090);
+  problem.material.density = 1e-3;  // fictitious mass: only the end state matters
+  ShellSystem system(problem, AnalysisKind::DynamicRelaxation);
+  RelaxationOptions o;
+  o.timeStep = 0.05;
+  o.massDamping = 20.0;
+  o.maxSteps = 2000;
+  o.checkStability = check;
+  o.saddleEscapes = escapes;
+  x = system.restPositions();
+  return relaxToStatic(system, x, o);
+}
+
+double largestOutOfPlane(const Eigen::VectorXd& x) {
+  double z = 0.0;
+  for (Eigen::Index i = 2; i < x.size(); i += 3) z = std::max(z, std::abs(x[i]));
+  return z;
+}
+
+}  // namespace
+
+TEST_CASE("dynamic relaxation: a saddle reached from a symmetric start is checked and left downhill") {
+  testing::SingleThread single;
+  Eigen::VectorXd x;
+  SECTION("no check: the plate relaxes to the flat saddle and stays flat") {
+    const RelaxationResult r = relaxCompressedPlate(false, 3, x);
+    INFO(r.message);
+    REQUIRE(r.converged);
+    CHECK(r.negativeEigenvalues == -1);
+    CHECK(largestOutOfPlane(x) < 1e-12);
+  }
+  SECTION("the check finds the saddle, and the relaxation goes on from a step downhill to a buckled minimum") {
+    const RelaxationResult r = relaxCompressedPlate(true, 3, x);
+    INFO(r.message);
+    REQUIRE(r.converged);
+    CHECK(r.saddleEscapes >= 1);
+    CHECK(r.negativeEigenvalues == 0);
+    CHECK(largestOutOfPlane(x) > 0.1);  // of a 1 m plate at twice its buckling load
+  }
+  SECTION("with no escape allowed, the saddle is reported") {
+    const RelaxationResult r = relaxCompressedPlate(true, 0, x);
+    REQUIRE(r.converged);
+    CHECK(r.negativeEigenvalues == 1);
+    CHECK(r.message.find("unstable") != std::string::npos);
+    CHECK(largestOutOfPlane(x) < 1e-12);
+  }
+}
+
+TEST_CASE("dynamic relaxation: bad saddle options are refused by name") {
+  ShellSystem system(testing::cantileverPlate(2, 1, 0.01), AnalysisKind::DynamicRelaxation);
+  Eigen::VectorXd x = system.restPositions();
+  RelaxationOptions o;
+  o.massDamping = 1.0;
+  o.saddleEscapes = -1;
+  CHECK_THROWS_WITH(relaxToStatic(system, x, o), Catch::Contains("saddleEscapes"));
+  o.saddleEscapes = 3;
+  o.saddleStep = 0.0;
+  CHECK_THROWS_WITH(relaxToStatic(system, x, o), Catch::Contains("saddleStep"));
+}

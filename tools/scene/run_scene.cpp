@@ -420,6 +420,20 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     termination = r.converged ? "converged" : r.message;
     recordResidualClaim(summary.extra, r.staticResidual, r.residualThreshold, r.forceScale, r.forceScaleSource);
     summary.extra["pseudo_time"] = r.pseudoTime;
+    // The relaxation's check of the equilibrium it reached (solvers/dynamic_relaxation.h).
+    summary.extra["saddle_escapes"] = r.saddleEscapes;
+    summary.extra["unstable_equilibria"] = r.converged && r.negativeEigenvalues > 0 ? 1 : 0;
+    if (r.saddleEscapes > 0)
+      progress.log("left " + std::to_string(r.saddleEscapes) +
+                   " unstable equilibrium(s) downhill along negative curvature");
+    if (r.converged && r.negativeEigenvalues > 0) {
+      const std::string w = "the relaxation ended on an unstable equilibrium (a saddle of the potential energy: " +
+                            std::to_string(r.negativeEigenvalues) +
+                            " negative eigenvalue(s)), which no step along negative curvature could leave for a "
+                            "lower one";
+      result.warnings.push_back(w);
+      progress.log("warning: " + w);
+    }
   }
   summary.extra["safeguards"] = safeguards.toJson(moveOn ? "move_on" : "cut_step");
   // Ctrl-C during a step that then failed (every cut tried) still ends as an interruption.
