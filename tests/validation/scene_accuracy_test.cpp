@@ -69,3 +69,27 @@ TEST_CASE("scene accuracy: the end-shear scene is within 0.05% of the elastica a
     CHECK(ew < 0.0005);  // measured at most 0.029% (w at λ = 0.1)
   }
 }
+
+TEST_CASE("scene accuracy: the Euler column leaves the straight saddle and buckles to the elastica within 0.3%",
+          "[validation]") {
+  const test::ScopedThreads serial(1);
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/euler_column.json");
+  scene.outputs.vtu = false;
+  const fs::path dir = test::scratchDirectory("scene_accuracy") / "euler_column";
+  fs::remove_all(dir);
+  RunOptions o;
+  o.outputDirectory = dir.string();
+  o.pictures = false;
+  const RunResult r = runScene(scene, o);
+  REQUIRE(r.summary.converged);
+  CHECK(r.summary.extra.at("saddle_escapes").get<int>() >= 1);  // the relaxation reached the straight saddle
+  CHECK(r.summary.extra.at("unstable_equilibria").get<int>() == 0);
+  const std::vector<std::vector<double>> rows = readCsv(dir / "probes.csv");
+  REQUIRE(!rows.empty());
+  // The inextensible elastica at P = 1.6 P_cr: K(k) = (π/2)·√1.6 gives k = 0.795615, and the tip's deflection
+  // δ = 2 k L / K(k) = 8.0085 (L 10).
+  const double k = 0.7956151559, K = 0.5 * M_PI * std::sqrt(1.6), elastica = 2.0 * k * 10.0 / K;
+  const double w = std::abs(rows.back()[5]);
+  INFO("tip deflection " << w << ", elastica " << elastica);
+  CHECK(std::abs(w - elastica) / elastica < 0.003);  // measured 0.17% (8.0224)
+}
