@@ -1,7 +1,7 @@
 // Whether an equilibrium is a minimum of the potential energy or a saddle, and which way is downhill from a
 // saddle: shared by load control (solvers/statics.h) and dynamic relaxation (solvers/dynamic_relaxation.h), which
 // both stop where the residual vanishes, and a symmetric start (a flat sheet or a straight column in compression)
-// can keep them on a saddle to the bit.
+// can keep them on a saddle (load control's Newton steps keep the symmetry to the bit, relaxation to round-off).
 //
 // Inputs: the objective, the equilibrium x, the terms whose energy is the potential (all of a static system; the
 // potential ones of a relaxation, without inertia and damping), and the escape step as a fraction of the mesh's
@@ -24,7 +24,6 @@ struct Stability {
   /// prescribed dofs zeroed, scaled so that its largest vertex move is step × the length scale, and turned to
   /// descend (gradient · d ≤ 0). Empty when there is none or it is not finite.
   Eigen::VectorXd downhill;
-  bool stable() const { return negativeEigenvalues == 0; }
 };
 
 /// Factors the exact, unprojected Hessian of the selected terms at x with `factor` (analysed once per Hessian
