@@ -286,6 +286,33 @@ TEST_CASE("run: a static run that reaches no load step under the weight points t
   CHECK(thick.summary.termination.find("dynamicRelaxation") == std::string::npos);
 }
 
+TEST_CASE("run: a column past its buckling load is reported unstable by load control, and relaxation leaves it") {
+  // examples/euler_column.json (a straight strip at 1.6 times its Euler load), by load control and by a relaxation
+  // cut short: the static run ends on the straight saddle and says so; the relaxation's step budget runs out after
+  // it stepped off the saddle, and its termination says that once.
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/euler_column.json");
+  scene.outputs.vtu = false;
+  RunOptions o;
+  o.pictures = false;
+  Scene statics = scene;
+  statics.analysis.type = AnalysisType::Static;
+  statics.analysis.loadSteps = 10;
+  o.outputDirectory = freshDirectory("column_static").string();
+  const RunResult s = runScene(statics, o);
+  CHECK(s.summary.converged);
+  CHECK(s.summary.extra.at("unstable_equilibria").get<int>() > 0);
+  REQUIRE(!s.warnings.empty());
+  CHECK(s.warnings.back().find("dynamicRelaxation") != std::string::npos);
+  Scene relaxation = scene;
+  relaxation.analysis.maxSteps = 20;
+  o.outputDirectory = freshDirectory("column_relaxation").string();
+  const RunResult r = runScene(relaxation, o);
+  CHECK(!r.summary.converged);
+  CHECK(r.summary.extra.at("saddle_escapes").get<int>() == 1);
+  CHECK(r.summary.termination.rfind("maxSteps (20) reached", 0) == 0);
+  CHECK(r.summary.termination.find("after") == std::string::npos);  // the run's report adds the counts
+}
+
 TEST_CASE("run: the staged evaluator gives the hand-chained run's answer", "[staged]") {
   // A static strip with a mirrored clamp and moment-free free edges (the scene defaults), to the elastica's tip.
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");

@@ -282,7 +282,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                             "could leave for a lower one. A symmetric problem loaded past a bifurcation (a flat plate "
                             "or a straight column in compression) keeps to its unstable branch; a small imperfection "
                             "(a load or a rest shape slightly off the symmetry) lets load stepping follow the stable "
-                            "one";
+                            "one, and dynamic relaxation at the final load steps off the saddle and settles on it "
+                            "(\"type\": \"dynamicRelaxation\", examples/euler_column.json)";
       result.warnings.push_back(w);
       progress.log("warning: " + w);
     }
@@ -418,6 +419,14 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     summary.newtonIterations = r.newtonIterations;
     converged = r.converged;
     termination = r.converged ? "converged" : r.message;
+    if (!r.converged && !r.stopped && r.steps >= o.maxSteps) {
+      // The step budget ran out: said once, without the step and iteration counts the run's report adds.
+      std::ostringstream t;
+      t << "maxSteps (" << o.maxSteps << ") reached with the static residual " << formatNumber("%.3e", r.staticResidual)
+        << " N above " << formatNumber("%.3e", r.residualThreshold) << " N";
+      if (r.saddleEscapes > 0) t << "; left " << r.saddleEscapes << " unstable equilibrium(s) downhill on the way";
+      termination = t.str();
+    }
     recordResidualClaim(summary.extra, r.staticResidual, r.residualThreshold, r.forceScale, r.forceScaleSource);
     summary.extra["pseudo_time"] = r.pseudoTime;
     // The relaxation's check of the equilibrium it reached (solvers/dynamic_relaxation.h).
