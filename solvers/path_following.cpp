@@ -69,8 +69,29 @@ double limitLoadFactor(const double p[3], const double l[3]) {
   return l[0] + f01 * (s - p[0]) + f012 * (s - p[0]) * (s - p[1]);
 }
 
-StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
-                         const LoadSteppingOptions& o, const LoadStepCallback& callback) {
+namespace {
+
+/// Path control's bifurcations (BifurcationPoint): successive known negative-pivot counts that differ where no
+/// limit point lies at either step (a limit point changes the count by itself, at the turn).
+std::vector<BifurcationPoint> bifurcationPoints(const StaticsResult& r) {
+  std::vector<BifurcationPoint> points;
+  const LoadStepResult* last = nullptr;  // the last step with a known count
+  for (const LoadStepResult& s : r.steps) {
+    if (s.negativePivots < 0) continue;
+    if (last != nullptr && s.negativePivots != last->negativePivots) {
+      const bool atLimit = std::any_of(r.limitPoints.begin(), r.limitPoints.end(), [&](const LimitPoint& l) {
+        return l.step >= last->step && l.step <= s.step;
+      });
+      if (!atLimit) points.push_back({s.step, last->loadFactor, s.loadFactor, last->negativePivots, s.negativePivots});
+    }
+    last = &s;
+  }
+  return points;
+}
+
+/// followPath without its bifurcations (the loop returns from several places; followPath adds them once).
+StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                        const LoadSteppingOptions& o, const LoadStepCallback& callback) {
   const PathFollowingOptions& po = o.path;
   const bool arc = po.control == PathControl::ArcLength;
   checkPathOption(po.control != PathControl::Load, "control", 0, "load control is not path following");
@@ -326,6 +347,15 @@ StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eig
     for (const std::string& m : missed) s << " " << m;
   }
   result.message = s.str();
+  return result;
+}
+
+}  // namespace
+
+StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                         const LoadSteppingOptions& o, const LoadStepCallback& callback) {
+  StaticsResult result = tracePath(objective, loads, x, o, callback);
+  result.bifurcationPoints = bifurcationPoints(result);
   return result;
 }
 

@@ -3,7 +3,7 @@
 //
 // Inputs: the objective, the load hooks, the start x (an equilibrium at startLoadFactor, or the rest state at 0),
 // the stepping options. Outputs: the accepted equilibria (λ, x, the corrector's summary, the arc length or τ, the
-// negative pivots of the tangent stiffness), the limit points, and the last equilibrium in x.
+// negative pivots of the tangent stiffness), the limit and bifurcation points, and the last equilibrium in x.
 //
 // Each step predicts (x, λ) and corrects it onto the path (solvers/path_corrector.h):
 //  - predictor: the first step follows the start's tangent t = K⁻¹q; later steps extrapolate x and λ with the
@@ -18,6 +18,8 @@
 //    chord between the two path points around it; a level whose correction fails is reported in the message.
 //  - limit points: where λ rises then falls (or falls then rises) over three successive path points, the vertex
 //    of the parabola λ(path parameter) through them is reported with its step and direction.
+//  - bifurcation points: where the count of negative pivots changes between two path points with no limit point at
+//    either (solvers/path_control.h, BifurcationPoint).
 #pragma once
 
 #include "solvers/statics.h"

@@ -41,24 +41,6 @@ int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& f
   }
 }
 
-/// Path control's bifurcations (BifurcationPoint): successive known negative-pivot counts that differ where no
-/// limit point lies at either step (a limit point changes the count by itself, at the turn).
-std::vector<BifurcationPoint> bifurcationPoints(const StaticsResult& r) {
-  std::vector<BifurcationPoint> points;
-  const LoadStepResult* last = nullptr;  // the last step with a known count
-  for (const LoadStepResult& s : r.steps) {
-    if (s.negativePivots < 0) continue;
-    if (last != nullptr && s.negativePivots != last->negativePivots) {
-      const bool atLimit = std::any_of(r.limitPoints.begin(), r.limitPoints.end(), [&](const LimitPoint& l) {
-        return l.step >= last->step && l.step <= s.step;
-      });
-      if (!atLimit) points.push_back({s.step, last->loadFactor, s.loadFactor, last->negativePivots, s.negativePivots});
-    }
-    last = &s;
-  }
-  return points;
-}
-
 }  // namespace
 
 void LoadFactorHooks::set(double lambda) const {
@@ -125,11 +107,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
         "must be in (0, 10]");
   if (x.size() != objective.numDofs()) throw InputError("load stepping: x has the wrong size");
 
-  if (o.path.control != PathControl::Load) {
-    StaticsResult r = followPath(objective, loads, x, o, callback);
-    r.bifurcationPoints = bifurcationPoints(r);
-    return r;
-  }
+  if (o.path.control != PathControl::Load) return followPath(objective, loads, x, o, callback);
   const double start = o.startLoadFactor, target = o.targetLoadFactor;
   const double direction = target >= start ? 1.0 : -1.0;
   const std::vector<double> stops = pathStops(start, target, o.levels);
