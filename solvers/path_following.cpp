@@ -223,6 +223,14 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     PathCorrection pc = correctOnPath(objective, loads, factor, trial, trialLambda, c, o.newton);
     result.newtonIterations += pc.summary.iterations;
     bool ok = pc.summary.converged();
+    if (ok && arc && std::abs(trialLambda - last.lambda) > o.maxIncrement * (1.0 + 1e-9)) {
+      // As in load control, no step changes λ by more than maxIncrement: the start tangent that turns λ increments
+      // into arc lengths can be far steeper than the path later on (a branch leaving a bifurcation), and a long
+      // step can land on another branch.
+      ok = false;
+      pc.summary.reason = TerminationReason::Stalled;
+      pc.summary.message = "the correction changed lambda by more than maxIncrement";
+    }
     if (ok && arc && history.size() >= 2) {
       const Eigen::VectorXd du = trial - last.x, previous = last.x - history[1].x;
       const double dl = trialLambda - last.lambda, dlPrevious = last.lambda - history[1].lambda;
@@ -268,31 +276,52 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       }
       const double towards = trialLambda >= last.lambda ? 1.0 : -1.0;
       std::sort(crossed.begin(), crossed.end(), [&](double a, double b) { return towards * a < towards * b; });
+      // Each landing is a load-controlled correction from the chord. One that fails cuts the whole step while the
+      // increment can still be halved (a shorter chord starts closer); only then is the level reported missed.
+      struct Landing {
+        double level, p;
+        Eigen::VectorXd x;
+        PathCorrection correction;
+      };
+      std::vector<Landing> landings;
+      bool cutStep = false;
       for (double level : crossed) {
         const double f = (level - last.lambda) / (trialLambda - last.lambda);
-        Eigen::VectorXd xl = last.x + f * (trial - last.x);
+        Landing l{level, last.p + f * (pNew - last.p), last.x + f * (trial - last.x), {}};
         double ll = level;
         PathConstraint held;
         held.kind = PathConstraint::Kind::LoadFactor;
         held.loadFactor = level;
-        PathCorrection lc = correctOnPath(objective, loads, factor, xl, ll, held, o.newton);
-        result.newtonIterations += lc.summary.iterations;
-        const bool isTarget = std::abs(level - target) <= eps;
-        if (!lc.summary.converged()) {
+        l.correction = correctOnPath(objective, loads, factor, l.x, ll, held, o.newton);
+        result.newtonIterations += l.correction.summary.iterations;
+        if (!l.correction.summary.converged()) {
+          l.correction.summary.trace.clear();
+          result.failedSolves.push_back(l.correction.summary);
+          if (0.5 * increment >= o.minIncrement) {
+            cutStep = true;
+            break;
+          }
           std::ostringstream s;
-          s << level << " (" << lc.summary.message << ")";
+          s << level << " (" << l.correction.summary.message << ")";
           missed.push_back(s.str());
-          lc.summary.trace.clear();
-          result.failedSolves.push_back(lc.summary);
           continue;
         }
-        if (!emit(level, xl, last.p + f * (pNew - last.p), true, lc)) {
-          x = xl;
-          return stopByCallback(level);
+        landings.push_back(std::move(l));
+      }
+      if (cutStep) {
+        ++cuts;
+        ++result.totalCuts;
+        increment *= 0.5;
+        continue;
+      }
+      for (Landing& l : landings) {
+        if (!emit(l.level, l.x, l.p, true, l.correction)) {
+          x = l.x;
+          return stopByCallback(l.level);
         }
         cuts = 0;
-        if (isTarget) {
-          x = xl;
+        if (std::abs(l.level - target) <= eps) {
+          x = l.x;
           reachedTarget = true;
           break;
         }

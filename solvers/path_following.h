@@ -10,12 +10,15 @@
 //    polynomial through the last max(1, predictorOrder) + 1 path points in the path parameter (arc length or τ);
 //  - arc length: the constraint radius is the predictor's distance from the last point, so the predictor lies on
 //    it; a correction whose increment turns by more than 60° from the previous increment (or back along the
-//    path) is rejected and the step cut: a large step can jump to another branch or cut a sharp turn short;
+//    path), or changes λ by more than maxIncrement, is rejected and the step cut: a large step can jump to
+//    another branch or cut a sharp turn short, and the start tangent that turns λ increments into arc lengths
+//    can be far steeper than the path later (a branch leaving a bifurcation, solvers/branch_switching.h);
 //  - a failed correction halves the increment (below minIncrement the run stops, keeping the last equilibrium);
 //    after a step that took k iterations the increment is scaled by √(easyIterations / k) within [½, growth];
 //  - requested levels: displacement control lands on each τ level as load control does on λ; arc length lands on
 //    every crossing of each λ level (and ends on the target) with a load-controlled correction started from the
-//    chord between the two path points around it; a level whose correction fails is reported in the message.
+//    chord between the two path points around it; a level whose correction fails cuts the step while the
+//    increment can still be halved, and only then is reported in the message as missed.
 //  - limit points: where λ rises then falls (or falls then rises) over three successive path points, the vertex
 //    of the parabola λ(path parameter) through them is reported with its step and direction.
 //  - bifurcation points: where the count of negative pivots changes between two path points with no limit point at
