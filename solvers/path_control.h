@@ -44,4 +44,14 @@ struct BifurcationPoint {
   int negativeBefore = 0, negativeAfter = 0;             // negative eigenvalues there
 };
 
+/// A bifurcation that load control found on its path and left for the stable branch crossing it
+/// (LoadSteppingOptions::branchSwitching, solvers/branch_switching.h).
+struct BranchSwitchPoint {
+  int step = 0;                   // the accepted step that landed on the new branch (LoadStepResult::step)
+  double stableLoadFactor = 0.0;  // the bracket on the critical load: the fundamental branch is stable below ...
+  double unstableLoadFactor = 0.0;  // ... and has negativeEigenvalues negative eigenvalues above
+  int negativeEigenvalues = 0;
+  double loadFactor = 0.0;        // λ where the path landed on the new branch
+};
+
 }  // namespace jetshell

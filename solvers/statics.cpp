@@ -41,6 +41,73 @@ int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& f
   }
 }
 
+/// After a branch switch (solvers/branch_switching.h): the landing as an accepted step, then the rest of the path
+/// by arc length from it to the target, landing on the stops left; the tail's steps, limit and bifurcation points
+/// are renumbered after the steps so far and merged into `result`. x is the path's last equilibrium on return.
+void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                     const LoadSteppingOptions& o, const LoadStepCallback& callback, const std::vector<double>& stops, double increment, int cuts,
+                     BranchSwitchResult& sw, StaticsResult& result) {
+  x = sw.x;
+  loads.accept(x);
+  LoadStepResult landing;
+  landing.step = static_cast<int>(result.steps.size());
+  landing.loadFactor = landing.pathParameter = sw.loadFactor;
+  landing.x = x;
+  landing.summary = std::move(sw.summary);
+  landing.cuts = cuts;
+  landing.negativePivots = 0;
+  result.steps.push_back(std::move(landing));
+  result.loadFactor = sw.loadFactor;
+  result.branchSwitches.push_back({result.steps.back().step, sw.stableLoadFactor, sw.unstableLoadFactor,
+                                   sw.negativeEigenvalues, sw.loadFactor});
+  if (callback && !callback(result.steps.back())) {
+    result.stopped = true;
+    result.message = "stopped by the callback at lambda = " + std::to_string(sw.loadFactor);
+    return;
+  }
+  LoadSteppingOptions rest = o;
+  rest.path.control = PathControl::ArcLength;
+  rest.startLoadFactor = sw.loadFactor;
+  rest.initialIncrement = std::clamp(increment, o.minIncrement, o.maxIncrement);
+  rest.levels.clear();
+  const double direction = o.targetLoadFactor >= sw.loadFactor ? 1.0 : -1.0;
+  const double eps = 1e-12 * std::max({1.0, std::abs(o.targetLoadFactor), std::abs(sw.loadFactor)});
+  for (double s : stops)
+    if (direction * (s - sw.loadFactor) > eps) rest.levels.push_back(s);
+  const int offset = static_cast<int>(result.steps.size());
+  const LoadStepCallback shifted = [&](const LoadStepResult& s) {
+    if (!callback) return true;
+    LoadStepResult renumbered = s;
+    renumbered.step += offset;
+    return callback(renumbered);
+  };
+  StaticsResult tail = followPath(objective, loads, x, rest, shifted);
+  for (LoadStepResult& s : tail.steps) {
+    s.step += offset;
+    result.steps.push_back(std::move(s));
+  }
+  for (LimitPoint l : tail.limitPoints) {
+    l.step += offset;
+    result.limitPoints.push_back(l);
+  }
+  for (BifurcationPoint b : tail.bifurcationPoints) {
+    b.step += offset;
+    result.bifurcationPoints.push_back(b);
+  }
+  result.totalCuts += tail.totalCuts;
+  result.newtonIterations += tail.newtonIterations;
+  for (SolverSummary& f : tail.failedSolves) result.failedSolves.push_back(std::move(f));
+  result.completed = tail.completed;
+  result.stopped = tail.stopped;
+  if (!tail.steps.empty()) result.loadFactor = tail.loadFactor;
+  std::ostringstream s;
+  const BranchSwitchPoint& b = result.branchSwitches.back();
+  s << "load control switched at a bifurcation between lambda = " << b.stableLoadFactor << " and "
+    << b.unstableLoadFactor << " to the stable branch (landed at lambda = " << b.loadFactor << "), then "
+    << tail.message;
+  result.message = s.str();
+}
+
 }  // namespace
 
 void LoadFactorHooks::set(double lambda) const {
@@ -105,6 +172,10 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   check(o.saddleEscapes >= 0 && o.saddleEscapes <= 100, "saddleEscapes", o.saddleEscapes, "must be in 0..100");
   check(std::isfinite(o.saddleStep) && o.saddleStep > 0.0 && o.saddleStep <= 10.0, "saddleStep", o.saddleStep,
         "must be in (0, 10]");
+  check(o.branchSwitch.bisections >= 0 && o.branchSwitch.bisections <= 60, "branchSwitch.bisections",
+        o.branchSwitch.bisections, "must be in 0..60");
+  check(std::isfinite(o.branchSwitch.step) && o.branchSwitch.step > 0.0 && o.branchSwitch.step <= 100.0,
+        "branchSwitch.step", o.branchSwitch.step, "must be in (0, 100]");
   if (x.size() != objective.numDofs()) throw InputError("load stepping: x has the wrong size");
 
   if (o.path.control != PathControl::Load) return followPath(objective, loads, x, o, callback);
@@ -123,6 +194,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   std::size_t nextStop = 0;
   int order = o.predictorOrder;
   bool first = true;
+  bool previousStable = false;  // the last accepted equilibrium is known to be stable (branchSwitching)
   // At least one solve, even for target = start (gravity or prescribed positions alone).
   while (first || nextStop < stops.size()) {
     const double stop = nextStop < stops.size() ? stops[nextStop] : target;
@@ -162,9 +234,25 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     int negativePivots = -1;
     if (o.checkStability && !summary.lastHessianPositiveDefinite) {
       ++result.stabilityChecks;
+      if (o.branchSwitching && previousStable) {
+        const Stability st = assessStability(objective, stability, trial, o.newton.derivatives, o.saddleStep);
+        if (st.negativeEigenvalues > 0) {
+          BranchSwitchResult sw = switchBranch(newton, loads, stability, o.branchSwitch, lambda, x, next, trial);
+          result.newtonIterations += sw.newtonIterations;
+          result.stabilityChecks += sw.factorizations;
+          if (sw.switched) {
+            followNewBranch(objective, loads, x, o, callback, stops, increment, cuts, sw, result);
+            return result;
+          }
+          std::ostringstream why;
+          why << "between lambda = " << sw.stableLoadFactor << " and " << sw.unstableLoadFactor << ": " << sw.message;
+          result.branchSwitchFailure = why.str();
+        }
+      }
       negativePivots = leaveSaddles(objective, newton, stability, o, trial, summary, result);
       if (negativePivots > 0) ++result.unstableSteps;
     }
+    previousStable = negativePivots == 0 || (negativePivots < 0 && summary.lastHessianPositiveDefinite);
     first = false;
     // A polynomial through a strongly curved or unevenly spaced stretch of the path can land farther from the
     // equilibrium than the last one was: then the order drops by one (down to 0, the last equilibrium); it
@@ -215,6 +303,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   if (result.saddleEscapes > 0) s << "; left " << result.saddleEscapes << " unstable equilibria downhill";
   if (result.unstableSteps > 0)
     s << "; " << result.unstableSteps << " step(s) ended on an unstable equilibrium (a saddle of the potential)";
+  if (!result.branchSwitchFailure.empty()) s << "; no branch switch " << result.branchSwitchFailure;
   result.message = s.str();
   return result;
 }

@@ -12,11 +12,14 @@
 // that fails (iteration cap, line-search or linear-solver failure, non-finite values) is cut: x returns to the
 // last equilibrium, the increment halves and it is retried; after each step the increment is scaled towards easyIterations
 // Newton iterations per step. Load control cannot pass a limit point: the increments are cut down to minIncrement and
-// the run stops there, keeping the last equilibrium. Arc-length and displacement control (options.path,
-// solvers/path_control.h; the loop in solvers/path_following.h) pass limit points and report them.
+// the run stops there, keeping the last equilibrium. At a bifurcation (a stable step followed by a saddle) load
+// control switches to the stable crossing branch and follows it by arc length (branchSwitching,
+// solvers/branch_switching.h). Arc-length and displacement control (options.path, solvers/path_control.h; the loop
+// in solvers/path_following.h) pass limit points and report them.
 #pragma once
 
 #include "energies/shell/shell_terms.h"
+#include "solvers/branch_switching.h"
 #include "solvers/path_control.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
@@ -80,6 +83,14 @@ struct LoadSteppingOptions {
   bool checkStability = true;
   int saddleEscapes = 3;
   double saddleStep = 0.1;
+  /// Bifurcations (load control, with checkStability): when a step leaves an equilibrium known to be stable (a
+  /// positive definite factor vouched for it, or its check found no negative eigenvalue) for a saddle, the
+  /// critical load is bracketed by bisection and the path switches to the stable branch crossing there
+  /// (solvers/branch_switching.h), then follows it by arc length to the target, landing on the levels left
+  /// (StaticsResult::branchSwitches). A switch that finds no stable branch leaves the step to the saddle escapes
+  /// above. The first step has no known stable start, so a saddle there is left by the escapes only.
+  bool branchSwitching = true;
+  BranchSwitchOptions branchSwitch;
   /// The control (solvers/path_control.h). Load: the above as stated. ArcLength: levels and the target are
   /// load factors, landed on at every crossing, the path ends at the target; the increments are load-factor
   /// increments turned into arc lengths by the start's tangent. Displacement: levels and increments are
@@ -110,6 +121,8 @@ struct StaticsResult {
   std::vector<std::string> activeTerms;
   std::vector<LimitPoint> limitPoints;  // where λ turned (arc-length and displacement control), in path order
   std::vector<BifurcationPoint> bifurcationPoints;  // the same controls, in path order
+  std::vector<BranchSwitchPoint> branchSwitches;  // load control's switches to a stable branch, in path order
+  std::string branchSwitchFailure;  // why a switch was tried and not made (empty: none failed)
   int saddleEscapes = 0;  // unstable equilibria left downhill (load control, LoadSteppingOptions::saddleEscapes)
   int unstableSteps = 0;  // accepted steps whose equilibrium was found unstable and kept so
   int stabilityChecks = 0;  // equilibria factored by checkStability (each one LDLᵀ, and one more per escape)

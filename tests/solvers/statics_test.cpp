@@ -147,6 +147,12 @@ TEST_CASE("statics: invalid levels and options are rejected", "[statics]") {
   o.saddleEscapes = 3;
   o.saddleStep = 0.0;
   CHECK_THROWS_AS(solveStatics(system, x, o), InputError);
+  o.saddleStep = 0.1;
+  o.branchSwitch.bisections = -1;
+  CHECK_THROWS_WITH(solveStatics(system, x, o), Catch::Contains("branchSwitch.bisections"));
+  o.branchSwitch.bisections = 10;
+  o.branchSwitch.step = 0.0;
+  CHECK_THROWS_WITH(solveStatics(system, x, o), Catch::Contains("branchSwitch.step"));
 }
 
 namespace {
@@ -219,16 +225,30 @@ TEST_CASE("statics: an equilibrium reached through an indefinite system is check
 
 namespace {
 
-/// testing::compressedPlate, by load control in steps of 0.1.
-StaticsResult compressFlatPlate(double total, int escapes, Eigen::VectorXd& x) {
+/// testing::compressedPlate, by load control in steps of 0.1, landing on λ = 0.25, 0.5, 0.75 and 1. `steps` gets
+/// the step indices the callback saw.
+StaticsResult compressFlatPlate(double total, int escapes, Eigen::VectorXd& x, bool branchSwitching = false,
+                                std::vector<int>* steps = nullptr) {
   const ShellProblem p = testing::compressedPlate(total);
   ShellSystem system(p, AnalysisKind::Statics);
   x = system.restPositions();
   LoadSteppingOptions o = {};
   o.newton = staticNewtonOptions();
   o.saddleEscapes = escapes;
+  o.branchSwitching = branchSwitching;
   o.initialIncrement = o.maxIncrement = 0.1;
-  return solveStatics(system, x, o);
+  o.levels = {0.25, 0.5, 0.75};
+  return solveStatics(system, x, o, [&](const LoadStepResult& s) {
+    if (steps != nullptr) steps->push_back(s.step);
+    return true;
+  });
+}
+
+/// The largest out-of-plane displacement of x.
+double largestDeflection(const Eigen::VectorXd& x) {
+  double z = 0.0;
+  for (Eigen::Index i = 2; i < x.size(); i += 3) z = std::max(z, std::abs(x[i]));
+  return z;
 }
 
 }  // namespace
@@ -261,4 +281,150 @@ TEST_CASE("statics: a flat plate compressed in its plane is checked at every ste
     CHECK(r.message.find("unstable equilibrium") != std::string::npos);
     for (Eigen::Index i = 2; i < x.size(); i += 3) CHECK(x[i] == 0.0);  // flat to the bit
   }
+}
+
+namespace {
+
+/// One vertex with a subcritical pitchfork at λ_c = 0.55 along z, the load factor set by a hook:
+///   E = ½ (x² + y²) + ½ (1 − λ/λ_c) z² − ¼ z⁴ + ⅙ z⁶.
+/// z = 0 is stable below λ_c and a saddle above. The branch leaving it, λ = λ_c (1 − z² + z⁴), falls and is
+/// unstable up to z² = ½ (E_zz = (1 − λ/λ_c) − 3 z² + 5 z⁴ = 2 z⁴ − 2 z² < 0), then rises and is stable.
+class SubcriticalTerm : public EnergyTerm {
+ public:
+  static constexpr double kCritical = 0.55;
+  double lambda = 0.0;
+  std::string name() const override { return "subcritical"; }
+  StencilTable stencils() const override {
+    StencilTable t;
+    t.width = 1;
+    t.ids.push_back(0);
+    return t;
+  }
+  bool zeroAtRest() const override { return false; }
+  bool rigidInvariant() const override { return false; }
+  double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
+    const double a = 1.0 - lambda / kCritical, z = x[2], z2 = z * z;
+    if (request.gradient != nullptr) {
+      (*request.gradient)[0] += x[0];
+      (*request.gradient)[1] += x[1];
+      (*request.gradient)[2] += a * z - z2 * z + z2 * z2 * z;
+    }
+    if (request.hessian != nullptr) {
+      Eigen::Matrix3d H = Eigen::Vector3d(1.0, 1.0, a - 3.0 * z2 + 5.0 * z2 * z2).asDiagonal();
+      projectPsd<3>(H, options.projection);
+      request.hessian->addElementHessian(request.hessianSlot, 0, H.data());
+    }
+    return 0.5 * (x[0] * x[0] + x[1] * x[1]) + 0.5 * a * z2 - 0.25 * z2 * z2 + z2 * z2 * z2 / 6.0;
+  }
+};
+
+/// The subcritical vertex from (0.5, 0.5, 0) by load control in steps of 0.1, switching with `step`.
+StaticsResult solveSubcritical(double step, Eigen::VectorXd& x) {
+  Objective objective(1);
+  auto term = std::make_shared<SubcriticalTerm>();
+  objective.addTerm(term);
+  PhysicalScales scales;
+  scales.force = scales.length = 1.0;
+  objective.setScales(scales);
+  LoadFactorHooks loads;
+  loads.others.push_back({[term](double l) { term->lambda = l; }, {}});
+  x = Eigen::Vector3d(0.5, 0.5, 0.0);
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.initialIncrement = o.maxIncrement = 0.1;
+  o.branchSwitch.step = step;
+  return solveStatics(objective, loads, x, o);
+}
+
+}  // namespace
+
+TEST_CASE("statics: a branch switch lands only on a stable branch", "[statics]") {
+  Eigen::VectorXd x;
+  SECTION("a step that reaches the stable part of the branch switches") {
+    // |Δz| = 1 meets the branch at z² = 1, λ = λ_c, stable (E_zz = 2); from there arc length follows it up to λ = 1,
+    // where z² = ½ (1 + √(1 − 4 (1 − 1/λ_c))).
+    const StaticsResult r = solveSubcritical(1.0, x);
+    INFO(r.message);
+    REQUIRE(r.completed);
+    REQUIRE(r.branchSwitches.size() == 1);
+    CHECK(r.branchSwitches[0].stableLoadFactor <= SubcriticalTerm::kCritical);
+    CHECK(r.branchSwitches[0].unstableLoadFactor >= SubcriticalTerm::kCritical);
+    CHECK(r.branchSwitches[0].loadFactor == Approx(SubcriticalTerm::kCritical).epsilon(1e-3));
+    const double z2 = 0.5 * (1.0 + std::sqrt(1.0 - 4.0 * (1.0 - 1.0 / SubcriticalTerm::kCritical)));
+    CHECK(std::abs(x[2]) == Approx(std::sqrt(z2)).epsilon(1e-6));
+    CHECK(r.unstableSteps == 0);
+  }
+  SECTION("steps that reach only its unstable part are refused, and the saddle escape takes over") {
+    // |Δz| ≤ 0.2 meets the branch where it is unstable (z² < ½): each landing is refused, the reason kept.
+    const StaticsResult r = solveSubcritical(0.2, x);
+    INFO(r.message);
+    REQUIRE(r.completed);
+    CHECK(r.branchSwitches.empty());
+    CHECK(r.branchSwitchFailure.find("negative eigenvalue") != std::string::npos);
+    CHECK(r.message.find("no branch switch") != std::string::npos);
+    CHECK(r.saddleEscapes >= 1);
+    CHECK(r.unstableSteps == 0);
+    const double z2 = 0.5 * (1.0 + std::sqrt(1.0 - 4.0 * (1.0 - 1.0 / SubcriticalTerm::kCritical)));
+    CHECK(std::abs(x[2]) == Approx(std::sqrt(z2)).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("statics: load control switches at a bifurcation to the stable branch and follows it", "[statics]") {
+  // testing::compressedPlate at twice its buckling load (P_cr = 0.090 N for the continuum strip, so λ_c ≈ 0.5).
+  testing::SingleThread single;
+  Eigen::VectorXd flat, buckled;
+  const StaticsResult saddle = compressFlatPlate(2.0 * 0.090, 0, flat);
+  std::vector<int> seen;
+  const StaticsResult r = compressFlatPlate(2.0 * 0.090, 0, buckled, true, &seen);
+  INFO(r.message);
+  REQUIRE(r.completed);
+  REQUIRE(r.branchSwitches.size() == 1);
+  const BranchSwitchPoint& b = r.branchSwitches.front();
+  // The bracket on the critical load: ten halvings of one load step of 0.1 (at most), inside the bracket that arc
+  // length reports when it passes the same bifurcation on the flat path (its path points are independent of the
+  // load steps here).
+  CHECK(b.stableLoadFactor < b.unstableLoadFactor);
+  CHECK(b.unstableLoadFactor - b.stableLoadFactor < 0.1 / 512);
+  CHECK(b.negativeEigenvalues == 1);
+  {
+    ShellSystem system(testing::compressedPlate(2.0 * 0.090), AnalysisKind::Statics);
+    Eigen::VectorXd x = system.restPositions();
+    LoadSteppingOptions o = {};
+    o.newton = staticNewtonOptions();
+    o.path.control = PathControl::ArcLength;
+    o.initialIncrement = o.maxIncrement = 0.02;
+    const StaticsResult arc = solveStatics(system, x, o);
+    REQUIRE(arc.bifurcationPoints.size() == 1);
+    CHECK(arc.bifurcationPoints[0].loadFactorBefore <= b.stableLoadFactor);
+    CHECK(arc.bifurcationPoints[0].loadFactorAfter >= b.unstableLoadFactor);
+  }
+  // It landed on the new branch just past the bracket, with no negative eigenvalue.
+  CHECK(b.loadFactor >= b.stableLoadFactor);
+  CHECK(b.loadFactor < b.unstableLoadFactor + 0.05);
+  CHECK(r.steps[static_cast<std::size_t>(b.step)].negativePivots == 0);
+  // On to the target by arc length: every level landed on, every equilibrium stable, the steps numbered in order
+  // for the callback and in the result alike.
+  CHECK(r.unstableSteps == 0);
+  CHECK(r.bifurcationPoints.empty());
+  std::vector<double> levels;
+  for (std::size_t i = 0; i < r.steps.size(); ++i) {
+    const LoadStepResult& s = r.steps[i];
+    CHECK(s.step == static_cast<int>(i));
+    CHECK(s.negativePivots <= 0);
+    if (s.atLevel) levels.push_back(s.loadFactor);
+  }
+  REQUIRE(seen.size() == r.steps.size());
+  for (std::size_t i = 0; i < seen.size(); ++i) CHECK(seen[i] == static_cast<int>(i));
+  REQUIRE(levels.size() == 4);
+  CHECK(levels.back() == Approx(1.0).margin(1e-12));
+  CHECK(r.steps.back().loadFactor == Approx(1.0).margin(1e-12));
+  // The plate buckled, and the buckled state is a lower equilibrium than the flat saddle at the same load.
+  CHECK(largestDeflection(flat) == 0.0);
+  CHECK(largestDeflection(buckled) > 0.1);
+  CHECK(r.steps.back().summary.finalEnergy < saddle.steps.back().summary.finalEnergy);
+  // Below the buckling load nothing is switched.
+  Eigen::VectorXd below;
+  const StaticsResult stable = compressFlatPlate(0.4 * 0.090, 0, below, true);
+  CHECK(stable.branchSwitches.empty());
+  CHECK(largestDeflection(below) == 0.0);
 }
