@@ -219,7 +219,10 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
   CHECK(errorAfter([](Json& s) { s["actors"][0]["colliderType"] = "Sphere"; }) ==
         "/actors/0/colliderType: \"Sphere\" is not one of \"PointCloud\", \"None\"");
   CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "static"}, {"timeStep", 0.1}}; }) ==
-        "/analysis/timeStep: unknown key in a static analysis (allowed: type, loadSteps, pathControl)");
+        "/analysis/timeStep: unknown key in a static analysis "
+        "(allowed: type, loadSteps, pathControl, branchSwitching)");
+  CHECK_THAT(errorAfter([](Json& s) { s["analysis"] = {{"type", "static"}, {"branchSwitching", "yes"}}; }),
+             Catch::StartsWith("/analysis/branchSwitching"));
   CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", -0.1}, {"duration", 1}}; }) ==
         "/analysis/timeStep = -0.1: must be finite and > 0");
   CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"duration", 1}}; }) ==

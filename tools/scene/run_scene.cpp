@@ -200,6 +200,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     for (int k = 1; k < scene.analysis.loadSteps; ++k) o.levels.push_back(static_cast<double>(k) / scene.analysis.loadSteps);
     o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations, true);
     setPathControl(scene.analysis.pathControl, model, system, o.path);
+    o.branchSwitching = scene.analysis.branchSwitching;
     int level = 0;  // output frames: the requested levels; steps between them (after cuts) are logged only
     const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
       const int step = s.step + 1;
@@ -231,7 +232,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     if (!r.steps.empty()) recordResidualClaim(summary.extra, r.steps.back().summary);
     summary.extra["final_load_factor_reached"] = r.loadFactor;
     summary.extra["path_control"] = scene.analysis.pathControl.type;
-    if (o.path.control != PathControl::Load) {
+    // Path control, and load control after a branch switch (it follows the new branch by arc length).
+    if (o.path.control != PathControl::Load || !r.branchSwitches.empty()) {
       nlohmann::json limits = nlohmann::json::array();
       for (const LimitPoint& l : r.limitPoints) {
         limits.push_back({{"load_step", l.step + 1}, {"load_factor", l.loadFactor},
@@ -268,6 +270,24 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     // Load control's check of equilibria that no positive definite factor vouched for (solvers/statics.h); path
     // control traces unstable branches on purpose and reports its limit points instead.
     if (o.path.control == PathControl::Load) {
+      nlohmann::json switches = nlohmann::json::array();
+      for (const BranchSwitchPoint& b : r.branchSwitches) {
+        switches.push_back({{"load_step", b.step + 1},
+                            {"stable_load_factor", b.stableLoadFactor},
+                            {"unstable_load_factor", b.unstableLoadFactor},
+                            {"negative_eigenvalues", b.negativeEigenvalues},
+                            {"load_factor", b.loadFactor}});
+        progress.log("bifurcation: the path became unstable (" + std::to_string(b.negativeEigenvalues) +
+                     " negative eigenvalue(s)) between lambda = " + formatNumber("%.6g", b.stableLoadFactor) + " and " +
+                     formatNumber("%.6g", b.unstableLoadFactor) + "; switched to the stable branch at lambda = " +
+                     formatNumber("%.6g", b.loadFactor) + " (load step " + std::to_string(b.step + 1) +
+                     ") and followed it by arc length");
+      }
+      summary.extra["branch_switches"] = switches;
+      if (!r.branchSwitchFailure.empty()) {
+        summary.extra["branch_switch_failure"] = r.branchSwitchFailure;
+        progress.log("no branch switch " + r.branchSwitchFailure);
+      }
       summary.extra["saddle_escapes"] = r.saddleEscapes;
       summary.extra["unstable_equilibria"] = r.unstableSteps;
       summary.extra["stability_checks"] = r.stabilityChecks;

@@ -77,6 +77,7 @@ struct AnalysisSettings {
   AnalysisType type = AnalysisType::Static;
   int loadSteps = 10;                // static: λ = k / loadSteps, k = 1..loadSteps (displacement control: τ)
   PathControlSettings pathControl;   // static
+  bool branchSwitching = true;       // static, load control: leave a bifurcation for the stable branch
   double timeStep = 1.0 / 60.0;      // s, dynamic and dynamic relaxation
   double duration = 1.0;             // s, dynamic
   Integrator integrator = Integrator::BackwardEuler;

@@ -451,9 +451,10 @@ AnalysisSettings readAnalysis(const Value& v) {
   AnalysisSettings a;
   const int maxSteps = static_cast<int>(inputLimits().maxSteps);
   if (type == "static") {
-    const Object o = v.object({"type", "loadSteps", "pathControl"}, "a static analysis");
+    const Object o = v.object({"type", "loadSteps", "pathControl", "branchSwitching"}, "a static analysis");
     a.type = AnalysisType::Static;
     a.loadSteps = o.integer("loadSteps", a.loadSteps, 1, maxSteps);
+    a.branchSwitching = o.boolean("branchSwitching", a.branchSwitching);
     if (const auto p = o.find("pathControl")) a.pathControl = readPathControl(*p, maxSteps);
     return a;
   }
