@@ -45,8 +45,8 @@ int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& f
 /// by arc length from it to the target, landing on the stops left; the tail's steps, limit and bifurcation points
 /// are renumbered after the steps so far and merged into `result`. x is the path's last equilibrium on return.
 void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
-                     const LoadSteppingOptions& o, const LoadStepCallback& callback, const std::vector<double>& stops, double increment, int cuts,
-                     BranchSwitchResult& sw, StaticsResult& result) {
+                     const LoadSteppingOptions& o, const LoadStepCallback& callback, const std::vector<double>& stops,
+                     double increment, int cuts, BranchSwitchResult& sw, StaticsResult& result) {
   x = sw.x;
   loads.accept(x);
   LoadStepResult landing;

@@ -261,7 +261,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                               " bifurcation point(s), where another branch of equilibria crosses it, and kept to its "
                               "own branch, which may be the unstable one (negative_eigenvalues_after > 0); a small "
                               "imperfection (a load or a rest shape slightly off the symmetry) makes the path follow "
-                              "the other";
+                              "the other, and so does load control (pathControl \"load\", the default), which "
+                              "switches to a stable branch crossing its path";
         result.warnings.push_back(w);
         progress.log("warning: " + w);
       }
@@ -300,10 +301,16 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                             " load step(s) ended on an unstable equilibrium (a saddle of the potential energy: the "
                             "tangent stiffness there has negative eigenvalues), which no step along negative curvature "
                             "could leave for a lower one. A symmetric problem loaded past a bifurcation (a flat plate "
-                            "or a straight column in compression) keeps to its unstable branch; a small imperfection "
-                            "(a load or a rest shape slightly off the symmetry) lets load stepping follow the stable "
-                            "one, and dynamic relaxation at the final load steps off the saddle and settles on it "
-                            "(\"type\": \"dynamicRelaxation\", examples/euler_column.json)";
+                            "or a straight column in compression) keeps to its unstable branch" +
+                            (!scene.analysis.branchSwitching
+                                 ? std::string(" unless \"branchSwitching\" is true (it is false in this scene)")
+                             : r.branchSwitchFailure.empty()
+                                 ? std::string(" (branch switching starts from a load step known to be stable, and "
+                                               "none preceded this saddle: the first load step, say)")
+                                 : "; branch switching failed " + r.branchSwitchFailure) +
+                            "; a small imperfection (a load or a rest shape slightly off the symmetry) lets load "
+                            "stepping follow the stable one, and dynamic relaxation at the final load steps off the "
+                            "saddle and settles on it (\"type\": \"dynamicRelaxation\", examples/euler_column.json)";
       result.warnings.push_back(w);
       progress.log("warning: " + w);
     }
