@@ -52,7 +52,9 @@ void GravityTerm::evaluateParameterDerivatives(const Eigen::VectorXd& x, Paramet
 }
 
 void GravityTerm::setLoadFactor(double lambda) {
-  if (!(std::isfinite(lambda) && lambda >= 0.0)) throw InputError("gravity: load factor must be finite and >= 0");
+  // Any finite λ: arc-length control may take λ below 0 on the way (a path that turns back past a limit point, or
+  // a corrector's iterate), where the weight is reversed, as nodal forces are.
+  if (!std::isfinite(lambda)) throw InputError("gravity: load factor must be finite");
   loadFactor_ = lambda;
 }
 

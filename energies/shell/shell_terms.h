@@ -63,7 +63,7 @@ class GravityTerm : public EnergyTerm {
   std::vector<double> parameterValues() const override { return {density_}; }
   void setParameterValues(const std::vector<double>& values) override;
   void evaluateParameterDerivatives(const Eigen::VectorXd& x, ParameterDerivatives& out) override;
-  /// λ: finite and ≥ 0 (InputError otherwise).
+  /// λ: finite (InputError otherwise); below 0 the weight is reversed (arc-length control may go there).
   void setLoadFactor(double lambda);
   double loadFactor() const { return loadFactor_; }
 

@@ -35,11 +35,18 @@ TEST_CASE("gravity: the load factor scales the energy, the gradient and the dens
   CHECK(eFull == Approx(expected).epsilon(1e-14));
 }
 
-TEST_CASE("gravity: an invalid load factor is rejected and leaves the term unchanged", "[gravity]") {
+TEST_CASE("gravity: a non-finite load factor is rejected and leaves the term unchanged, a negative one reverses it",
+          "[gravity]") {
   auto term = makeGravityTerm(Eigen::VectorXd::Ones(2), Eigen::Vector3d(0, 0, -9.81));
   term->setLoadFactor(0.25);
   CHECK_THROWS_AS(term->setLoadFactor(std::nan("")), InputError);
-  CHECK_THROWS_AS(term->setLoadFactor(-1.0), InputError);
   CHECK_THROWS_AS(term->setLoadFactor(std::numeric_limits<double>::infinity()), InputError);
+  CHECK_THROWS_AS(term->setLoadFactor(-std::numeric_limits<double>::infinity()), InputError);
   CHECK(term->loadFactor() == 0.25);
+  // Arc-length control may take λ below 0 (a path turning back past a limit point): the weight reverses.
+  const Eigen::VectorXd x = (Eigen::VectorXd(6) << 0.0, 0.0, 1.0, 0.0, 0.0, 2.0).finished();
+  const double up = term->evaluate(x, EvalRequest{}, EvalOptions{});
+  term->setLoadFactor(-0.25);
+  CHECK(term->loadFactor() == -0.25);
+  CHECK(term->evaluate(x, EvalRequest{}, EvalOptions{}) == Approx(-up).epsilon(1e-14));
 }
