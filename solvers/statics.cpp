@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace jetshell {
@@ -108,6 +109,53 @@ void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::
   result.message = s.str();
 }
 
+/// The potential energy and its partial derivative in λ at an equilibrium, and the same derivative at the path's
+/// start positions (LoadJump: the loads' work is measured from there, as the energy of dead loads on the absolute
+/// positions would drown it).
+struct PathEnergy {
+  double lambda = 0.0, energy = 0.0, slope = 0.0, referenceSlope = 0.0;
+};
+
+PathEnergy pathEnergy(Objective& objective, const LoadFactorHooks& loads, const Eigen::VectorXd& x, double lambda,
+                      const Eigen::VectorXd& start, const EvalOptions& options) {
+  const double h = 1e-6 * std::max(1.0, std::abs(lambda));
+  // ∂E/∂λ with the prescribed positions moving with λ, by a forward difference (λ − h may be out of a load's range:
+  // the weight refuses λ < 0); its O(h) error is far below LoadJump's threshold.
+  auto slope = [&](const Eigen::VectorXd& at) {
+    Eigen::VectorXd a = at, b = at;
+    objective.applyPrescribed(lambda, a);
+    loads.set(lambda);
+    const double ea = objective.evaluate(a, nullptr, false, options);
+    objective.applyPrescribed(lambda + h, b);
+    loads.set(lambda + h);
+    const double eb = objective.evaluate(b, nullptr, false, options);
+    return (eb - ea) / h;
+  };
+  PathEnergy p;
+  p.lambda = lambda;
+  p.slope = slope(x);
+  p.referenceSlope = slope(start);
+  loads.set(lambda);
+  Eigen::VectorXd at = x;
+  objective.applyPrescribed(lambda, at);
+  p.energy = objective.evaluate(at, nullptr, false, options);
+  return p;
+}
+
+/// Between two equilibria on a path: the trapezoid's energy change minus the actual one (the energy released by a
+/// jump) and the loads' work in between, measured from the path's start (LoadJump).
+struct PathMismatch {
+  double released = 0.0, work = 0.0;
+};
+
+PathMismatch pathMismatch(const PathEnergy& a, const PathEnergy& b) {
+  const double dl = b.lambda - a.lambda;
+  PathMismatch m;
+  m.released = 0.5 * (a.slope + b.slope) * dl - (b.energy - a.energy);
+  m.work = 0.5 * std::abs(dl) * (std::abs(a.slope - a.referenceSlope) + std::abs(b.slope - b.referenceSlope));
+  return m;
+}
+
 }  // namespace
 
 void LoadFactorHooks::set(double lambda) const {
@@ -195,6 +243,9 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   int order = o.predictorOrder;
   bool first = true;
   bool previousStable = false;  // the last accepted equilibrium is known to be stable (branchSwitching)
+  const EvalOptions energyOptions{o.newton.derivatives, PsdProjection::None, o.newton.bendingHessian};
+  std::optional<PathEnergy> lastEnergy;  // at the last accepted equilibrium (LoadJump)
+  const Eigen::VectorXd pathStart = x;
   // At least one solve, even for target = start (gravity or prescribed positions alone).
   while (first || nextStop < stops.size()) {
     const double stop = nextStop < stops.size() ? stops[nextStop] : target;
@@ -232,6 +283,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
       continue;
     }
     int negativePivots = -1;
+    const int escapesBefore = result.saddleEscapes;
     if (o.checkStability && !summary.lastHessianPositiveDefinite) {
       ++result.stabilityChecks;
       if (o.branchSwitching && previousStable) {
@@ -268,6 +320,42 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
                2.0 * error(order + 1) <= held)
         ++order;
     }
+    // A jump (LoadJump): the energy change against the trapezoid of ∂E/∂λ. A step that left a saddle downhill
+    // jumped on purpose and is reported as an escape instead. The first step is not checked: the start need not be
+    // an equilibrium (a caller may start off balance), and a sheet as flexible as cloth swings from flat to hanging
+    // there, continuously but within any first step (`jetshell stress`: 0.7–0.97 of the step's work).
+    const bool checkJump = o.detectJumps && !result.steps.empty();
+    const PathEnergy energy =
+        checkJump ? pathEnergy(objective, loads, trial, next, pathStart, energyOptions) : PathEnergy{};
+    if (checkJump && (!lastEnergy || lastEnergy->lambda != lambda))
+      lastEnergy = pathEnergy(objective, loads, x, lambda, pathStart, energyOptions);
+    if (checkJump && result.saddleEscapes == escapesBefore) {
+      const PathMismatch m = pathMismatch(*lastEnergy, energy);
+      if (m.work > 0.0 && std::abs(m.released) > LoadJump::kRatio * m.work) {
+        // Confirmed at the step's midpoint (solved from the step's own predictor): a jump keeps its released
+        // energy in one half of the step; a continuous path whose derivative is singular where the step starts (a
+        // sheet swinging from flat under its weight, u ∝ λ^p from the rest state) spreads it, the worse half
+        // keeping 2^-(1+p) < ½ of it. A midpoint that cannot be solved leaves the jump reported.
+        const double mid = 0.5 * (lambda + next);
+        Eigen::VectorXd xm = extrapolateEquilibria(history, mid, order + 1);
+        objective.applyPrescribed(mid, xm);
+        loads.set(mid);
+        const SolverSummary ms = newton.minimize(xm);
+        result.newtonIterations += ms.iterations;
+        bool jump = true;
+        if (ms.converged()) {
+          const PathEnergy e = pathEnergy(objective, loads, xm, mid, pathStart, energyOptions);
+          const double worse = std::max(std::abs(pathMismatch(*lastEnergy, e).released),
+                                        std::abs(pathMismatch(e, energy).released));
+          jump = worse > LoadJump::kConcentration * std::abs(m.released);
+        }
+        if (jump)
+          result.loadJumps.push_back({static_cast<int>(result.steps.size()), lambda, next, m.released,
+                                      std::abs(m.released) / m.work});
+      }
+    }
+    if (checkJump) lastEnergy = energy;
+    loads.set(next);
     lambda = next;
     x = trial;
     loads.accept(x);
@@ -304,6 +392,9 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   if (result.unstableSteps > 0)
     s << "; " << result.unstableSteps << " step(s) ended on an unstable equilibrium (a saddle of the potential)";
   if (!result.branchSwitchFailure.empty()) s << "; no branch switch " << result.branchSwitchFailure;
+  for (const LoadJump& j : result.loadJumps)
+    s << "; the equilibrium changed abruptly between lambda = " << j.loadFactorBefore << " and " << j.loadFactorAfter
+      << " (energy released " << j.energyReleased << " J)";
   result.message = s.str();
   return result;
 }

@@ -91,6 +91,11 @@ struct LoadSteppingOptions {
   /// above. The first step has no known stable start, so a saddle there is left by the escapes only.
   bool branchSwitching = true;
   BranchSwitchOptions branchSwitch;
+  /// Load control: report the steps whose equilibrium changed abruptly (StaticsResult::loadJumps, LoadJump in
+  /// solvers/path_control.h): a snap-through past a limit point, which load control passes as a jump to another
+  /// branch, or a sheet that swings under a small load. Costs five energy evaluations a step, and a midpoint solve
+  /// where a jump is suspected.
+  bool detectJumps = true;
   /// The control (solvers/path_control.h). Load: the above as stated. ArcLength: levels and the target are
   /// load factors, landed on at every crossing, the path ends at the target; the increments are load-factor
   /// increments turned into arc lengths by the start's tangent. Displacement: levels and increments are
@@ -122,6 +127,7 @@ struct StaticsResult {
   std::vector<LimitPoint> limitPoints;  // where λ turned (arc-length and displacement control), in path order
   std::vector<BifurcationPoint> bifurcationPoints;  // the same controls, in path order
   std::vector<BranchSwitchPoint> branchSwitches;  // load control's switches to a stable branch, in path order
+  std::vector<LoadJump> loadJumps;  // load control's steps that jumped (snap-throughs), in path order
   std::string branchSwitchFailure;  // why a switch was tried and not made (empty: none failed)
   int saddleEscapes = 0;  // unstable equilibria left downhill (load control, LoadSteppingOptions::saddleEscapes)
   int unstableSteps = 0;  // accepted steps whose equilibrium was found unstable and kept so

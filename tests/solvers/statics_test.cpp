@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 
 using namespace jetshell;
 
@@ -285,15 +286,17 @@ TEST_CASE("statics: a flat plate compressed in its plane is checked at every ste
 
 namespace {
 
-/// One vertex with a subcritical pitchfork at λ_c = 0.55 along z, the load factor set by a hook:
-///   E = ½ (x² + y²) + ½ (1 − λ/λ_c) z² − ¼ z⁴ + ⅙ z⁶.
-/// z = 0 is stable below λ_c and a saddle above. The branch leaving it, λ = λ_c (1 − z² + z⁴), falls and is
-/// unstable up to z² = ½ (E_zz = (1 − λ/λ_c) − 3 z² + 5 z⁴ = 2 z⁴ − 2 z² < 0), then rises and is stable.
-class SubcriticalTerm : public EnergyTerm {
+/// One vertex on a path with a known answer: x and y on springs to 0, z with the energy f(z, λ) that `energy`
+/// gives with its first two derivatives; the load factor reaches it through a hook.
+class OneVertexTerm : public EnergyTerm {
  public:
-  static constexpr double kCritical = 0.55;
+  struct Value {
+    double energy, gradient, hessian;
+  };
+  using Energy = std::function<Value(double z, double lambda)>;
+  explicit OneVertexTerm(Energy energy) : energy_(std::move(energy)) {}
   double lambda = 0.0;
-  std::string name() const override { return "subcritical"; }
+  std::string name() const override { return "one_vertex"; }
   StencilTable stencils() const override {
     StencilTable t;
     t.width = 1;
@@ -303,40 +306,111 @@ class SubcriticalTerm : public EnergyTerm {
   bool zeroAtRest() const override { return false; }
   bool rigidInvariant() const override { return false; }
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) override {
-    const double a = 1.0 - lambda / kCritical, z = x[2], z2 = z * z;
+    const Value z = energy_(x[2], lambda);
     if (request.gradient != nullptr) {
       (*request.gradient)[0] += x[0];
       (*request.gradient)[1] += x[1];
-      (*request.gradient)[2] += a * z - z2 * z + z2 * z2 * z;
+      (*request.gradient)[2] += z.gradient;
     }
     if (request.hessian != nullptr) {
-      Eigen::Matrix3d H = Eigen::Vector3d(1.0, 1.0, a - 3.0 * z2 + 5.0 * z2 * z2).asDiagonal();
+      Eigen::Matrix3d H = Eigen::Vector3d(1.0, 1.0, z.hessian).asDiagonal();
       projectPsd<3>(H, options.projection);
       request.hessian->addElementHessian(request.hessianSlot, 0, H.data());
     }
-    return 0.5 * (x[0] * x[0] + x[1] * x[1]) + 0.5 * a * z2 - 0.25 * z2 * z2 + z2 * z2 * z2 / 6.0;
+    return 0.5 * (x[0] * x[0] + x[1] * x[1]) + z.energy;
   }
+
+ private:
+  Energy energy_;
 };
 
-/// The subcritical vertex from (0.5, 0.5, 0) by load control in steps of 0.1, switching with `step`.
-StaticsResult solveSubcritical(double step, Eigen::VectorXd& x) {
+/// The vertex from `start` by load control in steps of 0.1 to λ = 1 (x: the end state), with o's other options.
+StaticsResult solveOneVertex(const OneVertexTerm::Energy& energy, const Eigen::Vector3d& start, LoadSteppingOptions o,
+                             Eigen::VectorXd& x) {
   Objective objective(1);
-  auto term = std::make_shared<SubcriticalTerm>();
+  auto term = std::make_shared<OneVertexTerm>(energy);
   objective.addTerm(term);
   PhysicalScales scales;
   scales.force = scales.length = 1.0;
   objective.setScales(scales);
   LoadFactorHooks loads;
   loads.others.push_back({[term](double l) { term->lambda = l; }, {}});
-  x = Eigen::Vector3d(0.5, 0.5, 0.0);
-  LoadSteppingOptions o = {};
+  x = start;
   o.newton = staticNewtonOptions();
   o.initialIncrement = o.maxIncrement = 0.1;
-  o.branchSwitch.step = step;
   return solveStatics(objective, loads, x, o);
 }
 
+/// A subcritical pitchfork at λ_c = 0.55: f = ½ (1 − λ/λ_c) z² − ¼ z⁴ + ⅙ z⁶. z = 0 is stable below λ_c and a saddle
+/// above. The branch leaving it, λ = λ_c (1 − z² + z⁴), falls and is unstable up to z² = ½
+/// (f'' = (1 − λ/λ_c) − 3 z² + 5 z⁴ = 2 z⁴ − 2 z² < 0 on it), then rises and is stable.
+constexpr double kCritical = 0.55;
+OneVertexTerm::Value subcritical(double z, double lambda) {
+  const double a = 1.0 - lambda / kCritical, z2 = z * z;
+  return {0.5 * a * z2 - 0.25 * z2 * z2 + z2 * z2 * z2 / 6.0, a * z - z2 * z + z2 * z2 * z,
+          a - 3.0 * z2 + 5.0 * z2 * z2};
+}
+
+/// The subcritical vertex from (0.5, 0.5, 0), switching with `step`.
+StaticsResult solveSubcritical(double step, Eigen::VectorXd& x) {
+  LoadSteppingOptions o = {};
+  o.branchSwitch.step = step;
+  return solveOneVertex(subcritical, Eigen::Vector3d(0.5, 0.5, 0.0), o, x);
+}
+
+/// A vertex that snaps through (a shallow two-bar truss reduced to its apex): f = ¼ (z² − 1)² + λ z. From z = 1 at
+/// λ = 0 the equilibria z³ − z + λ = 0 reach a limit point at z = 1/√3, λ = 2 / (3√3) = 0.385; past it the only
+/// equilibrium is the inverted one, z < −1. Solved from its rest state (0, 0, 1).
+StaticsResult solveSnap(bool detect, Eigen::VectorXd& x) {
+  LoadSteppingOptions o = {};
+  o.detectJumps = detect;
+  auto snap = [](double z, double lambda) {
+    return OneVertexTerm::Value{0.25 * (z * z - 1.0) * (z * z - 1.0) + lambda * z, z * z * z - z + lambda,
+                                3.0 * z * z - 1.0};
+  };
+  return solveOneVertex(snap, Eigen::Vector3d(0.0, 0.0, 1.0), o, x);
+}
+
 }  // namespace
+
+TEST_CASE("statics: load control reports a step whose equilibrium jumps past a limit point", "[statics]") {
+  testing::SingleThread single;
+  Eigen::VectorXd x;
+  const StaticsResult r = solveSnap(true, x);
+  INFO(r.message);
+  REQUIRE(r.completed);
+  CHECK(x[2] == Approx(-1.324718).epsilon(1e-5));  // the inverted root of z³ − z + 1 = 0
+  REQUIRE(r.loadJumps.size() == 1);
+  const LoadJump& j = r.loadJumps.front();
+  const double limit = 2.0 / (3.0 * std::sqrt(3.0));
+  CHECK(j.loadFactorBefore < limit);
+  CHECK(j.loadFactorAfter > limit);
+  CHECK(j.energyReleased > 0.0);
+  CHECK(j.ratio > LoadJump::kRatio);
+  CHECK(r.steps[static_cast<std::size_t>(j.step)].loadFactor == j.loadFactorAfter);
+  CHECK(r.message.find("changed abruptly") != std::string::npos);
+  // Off: the same path, nothing reported.
+  const StaticsResult quiet = solveSnap(false, x);
+  CHECK(quiet.loadJumps.empty());
+  CHECK(x[2] == Approx(-1.324718).epsilon(1e-5));
+}
+
+TEST_CASE("statics: smooth load paths report no jump", "[statics]") {
+  testing::SingleThread single;
+  // A cantilever plate bent far (tip force 20 N on a 1 m plate, E h³ small) in ten steps, and in one.
+  for (double steps : {0.1, 1.0}) {
+    ShellSystem system(testing::cantileverPlate(8, 2, 20.0), AnalysisKind::Statics);
+    Eigen::VectorXd x = system.restPositions();
+    LoadSteppingOptions o = {};
+    o.newton = staticNewtonOptions();
+    o.initialIncrement = o.maxIncrement = steps;
+    const StaticsResult r = solveStatics(system, x, o);
+    INFO("increment " << steps << ": " << r.message);
+    REQUIRE(r.completed);
+    CHECK(x[3 * 26 + 2] > 0.3);  // the free corner rose far
+    CHECK(r.loadJumps.empty());
+  }
+}
 
 TEST_CASE("statics: a branch switch lands only on a stable branch", "[statics]") {
   Eigen::VectorXd x;
@@ -347,10 +421,10 @@ TEST_CASE("statics: a branch switch lands only on a stable branch", "[statics]")
     INFO(r.message);
     REQUIRE(r.completed);
     REQUIRE(r.branchSwitches.size() == 1);
-    CHECK(r.branchSwitches[0].stableLoadFactor <= SubcriticalTerm::kCritical);
-    CHECK(r.branchSwitches[0].unstableLoadFactor >= SubcriticalTerm::kCritical);
-    CHECK(r.branchSwitches[0].loadFactor == Approx(SubcriticalTerm::kCritical).epsilon(1e-3));
-    const double z2 = 0.5 * (1.0 + std::sqrt(1.0 - 4.0 * (1.0 - 1.0 / SubcriticalTerm::kCritical)));
+    CHECK(r.branchSwitches[0].stableLoadFactor <= kCritical);
+    CHECK(r.branchSwitches[0].unstableLoadFactor >= kCritical);
+    CHECK(r.branchSwitches[0].loadFactor == Approx(kCritical).epsilon(1e-3));
+    const double z2 = 0.5 * (1.0 + std::sqrt(1.0 - 4.0 * (1.0 - 1.0 / kCritical)));
     CHECK(std::abs(x[2]) == Approx(std::sqrt(z2)).epsilon(1e-6));
     CHECK(r.unstableSteps == 0);
   }
@@ -364,7 +438,7 @@ TEST_CASE("statics: a branch switch lands only on a stable branch", "[statics]")
     CHECK(r.message.find("no branch switch") != std::string::npos);
     CHECK(r.saddleEscapes >= 1);
     CHECK(r.unstableSteps == 0);
-    const double z2 = 0.5 * (1.0 + std::sqrt(1.0 - 4.0 * (1.0 - 1.0 / SubcriticalTerm::kCritical)));
+    const double z2 = 0.5 * (1.0 + std::sqrt(1.0 - 4.0 * (1.0 - 1.0 / kCritical)));
     CHECK(std::abs(x[2]) == Approx(std::sqrt(z2)).epsilon(1e-6));
   }
 }

@@ -27,6 +27,9 @@ StaticFitProblem::StaticFitProblem(Objective& objective, LoadFactorHooks loads, 
     if (k > 0 && !(levels_[k] > levels_[k - 1])) throw InputError("fit: load levels must increase");
   }
   checkObserved(observed_, static_cast<int>(levels_.size()), objective_.numDofs());
+  // A fit reads the equilibria at the observed levels only, over thousands of solves; the jump check's energy
+  // evaluations cost about 13% of its time on examples/fit_synthetic_plate.json (jetshell bench fit).
+  options_.detectJumps = false;
 }
 
 StaticFitProblem::~StaticFitProblem() = default;
