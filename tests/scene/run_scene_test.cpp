@@ -316,6 +316,26 @@ TEST_CASE("run: a column past its buckling load is reported unstable by load con
   CHECK(r.summary.termination.find("after") == std::string::npos);  // the run's report adds the counts
 }
 
+TEST_CASE("run: a snap-through that load control jumps over is reported") {
+  // examples/hinged_roof_snap_through.json by load control in 10 steps: the step from λ = 0.7 to 0.8 passes the limit
+  // point (λ 0.735) and lands on the inverted branch; arc length (the example's own control) traces it.
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/hinged_roof_snap_through.json");
+  scene.outputs.vtu = false;
+  scene.analysis.pathControl = PathControlSettings{};
+  RunOptions o;
+  o.pictures = false;
+  o.outputDirectory = freshDirectory("roof_load_control").string();
+  const RunResult r = runScene(scene, o);
+  REQUIRE(r.summary.converged);
+  const nlohmann::json& jumps = r.summary.extra.at("load_jumps");
+  REQUIRE(jumps.size() == 1);
+  CHECK(jumps[0].at("load_factor_before").get<double>() < 0.735);
+  CHECK(jumps[0].at("load_factor_after").get<double>() > 0.735);
+  CHECK(jumps[0].at("energy_released").get<double>() > 0.0);
+  CHECK(std::any_of(r.warnings.begin(), r.warnings.end(),
+                    [](const std::string& w) { return w.find("changed abruptly") != std::string::npos; }));
+}
+
 TEST_CASE("run: the staged evaluator gives the hand-chained run's answer", "[staged]") {
   // A static strip with a mirrored clamp and moment-free free edges (the scene defaults), to the elastica's tip.
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
