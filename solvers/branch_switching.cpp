@@ -25,11 +25,16 @@ void checkOption(bool ok, const char* field, double value, const char* rule) {
 
 }  // namespace
 
+void checkBranchSwitchOptions(const BranchSwitchOptions& o) {
+  checkOption(o.bisections >= 0 && o.bisections <= 60, "branchSwitch.bisections", o.bisections, "must be in 0..60");
+  checkOption(std::isfinite(o.step) && o.step > 0.0 && o.step <= 100.0, "branchSwitch.step", o.step,
+              "must be in (0, 100]");
+}
+
 BranchSwitchResult switchBranch(NewtonSolver& newton, const LoadFactorHooks& loads, IndefiniteFactor& factor,
                                 const BranchSwitchOptions& o, double lambdaA, const Eigen::VectorXd& xa,
                                 double lambdaB, const Eigen::VectorXd& xb) {
-  checkOption(o.bisections >= 0 && o.bisections <= 60, "bisections", o.bisections, "must be in 0..60");
-  checkOption(std::isfinite(o.step) && o.step > 0.0 && o.step <= 100.0, "step", o.step, "must be in (0, 100]");
+  checkBranchSwitchOptions(o);
   Objective& objective = newton.objective();
   const NewtonOptions& newtonOptions = newton.options();
   BranchSwitchResult r;

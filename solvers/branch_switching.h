@@ -50,6 +50,9 @@ struct BranchSwitchResult {
   std::string message;              // why no switch was made
 };
 
+/// Throws InputError naming the field (branchSwitch.bisections, branchSwitch.step) when an option is out of range.
+void checkBranchSwitchOptions(const BranchSwitchOptions& options);
+
 /// The switch from the unstable fundamental branch at (λb, xb) to the stable branch crossing it between λa and λb.
 /// `factor` is the caller's LDLᵀ factor (its symbolic analysis kept across calls). Leaves the load hooks at λb
 /// when no switch was made, at the landing's λ otherwise.

@@ -20,15 +20,16 @@ void check(bool ok, const char* field, double value, const char* rule) {
   throw InputError(s.str());
 }
 
-/// LoadSteppingOptions::checkStability on the equilibrium x that `summary` reached: returns the negative
-/// eigenvalues of the exact Hessian at the equilibrium finally kept (-1: the factorization failed, so unknown).
+/// LoadSteppingOptions::checkStability on the equilibrium x that `summary` reached, whose check is `s` (the caller's,
+/// which branch switching reads first): returns the negative eigenvalues of the exact Hessian at the equilibrium
+/// finally kept (-1: the factorization failed, so unknown).
 /// x and summary are replaced when a saddle is left for a lower equilibrium (at most saddleEscapes times). The
 /// factorization is Eigen's simplicial LDLᵀ on one thread (solvers/stability_check.h); `factor` is the path's
 /// own, as in path control, so its symbolic analysis is done once per Hessian pattern, not once per check.
 int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& factor, const LoadSteppingOptions& o,
-                 Eigen::VectorXd& x, SolverSummary& summary, StaticsResult& result) {
+                 Eigen::VectorXd& x, SolverSummary& summary, StaticsResult& result, Stability s) {
   for (int escape = 0;; ++escape) {
-    const Stability s = assessStability(objective, factor, x, o.newton.derivatives, o.saddleStep);
+    if (escape > 0) s = assessStability(objective, factor, x, o.newton.derivatives, o.saddleStep);
     if (s.negativeEigenvalues <= 0 || escape == o.saddleEscapes || s.downhill.size() == 0) return s.negativeEigenvalues;
     const double roundOff = 1e-13 * objective.energyMagnitude();
     Eigen::VectorXd trial = x + s.downhill;
@@ -121,7 +122,8 @@ PathEnergy pathEnergy(Objective& objective, const LoadFactorHooks& loads, const 
   const double h = 1e-6 * std::max(1.0, std::abs(lambda));
   // ∂E/∂λ with the prescribed positions moving with λ, by a forward difference (λ − h may be out of a load's range:
   // the weight refuses λ < 0); its O(h) error is far below LoadJump's threshold.
-  auto slope = [&](const Eigen::VectorXd& at) {
+  // Returns the slope and, in *energy, E itself at λ (the equilibrium's energy: no separate evaluation).
+  auto slope = [&](const Eigen::VectorXd& at, double* energy) {
     Eigen::VectorXd a = at, b = at;
     objective.applyPrescribed(lambda, a);
     loads.set(lambda);
@@ -129,16 +131,14 @@ PathEnergy pathEnergy(Objective& objective, const LoadFactorHooks& loads, const 
     objective.applyPrescribed(lambda + h, b);
     loads.set(lambda + h);
     const double eb = objective.evaluate(b, nullptr, false, options);
+    if (energy != nullptr) *energy = ea;
     return (eb - ea) / h;
   };
   PathEnergy p;
   p.lambda = lambda;
-  p.slope = slope(x);
-  p.referenceSlope = slope(start);
+  p.slope = slope(x, &p.energy);
+  p.referenceSlope = slope(start, nullptr);
   loads.set(lambda);
-  Eigen::VectorXd at = x;
-  objective.applyPrescribed(lambda, at);
-  p.energy = objective.evaluate(at, nullptr, false, options);
   return p;
 }
 
@@ -220,10 +220,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   check(o.saddleEscapes >= 0 && o.saddleEscapes <= 100, "saddleEscapes", o.saddleEscapes, "must be in 0..100");
   check(std::isfinite(o.saddleStep) && o.saddleStep > 0.0 && o.saddleStep <= 10.0, "saddleStep", o.saddleStep,
         "must be in (0, 10]");
-  check(o.branchSwitch.bisections >= 0 && o.branchSwitch.bisections <= 60, "branchSwitch.bisections",
-        o.branchSwitch.bisections, "must be in 0..60");
-  check(std::isfinite(o.branchSwitch.step) && o.branchSwitch.step > 0.0 && o.branchSwitch.step <= 100.0,
-        "branchSwitch.step", o.branchSwitch.step, "must be in (0, 100]");
+  checkBranchSwitchOptions(o.branchSwitch);
   if (x.size() != objective.numDofs()) throw InputError("load stepping: x has the wrong size");
 
   if (o.path.control != PathControl::Load) return followPath(objective, loads, x, o, callback);
@@ -286,22 +283,20 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     const int escapesBefore = result.saddleEscapes;
     if (o.checkStability && !summary.lastHessianPositiveDefinite) {
       ++result.stabilityChecks;
-      if (o.branchSwitching && previousStable) {
-        const Stability st = assessStability(objective, stability, trial, o.newton.derivatives, o.saddleStep);
-        if (st.negativeEigenvalues > 0) {
-          BranchSwitchResult sw = switchBranch(newton, loads, stability, o.branchSwitch, lambda, x, next, trial);
-          result.newtonIterations += sw.newtonIterations;
-          result.stabilityChecks += sw.factorizations;
-          if (sw.switched) {
-            followNewBranch(objective, loads, x, o, callback, stops, increment, cuts, sw, result);
-            return result;
-          }
-          std::ostringstream why;
-          why << "between lambda = " << sw.stableLoadFactor << " and " << sw.unstableLoadFactor << ": " << sw.message;
-          result.branchSwitchFailure = why.str();
+      const Stability checked = assessStability(objective, stability, trial, o.newton.derivatives, o.saddleStep);
+      if (o.branchSwitching && previousStable && checked.negativeEigenvalues > 0) {
+        BranchSwitchResult sw = switchBranch(newton, loads, stability, o.branchSwitch, lambda, x, next, trial);
+        result.newtonIterations += sw.newtonIterations;
+        result.stabilityChecks += sw.factorizations;
+        if (sw.switched) {
+          followNewBranch(objective, loads, x, o, callback, stops, increment, cuts, sw, result);
+          return result;
         }
+        std::ostringstream why;
+        why << "between lambda = " << sw.stableLoadFactor << " and " << sw.unstableLoadFactor << ": " << sw.message;
+        result.branchSwitchFailure = why.str();
       }
-      negativePivots = leaveSaddles(objective, newton, stability, o, trial, summary, result);
+      negativePivots = leaveSaddles(objective, newton, stability, o, trial, summary, result, checked);
       if (negativePivots > 0) ++result.unstableSteps;
     }
     previousStable = negativePivots == 0 || (negativePivots < 0 && summary.lastHessianPositiveDefinite);

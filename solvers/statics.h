@@ -93,7 +93,7 @@ struct LoadSteppingOptions {
   BranchSwitchOptions branchSwitch;
   /// Load control: report the steps whose equilibrium changed abruptly (StaticsResult::loadJumps, LoadJump in
   /// solvers/path_control.h): a snap-through past a limit point, which load control passes as a jump to another
-  /// branch, or a sheet that swings under a small load. Costs five energy evaluations a step, and a midpoint solve
+  /// branch, or a sheet that swings under a small load. Costs four energy evaluations a step, and a midpoint solve
   /// where a jump is suspected.
   bool detectJumps = true;
   /// The control (solvers/path_control.h). Load: the above as stated. ArcLength: levels and the target are
