@@ -169,6 +169,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     step.summary = std::move(pc.summary);
     result.steps.push_back(std::move(step));
     result.loadFactor = l;
+    loads.set(l);  // the callback sees the loads at the step's λ (a level's landing moved them)
     loads.accept(xs);
     return !callback || callback(result.steps.back());
   };

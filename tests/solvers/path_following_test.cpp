@@ -49,6 +49,7 @@ TEST_CASE("path following: arc length lands on every level crossed and agrees wi
     if (s.atLevel) levels.push_back(s);
     CHECK(s.summary.converged());
     CHECK(s.negativePivots == 0);  // a cantilever under a tip load stays stable
+    CHECK(system.nodalForces->loadFactor() == s.loadFactor);  // what the callback evaluates is at the step's λ
     return true;
   });
   INFO(r.message);
