@@ -44,12 +44,14 @@ struct BifurcationPoint {
   int negativeBefore = 0, negativeAfter = 0;             // negative eigenvalues there
 };
 
-/// A load step whose two equilibria no continuous path joins (load control): the step's change of potential energy
-/// differs from the integral of ∂E/∂λ along a continuous path of equilibria (on which dE/dλ = ∂E/∂λ, as ∂E/∂x = 0;
-/// the trapezoid rule, exact to O(Δλ³)) by more than kRatio of the loads' work in the step, and one half of the
-/// step keeps most of that (kConcentration). The equilibrium changed abruptly, and the path in between is not
-/// traced: a snap-through past a limit point, which load control passes as a jump to another branch, or a sheet
-/// so flexible that it swings from flat to hanging within the step.
+/// A load step whose two equilibria no continuous path joins: the step's change of potential energy differs from
+/// the integral of ∂E/∂λ dλ/dp along a continuous path of equilibria (on which dE/dp = ∂E/∂λ dλ/dp, as ∂E/∂x = 0;
+/// the trapezoid rule, exact to O(Δp³); solvers/path_energy.h) by more than kRatio of the loads' work in the step.
+/// Load control: one half of the step keeps most of that (kConcentration); a snap-through past a limit point, which
+/// load control passes as a jump to another branch, or a sheet so flexible that it swings from flat to hanging
+/// within the step. Arc-length and displacement control cut such a step, and report only one that the smallest
+/// increment could not resolve (a branch the control cannot follow: a snap-back under displacement control).
+/// The equilibrium changed abruptly, and the path in between is not traced.
 struct LoadJump {
   /// Measured on the static examples: smooth steps reach at most 0.014 (next to the hinged roof's limit point) at
   /// their scenes' load steps, and 0.078 with the whole load in one level (the pinched hemisphere's first step);

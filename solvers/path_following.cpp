@@ -2,10 +2,12 @@
 
 #include "core/mesh.h"
 #include "solvers/path_corrector.h"
+#include "solvers/path_energy.h"
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <optional>
 #include <sstream>
 
 namespace jetshell {
@@ -150,6 +152,33 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     return std::sqrt(freeDot(d, d, fixed) + loadWeight * (la - b.lambda) * (la - b.lambda));
   };
 
+  // The energy identity (LoadJump, solvers/path_energy.h), from the first path point on: a step whose energy change
+  // the loads' work along the path does not explain jumped to another branch, and is cut.
+  const Eigen::VectorXd pathStart = x;
+  std::optional<PathEnergy> lastEnergy;  // at the last path point
+  Eigen::VectorXd lastTangent;           // K⁻¹q there (arc length, or with detectJumps; empty: none)
+  // The smallest increment, in the units of `increment`. Arc length: λ along the start's tangent, so where the path
+  // has stiffened since (dλ/dp grown: a sheet as flexible at rest as cloth, |K⁻¹q| ~ 100 times its later value)
+  // the floor is scaled to stay minIncrement in λ along the current tangent; it never rises above minIncrement.
+  double minStep = o.minIncrement;
+  // dλ/dp at a point with tangent t, for the increment (du, dl) that leaves or reaches it (its sign, arc length).
+  auto loadRate = [&](const Eigen::VectorXd& tangent, const Eigen::VectorXd& du, double dl) {
+    if (!arc) return po.displacement / tangent[po.controlledDof];
+    const double along = freeDot(tangent, du, fixed) + loadWeight * dl;
+    return (along >= 0.0 ? 1.0 : -1.0) / std::sqrt(freeDot(tangent, tangent, fixed) + loadWeight);
+  };
+  // The tangent at an equilibrium just corrected, on the corrector's last factor (made at or next to it).
+  auto tangentAt = [&](const Eigen::VectorXd& at, double l, Eigen::VectorXd& tangent) {
+    Eigen::VectorXd xa = at, ga;
+    objective.applyPrescribed(l, xa);
+    loads.set(l);
+    objective.evaluate(xa, &ga, false, evalOptions);
+    const Eigen::VectorXd q = loadVector(objective, loads, xa, l, ga, evalOptions);
+    if (!factor.solve(q, tangent) || !tangent.allFinite()) return false;
+    objective.zeroFixed(tangent);
+    return arc || std::abs(tangent[po.controlledDof]) > 0.0;
+  };
+
   std::deque<PathPoint> history = {{0.0, start, x, -1}};  // path points, newest first
   double increment = std::min(o.initialIncrement, o.maxIncrement);  // in λ (arc) or τ units
   std::size_t nextStop = 0;
@@ -169,7 +198,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     step.summary = std::move(pc.summary);
     result.steps.push_back(std::move(step));
     result.loadFactor = l;
-    loads.set(l);  // the callback sees the loads at the step's λ (a level's landing moved them)
+    loads.set(l);  // the callback sees the loads at the step's λ (a landing or the energy check moved them)
     loads.accept(xs);
     return !callback || callback(result.steps.back());
   };
@@ -251,7 +280,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       ++cuts;
       ++result.totalCuts;
       increment = 0.5 * (arc ? increment : pNext - last.p);
-      if (increment < o.minIncrement) {
+      if (increment < minStep) {
         loads.set(last.lambda);
         x = last.x;
         std::ostringstream s;
@@ -266,6 +295,43 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     }
     const int iterations = pc.summary.iterations;
     const double pNew = arc ? last.p + distance(trial, trialLambda, last) : pNext;
+
+    // The energy identity over the step (the first step is not checked, as under load control: the start need not
+    // be an equilibrium). A jump is cut while the increment can be halved: a smooth step's mismatch falls with the
+    // step against the work (as Δp², or Δp where λ turns within it), a jump's does not, so only a jump that the
+    // smallest increment cannot resolve is kept, and reported.
+    std::optional<PathEnergy> energy;
+    Eigen::VectorXd tangent;
+    bool jumped = false;
+    PathMismatch mismatch;
+    if ((arc || o.detectJumps) && !tangentAt(trial, trialLambda, tangent)) tangent.resize(0);
+    const Eigen::VectorXd du = trial - last.x;
+    const double dl = trialLambda - last.lambda;
+    if (o.detectJumps && tangent.size() > 0) {
+      energy = pathEnergy(objective, loads, trial, trialLambda, pathStart, evalOptions, loadRate(tangent, du, dl));
+      if (lastEnergy) {
+        PathEnergy before = *lastEnergy;
+        before.loadRate = loadRate(lastTangent, du, dl);
+        mismatch = pathMismatch(before, *energy, pNew - last.p);
+        jumped = mismatch.work > 0.0 && std::abs(mismatch.released) > LoadJump::kRatio * mismatch.work;
+      }
+      loads.set(trialLambda);
+    }
+    const double halved = 0.5 * (arc ? increment : pNext - last.p);
+    if (jumped && halved >= minStep) {
+      pc.summary.reason = TerminationReason::Stalled;
+      pc.summary.message = "the step's energy change differs from the loads' work along a continuous path (a jump "
+                           "to another branch)";
+      pc.summary.trace.clear();
+      result.failedSolves.push_back(pc.summary);
+      ++cuts;
+      ++result.totalCuts;
+      increment = halved;
+      continue;
+    }
+    if (jumped)  // kept at the smallest increment: the steps emitted next land after the jump
+      result.loadJumps.push_back({static_cast<int>(result.steps.size()), last.lambda, trialLambda, mismatch.released,
+                                  std::abs(mismatch.released) / mismatch.work});
 
     // Arc length: land on every requested λ crossed between the last path point and this one.
     bool reachedTarget = false;
@@ -298,7 +364,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
         if (!l.correction.summary.converged()) {
           l.correction.summary.trace.clear();
           result.failedSolves.push_back(l.correction.summary);
-          if (0.5 * increment >= o.minIncrement) {
+          if (0.5 * increment >= minStep) {
             cutStep = true;
             break;
           }
@@ -337,6 +403,10 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     }
     cuts = 0;
     ++pathPoints;
+    lastEnergy = energy;
+    if (arc && tangent.size() > 0)
+      minStep = o.minIncrement / std::max(1.0, unit * std::abs(loadRate(tangent, du, dl)));
+    lastTangent = std::move(tangent);
     history.push_front(PathPoint{pNew, trialLambda, trial, result.steps.back().step});
     if (static_cast<int>(history.size()) > order + 1) history.pop_back();
     // A turn of λ over the last three path points.
@@ -353,7 +423,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     }
     const double factorUp =
         std::clamp(std::sqrt(static_cast<double>(o.easyIterations) / std::max(1, iterations)), 0.5, o.growth);
-    increment = std::clamp(increment * factorUp, o.minIncrement, o.maxIncrement);
+    increment = std::clamp(increment * factorUp, minStep, o.maxIncrement);
     if (crossedTarget) {
       // The target was passed but its landing failed: the path stops beyond it, not completed.
       x = trial;
@@ -372,6 +442,9 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
   s << toString(po.control) << " control: reached " << (arc ? "lambda = " : "tau = 1, lambda = ") << result.loadFactor
     << " in " << result.steps.size() << " steps (" << result.totalCuts << " cuts, " << result.newtonIterations
     << " Newton iterations, " << result.limitPoints.size() << " limit points)";
+  for (const LoadJump& j : result.loadJumps)
+    s << "; the equilibrium changed abruptly between lambda = " << j.loadFactorBefore << " and " << j.loadFactorAfter
+      << " at the smallest increment (energy released " << j.energyReleased << " J)";
   if (!missed.empty()) {
     s << "; levels not landed on:";
     for (const std::string& m : missed) s << " " << m;

@@ -2,6 +2,7 @@
 
 #include "core/mesh.h"
 #include "solvers/indefinite_factor.h"
+#include "solvers/path_energy.h"
 #include "solvers/path_following.h"
 #include "solvers/stability_check.h"
 
@@ -96,6 +97,10 @@ void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::
     b.step += offset;
     result.bifurcationPoints.push_back(b);
   }
+  for (LoadJump j : tail.loadJumps) {
+    j.step += offset;
+    result.loadJumps.push_back(j);
+  }
   result.totalCuts += tail.totalCuts;
   result.newtonIterations += tail.newtonIterations;
   for (SolverSummary& f : tail.failedSolves) result.failedSolves.push_back(std::move(f));
@@ -108,52 +113,6 @@ void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::
     << b.unstableLoadFactor << " to the stable branch (landed at lambda = " << b.loadFactor << "), then "
     << tail.message;
   result.message = s.str();
-}
-
-/// The potential energy and its partial derivative in λ at an equilibrium, and the same derivative at the path's
-/// start positions (LoadJump: the loads' work is measured from there, as the energy of dead loads on the absolute
-/// positions would drown it).
-struct PathEnergy {
-  double lambda = 0.0, energy = 0.0, slope = 0.0, referenceSlope = 0.0;
-};
-
-PathEnergy pathEnergy(Objective& objective, const LoadFactorHooks& loads, const Eigen::VectorXd& x, double lambda,
-                      const Eigen::VectorXd& start, const EvalOptions& options) {
-  const double h = 1e-6 * std::max(1.0, std::abs(lambda));
-  // ∂E/∂λ with the prescribed positions moving with λ, by a forward difference (λ − h may be out of a load's range:
-  // the weight refuses λ < 0); its O(h) error is far below LoadJump's threshold.
-  // Returns the slope and, in *energy, E itself at λ (the equilibrium's energy: no separate evaluation).
-  auto slope = [&](const Eigen::VectorXd& at, double* energy) {
-    Eigen::VectorXd a = at, b = at;
-    objective.applyPrescribed(lambda, a);
-    loads.set(lambda);
-    const double ea = objective.evaluate(a, nullptr, false, options);
-    objective.applyPrescribed(lambda + h, b);
-    loads.set(lambda + h);
-    const double eb = objective.evaluate(b, nullptr, false, options);
-    if (energy != nullptr) *energy = ea;
-    return (eb - ea) / h;
-  };
-  PathEnergy p;
-  p.lambda = lambda;
-  p.slope = slope(x, &p.energy);
-  p.referenceSlope = slope(start, nullptr);
-  loads.set(lambda);
-  return p;
-}
-
-/// Between two equilibria on a path: the trapezoid's energy change minus the actual one (the energy released by a
-/// jump) and the loads' work in between, measured from the path's start (LoadJump).
-struct PathMismatch {
-  double released = 0.0, work = 0.0;
-};
-
-PathMismatch pathMismatch(const PathEnergy& a, const PathEnergy& b) {
-  const double dl = b.lambda - a.lambda;
-  PathMismatch m;
-  m.released = 0.5 * (a.slope + b.slope) * dl - (b.energy - a.energy);
-  m.work = 0.5 * std::abs(dl) * (std::abs(a.slope - a.referenceSlope) + std::abs(b.slope - b.referenceSlope));
-  return m;
 }
 
 }  // namespace
@@ -325,7 +284,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     if (checkJump && (!lastEnergy || lastEnergy->lambda != lambda))
       lastEnergy = pathEnergy(objective, loads, x, lambda, pathStart, energyOptions);
     if (checkJump && result.saddleEscapes == escapesBefore) {
-      const PathMismatch m = pathMismatch(*lastEnergy, energy);
+      const PathMismatch m = pathMismatch(*lastEnergy, energy, next - lambda);
       if (m.work > 0.0 && std::abs(m.released) > LoadJump::kRatio * m.work) {
         // Confirmed at the step's midpoint (solved from the step's own predictor): a jump keeps its released
         // energy in one half of the step; a continuous path whose derivative is singular where the step starts (a
@@ -340,8 +299,8 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
         bool jump = true;
         if (ms.converged()) {
           const PathEnergy e = pathEnergy(objective, loads, xm, mid, pathStart, energyOptions);
-          const double worse = std::max(std::abs(pathMismatch(*lastEnergy, e).released),
-                                        std::abs(pathMismatch(e, energy).released));
+          const double worse = std::max(std::abs(pathMismatch(*lastEnergy, e, mid - lambda).released),
+                                        std::abs(pathMismatch(e, energy, next - mid).released));
           jump = worse > LoadJump::kConcentration * std::abs(m.released);
         }
         if (jump)

@@ -94,7 +94,9 @@ struct LoadSteppingOptions {
   /// Load control: report the steps whose equilibrium changed abruptly (StaticsResult::loadJumps, LoadJump in
   /// solvers/path_control.h): a snap-through past a limit point, which load control passes as a jump to another
   /// branch, or a sheet that swings under a small load. Costs four energy evaluations a step, and a midpoint solve
-  /// where a jump is suspected.
+  /// where a jump is suspected. Arc-length and displacement control: cut a step that jumped to another branch
+  /// (solvers/path_following.h), and report one the smallest increment cannot resolve; four energy evaluations, two
+  /// gradients and one solve on the corrector's factor per path point.
   bool detectJumps = true;
   /// The control (solvers/path_control.h). Load: the above as stated. ArcLength: levels and the target are
   /// load factors, landed on at every crossing, the path ends at the target; the increments are load-factor
@@ -127,7 +129,7 @@ struct StaticsResult {
   std::vector<LimitPoint> limitPoints;  // where λ turned (arc-length and displacement control), in path order
   std::vector<BifurcationPoint> bifurcationPoints;  // the same controls, in path order
   std::vector<BranchSwitchPoint> branchSwitches;  // load control's switches to a stable branch, in path order
-  std::vector<LoadJump> loadJumps;  // load control's steps that jumped (snap-throughs), in path order
+  std::vector<LoadJump> loadJumps;  // steps that jumped (load control's snap-throughs; path control's unresolved)
   std::string branchSwitchFailure;  // why a switch was tried and not made (empty: none failed)
   int saddleEscapes = 0;  // unstable equilibria left downhill (load control, LoadSteppingOptions::saddleEscapes)
   int unstableSteps = 0;  // accepted steps whose equilibrium was found unstable and kept so

@@ -1,4 +1,5 @@
 #include "core/mesh.h"
+#include "solvers/path_energy.h"
 #include "solvers/path_following.h"
 #include "solvers/statics.h"
 #include "tests/solvers/test_problems.h"
@@ -161,4 +162,83 @@ TEST_CASE("path following: a bifurcation passed on a symmetric path is reported,
   CHECK(b.loadFactorBefore < 0.5 * 1.05);
   CHECK(b.loadFactorAfter > 0.457 * 0.95);
   CHECK(b.loadFactorBefore < b.loadFactorAfter);
+}
+
+namespace {
+
+/// The crumpled sheet by arc length in n level steps, as a scene sets them up (levels k / n, the first increment a
+/// quarter of a level).
+StaticsResult crumpledByArcLength(int n) {
+  ShellSystem system(testing::crumpledSheet(), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o = pathOptions(PathControl::ArcLength);
+  o.maxIncrement = 1.0 / n;
+  o.initialIncrement = 0.25 / n;
+  o.path.maxSteps = 400;
+  for (int k = 1; k < n; ++k) o.levels.push_back(static_cast<double>(k) / n);
+  return solveStatics(system, x, o);
+}
+
+}  // namespace
+
+TEST_CASE("path following: arc length cuts a step that jumps to another branch, so long steps find the limit points",
+          "[statics][path]") {
+  testing::SingleThread single;
+  // The crumpled sheet (testing::crumpledSheet). With steps of up to 0.25 and no energy check, arc length jumped
+  // between branches and reported turns at λ = 0.068 and −0.101; with steps of up to 0.025, 0.1731 and −0.0504.
+  const StaticsResult fine = crumpledByArcLength(40), coarse = crumpledByArcLength(4);
+  INFO(fine.message << "\n" << coarse.message);
+  REQUIRE(fine.completed);
+  REQUIRE(coarse.completed);
+  REQUIRE(fine.limitPoints.size() == 2);
+  REQUIRE(coarse.limitPoints.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(coarse.limitPoints[i].maximum == (i == 0));
+    CHECK(coarse.limitPoints[i].loadFactor == Approx(fine.limitPoints[i].loadFactor).epsilon(0.02));
+  }
+  // This sheet's turns by 400 steps of at most 0.0025: λ = 0.17389 and −0.05037.
+  CHECK(fine.limitPoints[0].loadFactor == Approx(0.17389).epsilon(0.01));
+  CHECK(fine.limitPoints[1].loadFactor == Approx(-0.05037).epsilon(0.01));
+  // The jumps were cut into steps that follow the path: none is left to report.
+  CHECK(coarse.loadJumps.empty());
+  CHECK(fine.loadJumps.empty());
+  CHECK(coarse.totalCuts > 0);
+}
+
+TEST_CASE("path following: the energy identity holds across a limit point and fails across a jump", "[statics][path]") {
+  // One dof that snaps through: E = ¼ (z² − 1)² + λ z, equilibria λ = z − z³ (a limit point at z = 1/√3), path
+  // parameter p = z (decreasing), start z = 1. ∂E/∂λ = z, and 1 at the start position; dλ/dp = 1 − 3 z².
+  auto at = [](double z, double lambda) {
+    PathEnergy e;
+    e.lambda = lambda;
+    e.energy = 0.25 * (z * z - 1.0) * (z * z - 1.0) + lambda * z;
+    e.slope = z;
+    e.referenceSlope = 1.0;
+    e.loadRate = 1.0 - 3.0 * z * z;
+    return e;
+  };
+  auto onPath = [&](double z) { return at(z, z - z * z * z); };
+  // A step across the limit point (λ rises to 0.385 and falls back within it): the trapezoid in p errs by O(Δp³),
+  // and the loads' work in a step centred on the turn is O(Δp²) (dλ/dp vanishes there), so the ratio falls as Δp.
+  double previous = 1.0;
+  for (double dz : {0.2, 0.1, 0.05}) {
+    const double za = 0.577 + 0.5 * dz, zb = 0.577 - 0.5 * dz;
+    const PathMismatch m = pathMismatch(onPath(za), onPath(zb), zb - za);
+    INFO("dz " << dz << ": released " << m.released << ", work " << m.work);
+    CHECK(m.work > 0.0);
+    const double ratio = std::abs(m.released) / m.work;
+    CHECK(ratio < LoadJump::kRatio);
+    CHECK(ratio < 0.6 * previous);
+    previous = ratio;
+  }
+  // A step from z = 0.65 that lands on the inverted branch at z = 0.5's λ (z³ − z + λ = 0 at z ≈ −1.15) instead of
+  // following the path over the limit point: the mismatch is more than the loads' work (1.13 of it).
+  const double lambda = 0.5 - 0.125;
+  double zc = -1.1;
+  for (int k = 0; k < 50; ++k) zc -= (zc * zc * zc - zc + lambda) / (3.0 * zc * zc - 1.0);
+  PathEnergy c = at(zc, lambda);
+  c.loadRate = 1.0 - 3.0 * zc * zc;
+  const PathMismatch jump = pathMismatch(onPath(0.65), c, std::abs(zc - 0.65));
+  INFO("released " << jump.released << ", work " << jump.work);
+  CHECK(std::abs(jump.released) > LoadJump::kRatio * jump.work);
 }

@@ -60,6 +60,31 @@ inline ShellProblem compressedPlate(double total) {
   return p;
 }
 
+/// A 1 m square (6 × 6 squares) crumpled at rest (out of plane by up to 9 cm), clamped along x = 0, under its weight
+/// (−z) and a force of 0.1 N (−z) at the corner (1, 1): `jetshell stress`'s crumpled/rest_static cell. Its path
+/// turns back at λ ≈ 0.185 and again at λ ≈ −0.040 (arc length, 400 steps of λ ≤ 0.0025).
+inline ShellProblem crumpledSheet() {
+  constexpr int n = 6;
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(1.0, 1.0, n, n);
+  for (int v = 0; v < p.mesh.numVertices(); ++v) {
+    const double x = p.mesh.V(v, 0), y = p.mesh.V(v, 1);
+    p.mesh.V(v, 2) = 0.09 * std::sin(17.3 * x + 5.1 * y) * std::cos(11.7 * y - 3.0 * x);
+  }
+  p.material = ShellMaterialParamsFrom3dIsotropic(1e6, 0.3, 1000.0, 0.01);
+  p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  const int N = p.mesh.numVertices();
+  p.nodalForces = Eigen::VectorXd::Zero(3 * N);
+  p.nodalForces[3 * (N - 1) + 2] = -0.1;
+  p.clampedVertices.assign(static_cast<std::size_t>(N), 0);
+  for (int j = 0; j <= n; ++j) {
+    const int left = j * (n + 1);
+    p.prescribed.fixVertex(left, p.mesh.V.row(left).transpose());
+    p.clampedVertices[static_cast<std::size_t>(left)] = 1;
+  }
+  return p;
+}
+
 /// A cloth [0, w] × [0, h] in the z = 0 plane hanging in its own plane: gravity −y, the two top corners
 /// (y = h) fixed. Material: the spec's defaults (a light cloth).
 inline ShellProblem hangingCloth(double w, double h, int nx, int ny) {
