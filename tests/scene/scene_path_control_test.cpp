@@ -67,6 +67,7 @@ TEST_CASE("scene path control: displacement control drives the probe to its disp
   CHECK(s["final_load_factor_reached"].get<double>() > 0.0);
   CHECK(s["limit_points"].empty());
   CHECK(s["bifurcation_points"].empty());  // a strip bent by an end force crosses no other branch
+  CHECK(s["load_jumps"].empty());
 }
 
 TEST_CASE("scene path control: arc length takes the hinged roof through its snap-through", "[scene][path]") {
@@ -88,6 +89,7 @@ TEST_CASE("scene path control: arc length takes the hinged roof through its snap
   CHECK(s["limit_points"][0]["kind"] == "maximum");
   CHECK(s["limit_points"][1]["kind"] == "minimum");
   CHECK(s["limit_points"][0]["load_factor"].get<double>() > s["limit_points"][1]["load_factor"].get<double>());
+  CHECK(s["load_jumps"].empty());  // every step follows the path: arc length cuts a step that jumps
 }
 
 TEST_CASE("scene path control: bad path controls are refused with the field's pointer", "[scene][path]") {

@@ -268,6 +268,33 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       }
     }
     summary.extra["load_step_cuts"] = r.totalCuts;
+    // Steps whose equilibrium jumped (LoadJump): load control's snap-throughs, path control's unresolved jumps.
+    nlohmann::json jumps = nlohmann::json::array();
+    for (const LoadJump& j : r.loadJumps)
+      jumps.push_back({{"load_step", j.step + 1},
+                       {"load_factor_before", j.loadFactorBefore},
+                       {"load_factor_after", j.loadFactorAfter},
+                       {"energy_released", j.energyReleased},
+                       {"energy_mismatch", j.ratio}});
+    summary.extra["load_jumps"] = jumps;
+    if (!r.loadJumps.empty()) {
+      std::string w = "the equilibrium changed abruptly in " + std::to_string(r.loadJumps.size()) + " step(s) (";
+      for (std::size_t i = 0; i < r.loadJumps.size(); ++i)
+        w += (i > 0 ? ", " : "") + std::string("lambda = ") + formatNumber("%.6g", r.loadJumps[i].loadFactorBefore) +
+             " to " + formatNumber("%.6g", r.loadJumps[i].loadFactorAfter);
+      w += "): the step's change of potential energy differs from the loads' work along a continuous path, so the "
+           "path in between is not traced (summary.json load_jumps). " +
+           std::string(o.path.control == PathControl::Load
+                           ? "Either a snap-through past a limit point, which load control passes as a jump to "
+                             "another branch (\"pathControl\": {\"type\": \"arcLength\"} follows it through the "
+                             "limit points), or a sheet so flexible that it swings within the step (\"type\": "
+                             "\"dynamicRelaxation\" finds its end state directly)"
+                           : "The path control cut the step down to its smallest increment and still jumped: a "
+                             "branch it cannot follow (displacement control cannot pass a snap-back: \"type\": "
+                             "\"arcLength\" can)");
+      result.warnings.push_back(w);
+      progress.log("warning: " + w);
+    }
     // Load control's check of equilibria that no positive definite factor vouched for (solvers/statics.h); path
     // control traces unstable branches on purpose and reports its limit points instead.
     if (o.path.control == PathControl::Load) {
@@ -285,27 +312,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                      ") and followed it by arc length");
       }
       summary.extra["branch_switches"] = switches;
-      nlohmann::json jumps = nlohmann::json::array();
-      for (const LoadJump& j : r.loadJumps)
-        jumps.push_back({{"load_step", j.step + 1},
-                         {"load_factor_before", j.loadFactorBefore},
-                         {"load_factor_after", j.loadFactorAfter},
-                         {"energy_released", j.energyReleased},
-                         {"energy_mismatch", j.ratio}});
-      summary.extra["load_jumps"] = jumps;
-      if (!r.loadJumps.empty()) {
-        std::string w = "the equilibrium changed abruptly in " + std::to_string(r.loadJumps.size()) + " load step(s) (";
-        for (std::size_t i = 0; i < r.loadJumps.size(); ++i)
-          w += (i > 0 ? ", " : "") + std::string("lambda = ") + formatNumber("%.6g", r.loadJumps[i].loadFactorBefore) +
-               " to " + formatNumber("%.6g", r.loadJumps[i].loadFactorAfter);
-        w += "): the step's change of potential energy differs from the loads' work along a continuous path, so the "
-             "path in between is not traced (summary.json load_jumps). Either a snap-through past a limit point, "
-             "which load control passes as a jump to another branch (\"pathControl\": {\"type\": \"arcLength\"} "
-             "follows it through the limit points), or a sheet so flexible that it swings within the step "
-             "(\"type\": \"dynamicRelaxation\" finds its end state directly)";
-        result.warnings.push_back(w);
-        progress.log("warning: " + w);
-      }
       if (!r.branchSwitchFailure.empty()) {
         summary.extra["branch_switch_failure"] = r.branchSwitchFailure;
         progress.log("no branch switch " + r.branchSwitchFailure);
