@@ -23,6 +23,8 @@ void checkPathOption(bool ok, const char* field, double value, const char* rule)
 /// Arc length: a correction whose increment turns by more than 60° from the previous one is cut (a large step
 /// can land on another branch or cut a sharp turn of the path short; smaller steps follow it).
 constexpr double kMinCosine = 0.5;
+/// Arc length: the largest vertex move of the first increment along the start's tangent, in the shell's size.
+constexpr double kFirstMove = 0.05;
 
 struct PathPoint {
   double p = 0.0;  // path parameter: arc length or τ
@@ -145,6 +147,22 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     result.message = "path following: the loads do not move the controlled dof at the start";
     return result;
   }
+  // Arc length per unit of `increment`: ds/dλ at the start, unless the start is so soft that the first increment
+  // along its tangent would move some vertex by more than kFirstMove of the shell's size (a sheet as flexible as
+  // cloth under its weight: the linear response to a level is kilometres, and every correction from there fails);
+  // then the first increment moves it by that much, and λ follows from the corrector.
+  double scale = unit;
+  if (arc) {
+    double largest = 0.0;
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(HUGE_VAL), high = -low;
+    for (Eigen::Index v = 0; v + 2 < x.size(); v += 3) {
+      largest = std::max(largest, t.segment<3>(v).norm());
+      low = low.cwiseMin(x.segment<3>(v));
+      high = high.cwiseMax(x.segment<3>(v));
+    }
+    const double size = (high - low).norm(), first = std::min(o.initialIncrement, o.maxIncrement) * largest;
+    if (first > kFirstMove * size && size > 0.0) scale = unit * kFirstMove * size / first;
+  }
   const double direction = target >= start ? 1.0 : -1.0;
   const double x0 = arc ? 0.0 : x[po.controlledDof];
   auto distance = [&](const Eigen::VectorXd& xa, double la, const PathPoint& b) {
@@ -157,9 +175,10 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
   const Eigen::VectorXd pathStart = x;
   std::optional<PathEnergy> lastEnergy;  // at the last path point
   Eigen::VectorXd lastTangent;           // K⁻¹q there (arc length, or with detectJumps; empty: none)
-  // The smallest increment, in the units of `increment`. Arc length: λ along the start's tangent, so where the path
-  // has stiffened since (dλ/dp grown: a sheet as flexible at rest as cloth, |K⁻¹q| ~ 100 times its later value)
-  // the floor is scaled to stay minIncrement in λ along the current tangent; it never rises above minIncrement.
+  // The smallest increment, in the units of `increment`. Arc length: λ along the start's tangent (scale), so where
+  // the path has stiffened since (dλ/dp grown: a sheet as flexible at rest as cloth, |K⁻¹q| ~ 100 times its later
+  // value) the floor is scaled to stay minIncrement in λ along the current tangent; it never rises above
+  // minIncrement.
   double minStep = o.minIncrement;
   // dλ/dp at a point with tangent t, for the increment (du, dl) that leaves or reaches it (its sign, arc length).
   auto loadRate = [&](const Eigen::VectorXd& tangent, const Eigen::VectorXd& du, double dl) {
@@ -222,7 +241,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     double pNext = 0.0;
     bool landing = false;
     if (arc) {
-      pNext = last.p + increment * unit;
+      pNext = last.p + increment * scale;
     } else {
       const double stop = stops[nextStop], remaining = stop - last.p;
       landing = remaining <= increment * (1.0 + 1e-9);
@@ -405,7 +424,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     ++pathPoints;
     lastEnergy = energy;
     if (arc && tangent.size() > 0)
-      minStep = o.minIncrement / std::max(1.0, unit * std::abs(loadRate(tangent, du, dl)));
+      minStep = o.minIncrement / std::max(1.0, scale * std::abs(loadRate(tangent, du, dl)));
     lastTangent = std::move(tangent);
     history.push_front(PathPoint{pNew, trialLambda, trial, result.steps.back().step});
     if (static_cast<int>(history.size()) > order + 1) history.pop_back();

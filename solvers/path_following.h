@@ -24,6 +24,9 @@
 //    arc length's increments are λ increments along the start's tangent, so where the path has stiffened since,
 //    the floor is lowered to minIncrement in λ along the current tangent); after a step that took k iterations
 //    the increment is scaled by √(easyIterations / k) within [½, growth];
+//  - arc length's first increment moves no vertex by more than 5% of the shell's size along the start's tangent
+//    (the arc length per λ unit is lowered to fit): a start as soft as a thin sheet under its weight (the linear
+//    response to one level: kilometres) otherwise has every correction fail, however often it is cut;
 //  - requested levels: displacement control lands on each τ level as load control does on λ; arc length lands on
 //    every crossing of each λ level (and ends on the target) with a load-controlled correction started from the
 //    chord between the two path points around it; a level whose correction fails cuts the step while the

@@ -92,6 +92,34 @@ TEST_CASE("scene path control: arc length takes the hinged roof through its snap
   CHECK(s["load_jumps"].empty());  // every step follows the path: arc length cuts a step that jumps
 }
 
+TEST_CASE("scene path control: arc length leaves the rest state of a sheet too soft for its first increment",
+          "[scene][path]") {
+  // A 1 m steel-stiff sheet 0.1 mm thick clamped along one edge, under its weight (`jetshell stress`'s
+  // thickness/h_L=0.0001 cell by arc length). The start's tangent moves the free edge by 89 m in the first
+  // increment (a quarter of a level): every correction from there failed, down to the smallest increment. Now the
+  // first increment moves it by 5% of the sheet's size, and the path reaches the full weight.
+  nlohmann::json j = nlohmann::json::parse(R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [{
+      "type": "shell", "name": "sheet",
+      "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 6, "ny": 6},
+      "material": {"youngsModulus": 1e9, "poissonRatio": 0.3, "thickness": 1e-4, "volumeDensity": 1000},
+      "colliderType": "None",
+      "fixed": [{"select": {"group": "left"}, "clampRotation": true}],
+      "probes": [{"name": "corner", "select": {"nearest": [1, 1, 0]}}]
+    }],
+    "analysis": {"type": "static", "loadSteps": 4, "pathControl": {"type": "arcLength", "maxSteps": 2000}},
+    "solver": {"threads": 1},
+    "outputs": {"vtu": false, "png": false, "plots": false}
+  })");
+  const nlohmann::json s = run(sceneFromJson(j, "."), "soft_start");
+  INFO(s.dump(1));
+  CHECK(s["converged"] == true);
+  CHECK(s["final_load_factor_reached"] == 1.0);
+  CHECK(s["probes"]["corner"][2].get<double>() < -0.5);  // the free edge hangs down
+  CHECK(s["load_jumps"].empty());
+}
+
 TEST_CASE("scene path control: bad path controls are refused with the field's pointer", "[scene][path]") {
   auto edited = [](auto edit) {
     nlohmann::json s = stripScene();
