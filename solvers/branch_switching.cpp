@@ -94,6 +94,7 @@ BranchSwitchResult switchBranch(NewtonSolver& newton, const LoadFactorHooks& loa
   // 3–4. The switch: a step along the mode, corrected on the cylinder around the unstable end.
   const std::vector<char>& fixed = objective.fixedDof();
   std::ostringstream tried;
+  const double towards = lambdaB >= lambdaA ? 1.0 : -1.0;  // arc length may meet a bifurcation with λ falling
   double step = o.step * objective.scales().length;
   for (int h = 0; h <= kStepHalvings; ++h, step *= 0.5) {
     for (double sign : {1.0, -1.0}) {
@@ -113,7 +114,7 @@ BranchSwitchResult switchBranch(NewtonSolver& newton, const LoadFactorHooks& loa
         tried << "no correction (" << pc.summary.message << ")";
         continue;
       }
-      if (!(lambda > lambdaA && lambda <= lambdaB)) {
+      if (!(towards * (lambda - lambdaA) > 0.0 && towards * (lambda - lambdaB) <= 0.0)) {
         tried << "landed at lambda = " << lambda << ", outside the step";
         continue;
       }

@@ -1,7 +1,8 @@
-// Branch switching for load control (solvers/statics.h): a symmetric problem loaded past a bifurcation (a straight
-// column or a flat plate in compression) keeps to its fundamental branch, which turns unstable there, and Newton
-// cannot leave it for the stable branch far past the critical load (the buckled minimum lies metres away along a
-// curved path). Here the crossing branch is reached where it leaves the fundamental one, as path-following codes do.
+// Branch switching for load control (solvers/statics.h) and arc length (solvers/path_following.h): a symmetric
+// problem loaded past a bifurcation (a straight column or a flat plate in compression) keeps to its fundamental
+// branch, which turns unstable there, and Newton cannot leave it for the stable branch far past the critical load
+// (the buckled minimum lies metres away along a curved path). Here the crossing branch is reached where it leaves
+// the fundamental one, as path-following codes do.
 //
 // Inputs: the objective and load hooks, a bracket on the fundamental branch, (λa, xa) a stable equilibrium and
 // (λb, xb) one with negative eigenvalues, Newton's options, and the switch's options. Steps:
@@ -15,7 +16,7 @@
 //     solvers/path_corrector.h) on the cylinder ‖Δu‖ = that step. The fundamental branch meets that cylinder only
 //     far away (its dofs move little with λ), so the correction lands on the crossing branch.
 //  4. The landing is accepted when the correction converged, the equilibrium there is stable (no negative
-//     eigenvalue: a supercritical bifurcation) and its λ lies in (λa, λb]. Otherwise the other sign of the mode
+//     eigenvalue: a supercritical bifurcation) and its λ lies in (λa, λb] (or [λb, λa) where λ falls). Otherwise the other sign of the mode
 //     is tried (an asymmetric bifurcation rises on one side only), then a step half as long, four times.
 // Output: the new branch's equilibrium (λ, x) and the bracket. Load control follows the new branch on by arc
 // length: near a pitchfork its x grows as √(λ − λc), which no polynomial predictor in λ follows.

@@ -3,6 +3,7 @@
 #include "core/mesh.h"
 #include "solvers/path_corrector.h"
 #include "solvers/path_energy.h"
+#include "solvers/stability_check.h"
 
 #include <algorithm>
 #include <cmath>
@@ -93,9 +94,20 @@ std::vector<BifurcationPoint> bifurcationPoints(const StaticsResult& r) {
   return points;
 }
 
-/// followPath without its bifurcations (the loop returns from several places; followPath adds them once).
+/// A branch switch that arc length made (LoadSteppingOptions::branchSwitching): followPath follows the new branch.
+struct PendingSwitch {
+  BranchSwitchResult sw;
+  std::vector<double> stops;  // the path's stops (followNewBranch keeps those after the landing)
+  double increment = 0.0;
+  int cuts = 0;
+  double landingParameter = 0.0;  // the landing's arc length from the path's start
+};
+
+/// followPath without its bifurcations and without following a switched branch (the loop returns from several
+/// places; followPath adds both once).
 StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
-                        const LoadSteppingOptions& o, const LoadStepCallback& callback) {
+                        const LoadSteppingOptions& o, const LoadStepCallback& callback,
+                        std::optional<PendingSwitch>& pending) {
   const PathFollowingOptions& po = o.path;
   const bool arc = po.control == PathControl::ArcLength;
   checkPathOption(po.control != PathControl::Load, "control", 0, "load control is not path following");
@@ -137,6 +149,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     return result;
   }
   objective.zeroFixed(t);
+  int lastPivots = factor.negativePivots();  // at the last path point (branch switching)
   const double loadWeight = arc ? po.loadScaling * po.loadScaling * freeDot(q0, q0, fixed) : 0.0;
   const double unit = std::sqrt(freeDot(t, t, fixed) + loadWeight);  // ds/dλ at the start
   if (!(unit > 0.0) || !std::isfinite(unit)) {
@@ -174,7 +187,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
   // the loads' work along the path does not explain jumped to another branch, and is cut.
   const Eigen::VectorXd pathStart = x;
   std::optional<PathEnergy> lastEnergy;  // at the last path point
-  Eigen::VectorXd lastTangent;           // K⁻¹q there (arc length, or with detectJumps; empty: none)
+  Eigen::VectorXd lastTangent = t;       // K⁻¹q there (arc length, or with detectJumps; empty: none)
   // The smallest increment, in the units of `increment`. Arc length: λ along the start's tangent (scale), so where
   // the path has stiffened since (dλ/dp grown: a sheet as flexible at rest as cloth, |K⁻¹q| ~ 100 times its later
   // value) the floor is scaled to stay minIncrement in λ along the current tangent; it never rises above
@@ -196,6 +209,16 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     if (!factor.solve(q, tangent) || !tangent.allFinite()) return false;
     objective.zeroFixed(tangent);
     return arc || std::abs(tangent[po.controlledDof]) > 0.0;
+  };
+
+  // The stops between two path points' λ (the first excluded, the second included).
+  auto crossedLevels = [&](double from, double to) {
+    std::vector<double> crossed;
+    for (double level : stops) {
+      const bool atNew = std::abs(level - to) <= eps, atLast = std::abs(level - from) <= eps;
+      if (!atLast && (atNew || (level - from) * (level - to) < 0.0)) crossed.push_back(level);
+    }
+    return crossed;
   };
 
   std::deque<PathPoint> history = {{0.0, start, x, -1}};  // path points, newest first
@@ -337,16 +360,46 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       loads.set(trialLambda);
     }
     const double halved = 0.5 * (arc ? increment : pNext - last.p);
-    if (jumped && halved >= minStep) {
+    // A converged step that is not kept: recorded as a failed attempt, and the increment halved.
+    auto cutConverged = [&](const char* why) {
       pc.summary.reason = TerminationReason::Stalled;
-      pc.summary.message = "the step's energy change differs from the loads' work along a continuous path (a jump "
-                           "to another branch)";
+      pc.summary.message = why;
       pc.summary.trace.clear();
       result.failedSolves.push_back(pc.summary);
       ++cuts;
       ++result.totalCuts;
       increment = halved;
+    };
+    if (jumped && halved >= minStep) {
+      cutConverged("the step's energy change differs from the loads' work along a continuous path (a jump to "
+                   "another branch)");
       continue;
+    }
+    // A bifurcation (branchSwitching): the step left a stable point for one with negative eigenvalues while λ kept
+    // its direction (dλ/dp has one sign at both ends, so no limit point lies between), as on a straight column
+    // compressed past its buckling load. Load control's switch (solvers/branch_switching.h) takes the stable
+    // crossing branch, and followPath follows it. A step that also crosses a level is cut first, so that levels
+    // below the bifurcation are landed on the fundamental branch and those above it on the new one.
+    if (arc && o.branchSwitching && !jumped && lastPivots == 0 && pc.negativePivots > 0 && tangent.size() > 0 &&
+        lastTangent.size() > 0 && loadRate(lastTangent, du, dl) * loadRate(tangent, du, dl) > 0.0) {
+      if (!crossedLevels(last.lambda, trialLambda).empty() && halved >= minStep) {
+        cutConverged("a bifurcation within a step that crosses a level (cut before the switch)");
+        continue;
+      }
+      NewtonSolver newton(objective, o.newton);
+      IndefiniteFactor stability;  // the stability counts' factor (Eigen's LDLᵀ, solvers/stability_check.h)
+      BranchSwitchResult sw = switchBranch(newton, loads, stability, o.branchSwitch, last.lambda, last.x, trialLambda,
+                                           trial);
+      result.newtonIterations += sw.newtonIterations;
+      if (sw.switched) {
+        const double landingP = last.p + distance(sw.x, sw.loadFactor, last);
+        pending = PendingSwitch{std::move(sw), stops, increment, cuts, landingP};
+        return result;
+      }
+      std::ostringstream why;
+      why << "between lambda = " << sw.stableLoadFactor << " and " << sw.unstableLoadFactor << ": " << sw.message;
+      result.branchSwitchFailure = why.str();
+      loads.set(trialLambda);
     }
     if (jumped)  // kept at the smallest increment: the steps emitted next land after the jump
       result.loadJumps.push_back({static_cast<int>(result.steps.size()), last.lambda, trialLambda, mismatch.released,
@@ -355,11 +408,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     // Arc length: land on every requested λ crossed between the last path point and this one.
     bool reachedTarget = false;
     if (arc) {
-      std::vector<double> crossed;
-      for (double level : stops) {
-        const bool atNew = std::abs(level - trialLambda) <= eps, atLast = std::abs(level - last.lambda) <= eps;
-        if (!atLast && (atNew || (level - last.lambda) * (level - trialLambda) < 0.0)) crossed.push_back(level);
-      }
+      std::vector<double> crossed = crossedLevels(last.lambda, trialLambda);
       const double towards = trialLambda >= last.lambda ? 1.0 : -1.0;
       std::sort(crossed.begin(), crossed.end(), [&](double a, double b) { return towards * a < towards * b; });
       // Each landing is a load-controlled correction from the chord. One that fails cuts the whole step while the
@@ -423,6 +472,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     cuts = 0;
     ++pathPoints;
     lastEnergy = energy;
+    lastPivots = pc.negativePivots;
     if (arc && tangent.size() > 0)
       minStep = o.minIncrement / std::max(1.0, scale * std::abs(loadRate(tangent, du, dl)));
     lastTangent = std::move(tangent);
@@ -476,9 +526,91 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
 
 StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
                          const LoadSteppingOptions& o, const LoadStepCallback& callback) {
-  StaticsResult result = tracePath(objective, loads, x, o, callback);
+  std::optional<PendingSwitch> pending;
+  StaticsResult result = tracePath(objective, loads, x, o, callback, pending);
   result.bifurcationPoints = bifurcationPoints(result);
+  if (pending)
+    followNewBranch(objective, loads, x, o, callback, pending->stops, pending->increment, pending->cuts, pending->sw,
+                    result, pending->landingParameter);
   return result;
+}
+
+void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                     const LoadSteppingOptions& o, const LoadStepCallback& callback, const std::vector<double>& stops,
+                     double increment, int cuts, BranchSwitchResult& sw, StaticsResult& result, double landingParameter) {
+  x = sw.x;
+  loads.accept(x);
+  LoadStepResult landing;
+  landing.step = static_cast<int>(result.steps.size());
+  landing.loadFactor = sw.loadFactor;
+  landing.pathParameter = landingParameter;
+  landing.x = x;
+  landing.summary = std::move(sw.summary);
+  landing.cuts = cuts;
+  landing.negativePivots = 0;
+  result.steps.push_back(std::move(landing));
+  result.loadFactor = sw.loadFactor;
+  const std::size_t switchIndex = result.branchSwitches.size();
+  result.branchSwitches.push_back({result.steps.back().step, sw.stableLoadFactor, sw.unstableLoadFactor,
+                                   sw.negativeEigenvalues, sw.loadFactor});
+  if (callback && !callback(result.steps.back())) {
+    result.stopped = true;
+    result.message = "stopped by the callback at lambda = " + std::to_string(sw.loadFactor);
+    return;
+  }
+  LoadSteppingOptions rest = o;
+  rest.path.control = PathControl::ArcLength;
+  rest.startLoadFactor = sw.loadFactor;
+  rest.initialIncrement = std::clamp(increment, o.minIncrement, o.maxIncrement);
+  rest.levels.clear();
+  const double direction = o.targetLoadFactor >= sw.loadFactor ? 1.0 : -1.0;
+  const double eps = 1e-12 * std::max({1.0, std::abs(o.targetLoadFactor), std::abs(sw.loadFactor)});
+  for (double s : stops)
+    if (direction * (s - sw.loadFactor) > eps) rest.levels.push_back(s);
+  const int offset = static_cast<int>(result.steps.size());
+  const bool arc = o.path.control == PathControl::ArcLength;  // the tail's arc length continues the path's
+  const LoadStepCallback shifted = [&](const LoadStepResult& s) {
+    if (!callback) return true;
+    LoadStepResult renumbered = s;
+    renumbered.step += offset;
+    if (arc) renumbered.pathParameter += landingParameter;
+    return callback(renumbered);
+  };
+  StaticsResult tail = followPath(objective, loads, x, rest, shifted);
+  for (LoadStepResult& s : tail.steps) {
+    s.step += offset;
+    if (arc) s.pathParameter += landingParameter;
+    result.steps.push_back(std::move(s));
+  }
+  for (LimitPoint l : tail.limitPoints) {
+    l.step += offset;
+    result.limitPoints.push_back(l);
+  }
+  for (BifurcationPoint b : tail.bifurcationPoints) {
+    b.step += offset;
+    result.bifurcationPoints.push_back(b);
+  }
+  for (LoadJump j : tail.loadJumps) {
+    j.step += offset;
+    result.loadJumps.push_back(j);
+  }
+  for (BranchSwitchPoint b : tail.branchSwitches) {  // the new branch bifurcated again
+    b.step += offset;
+    result.branchSwitches.push_back(b);
+  }
+  if (!tail.branchSwitchFailure.empty()) result.branchSwitchFailure = tail.branchSwitchFailure;
+  result.totalCuts += tail.totalCuts;
+  result.newtonIterations += tail.newtonIterations;
+  for (SolverSummary& f : tail.failedSolves) result.failedSolves.push_back(std::move(f));
+  result.completed = tail.completed;
+  result.stopped = tail.stopped;
+  if (!tail.steps.empty()) result.loadFactor = tail.loadFactor;
+  std::ostringstream s;
+  const BranchSwitchPoint& b = result.branchSwitches[switchIndex];
+  s << toString(o.path.control) << " control switched at a bifurcation between lambda = " << b.stableLoadFactor
+    << " and " << b.unstableLoadFactor << " to the stable branch (landed at lambda = " << b.loadFactor << "), then "
+    << tail.message;
+  result.message = s.str();
 }
 
 }  // namespace jetshell

@@ -34,7 +34,13 @@
 //  - limit points: where λ rises then falls (or falls then rises) over three successive path points, the vertex
 //    of the parabola λ(path parameter) through them is reported with its step and direction.
 //  - bifurcation points: where the count of negative pivots changes between two path points with no limit point at
-//    either (solvers/path_control.h, BifurcationPoint).
+//    either (solvers/path_control.h, BifurcationPoint);
+//  - branch switching (arc length, LoadSteppingOptions::branchSwitching): a step from a stable point (no negative
+//    pivot) to one with negative pivots, with dλ/dp of one sign at both ends (no limit point between), passed a
+//    bifurcation. A step that also crosses a level is cut first; then load control's switch
+//    (solvers/branch_switching.h) brackets the critical load, lands on the stable crossing branch, and the path
+//    follows it from there (followNewBranch). A switch that fails is kept in branchSwitchFailure and the path goes
+//    on along its own branch, reporting the bifurcation.
 #pragma once
 
 #include "solvers/statics.h"
@@ -44,6 +50,16 @@ namespace jetshell {
 /// Follows the path with options.path.control (ArcLength or Displacement). Throws InputError for invalid options.
 StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
                          const LoadSteppingOptions& options, const LoadStepCallback& callback);
+
+/// After a branch switch (solvers/branch_switching.h) by load control or arc length: the landing as an accepted
+/// step (its path parameter landingParameter), then the rest of the path by arc length from it to the target,
+/// landing on the stops left after it; the tail's steps, limit, bifurcation and switch points and jumps are
+/// renumbered after the steps so far and merged into `result` (an arc-length tail's path parameters continue from
+/// the landing's). `increment` and `cuts` are the caller's at the switch. x is the path's last equilibrium on return.
+void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
+                     const LoadSteppingOptions& o, const LoadStepCallback& callback, const std::vector<double>& stops,
+                     double increment, int cuts, BranchSwitchResult& sw, StaticsResult& result,
+                     double landingParameter);
 
 /// The abscissa of the vertex of the parabola through three points (p increasing) when it lies between the
 /// outer two; otherwise (or for points on a line) the middle p.

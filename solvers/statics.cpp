@@ -44,77 +44,6 @@ int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& f
   }
 }
 
-/// After a branch switch (solvers/branch_switching.h): the landing as an accepted step, then the rest of the path
-/// by arc length from it to the target, landing on the stops left; the tail's steps, limit and bifurcation points
-/// are renumbered after the steps so far and merged into `result`. x is the path's last equilibrium on return.
-void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
-                     const LoadSteppingOptions& o, const LoadStepCallback& callback, const std::vector<double>& stops,
-                     double increment, int cuts, BranchSwitchResult& sw, StaticsResult& result) {
-  x = sw.x;
-  loads.accept(x);
-  LoadStepResult landing;
-  landing.step = static_cast<int>(result.steps.size());
-  landing.loadFactor = landing.pathParameter = sw.loadFactor;
-  landing.x = x;
-  landing.summary = std::move(sw.summary);
-  landing.cuts = cuts;
-  landing.negativePivots = 0;
-  result.steps.push_back(std::move(landing));
-  result.loadFactor = sw.loadFactor;
-  result.branchSwitches.push_back({result.steps.back().step, sw.stableLoadFactor, sw.unstableLoadFactor,
-                                   sw.negativeEigenvalues, sw.loadFactor});
-  if (callback && !callback(result.steps.back())) {
-    result.stopped = true;
-    result.message = "stopped by the callback at lambda = " + std::to_string(sw.loadFactor);
-    return;
-  }
-  LoadSteppingOptions rest = o;
-  rest.path.control = PathControl::ArcLength;
-  rest.startLoadFactor = sw.loadFactor;
-  rest.initialIncrement = std::clamp(increment, o.minIncrement, o.maxIncrement);
-  rest.levels.clear();
-  const double direction = o.targetLoadFactor >= sw.loadFactor ? 1.0 : -1.0;
-  const double eps = 1e-12 * std::max({1.0, std::abs(o.targetLoadFactor), std::abs(sw.loadFactor)});
-  for (double s : stops)
-    if (direction * (s - sw.loadFactor) > eps) rest.levels.push_back(s);
-  const int offset = static_cast<int>(result.steps.size());
-  const LoadStepCallback shifted = [&](const LoadStepResult& s) {
-    if (!callback) return true;
-    LoadStepResult renumbered = s;
-    renumbered.step += offset;
-    return callback(renumbered);
-  };
-  StaticsResult tail = followPath(objective, loads, x, rest, shifted);
-  for (LoadStepResult& s : tail.steps) {
-    s.step += offset;
-    result.steps.push_back(std::move(s));
-  }
-  for (LimitPoint l : tail.limitPoints) {
-    l.step += offset;
-    result.limitPoints.push_back(l);
-  }
-  for (BifurcationPoint b : tail.bifurcationPoints) {
-    b.step += offset;
-    result.bifurcationPoints.push_back(b);
-  }
-  for (LoadJump j : tail.loadJumps) {
-    j.step += offset;
-    result.loadJumps.push_back(j);
-  }
-  result.totalCuts += tail.totalCuts;
-  result.newtonIterations += tail.newtonIterations;
-  for (SolverSummary& f : tail.failedSolves) result.failedSolves.push_back(std::move(f));
-  result.completed = tail.completed;
-  result.stopped = tail.stopped;
-  if (!tail.steps.empty()) result.loadFactor = tail.loadFactor;
-  std::ostringstream s;
-  const BranchSwitchPoint& b = result.branchSwitches.back();
-  s << "load control switched at a bifurcation between lambda = " << b.stableLoadFactor << " and "
-    << b.unstableLoadFactor << " to the stable branch (landed at lambda = " << b.loadFactor << "), then "
-    << tail.message;
-  result.message = s.str();
-}
-
 }  // namespace
 
 void LoadFactorHooks::set(double lambda) const {
@@ -248,7 +177,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
         result.newtonIterations += sw.newtonIterations;
         result.stabilityChecks += sw.factorizations;
         if (sw.switched) {
-          followNewBranch(objective, loads, x, o, callback, stops, increment, cuts, sw, result);
+          followNewBranch(objective, loads, x, o, callback, stops, increment, cuts, sw, result, sw.loadFactor);
           return result;
         }
         std::ostringstream why;

@@ -88,7 +88,8 @@ struct LoadSteppingOptions {
   /// critical load is bracketed by bisection and the path switches to the stable branch crossing there
   /// (solvers/branch_switching.h), then follows it by arc length to the target, landing on the levels left
   /// (StaticsResult::branchSwitches). A switch that finds no stable branch leaves the step to the saddle escapes
-  /// above. The first step has no known stable start, so a saddle there is left by the escapes only.
+  /// above. The first step has no known stable start, so a saddle there is left by the escapes only. Arc length
+  /// switches too, where its path goes from a stable point past a bifurcation (solvers/path_following.h).
   bool branchSwitching = true;
   BranchSwitchOptions branchSwitch;
   /// Load control: report the steps whose equilibrium changed abruptly (StaticsResult::loadJumps, LoadJump in

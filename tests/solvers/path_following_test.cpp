@@ -146,10 +146,13 @@ TEST_CASE("path following: a bifurcation passed on a symmetric path is reported,
           "[statics][path]") {
   testing::SingleThread single;
   // A flat plate compressed to twice its buckling load (testing::compressedPlate): arc length follows the flat path
-  // through the bifurcation, where the tangent stiffness gains its first negative eigenvalue without λ turning.
+  // through the bifurcation, where the tangent stiffness gains its first negative eigenvalue without λ turning,
+  // when told not to switch branches there (branchSwitching: statics_test.cpp has the switch).
   ShellSystem system(testing::compressedPlate(2.0 * 0.090), AnalysisKind::Statics);
   Eigen::VectorXd x = system.restPositions();
-  const StaticsResult r = solveStatics(system, x, pathOptions(PathControl::ArcLength));
+  LoadSteppingOptions o = pathOptions(PathControl::ArcLength);
+  o.branchSwitching = false;
+  const StaticsResult r = solveStatics(system, x, o);
   INFO(r.message);
   REQUIRE(r.completed);
   CHECK(r.limitPoints.empty());

@@ -467,6 +467,7 @@ TEST_CASE("statics: load control switches at a bifurcation to the stable branch 
     o.newton = staticNewtonOptions();
     o.path.control = PathControl::ArcLength;
     o.initialIncrement = o.maxIncrement = 0.02;
+    o.branchSwitching = false;  // arc length then reports the bifurcation and keeps to the flat path
     const StaticsResult arc = solveStatics(system, x, o);
     REQUIRE(arc.bifurcationPoints.size() == 1);
     CHECK(arc.bifurcationPoints[0].loadFactorBefore <= b.stableLoadFactor);
@@ -501,4 +502,47 @@ TEST_CASE("statics: load control switches at a bifurcation to the stable branch 
   const StaticsResult stable = compressFlatPlate(0.4 * 0.090, 0, below, true);
   CHECK(stable.branchSwitches.empty());
   CHECK(largestDeflection(below) == 0.0);
+}
+
+TEST_CASE("statics: arc length switches at a bifurcation to the stable branch, as load control does", "[statics]") {
+  testing::SingleThread single;
+  Eigen::VectorXd byLoad;
+  const StaticsResult load = compressFlatPlate(2.0 * 0.090, 0, byLoad, true);
+  REQUIRE(load.branchSwitches.size() == 1);
+  ShellSystem system(testing::compressedPlate(2.0 * 0.090), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.path.control = PathControl::ArcLength;
+  o.initialIncrement = o.maxIncrement = 0.1;
+  o.levels = {0.25, 0.5, 0.75};
+  std::vector<LoadStepResult> seen;
+  const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
+    seen.push_back(s);
+    return true;
+  });
+  INFO(r.message);
+  REQUIRE(r.completed);
+  REQUIRE(r.branchSwitches.size() == 1);
+  CHECK(r.bifurcationPoints.empty());
+  CHECK(r.message.rfind("arcLength control switched at a bifurcation", 0) == 0);
+  // The same bracket on the critical load as load control's, to the bisection's resolution.
+  const BranchSwitchPoint &a = r.branchSwitches.front(), &b = load.branchSwitches.front();
+  CHECK(a.negativeEigenvalues == 1);
+  CHECK(a.stableLoadFactor < a.unstableLoadFactor);
+  CHECK(std::abs(a.stableLoadFactor - b.stableLoadFactor) < 0.02);
+  // Every step stable and in order, the path parameter rising through the switch, every level landed on once.
+  std::vector<double> levels;
+  REQUIRE(seen.size() == r.steps.size());
+  for (std::size_t i = 0; i < r.steps.size(); ++i) {
+    CHECK(r.steps[i].step == static_cast<int>(i));
+    CHECK(seen[i].step == static_cast<int>(i));
+    CHECK(r.steps[i].negativePivots <= 0);
+    if (i > 0) CHECK(r.steps[i].pathParameter > r.steps[i - 1].pathParameter);
+    if (r.steps[i].atLevel) levels.push_back(r.steps[i].loadFactor);
+  }
+  CHECK(levels == std::vector<double>{0.25, 0.5, 0.75, 1.0});
+  // The same buckled equilibrium at λ = 1 (up to the mode's sign): as deflected, and as low in energy.
+  CHECK(largestDeflection(x) == Approx(largestDeflection(byLoad)).epsilon(1e-4));
+  CHECK(r.steps.back().summary.finalEnergy == Approx(load.steps.back().summary.finalEnergy).epsilon(1e-6));
 }

@@ -98,6 +98,21 @@ double eulerColumnElastica() {
   return 2.0 * lo * 10.0 / K;
 }
 
+/// A static run of the Euler column that switched branches once at the critical load and reached the elastica.
+void checkSwitchedToElastica(const ExampleRun& run, double elastica) {
+  const RunResult& r = run.result;
+  REQUIRE(r.summary.converged);
+  const nlohmann::json& switches = r.summary.extra.at("branch_switches");
+  REQUIRE(switches.size() == 1);
+  // The critical load π² EI / 4L² = 2.467, λ = 0.617 of the end force 4; the mesh's own within 0.2%.
+  CHECK(switches[0].at("stable_load_factor").get<double>() == Approx(0.6169).epsilon(0.002));
+  REQUIRE(run.probes.size() >= 10);
+  CHECK(run.probes.back()[2] == Approx(1.0).margin(1e-12));  // the last row is λ = 1
+  const double w = std::abs(run.probes.back()[5]);
+  INFO("tip deflection " << w << ", elastica " << elastica);
+  CHECK(std::abs(w - elastica) / elastica < 0.003);  // measured 0.17% (8.0224)
+}
+
 }  // namespace
 
 TEST_CASE("scene accuracy: the Euler column leaves the straight saddle and buckles to the elastica within 0.3%",
@@ -124,17 +139,19 @@ TEST_CASE("scene accuracy: the Euler column leaves the straight saddle and buckl
           s.analysis.loadSteps = 10;
         },
         "_static");
-    const RunResult& r = run.result;
-    REQUIRE(r.summary.converged);
-    const nlohmann::json& switches = r.summary.extra.at("branch_switches");
-    REQUIRE(switches.size() == 1);
-    // The critical load π² EI / 4L² = 2.467, λ = 0.617 of the end force 4; the mesh's own within 0.2%.
-    CHECK(switches[0].at("stable_load_factor").get<double>() == Approx(0.6169).epsilon(0.002));
-    CHECK(r.summary.extra.at("unstable_equilibria").get<int>() == 0);
-    REQUIRE(run.probes.size() >= 10);
-    CHECK(run.probes.back()[2] == Approx(1.0).margin(1e-12));  // the last row is λ = 1
-    const double w = std::abs(run.probes.back()[5]);
-    INFO("tip deflection " << w << ", elastica " << elastica);
-    CHECK(std::abs(w - elastica) / elastica < 0.003);  // measured 0.17% (8.0224)
+    checkSwitchedToElastica(run, elastica);
+    CHECK(run.result.summary.extra.at("unstable_equilibria").get<int>() == 0);
+  }
+  SECTION("by arc length, switching branches at the bifurcation") {
+    const ExampleRun run = runExample(
+        "euler_column",
+        [](Scene& s) {
+          s.analysis.type = AnalysisType::Static;
+          s.analysis.loadSteps = 10;
+          s.analysis.pathControl.type = "arcLength";
+        },
+        "_arc_length");
+    checkSwitchedToElastica(run, elastica);
+    CHECK(run.result.summary.extra.at("bifurcation_points").empty());  // switched, not passed
   }
 }

@@ -257,12 +257,20 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       }
       summary.extra["bifurcation_points"] = bifurcations;
       if (!r.bifurcationPoints.empty()) {
-        const std::string w = "the path passed " + std::to_string(r.bifurcationPoints.size()) +
-                              " bifurcation point(s), where another branch of equilibria crosses it, and kept to its "
-                              "own branch, which may be the unstable one (negative_eigenvalues_after > 0); a small "
-                              "imperfection (a load or a rest shape slightly off the symmetry) makes the path follow "
-                              "the other, and so does load control (pathControl \"load\", the default), which "
-                              "switches to a stable branch crossing its path";
+        const std::string w =
+            "the path passed " + std::to_string(r.bifurcationPoints.size()) +
+            " bifurcation point(s), where another branch of equilibria crosses it, and kept to its own branch, which "
+            "may be the unstable one (negative_eigenvalues_after > 0); a small imperfection (a load or a rest shape "
+            "slightly off the symmetry) makes the path follow the other. " +
+            std::string(o.path.control == PathControl::Displacement
+                            ? "Load control and arc length switch to a stable branch crossing their path "
+                              "(\"branchSwitching\": true, the default); displacement control does not"
+                        : !scene.analysis.branchSwitching
+                            ? "With \"branchSwitching\": true (false in this scene) arc length switches to a stable "
+                              "branch that leaves a stable path there"
+                            : "Arc length switches only where the path was stable before the bifurcation and a "
+                              "stable branch crosses it (summary.json branch_switch_failure says why a switch "
+                              "failed)");
         result.warnings.push_back(w);
         progress.log("warning: " + w);
       }
@@ -295,27 +303,28 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       result.warnings.push_back(w);
       progress.log("warning: " + w);
     }
+    // Branch switches (load control and arc length, solvers/branch_switching.h).
+    nlohmann::json switches = nlohmann::json::array();
+    for (const BranchSwitchPoint& b : r.branchSwitches) {
+      switches.push_back({{"load_step", b.step + 1},
+                          {"stable_load_factor", b.stableLoadFactor},
+                          {"unstable_load_factor", b.unstableLoadFactor},
+                          {"negative_eigenvalues", b.negativeEigenvalues},
+                          {"load_factor", b.loadFactor}});
+      progress.log("bifurcation: the path became unstable (" + std::to_string(b.negativeEigenvalues) +
+                   " negative eigenvalue(s)) between lambda = " + formatNumber("%.6g", b.stableLoadFactor) + " and " +
+                   formatNumber("%.6g", b.unstableLoadFactor) + "; switched to the stable branch at lambda = " +
+                   formatNumber("%.6g", b.loadFactor) + " (load step " + std::to_string(b.step + 1) +
+                   ") and followed it by arc length");
+    }
+    summary.extra["branch_switches"] = switches;
+    if (!r.branchSwitchFailure.empty()) {
+      summary.extra["branch_switch_failure"] = r.branchSwitchFailure;
+      progress.log("no branch switch " + r.branchSwitchFailure);
+    }
     // Load control's check of equilibria that no positive definite factor vouched for (solvers/statics.h); path
     // control traces unstable branches on purpose and reports its limit points instead.
     if (o.path.control == PathControl::Load) {
-      nlohmann::json switches = nlohmann::json::array();
-      for (const BranchSwitchPoint& b : r.branchSwitches) {
-        switches.push_back({{"load_step", b.step + 1},
-                            {"stable_load_factor", b.stableLoadFactor},
-                            {"unstable_load_factor", b.unstableLoadFactor},
-                            {"negative_eigenvalues", b.negativeEigenvalues},
-                            {"load_factor", b.loadFactor}});
-        progress.log("bifurcation: the path became unstable (" + std::to_string(b.negativeEigenvalues) +
-                     " negative eigenvalue(s)) between lambda = " + formatNumber("%.6g", b.stableLoadFactor) + " and " +
-                     formatNumber("%.6g", b.unstableLoadFactor) + "; switched to the stable branch at lambda = " +
-                     formatNumber("%.6g", b.loadFactor) + " (load step " + std::to_string(b.step + 1) +
-                     ") and followed it by arc length");
-      }
-      summary.extra["branch_switches"] = switches;
-      if (!r.branchSwitchFailure.empty()) {
-        summary.extra["branch_switch_failure"] = r.branchSwitchFailure;
-        progress.log("no branch switch " + r.branchSwitchFailure);
-      }
       summary.extra["saddle_escapes"] = r.saddleEscapes;
       summary.extra["unstable_equilibria"] = r.unstableSteps;
       summary.extra["stability_checks"] = r.stabilityChecks;
