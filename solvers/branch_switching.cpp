@@ -15,6 +15,9 @@ namespace {
 constexpr int kInverseIterations = 4;
 /// Halvings of the switch's step after both signs of the mode failed.
 constexpr int kStepHalvings = 4;
+/// A landing may lie below the bracket's stable end by this many bracket widths (the Euler column's lands 0.55 of a
+/// width below it: its discrete branch leaves the critical load nearly flat).
+constexpr double kBelowBracket = 4.0;
 
 void checkOption(bool ok, const char* field, double value, const char* rule) {
   if (ok) return;
@@ -116,6 +119,13 @@ BranchSwitchResult switchBranch(NewtonSolver& newton, const LoadFactorHooks& loa
       }
       if (!(towards * (lambda - lambdaA) > 0.0 && towards * (lambda - lambdaB) <= 0.0)) {
         tried << "landed at lambda = " << lambda << ", outside the step";
+        continue;
+      }
+      // A branch that leaves the bifurcation starts at the critical load: a landing far below the bracket is
+      // another equilibrium on the cylinder (a cloth pinned at two corners, turned about them at no load).
+      const double width = std::abs(r.unstableLoadFactor - r.stableLoadFactor);
+      if (towards * (lambda - r.stableLoadFactor) < -kBelowBracket * width) {
+        tried << "landed at lambda = " << lambda << ", below the bracket on the critical load";
         continue;
       }
       const Stability landed = assessStability(objective, factor, x, newtonOptions.derivatives, 1.0);

@@ -16,7 +16,8 @@
 //     solvers/path_corrector.h) on the cylinder ‖Δu‖ = that step. The fundamental branch meets that cylinder only
 //     far away (its dofs move little with λ), so the correction lands on the crossing branch.
 //  4. The landing is accepted when the correction converged, the equilibrium there is stable (no negative
-//     eigenvalue: a supercritical bifurcation) and its λ lies in (λa, λb] (or [λb, λa) where λ falls). Otherwise the other sign of the mode
+//     eigenvalue: a supercritical bifurcation) and its λ lies in (λa, λb] (or [λb, λa) where λ falls), not more
+//     than four bracket widths below the bracket on the critical load (the branch starts there). Otherwise the other sign of the mode
 //     is tried (an asymmetric bifurcation rises on one side only), then a step half as long, four times.
 // Output: the new branch's equilibrium (λ, x) and the bracket. Load control follows the new branch on by arc
 // length: near a pitchfork its x grows as √(λ − λc), which no polynomial predictor in λ follows.

@@ -172,8 +172,24 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     if (o.checkStability && !summary.lastHessianPositiveDefinite) {
       ++result.stabilityChecks;
       const Stability checked = assessStability(objective, stability, trial, o.newton.derivatives, o.saddleStep);
-      if (o.branchSwitching && previousStable && checked.negativeEigenvalues > 0) {
-        BranchSwitchResult sw = switchBranch(newton, loads, stability, o.branchSwitch, lambda, x, next, trial);
+      bool stableBefore = previousStable;
+      Eigen::VectorXd from = x;
+      if (o.branchSwitching && first && checked.negativeEigenvalues > 0) {
+        // The first step has no accepted equilibrium before it: the start, solved at its λ (no iteration from the
+        // rest state at λ = 0), is checked instead, and is the bracket's stable end if it is stable.
+        objective.applyPrescribed(lambda, from);
+        loads.set(lambda);
+        const SolverSummary atStart = newton.minimize(from);
+        result.newtonIterations += atStart.iterations;
+        if (atStart.converged()) {
+          ++result.stabilityChecks;
+          stableBefore =
+              assessStability(objective, stability, from, o.newton.derivatives, o.saddleStep).negativeEigenvalues == 0;
+        }
+        loads.set(next);
+      }
+      if (o.branchSwitching && stableBefore && checked.negativeEigenvalues > 0) {
+        BranchSwitchResult sw = switchBranch(newton, loads, stability, o.branchSwitch, lambda, from, next, trial);
         result.newtonIterations += sw.newtonIterations;
         result.stabilityChecks += sw.factorizations;
         if (sw.switched) {

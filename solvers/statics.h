@@ -88,8 +88,9 @@ struct LoadSteppingOptions {
   /// critical load is bracketed by bisection and the path switches to the stable branch crossing there
   /// (solvers/branch_switching.h), then follows it by arc length to the target, landing on the levels left
   /// (StaticsResult::branchSwitches). A switch that finds no stable branch leaves the step to the saddle escapes
-  /// above. The first step has no known stable start, so a saddle there is left by the escapes only. Arc length
-  /// switches too, where its path goes from a stable point past a bifurcation (solvers/path_following.h).
+  /// above. Before the first step no equilibrium was accepted: when that step lands on a saddle, the start is solved
+  /// at its λ and checked, and serves as the stable end. Arc length switches too, where its path goes from a stable
+  /// point past a bifurcation (solvers/path_following.h).
   bool branchSwitching = true;
   BranchSwitchOptions branchSwitch;
   /// Load control: report the steps whose equilibrium changed abruptly (StaticsResult::loadJumps, LoadJump in

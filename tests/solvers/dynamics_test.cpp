@@ -155,6 +155,7 @@ TEST_CASE("dynamics: a hanging cloth with damping settles at the equilibrium the
   ShellSystem statics(problem, AnalysisKind::Statics);
   Eigen::VectorXd xs = statics.restPositions();
   const StaticsResult sr = solveStatics(statics, xs, LoadSteppingOptions{});
+  INFO(sr.message);
   REQUIRE(sr.completed);
 
   ShellSystem dynamics(problem, AnalysisKind::Dynamics);

@@ -546,3 +546,47 @@ TEST_CASE("statics: arc length switches at a bifurcation to the stable branch, a
   CHECK(largestDeflection(x) == Approx(largestDeflection(byLoad)).epsilon(1e-4));
   CHECK(r.steps.back().summary.finalEnergy == Approx(load.steps.back().summary.finalEnergy).epsilon(1e-6));
 }
+
+TEST_CASE("statics: a first load step that lands on a saddle switches from the start", "[statics]") {
+  // The compressed plate loaded to twice its buckling load in one step: no accepted equilibrium precedes the
+  // saddle, so the rest state (stable, unloaded) is the bracket's stable end.
+  testing::SingleThread single;
+  Eigen::VectorXd stepped;
+  const StaticsResult reference = compressFlatPlate(2.0 * 0.090, 0, stepped, true);
+  REQUIRE(reference.branchSwitches.size() == 1);
+  ShellSystem system(testing::compressedPlate(2.0 * 0.090), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o = {};
+  o.newton = staticNewtonOptions();
+  o.saddleEscapes = 0;
+  o.initialIncrement = o.maxIncrement = 1.0;
+  const StaticsResult r = solveStatics(system, x, o);
+  INFO(r.message);
+  REQUIRE(r.completed);
+  REQUIRE(r.branchSwitches.size() == 1);
+  const BranchSwitchPoint& b = r.branchSwitches.front();
+  CHECK(b.stableLoadFactor < b.unstableLoadFactor);
+  CHECK(b.unstableLoadFactor - b.stableLoadFactor < 1.0 / 512);  // ten halvings of the one step
+  CHECK(b.stableLoadFactor < reference.branchSwitches.front().unstableLoadFactor);
+  CHECK(b.unstableLoadFactor > reference.branchSwitches.front().stableLoadFactor);
+  CHECK(r.unstableSteps == 0);
+  CHECK(largestDeflection(x) == Approx(largestDeflection(stepped)).epsilon(1e-4));
+  CHECK(r.steps.back().summary.finalEnergy == Approx(reference.steps.back().summary.finalEnergy).epsilon(1e-6));
+}
+
+TEST_CASE("statics: a switch that lands far below the critical load is refused", "[statics]") {
+  // A cloth hanging in its plane from two corners buckles out of it under its weight (λ ≈ 0.064 here), and the
+  // first load step, to the whole weight, lands on the saddle. Along the buckling mode the cloth also turns about
+  // its two pins at no load, and the switch's correction found that equilibrium at λ ≈ 0; accepted, the path went
+  // on from the unloaded cloth and ran out of steps. Refused, the saddle escapes take the cloth off the saddle.
+  testing::SingleThread single;
+  ShellSystem system(testing::hangingCloth(0.3, 0.3, 6, 6), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  const StaticsResult r = solveStatics(system, x, LoadSteppingOptions{});
+  INFO(r.message);
+  REQUIRE(r.completed);
+  CHECK(r.branchSwitches.empty());
+  CHECK(r.branchSwitchFailure.find("below the bracket on the critical load") != std::string::npos);
+  CHECK(r.saddleEscapes > 0);
+  CHECK(r.unstableSteps == 0);
+}

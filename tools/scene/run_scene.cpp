@@ -341,8 +341,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                             (!scene.analysis.branchSwitching
                                  ? std::string(" unless \"branchSwitching\" is true (it is false in this scene)")
                              : r.branchSwitchFailure.empty()
-                                 ? std::string(" (branch switching starts from a load step known to be stable, and "
-                                               "none preceded this saddle: the first load step, say)")
+                                 ? std::string(" (branch switching starts from an equilibrium known to be stable, "
+                                               "and neither the load step before this saddle nor the start was one)")
                                  : "; branch switching failed " + r.branchSwitchFailure) +
                             "; a small imperfection (a load or a rest shape slightly off the symmetry) lets load "
                             "stepping follow the stable one, and dynamic relaxation at the final load steps off the "
