@@ -45,12 +45,12 @@ struct BifurcationPoint {
 };
 
 /// A load step whose two equilibria no continuous path joins: the step's change of potential energy differs from
-/// the integral of ∂E/∂λ dλ/dp along a continuous path of equilibria (on which dE/dp = ∂E/∂λ dλ/dp, as ∂E/∂x = 0;
-/// the trapezoid rule, exact to O(Δp³); solvers/path_energy.h) by more than kRatio of the loads' work in the step.
+/// the integral of ∂E/∂λ along a continuous path of equilibria (on which dE = ∂E/∂λ dλ, as ∂E/∂x = 0; a trapezoid,
+/// third order in the step; solvers/path_energy.h) by more than kRatio of the loads' work in the step.
 /// Load control: one half of the step keeps most of that (kConcentration); a snap-through past a limit point, which
 /// load control passes as a jump to another branch, or a sheet so flexible that it swings from flat to hanging
-/// within the step. Arc-length and displacement control cut such a step, and report only one that the smallest
-/// increment could not resolve (a branch the control cannot follow: a snap-back under displacement control).
+/// within the step. Arc length cuts such a step, and reports only one that the smallest increment could not
+/// resolve; displacement control reports its jumps (snap-backs, where the driven displacement turns back).
 /// The equilibrium changed abruptly, and the path in between is not traced.
 struct LoadJump {
   /// Measured on the static examples: smooth steps reach at most 0.014 (next to the hinged roof's limit point) at

@@ -33,7 +33,16 @@ PathEnergy pathEnergy(Objective& objective, const LoadFactorHooks& loads, const 
   return p;
 }
 
-PathMismatch pathMismatch(const PathEnergy& a, const PathEnergy& b, double dp) {
+PathMismatch chordMismatch(const PathEnergy& a, const PathEnergy& b, ChordWork work) {
+  const double dl = b.lambda - a.lambda, ha = a.slope - a.referenceSlope, hb = b.slope - b.referenceSlope;
+  PathMismatch m;
+  m.released = 0.5 * (a.slope + b.slope) * dl - (b.energy - a.energy);
+  m.work = work == ChordWork::OverLoadFactor ? 0.5 * std::abs(dl) * (std::abs(ha) + std::abs(hb))
+                                             : 0.5 * std::abs(hb - ha) * (std::abs(a.lambda) + std::abs(b.lambda));
+  return m;
+}
+
+PathMismatch tangentMismatch(const PathEnergy& a, const PathEnergy& b, double dp) {
   const double wa = (a.slope - a.referenceSlope) * a.loadRate, wb = (b.slope - b.referenceSlope) * b.loadRate;
   PathMismatch m;
   m.released = 0.5 * dp * (wa + wb) + 0.5 * (a.referenceSlope + b.referenceSlope) * (b.lambda - a.lambda) -

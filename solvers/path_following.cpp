@@ -26,6 +26,8 @@ void checkPathOption(bool ok, const char* field, double value, const char* rule)
 constexpr double kMinCosine = 0.5;
 /// Arc length: the largest vertex move of the first increment along the start's tangent, in the shell's size.
 constexpr double kFirstMove = 0.05;
+/// Arc length: the share of maxIncrement that an increment's λ along the last tangent may take.
+constexpr double kLambdaMargin = 0.9;
 
 struct PathPoint {
   double p = 0.0;  // path parameter: arc length or τ
@@ -193,6 +195,10 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
   // value) the floor is scaled to stay minIncrement in λ along the current tangent; it never rises above
   // minIncrement.
   double minStep = o.minIncrement;
+  // The largest increment, in the same units: maxIncrement, lowered by the same factor where the path has stiffened
+  // (kLambdaMargin of it: the increment's λ along the current tangent stays within maxIncrement, which a
+  // correction may not exceed; without it the slit annular plate's scene cut 27 of its 98 steps for that).
+  double maxStep = o.maxIncrement;
   // dλ/dp at a point with tangent t, for the increment (du, dl) that leaves or reaches it (its sign, arc length).
   auto loadRate = [&](const Eigen::VectorXd& tangent, const Eigen::VectorXd& du, double dl) {
     if (!arc) return po.displacement / tangent[po.controlledDof];
@@ -339,9 +345,10 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     const double pNew = arc ? last.p + distance(trial, trialLambda, last) : pNext;
 
     // The energy identity over the step (the first step is not checked, as under load control: the start need not
-    // be an equilibrium). A jump is cut while the increment can be halved: a smooth step's mismatch falls with the
-    // step against the work (as Δp², or Δp where λ turns within it), a jump's does not, so only a jump that the
-    // smallest increment cannot resolve is kept, and reported.
+    // be an equilibrium). Arc length cuts a jump while the increment can be halved: a smooth step's mismatch falls
+    // with the step against the work (as Δp², or Δp where λ turns within it), a jump's does not, so only a jump that
+    // the smallest increment cannot resolve is kept, and reported. Displacement control reports its jumps without
+    // cutting: they are snap-backs, which no smaller step passes (the corrections beyond one fail to converge).
     std::optional<PathEnergy> energy;
     Eigen::VectorXd tangent;
     bool jumped = false;
@@ -354,7 +361,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       if (lastEnergy) {
         PathEnergy before = *lastEnergy;
         before.loadRate = loadRate(lastTangent, du, dl);
-        mismatch = pathMismatch(before, *energy, pNew - last.p);
+        mismatch = arc ? tangentMismatch(before, *energy, pNew - last.p)
+                       : chordMismatch(before, *energy, ChordWork::OverDisplacement);
         jumped = mismatch.work > 0.0 && std::abs(mismatch.released) > LoadJump::kRatio * mismatch.work;
       }
       loads.set(trialLambda);
@@ -370,7 +378,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       ++result.totalCuts;
       increment = halved;
     };
-    if (jumped && halved >= minStep) {
+    if (jumped && arc && halved >= minStep) {
       cutConverged("the step's energy change differs from the loads' work along a continuous path (a jump to "
                    "another branch)");
       continue;
@@ -401,7 +409,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       result.branchSwitchFailure = why.str();
       loads.set(trialLambda);
     }
-    if (jumped)  // kept at the smallest increment: the steps emitted next land after the jump
+    if (jumped)  // kept (displacement control, or arc length at its smallest increment): the steps emitted next
+                 // land after the jump
       result.loadJumps.push_back({static_cast<int>(result.steps.size()), last.lambda, trialLambda, mismatch.released,
                                   std::abs(mismatch.released) / mismatch.work});
 
@@ -473,8 +482,11 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     ++pathPoints;
     lastEnergy = energy;
     lastPivots = pc.negativePivots;
-    if (arc && tangent.size() > 0)
-      minStep = o.minIncrement / std::max(1.0, scale * std::abs(loadRate(tangent, du, dl)));
+    if (arc && tangent.size() > 0) {
+      const double stiffening = std::max(1.0, scale * std::abs(loadRate(tangent, du, dl)));
+      minStep = o.minIncrement / stiffening;
+      maxStep = kLambdaMargin * o.maxIncrement / stiffening;
+    }
     lastTangent = std::move(tangent);
     history.push_front(PathPoint{pNew, trialLambda, trial, result.steps.back().step});
     if (static_cast<int>(history.size()) > order + 1) history.pop_back();
@@ -492,7 +504,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     }
     const double factorUp =
         std::clamp(std::sqrt(static_cast<double>(o.easyIterations) / std::max(1, iterations)), 0.5, o.growth);
-    increment = std::clamp(increment * factorUp, minStep, o.maxIncrement);
+    increment = std::clamp(increment * factorUp, minStep, std::max(minStep, maxStep));
     if (crossedTarget) {
       // The target was passed but its landing failed: the path stops beyond it, not completed.
       x = trial;
@@ -513,7 +525,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     << " Newton iterations, " << result.limitPoints.size() << " limit points)";
   for (const LoadJump& j : result.loadJumps)
     s << "; the equilibrium changed abruptly between lambda = " << j.loadFactorBefore << " and " << j.loadFactorAfter
-      << " at the smallest increment (energy released " << j.energyReleased << " J)";
+      << (arc ? " at the smallest increment" : " (a snap-back, which displacement control jumps over)")
+      << " (energy released " << j.energyReleased << " J)";
   if (!missed.empty()) {
     s << "; levels not landed on:";
     for (const std::string& m : missed) s << " " << m;

@@ -14,12 +14,15 @@
 //    another branch or cut a sharp turn short, and the start tangent that turns λ increments into arc lengths
 //    can be far steeper than the path later (a branch leaving a bifurcation, solvers/branch_switching.h);
 //  - jumps (with detectJumps): from the second step on, a step whose change of potential energy differs from the
-//    loads' work along a continuous path of equilibria (solvers/path_energy.h; dλ/dp from the tangent K⁻¹q at
-//    both ends) by more than LoadJump::kRatio of that work landed on another branch, and is cut; one that the
-//    smallest increment cannot resolve is kept and reported (StaticsResult::loadJumps). Measured on a crumpled
-//    sheet under its weight (tests/solvers/path_following_test.cpp): with steps of up to Δλ = 0.25 arc length
-//    reported turns at λ 0.068 and −0.101 without the check, and 0.1749 and −0.0504 with it (400 short steps:
-//    0.1739 and −0.0504);
+//    loads' work along a continuous path of equilibria (solvers/path_energy.h) by more than LoadJump::kRatio of
+//    that work landed on another branch. Arc length (tangentMismatch, dλ/dp from the tangent K⁻¹q at both ends)
+//    cuts it, and keeps and reports (StaticsResult::loadJumps) only one the smallest increment cannot resolve.
+//    Measured on a crumpled sheet under its weight (tests/solvers/path_following_test.cpp): with steps of up to
+//    Δλ = 0.25 arc length reported turns at λ 0.068 and −0.101 without the check, and 0.1749 and −0.0504 with it
+//    (400 short steps: 0.1739 and −0.0504). Displacement control (chordMismatch over the displacements) reports
+//    its jumps without cutting: they are snap-backs, which no smaller step passes;
+//  - arc length's largest increment: maxIncrement, lowered as the floor below where the path has stiffened (to
+//    0.9 maxIncrement in λ along the last tangent), so that steps do not keep exceeding maxIncrement and being cut;
 //  - a failed correction halves the increment (below minIncrement the run stops, keeping the last equilibrium;
 //    arc length's increments are λ increments along the start's tangent, so where the path has stiffened since,
 //    the floor is lowered to minIncrement in λ along the current tangent); after a step that took k iterations

@@ -229,7 +229,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     if (checkJump && (!lastEnergy || lastEnergy->lambda != lambda))
       lastEnergy = pathEnergy(objective, loads, x, lambda, pathStart, energyOptions);
     if (checkJump && result.saddleEscapes == escapesBefore) {
-      const PathMismatch m = pathMismatch(*lastEnergy, energy, next - lambda);
+      const PathMismatch m = chordMismatch(*lastEnergy, energy);
       if (m.work > 0.0 && std::abs(m.released) > LoadJump::kRatio * m.work) {
         // Confirmed at the step's midpoint (solved from the step's own predictor): a jump keeps its released
         // energy in one half of the step; a continuous path whose derivative is singular where the step starts (a
@@ -244,8 +244,8 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
         bool jump = true;
         if (ms.converged()) {
           const PathEnergy e = pathEnergy(objective, loads, xm, mid, pathStart, energyOptions);
-          const double worse = std::max(std::abs(pathMismatch(*lastEnergy, e, mid - lambda).released),
-                                        std::abs(pathMismatch(e, energy, next - mid).released));
+          const double worse = std::max(std::abs(chordMismatch(*lastEnergy, e).released),
+                                        std::abs(chordMismatch(e, energy).released));
           jump = worse > LoadJump::kConcentration * std::abs(m.released);
         }
         if (jump)

@@ -96,9 +96,9 @@ struct LoadSteppingOptions {
   /// Load control: report the steps whose equilibrium changed abruptly (StaticsResult::loadJumps, LoadJump in
   /// solvers/path_control.h): a snap-through past a limit point, which load control passes as a jump to another
   /// branch, or a sheet that swings under a small load. Costs four energy evaluations a step, and a midpoint solve
-  /// where a jump is suspected. Arc-length and displacement control: cut a step that jumped to another branch
-  /// (solvers/path_following.h), and report one the smallest increment cannot resolve; four energy evaluations, two
-  /// gradients and one solve on the corrector's factor per path point.
+  /// where a jump is suspected. Arc length: cuts a step that jumped to another branch (solvers/path_following.h),
+  /// and reports one the smallest increment cannot resolve; displacement control reports its jumps (snap-backs).
+  /// Four energy evaluations, two gradients and one solve on the corrector's factor per path point.
   bool detectJumps = true;
   /// The control (solvers/path_control.h). Load: the above as stated. ArcLength: levels and the target are
   /// load factors, landed on at every crossing, the path ends at the target; the increments are load-factor

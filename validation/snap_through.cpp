@@ -102,6 +102,7 @@ RoofTrace trace(const RoofCase& rc, PathControl control, const RoofOptions& o, c
   t.pathPoints = static_cast<int>(t.load.size()) - 1;
   t.newtonIterations = r.newtonIterations;
   t.cuts = r.totalCuts;
+  t.jumps = r.loadJumps;
   for (std::size_t i = 1; i + 1 < t.load.size(); ++i) {
     const double before = t.load[i] - t.load[i - 1], after = t.load[i + 1] - t.load[i];
     if (!(before * after < 0.0)) continue;
@@ -123,6 +124,10 @@ double loadAt(const RoofTrace& d, double w) {
 }
 
 nlohmann::json toJson(const RoofTrace& t) {
+  nlohmann::json jumps = nlohmann::json::array();
+  for (const LoadJump& j : t.jumps)
+    jumps.push_back({{"load_factor_before", j.loadFactorBefore}, {"load_factor_after", j.loadFactorAfter},
+                     {"energy_released", j.energyReleased}});
   nlohmann::json limits = nlohmann::json::array();
   for (const RoofLimit& l : t.limits)
     limits.push_back({{"kind", l.maximum ? "maximum" : "minimum"}, {"load", l.load}, {"deflection", l.deflection},
@@ -130,7 +135,7 @@ nlohmann::json toJson(const RoofTrace& t) {
   return {{"control", toString(t.control)}, {"completed", t.completed}, {"message", t.message},
           {"path_points", t.pathPoints}, {"newton_iterations", t.newtonIterations}, {"cuts", t.cuts},
           {"wall_seconds", t.wallSeconds}, {"max_negative_pivots", t.maxNegativePivots}, {"limit_points", limits},
-          {"load", t.load}, {"deflection", t.deflection}};
+          {"load", t.load}, {"deflection", t.deflection}, {"jumps", jumps}};
 }
 
 }  // namespace

@@ -56,6 +56,7 @@ struct RoofTrace {
   int maxNegativePivots = 0;        // the most negative eigenvalues of K seen along the path
   std::vector<double> load, deflection, parameter;  // per path point
   std::vector<RoofLimit> limits;
+  std::vector<LoadJump> jumps;      // steps whose equilibrium jumped (displacement control at a snap-back)
 };
 
 struct RoofResult {

@@ -226,7 +226,7 @@ TEST_CASE("path following: the energy identity holds across a limit point and fa
   double previous = 1.0;
   for (double dz : {0.2, 0.1, 0.05}) {
     const double za = 0.577 + 0.5 * dz, zb = 0.577 - 0.5 * dz;
-    const PathMismatch m = pathMismatch(onPath(za), onPath(zb), zb - za);
+    const PathMismatch m = tangentMismatch(onPath(za), onPath(zb), zb - za);
     INFO("dz " << dz << ": released " << m.released << ", work " << m.work);
     CHECK(m.work > 0.0);
     const double ratio = std::abs(m.released) / m.work;
@@ -241,7 +241,7 @@ TEST_CASE("path following: the energy identity holds across a limit point and fa
   for (int k = 0; k < 50; ++k) zc -= (zc * zc * zc - zc + lambda) / (3.0 * zc * zc - 1.0);
   PathEnergy c = at(zc, lambda);
   c.loadRate = 1.0 - 3.0 * zc * zc;
-  const PathMismatch jump = pathMismatch(onPath(0.65), c, std::abs(zc - 0.65));
+  const PathMismatch jump = tangentMismatch(onPath(0.65), c, std::abs(zc - 0.65));
   INFO("released " << jump.released << ", work " << jump.work);
   CHECK(std::abs(jump.released) > LoadJump::kRatio * jump.work);
 }

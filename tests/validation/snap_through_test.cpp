@@ -35,3 +35,27 @@ TEST_CASE("snap-through: arc length passes both limit points of the hinged roof 
   CHECK(r.limitLoadDifference <= 0.01);
   CHECK(r.limitDeflectionDifference <= 0.02);
 }
+
+TEST_CASE("snap-through: displacement control reports the thin roof's snap-back, and arc length follows it",
+          "[validation][path]") {
+  // The thin roof (h = 6.35) snaps back: past P_max the load point's deflection itself turns back, so displacement
+  // control of it jumps to another equilibrium at the same deflection, which it now reports. Arc length follows the
+  // path through its four limit points.
+  testing::SingleThread single;
+  RoofOptions o;
+  o.resolution = {8, 8};
+  o.thickness = 6.35;
+  o.load = 1000.0;
+  o.maxDeflection = 35.0;
+  const RoofResult r = runHingedRoof(o);
+  INFO(formatRoof(r));
+  REQUIRE(r.displacement.completed);
+  REQUIRE(r.displacement.jumps.size() == 1);
+  const LoadJump& j = r.displacement.jumps.front();
+  CHECK(j.loadFactorBefore > 0.0);   // from the unstable stretch after P_max ...
+  CHECK(j.loadFactorAfter < 0.0);    // ... to a pulled-back equilibrium at the same deflection
+  CHECK(j.ratio > LoadJump::kRatio);
+  REQUIRE(r.arc.completed);
+  CHECK(r.arc.jumps.empty());
+  CHECK(r.arc.limits.size() == 4);
+}

@@ -276,7 +276,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       }
     }
     summary.extra["load_step_cuts"] = r.totalCuts;
-    // Steps whose equilibrium jumped (LoadJump): load control's snap-throughs, path control's unresolved jumps.
+    // Steps whose equilibrium jumped (LoadJump): load control's snap-throughs, arc length's unresolved jumps,
+    // displacement control's snap-backs.
     nlohmann::json jumps = nlohmann::json::array();
     for (const LoadJump& j : r.loadJumps)
       jumps.push_back({{"load_step", j.step + 1},
@@ -297,9 +298,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                              "another branch (\"pathControl\": {\"type\": \"arcLength\"} follows it through the "
                              "limit points), or a sheet so flexible that it swings within the step (\"type\": "
                              "\"dynamicRelaxation\" finds its end state directly)"
-                           : "The path control cut the step down to its smallest increment and still jumped: a "
-                             "branch it cannot follow (displacement control cannot pass a snap-back: \"type\": "
-                             "\"arcLength\" can)");
+                           : o.path.control == PathControl::Displacement
+                           ? "Displacement control jumps over a snap-back, where the driven displacement turns back "
+                             "(\"type\": \"arcLength\" follows it)"
+                           : "Arc length cut the step down to its smallest increment and still jumped: a branch it "
+                             "cannot follow");
       result.warnings.push_back(w);
       progress.log("warning: " + w);
     }
