@@ -34,6 +34,16 @@ void checkBranchSwitchOptions(const BranchSwitchOptions& o) {
               "must be in (0, 100]");
 }
 
+std::string landingOutside(double lambda, double lambdaA, double lambdaB, double stable, double unstable) {
+  const double towards = lambdaB >= lambdaA ? 1.0 : -1.0;  // arc length may meet a bifurcation with λ falling
+  if (!(towards * (lambda - lambdaA) > 0.0 && towards * (lambda - lambdaB) <= 0.0)) return "outside the step";
+  // A branch that leaves the bifurcation starts at the critical load: a landing far below the bracket is another
+  // equilibrium on the cylinder (a cloth pinned at two corners, turned about them at no load).
+  if (towards * (lambda - stable) < -kBelowBracket * std::abs(unstable - stable))
+    return "below the bracket on the critical load";
+  return "";
+}
+
 BranchSwitchResult switchBranch(NewtonSolver& newton, const LoadFactorHooks& loads, IndefiniteFactor& factor,
                                 const BranchSwitchOptions& o, double lambdaA, const Eigen::VectorXd& xa,
                                 double lambdaB, const Eigen::VectorXd& xb) {
@@ -97,7 +107,6 @@ BranchSwitchResult switchBranch(NewtonSolver& newton, const LoadFactorHooks& loa
   // 3–4. The switch: a step along the mode, corrected on the cylinder around the unstable end.
   const std::vector<char>& fixed = objective.fixedDof();
   std::ostringstream tried;
-  const double towards = lambdaB >= lambdaA ? 1.0 : -1.0;  // arc length may meet a bifurcation with λ falling
   double step = o.step * objective.scales().length;
   for (int h = 0; h <= kStepHalvings; ++h, step *= 0.5) {
     for (double sign : {1.0, -1.0}) {
@@ -117,15 +126,9 @@ BranchSwitchResult switchBranch(NewtonSolver& newton, const LoadFactorHooks& loa
         tried << "no correction (" << pc.summary.message << ")";
         continue;
       }
-      if (!(towards * (lambda - lambdaA) > 0.0 && towards * (lambda - lambdaB) <= 0.0)) {
-        tried << "landed at lambda = " << lambda << ", outside the step";
-        continue;
-      }
-      // A branch that leaves the bifurcation starts at the critical load: a landing far below the bracket is
-      // another equilibrium on the cylinder (a cloth pinned at two corners, turned about them at no load).
-      const double width = std::abs(r.unstableLoadFactor - r.stableLoadFactor);
-      if (towards * (lambda - r.stableLoadFactor) < -kBelowBracket * width) {
-        tried << "landed at lambda = " << lambda << ", below the bracket on the critical load";
+      const std::string outside = landingOutside(lambda, lambdaA, lambdaB, r.stableLoadFactor, r.unstableLoadFactor);
+      if (!outside.empty()) {
+        tried << "landed at lambda = " << lambda << ", " << outside;
         continue;
       }
       const Stability landed = assessStability(objective, factor, x, newtonOptions.derivatives, 1.0);

@@ -17,8 +17,9 @@
 //     far away (its dofs move little with λ), so the correction lands on the crossing branch.
 //  4. The landing is accepted when the correction converged, the equilibrium there is stable (no negative
 //     eigenvalue: a supercritical bifurcation) and its λ lies in (λa, λb] (or [λb, λa) where λ falls), not more
-//     than four bracket widths below the bracket on the critical load (the branch starts there). Otherwise the other sign of the mode
-//     is tried (an asymmetric bifurcation rises on one side only), then a step half as long, four times.
+//     than four bracket widths below the bracket on the critical load (the branch starts there). Otherwise the
+//     other sign of the mode is tried (an asymmetric bifurcation rises on one side only), then a step half as
+//     long, four times.
 // Output: the new branch's equilibrium (λ, x) and the bracket. Load control follows the new branch on by arc
 // length: near a pitchfork its x grows as √(λ − λc), which no polynomial predictor in λ follows.
 #pragma once
@@ -54,6 +55,11 @@ struct BranchSwitchResult {
 
 /// Throws InputError naming the field (branchSwitch.bisections, branchSwitch.step) when an option is out of range.
 void checkBranchSwitchOptions(const BranchSwitchOptions& options);
+
+/// Why a landing at λ is not kept, given the step (λa, λb] and the bracket [stable, unstable] on the critical
+/// load (step 4 above; λ may fall from λa to λb): "outside the step", "below the bracket on the critical load"
+/// (more than four bracket widths), or empty.
+std::string landingOutside(double lambda, double lambdaA, double lambdaB, double stable, double unstable);
 
 /// The switch from the unstable fundamental branch at (λb, xb) to the stable branch crossing it between λa and λb.
 /// `factor` is the caller's LDLᵀ factor (its symbolic analysis kept across calls). Leaves the load hooks at λb

@@ -186,7 +186,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
   };
 
   // The energy identity (LoadJump, solvers/path_energy.h), from the first path point on: a step whose energy change
-  // the loads' work along the path does not explain jumped to another branch, and is cut.
+  // the loads' work along the path does not explain jumped to another branch (arc length cuts it, displacement
+  // control reports it).
   const Eigen::VectorXd pathStart = x;
   std::optional<PathEnergy> lastEnergy;  // at the last path point
   Eigen::VectorXd lastTangent = t;       // K⁻¹q there (arc length, or with detectJumps; empty: none)
@@ -550,7 +551,8 @@ StaticsResult followPath(Objective& objective, const LoadFactorHooks& loads, Eig
 
 void followNewBranch(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
                      const LoadSteppingOptions& o, const LoadStepCallback& callback, const std::vector<double>& stops,
-                     double increment, int cuts, BranchSwitchResult& sw, StaticsResult& result, double landingParameter) {
+                     double increment, int cuts, BranchSwitchResult& sw, StaticsResult& result,
+                     double landingParameter) {
   x = sw.x;
   loads.accept(x);
   LoadStepResult landing;

@@ -575,10 +575,19 @@ TEST_CASE("statics: a first load step that lands on a saddle switches from the s
 }
 
 TEST_CASE("statics: a switch that lands far below the critical load is refused", "[statics]") {
-  // A cloth hanging in its plane from two corners buckles out of it under its weight (λ ≈ 0.064 here), and the
-  // first load step, to the whole weight, lands on the saddle. Along the buckling mode the cloth also turns about
-  // its two pins at no load, and the switch's correction found that equilibrium at λ ≈ 0; accepted, the path went
-  // on from the unloaded cloth and ran out of steps. Refused, the saddle escapes take the cloth off the saddle.
+  // The rule: within the step, and not more than four bracket widths below the bracket (either direction of λ).
+  CHECK(landingOutside(0.62, 0.6, 0.7, 0.6167, 0.6168).empty());
+  CHECK(landingOutside(0.6166, 0.6, 0.7, 0.6167, 0.6168).empty());  // 1 width below: a nearly flat branch
+  CHECK(landingOutside(1e-10, 0.0, 1.0, 0.0635, 0.0645) == "below the bracket on the critical load");
+  CHECK(landingOutside(0.71, 0.6, 0.7, 0.6167, 0.6168) == "outside the step");
+  CHECK(landingOutside(0.6, 0.6, 0.7, 0.6167, 0.6168) == "outside the step");
+  CHECK(landingOutside(0.45, 0.5, 0.4, 0.47, 0.469).empty());  // λ falling
+  CHECK(landingOutside(0.49, 0.5, 0.4, 0.47, 0.469) == "below the bracket on the critical load");
+  // Where it mattered: a cloth hanging in its plane from two corners buckles out of it under its weight (λ ≈ 0.064
+  // here). When the first load step, to the whole weight, lands on the flat saddle (whether Newton keeps the
+  // symmetry depends on round-off, so on the build), the switch's correction finds the cloth turned about its two
+  // pins at no load, λ ≈ 1e-10, inside the step; accepted, the path went on from the unloaded cloth and ran out of
+  // steps. Refused, the saddle escapes take the cloth off the saddle. Either way the run ends stable.
   testing::SingleThread single;
   ShellSystem system(testing::hangingCloth(0.3, 0.3, 6, 6), AnalysisKind::Statics);
   Eigen::VectorXd x = system.restPositions();
@@ -586,7 +595,6 @@ TEST_CASE("statics: a switch that lands far below the critical load is refused",
   INFO(r.message);
   REQUIRE(r.completed);
   CHECK(r.branchSwitches.empty());
-  CHECK(r.branchSwitchFailure.find("below the bracket on the critical load") != std::string::npos);
-  CHECK(r.saddleEscapes > 0);
   CHECK(r.unstableSteps == 0);
+  CHECK(r.steps.back().loadFactor == 1.0);
 }
