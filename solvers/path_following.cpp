@@ -215,7 +215,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     const Eigen::VectorXd q = loadVector(objective, loads, xa, l, ga, evalOptions);
     if (!factor.solve(q, tangent) || !tangent.allFinite()) return false;
     objective.zeroFixed(tangent);
-    return arc || std::abs(tangent[po.controlledDof]) > 0.0;
+    return arc ? freeDot(tangent, tangent, fixed) + loadWeight > 0.0 : std::abs(tangent[po.controlledDof]) > 0.0;
   };
 
   // The stops between two path points' λ (the first excluded, the second included).
@@ -485,8 +485,10 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     lastPivots = pc.negativePivots;
     if (arc && tangent.size() > 0) {
       const double stiffening = std::max(1.0, scale * std::abs(loadRate(tangent, du, dl)));
-      minStep = o.minIncrement / stiffening;
-      maxStep = kLambdaMargin * o.maxIncrement / stiffening;
+      if (std::isfinite(stiffening)) {  // a vanishing tangent (no load vector there) keeps the last bounds
+        minStep = o.minIncrement / stiffening;
+        maxStep = kLambdaMargin * o.maxIncrement / stiffening;
+      }
     }
     lastTangent = std::move(tangent);
     history.push_front(PathPoint{pNew, trialLambda, trial, result.steps.back().step});
