@@ -30,7 +30,9 @@ struct PathFollowingOptions {
 /// A turning point of the load factor along the path (between three successive path points).
 struct LimitPoint {
   int step = 0;              // the accepted step (LoadStepResult::step) nearest the turn
-  double loadFactor = 0.0;   // λ at the turn: the vertex of the parabola λ(path parameter) through the three
+  double loadFactor = 0.0;   // λ at the turn: the extremum of the cubic Hermite λ(path parameter) between the two
+                             // path points whose tangents' dλ/dp differ in sign, else the vertex of the parabola
+                             // through the three path points around the turn
   bool maximum = true;       // true: λ rose and turns down (a snap-through starts); false: it turns back up
 };
 

@@ -34,6 +34,7 @@ struct PathPoint {
   double lambda = 0.0;
   Eigen::VectorXd x;
   int step = 0;    // its index in the result's steps
+  double rate = std::nan("");  // dλ/dp there along the path, from its tangent (NaN: none)
 };
 
 /// (x, λ) at p from the polynomial through the history's points (newest first).
@@ -66,6 +67,28 @@ double parabolaVertex(const double p[3], const double v[3]) {
   if (!(std::abs(f012) > 0.0) || !std::isfinite(f012)) return p[1];
   const double vertex = 0.5 * (p[0] + p[1]) - f01 / (2.0 * f012);
   return vertex >= p[0] && vertex <= p[2] ? vertex : p[1];
+}
+
+double hermiteTurn(double pa, double la, double ra, double pb, double lb, double rb, double fallback) {
+  const double h = pb - pa, m0 = h * ra, m1 = h * rb;
+  // λ(t) = (2t³ − 3t² + 1) la + (t³ − 2t² + t) m0 + (−2t³ + 3t²) lb + (t³ − t²) m1, t ∈ [0, 1]; λ'(t) = A t² + B t + C.
+  const double A = 6.0 * la + 3.0 * m0 - 6.0 * lb + 3.0 * m1, B = -6.0 * la - 4.0 * m0 + 6.0 * lb - 2.0 * m1, C = m0;
+  double t = std::nan("");
+  if (std::abs(A) <= 1e-14 * (std::abs(B) + std::abs(C))) {
+    if (B != 0.0) t = -C / B;
+  } else {
+    const double disc = B * B - 4.0 * A * C;
+    if (disc >= 0.0) {
+      const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+      for (double r : {q / A, q != 0.0 ? C / q : std::nan("")})
+        if (r >= 0.0 && r <= 1.0) t = r;
+    }
+  }
+  if (!(t >= 0.0 && t <= 1.0) || !std::isfinite(h)) return fallback;
+  const double t2 = t * t, t3 = t2 * t;
+  const double value =
+      (2.0 * t3 - 3.0 * t2 + 1.0) * la + (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) * lb + (t3 - t2) * m1;
+  return std::isfinite(value) ? value : fallback;
 }
 
 double limitLoadFactor(const double p[3], const double l[3]) {
@@ -114,7 +137,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
   const bool arc = po.control == PathControl::ArcLength;
   checkPathOption(po.control != PathControl::Load, "control", 0, "load control is not path following");
   checkPathOption(po.maxSteps >= 1 && po.maxSteps <= 10000000, "maxSteps", po.maxSteps, "must be in 1..1e7");
-  checkPathOption(std::isfinite(po.loadScaling) && po.loadScaling >= 0.0, "loadScaling", po.loadScaling, "must be >= 0");
+  checkPathOption(std::isfinite(po.loadScaling) && po.loadScaling >= 0.0, "loadScaling", po.loadScaling,
+                  "must be >= 0");
   if (!objective.finalized()) objective.finalize();
   const std::vector<char>& fixed = objective.fixedDof();
   if (!arc) {
@@ -280,7 +304,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     Eigen::VectorXd trial;
     double trialLambda = 0.0;
     if (history.size() == 1) {
-      const double dl = arc ? direction * (pNext - last.p) / unit : (pNext - last.p) * po.displacement / t[po.controlledDof];
+      const double dl = arc ? direction * (pNext - last.p) / unit
+                            : (pNext - last.p) * po.displacement / t[po.controlledDof];
       trial = last.x + dl * t;
       trialLambda = last.lambda + dl;
     } else {
@@ -491,7 +516,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       }
     }
     lastTangent = std::move(tangent);
-    history.push_front(PathPoint{pNew, trialLambda, trial, result.steps.back().step});
+    const double rateHere = lastTangent.size() > 0 ? loadRate(lastTangent, du, dl) : std::nan("");
+    history.push_front(PathPoint{pNew, trialLambda, trial, result.steps.back().step, rateHere});
     if (static_cast<int>(history.size()) > order + 1) history.pop_back();
     // A turn of λ over the last three path points.
     recent.push_back(history.front());
@@ -502,7 +528,16 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       if (before * after < 0.0) {
         const double p[3] = {recent[0].p, recent[1].p, recent[2].p};
         const double l[3] = {recent[0].lambda, recent[1].lambda, recent[2].lambda};
-        result.limitPoints.push_back({recent[1].step, limitLoadFactor(p, l), before > 0.0});
+        double turn = limitLoadFactor(p, l);
+        // With the tangents' dλ/dp at both ends of the interval where it changes sign, the turn is the extremum of
+        // the cubic Hermite interpolant there: exact for a cubic λ(p), where the parabola is exact for a quadratic.
+        for (int i = 0; i < 2; ++i)
+          if (recent[i].rate * recent[i + 1].rate < 0.0) {
+            turn = hermiteTurn(recent[i].p, recent[i].lambda, recent[i].rate, recent[i + 1].p, recent[i + 1].lambda,
+                               recent[i + 1].rate, turn);
+            break;
+          }
+        result.limitPoints.push_back({recent[1].step, turn, before > 0.0});
       }
     }
     const double factorUp =

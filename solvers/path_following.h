@@ -34,8 +34,10 @@
 //    every crossing of each λ level (and ends on the target) with a load-controlled correction started from the
 //    chord between the two path points around it; a level whose correction fails cuts the step while the
 //    increment can still be halved, and only then is reported in the message as missed.
-//  - limit points: where λ rises then falls (or falls then rises) over three successive path points, the vertex
-//    of the parabola λ(path parameter) through them is reported with its step and direction.
+//  - limit points: where λ rises then falls (or falls then rises) over three successive path points, the turn is
+//    reported with its step and direction: the extremum of the cubic Hermite interpolant of λ(path parameter)
+//    between the two of them whose tangents' dλ/dp differ in sign (hermiteTurn), else the vertex of the parabola
+//    through the three.
 //  - bifurcation points: where the count of negative pivots changes between two path points with no limit point at
 //    either (solvers/path_control.h, BifurcationPoint);
 //  - branch switching (arc length, LoadSteppingOptions::branchSwitching): a step from a stable point (no negative
@@ -70,5 +72,9 @@ double parabolaVertex(const double p[3], const double v[3]);
 
 /// The turning point of λ(p) through three path points (p increasing): λ at parabolaVertex.
 double limitLoadFactor(const double p[3], const double lambda[3]);
+
+/// The turning point of λ(p) between two path points (pa < pb) whose slopes dλ/dp (ra, rb) have opposite signs:
+/// the extremum of the cubic Hermite interpolant; `fallback` when it has none in [pa, pb] or is not finite.
+double hermiteTurn(double pa, double la, double ra, double pb, double lb, double rb, double fallback);
 
 }  // namespace jetshell

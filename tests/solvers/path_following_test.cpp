@@ -142,6 +142,22 @@ TEST_CASE("path following: the limit load is the vertex of the parabola through 
   CHECK(limitLoadFactor(p, m) == 1.0);
 }
 
+TEST_CASE("path following: the turn between two path points is the Hermite cubic's extremum", "[statics][path]") {
+  // λ(p) = 1 + 2p − 3p² + 0.5p³ on [0, 1]: λ' = 2 − 6p + 1.5p² vanishes at p = (6 − √24) / 3 = 0.36701.
+  auto lambda = [](double p) { return 1.0 + 2.0 * p - 3.0 * p * p + 0.5 * p * p * p; };
+  auto slope = [](double p) { return 2.0 - 6.0 * p + 1.5 * p * p; };
+  const double turn = (6.0 - std::sqrt(24.0)) / 3.0;
+  CHECK(hermiteTurn(0.0, lambda(0.0), slope(0.0), 1.0, lambda(1.0), slope(1.0), -1.0) ==
+        Approx(lambda(turn)).epsilon(1e-12));
+  // Shifted and scaled in p: the same turn.
+  CHECK(hermiteTurn(2.0, lambda(0.0), slope(0.0) / 4.0, 6.0, lambda(1.0), slope(1.0) / 4.0, -1.0) ==
+        Approx(lambda(turn)).epsilon(1e-12));
+  // A minimum.
+  CHECK(hermiteTurn(0.0, 0.0, -1.0, 2.0, 0.0, 1.0, -1.0) == Approx(-0.5).epsilon(1e-12));
+  // Slopes of one sign (no turn inside): the fallback.
+  CHECK(hermiteTurn(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, -7.0) == -7.0);
+}
+
 TEST_CASE("path following: a bifurcation passed on a symmetric path is reported, a limit point is not one",
           "[statics][path]") {
   testing::SingleThread single;
