@@ -34,6 +34,12 @@ void checkBranchSwitchOptions(const BranchSwitchOptions& o) {
               "must be in (0, 100]");
 }
 
+std::string switchFailure(const BranchSwitchResult& r) {
+  std::ostringstream why;
+  why << "between lambda = " << r.stableLoadFactor << " and " << r.unstableLoadFactor << ": " << r.message;
+  return why.str();
+}
+
 std::string landingOutside(double lambda, double lambdaA, double lambdaB, double stable, double unstable) {
   const double towards = lambdaB >= lambdaA ? 1.0 : -1.0;  // arc length may meet a bifurcation with λ falling
   if (!(towards * (lambda - lambdaA) > 0.0 && towards * (lambda - lambdaB) <= 0.0)) return "outside the step";

@@ -56,6 +56,9 @@ struct BranchSwitchResult {
 /// Throws InputError naming the field (branchSwitch.bisections, branchSwitch.step) when an option is out of range.
 void checkBranchSwitchOptions(const BranchSwitchOptions& options);
 
+/// A switch that was not made, for StaticsResult::branchSwitchFailure: "between lambda = a and b: why".
+std::string switchFailure(const BranchSwitchResult& r);
+
 /// Why a landing at λ is not kept, given the step (λa, λb] and the bracket [stable, unstable] on the critical
 /// load (step 4 above; λ may fall from λa to λb): "outside the step", "below the bracket on the critical load"
 /// (more than four bracket widths), or empty.

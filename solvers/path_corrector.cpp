@@ -80,6 +80,7 @@ PathCorrection correctOnPath(Objective& objective, const LoadFactorHooks& hooks,
     if (r <= tolerance) {
       if (out.negativePivots < 0 && factor.factorize(objective.assembler().matrix(), objective.assembler().patternVersion()))
         out.negativePivots = factor.negativePivots();
+      out.gradient = g;
       std::ostringstream m;
       m << "residual " << r << " N <= " << tolerance << " N (" << o.residualTolerance << " x force scale "
         << s.forceScale << " N from " << s.forceScaleSource << ") at lambda = " << lambda;

@@ -42,6 +42,7 @@ struct PathConstraint {
 struct PathCorrection {
   SolverSummary summary;
   int negativePivots = -1;  // of the last factor (-1: none made)
+  Eigen::VectorXd gradient; // g at the returned (x, λ) when converged (the tangent's load vector starts from it)
 };
 
 /// Corrects (x, λ) onto the path. hooks.set(λ) and the prescribed positions at λ are applied at every iterate.

@@ -230,13 +230,11 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     const double along = freeDot(tangent, du, fixed) + loadWeight * dl;
     return (along >= 0.0 ? 1.0 : -1.0) / std::sqrt(freeDot(tangent, tangent, fixed) + loadWeight);
   };
-  // The tangent at an equilibrium just corrected, on the corrector's last factor (made at or next to it).
-  auto tangentAt = [&](const Eigen::VectorXd& at, double l, Eigen::VectorXd& tangent) {
-    Eigen::VectorXd xa = at, ga;
-    objective.applyPrescribed(l, xa);
-    loads.set(l);
-    objective.evaluate(xa, &ga, false, evalOptions);
-    const Eigen::VectorXd q = loadVector(objective, loads, xa, l, ga, evalOptions);
+  // The tangent at an equilibrium just corrected, on the corrector's last factor (made at or next to it), from the
+  // gradient the corrector converged on.
+  auto tangentAt = [&](const Eigen::VectorXd& at, double l, const PathCorrection& pc, Eigen::VectorXd& tangent) {
+    if (pc.gradient.size() != at.size()) return false;
+    const Eigen::VectorXd q = loadVector(objective, loads, at, l, pc.gradient, evalOptions);
     if (!factor.solve(q, tangent) || !tangent.allFinite()) return false;
     objective.zeroFixed(tangent);
     return arc ? freeDot(tangent, tangent, fixed) + loadWeight > 0.0 : std::abs(tangent[po.controlledDof]) > 0.0;
@@ -379,7 +377,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
     Eigen::VectorXd tangent;
     bool jumped = false;
     PathMismatch mismatch;
-    if ((arc || o.detectJumps) && !tangentAt(trial, trialLambda, tangent)) tangent.resize(0);
+    if ((arc || o.detectJumps) && !tangentAt(trial, trialLambda, pc, tangent)) tangent.resize(0);
     const Eigen::VectorXd du = trial - last.x;
     const double dl = trialLambda - last.lambda;
     if (o.detectJumps && tangent.size() > 0) {
@@ -430,9 +428,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
         pending = PendingSwitch{std::move(sw), stops, increment, cuts, landingP};
         return result;
       }
-      std::ostringstream why;
-      why << "between lambda = " << sw.stableLoadFactor << " and " << sw.unstableLoadFactor << ": " << sw.message;
-      result.branchSwitchFailure = why.str();
+      result.branchSwitchFailure = switchFailure(sw);
       loads.set(trialLambda);
     }
     if (jumped)  // kept (displacement control, or arc length at its smallest increment): the steps emitted next

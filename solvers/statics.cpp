@@ -196,9 +196,7 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
           followNewBranch(objective, loads, x, o, callback, stops, increment, cuts, sw, result, sw.loadFactor);
           return result;
         }
-        std::ostringstream why;
-        why << "between lambda = " << sw.stableLoadFactor << " and " << sw.unstableLoadFactor << ": " << sw.message;
-        result.branchSwitchFailure = why.str();
+        result.branchSwitchFailure = switchFailure(sw);
       }
       negativePivots = leaveSaddles(objective, newton, stability, o, trial, summary, result, checked);
       if (negativePivots > 0) ++result.unstableSteps;

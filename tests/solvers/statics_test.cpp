@@ -226,23 +226,35 @@ TEST_CASE("statics: an equilibrium reached through an indefinite system is check
 
 namespace {
 
-/// testing::compressedPlate, by load control in steps of 0.1, landing on λ = 0.25, 0.5, 0.75 and 1. `steps` gets
-/// the step indices the callback saw.
-StaticsResult compressFlatPlate(double total, int escapes, Eigen::VectorXd& x, bool branchSwitching = false,
-                                std::vector<int>* steps = nullptr) {
-  const ShellProblem p = testing::compressedPlate(total);
-  ShellSystem system(p, AnalysisKind::Statics);
+/// testing::compressedPlate from rest in steps of 0.1, landing on λ = 0.25, 0.5, 0.75 and 1, by load control unless
+/// `adjust` changes the options. `seen` gets every step the callback saw.
+StaticsResult solveCompressedPlate(double total, Eigen::VectorXd& x,
+                                   const std::function<void(LoadSteppingOptions&)>& adjust,
+                                   std::vector<LoadStepResult>* seen = nullptr) {
+  ShellSystem system(testing::compressedPlate(total), AnalysisKind::Statics);
   x = system.restPositions();
   LoadSteppingOptions o = {};
   o.newton = staticNewtonOptions();
-  o.saddleEscapes = escapes;
-  o.branchSwitching = branchSwitching;
   o.initialIncrement = o.maxIncrement = 0.1;
   o.levels = {0.25, 0.5, 0.75};
+  adjust(o);
   return solveStatics(system, x, o, [&](const LoadStepResult& s) {
-    if (steps != nullptr) steps->push_back(s.step);
+    if (seen != nullptr) seen->push_back(s);
     return true;
   });
+}
+
+/// The same by load control with `escapes` saddle escapes; `steps` gets the step indices the callback saw.
+StaticsResult compressFlatPlate(double total, int escapes, Eigen::VectorXd& x, bool branchSwitching = false,
+                                std::vector<int>* steps = nullptr) {
+  std::vector<LoadStepResult> seen;
+  const StaticsResult r = solveCompressedPlate(total, x, [&](LoadSteppingOptions& o) {
+    o.saddleEscapes = escapes;
+    o.branchSwitching = branchSwitching;
+  }, &seen);
+  if (steps != nullptr)
+    for (const LoadStepResult& s : seen) steps->push_back(s.step);
+  return r;
 }
 
 /// The largest out-of-plane displacement of x.
@@ -509,18 +521,10 @@ TEST_CASE("statics: arc length switches at a bifurcation to the stable branch, a
   Eigen::VectorXd byLoad;
   const StaticsResult load = compressFlatPlate(2.0 * 0.090, 0, byLoad, true);
   REQUIRE(load.branchSwitches.size() == 1);
-  ShellSystem system(testing::compressedPlate(2.0 * 0.090), AnalysisKind::Statics);
-  Eigen::VectorXd x = system.restPositions();
-  LoadSteppingOptions o = {};
-  o.newton = staticNewtonOptions();
-  o.path.control = PathControl::ArcLength;
-  o.initialIncrement = o.maxIncrement = 0.1;
-  o.levels = {0.25, 0.5, 0.75};
+  Eigen::VectorXd x;
   std::vector<LoadStepResult> seen;
-  const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
-    seen.push_back(s);
-    return true;
-  });
+  const StaticsResult r = solveCompressedPlate(
+      2.0 * 0.090, x, [](LoadSteppingOptions& o) { o.path.control = PathControl::ArcLength; }, &seen);
   INFO(r.message);
   REQUIRE(r.completed);
   REQUIRE(r.branchSwitches.size() == 1);
@@ -554,13 +558,12 @@ TEST_CASE("statics: a first load step that lands on a saddle switches from the s
   Eigen::VectorXd stepped;
   const StaticsResult reference = compressFlatPlate(2.0 * 0.090, 0, stepped, true);
   REQUIRE(reference.branchSwitches.size() == 1);
-  ShellSystem system(testing::compressedPlate(2.0 * 0.090), AnalysisKind::Statics);
-  Eigen::VectorXd x = system.restPositions();
-  LoadSteppingOptions o = {};
-  o.newton = staticNewtonOptions();
-  o.saddleEscapes = 0;
-  o.initialIncrement = o.maxIncrement = 1.0;
-  const StaticsResult r = solveStatics(system, x, o);
+  Eigen::VectorXd x;
+  const StaticsResult r = solveCompressedPlate(2.0 * 0.090, x, [](LoadSteppingOptions& o) {
+    o.saddleEscapes = 0;
+    o.initialIncrement = o.maxIncrement = 1.0;
+    o.levels.clear();
+  });
   INFO(r.message);
   REQUIRE(r.completed);
   REQUIRE(r.branchSwitches.size() == 1);

@@ -131,26 +131,24 @@ TEST_CASE("scene accuracy: the Euler column leaves the straight saddle and buckl
     INFO("tip deflection " << w << ", elastica " << elastica);
     CHECK(std::abs(w - elastica) / elastica < 0.003);  // measured 0.17% (8.0224)
   }
-  SECTION("by load control, switching branches at the bifurcation") {
-    const ExampleRun run = runExample(
+  // The example as a static analysis in 10 load steps under `control`.
+  auto staticColumn = [](const std::string& control) {
+    return runExample(
         "euler_column",
-        [](Scene& s) {
+        [&](Scene& s) {
           s.analysis.type = AnalysisType::Static;
           s.analysis.loadSteps = 10;
+          s.analysis.pathControl.type = control;
         },
-        "_static");
+        "_" + control);
+  };
+  SECTION("by load control, switching branches at the bifurcation") {
+    const ExampleRun run = staticColumn("load");
     checkSwitchedToElastica(run, elastica);
     CHECK(run.result.summary.extra.at("unstable_equilibria").get<int>() == 0);
   }
   SECTION("by arc length, switching branches at the bifurcation") {
-    const ExampleRun run = runExample(
-        "euler_column",
-        [](Scene& s) {
-          s.analysis.type = AnalysisType::Static;
-          s.analysis.loadSteps = 10;
-          s.analysis.pathControl.type = "arcLength";
-        },
-        "_arc_length");
+    const ExampleRun run = staticColumn("arcLength");
     checkSwitchedToElastica(run, elastica);
     CHECK(run.result.summary.extra.at("bifurcation_points").empty());  // switched, not passed
   }
