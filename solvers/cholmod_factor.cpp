@@ -129,22 +129,30 @@ CholmodFactor::Status CholmodFactor::analyze(const Eigen::SparseMatrix<double>& 
   return Status::Ok;
 }
 
-CholmodFactor::Status CholmodFactor::factorize(const Eigen::SparseMatrix<double>& upper, double shift) {
+cholmod_factor* CholmodFactor::numericFactor(const Eigen::SparseMatrix<double>& upper) {
   cholmod_common* c = &impl_->common;
   factorized_ = false;
+  pivots_.resize(0);
   if (impl_->factor == nullptr) {
     message_ = "factorize before analyze";
-    return Status::Failed;
+    return nullptr;
   }
   if (static_cast<std::size_t>(upper.nonZeros()) != impl_->numeric.entries()) {
     message_ = "factorize: the matrix does not have the analysed pattern";
-    return Status::Failed;
+    return nullptr;
   }
   cholmod_factor* L = impl_->factor;
   if (L->xtype == CHOLMOD_PATTERN && !cholmod_change_factor(CHOLMOD_REAL, 1, 1, 1, 1, L, c)) {
     message_ = statusMessage("cholmod_change_factor", *c);
-    return Status::Failed;
+    return nullptr;
   }
+  return L;
+}
+
+CholmodFactor::Status CholmodFactor::factorize(const Eigen::SparseMatrix<double>& upper, double shift) {
+  ldlt_ = false;
+  cholmod_factor* L = numericFactor(upper);
+  if (L == nullptr) return Status::Failed;
   const ScopedThreads threads(blasThreads_);
   L->minor = impl_->numeric.factorize(*L, upper, shift);
   if (L->minor < L->n) {
@@ -163,7 +171,38 @@ CholmodFactor::Status CholmodFactor::solve(const Eigen::VectorXd& b, Eigen::Vect
     return Status::Failed;
   }
   x.resize(b.size());
-  impl_->numeric.solve(*impl_->factor, b.data(), x.data());
+  if (ldlt_)
+    impl_->numeric.solveLdlt(*impl_->factor, b.data(), x.data());
+  else
+    impl_->numeric.solve(*impl_->factor, b.data(), x.data());
+  return Status::Ok;
+}
+
+CholmodFactor::Status CholmodFactor::factorizeLdlt(const Eigen::SparseMatrix<double>& upper) {
+  ldlt_ = true;
+  cholmod_factor* L = numericFactor(upper);
+  if (L == nullptr) return Status::Failed;
+  const ScopedThreads threads(blasThreads_);
+  L->minor = impl_->numeric.factorizeLdlt(*L, upper);
+  if (L->minor < L->n) {
+    std::ostringstream s;
+    s << "LDLT: zero or non-finite pivot at column " << L->minor;
+    message_ = s.str();
+    return Status::Failed;
+  }
+  pivots_.resize(static_cast<Eigen::Index>(L->n));
+  impl_->numeric.pivots(*L, pivots_.data());
+  factorized_ = true;
+  return Status::Ok;
+}
+
+CholmodFactor::Status CholmodFactor::solveUnitTransposed(const Eigen::VectorXd& u, Eigen::VectorXd& x) {
+  if (!factorized_ || !ldlt_ || u.size() != pivots_.size()) {
+    message_ = "solveUnitTransposed without an LDLT factor of this size";
+    return Status::Failed;
+  }
+  x.resize(u.size());
+  impl_->numeric.solveUnitTransposed(*impl_->factor, u.data(), x.data());
   return Status::Ok;
 }
 

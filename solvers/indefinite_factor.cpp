@@ -6,43 +6,38 @@
 namespace jetshell {
 
 bool IndefiniteFactor::factorize(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion) {
+  using Status = CholmodFactor::Status;
+  factorized_ = false;
   if (!analyzed_ || patternVersion != version_) {
-    ldlt_.analyzePattern(upper);
+    analyzed_ = false;
+    if (ldlt_.analyze(upper) != Status::Ok) {
+      message_ = ldlt_.message();
+      return false;
+    }
     version_ = patternVersion;
     analyzed_ = true;
     ++analyses_;
   }
-  ldlt_.factorize(upper);
-  if (ldlt_.info() != Eigen::Success) {
-    message_ = "LDLT: zero pivot (the tangent stiffness is singular)";
+  if (ldlt_.factorizeLdlt(upper) != Status::Ok) {
+    message_ = ldlt_.message() + " (the tangent stiffness is singular)";
     return false;
   }
-  const Eigen::VectorXd& D = ldlt_.vectorD();
-  double largest = 0.0;
-  for (Eigen::Index i = 0; i < D.size(); ++i) {
-    if (!std::isfinite(D[i]) || D[i] == 0.0) {
-      message_ = "LDLT: zero or non-finite pivot";
-      return false;
-    }
-    largest = std::max(largest, std::abs(D[i]));
-  }
+  const Eigen::VectorXd& D = ldlt_.pivots();
+  const double largest = D.size() > 0 ? D.cwiseAbs().maxCoeff() : 0.0;
   negativeBelow_ = -kRoundOffPivot * largest;
   negative_ = static_cast<int>((D.array() < negativeBelow_).count());
+  factorized_ = true;
   return true;
 }
 
-bool IndefiniteFactor::negativeCurvatureDirection(Eigen::VectorXd& d) const {
-  if (negative_ == 0) return false;
-  const Eigen::VectorXd& D = ldlt_.vectorD();
-  Eigen::VectorXd z = (D.array() < negativeBelow_).cast<double>().matrix();
-  ldlt_.matrixU().solveInPlace(z);  // Lᵀ z = u
-  d = ldlt_.permutationPinv() * z;
-  return d.allFinite();
+bool IndefiniteFactor::negativeCurvatureDirection(Eigen::VectorXd& d) {
+  if (!factorized_ || negative_ == 0) return false;
+  const Eigen::VectorXd u = (ldlt_.pivots().array() < negativeBelow_).cast<double>().matrix();
+  return ldlt_.solveUnitTransposed(u, d) == CholmodFactor::Status::Ok && d.allFinite();
 }
 
-bool IndefiniteFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
-  x = ldlt_.solve(b);
-  return x.allFinite();
+bool IndefiniteFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  return factorized_ && ldlt_.solve(b, x) == CholmodFactor::Status::Ok && x.allFinite();
 }
 
 }  // namespace jetshell

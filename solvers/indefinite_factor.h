@@ -3,16 +3,18 @@
 // negative eigenvalue and the Cholesky solvers (solvers/linear_solver.h) would shift it away.
 //
 // Inputs: the matrix's upper triangle (compressed CSC, the HessianAssembler's matrix) and its pattern version.
-// Outputs: the factor (analysed once per pattern version, AMD ordering, no pivoting: Eigen's SimplicialLDLT),
+// Outputs: the factor (analysed once per pattern version by CHOLMOD, its fill-reducing ordering; the numeric
+// factorization is solvers/supernodal_cholesky.h's supernodal LDLᵀ without pivoting, BLAS updates per supernode),
 // solves with it, and the number of negative pivots, which by Sylvester's law of inertia is the number of
 // negative eigenvalues (fixed dofs are identity rows, so they count none): 0 on a stable equilibrium, 1 on the
 // unstable branch of a snap-through. A zero or non-finite pivot is a failure, never a solution. Also used by load
 // control (solvers/statics.h) to leave an unstable equilibrium along a direction of negative curvature.
 #pragma once
 
+#include "solvers/cholmod_factor.h"
+
 #include <Eigen/Core>
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include <cstdint>
 #include <string>
@@ -24,7 +26,7 @@ class IndefiniteFactor {
   /// Factors upper (its symmetric matrix); false on a zero or non-finite pivot (message() says which).
   bool factorize(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion);
   /// x = A⁻¹ b with the last successful factor; false when the result is not finite.
-  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  bool solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
   /// A pivot counts as negative below −kRoundOffPivot × the largest |pivot|. Smaller ones, of either sign, are
   /// the round-off of a singular direction, not an eigenvalue: measured on a free, unloaded 3×3-vertex actor
   /// (6 rigid motions), 1e-15 of the largest and less; a strip in compression just past its buckling load (L/h
@@ -38,13 +40,14 @@ class IndefiniteFactor {
   /// sum of the unit vectors e_i of its negative pivots, d = Pᵀ L⁻ᵀ u, so that dᵀ A d = Σ D_ii < 0 (every negative
   /// direction at once: a saddle that is symmetric in several independent ways is left in one step). False when
   /// there is none (no negative pivot) or d is not finite.
-  bool negativeCurvatureDirection(Eigen::VectorXd& d) const;
+  bool negativeCurvatureDirection(Eigen::VectorXd& d);
   /// The symbolic analyses done (one per pattern version).
   int analyses() const { return analyses_; }
   const std::string& message() const { return message_; }
 
  private:
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper, Eigen::AMDOrdering<int>> ldlt_;
+  CholmodFactor ldlt_;
+  bool factorized_ = false;
   std::uint64_t version_ = 0;
   bool analyzed_ = false;
   int analyses_ = 0;

@@ -419,7 +419,7 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
         continue;
       }
       NewtonSolver newton(objective, o.newton);
-      IndefiniteFactor stability;  // the stability counts' factor (Eigen's LDLᵀ, solvers/stability_check.h)
+      IndefiniteFactor stability;  // the stability counts' factor (solvers/stability_check.h)
       BranchSwitchResult sw = switchBranch(newton, loads, stability, o.branchSwitch, last.lambda, last.x, trialLambda,
                                            trial);
       result.newtonIterations += sw.newtonIterations;

@@ -25,7 +25,7 @@ void check(bool ok, const char* field, double value, const char* rule) {
 /// which branch switching reads first): returns the negative eigenvalues of the exact Hessian at the equilibrium
 /// finally kept (-1: the factorization failed, so unknown).
 /// x and summary are replaced when a saddle is left for a lower equilibrium (at most saddleEscapes times). The
-/// factorization is Eigen's simplicial LDLᵀ on one thread (solvers/stability_check.h); `factor` is the path's
+/// factorization is the supernodal LDLᵀ of solvers/indefinite_factor.h, BLAS on one thread; `factor` is the path's
 /// own, as in path control, so its symbolic analysis is done once per Hessian pattern, not once per check.
 int leaveSaddles(Objective& objective, NewtonSolver& newton, IndefiniteFactor& factor, const LoadSteppingOptions& o,
                  Eigen::VectorXd& x, SolverSummary& summary, StaticsResult& result, Stability s) {

@@ -39,6 +39,29 @@ Supernodes supernodes(const cholmod_factor& L) {
 
 }  // namespace
 
+template <class Update>
+void SupernodalCholesky::forEachDescendant(const cholmod_factor& L, int t, Update&& update) {
+  const Supernodes sn = supernodes(L);
+  const int k2 = sn.super[t + 1];
+  int d = head_[static_cast<std::size_t>(t)];
+  head_[static_cast<std::size_t>(t)] = -1;
+  while (d >= 0) {
+    const int following = next_[static_cast<std::size_t>(d)];
+    const int dStart = sn.pi[d];
+    const int dRows = sn.pi[d + 1] - dStart;
+    const int first = position_[static_cast<std::size_t>(d)];
+    int end = first;
+    while (end < dRows && sn.s[dStart + end] < k2) ++end;
+    const int inColumns = end - first;  // rows of d that are columns of t
+    const int below = dRows - first;    // rows of d from there to the end
+    const auto updateSize = static_cast<std::size_t>(below) * static_cast<std::size_t>(inColumns);
+    if (updateSize > update_.size()) update_.resize(updateSize);  // not expected: maxcsize bounds it
+    update(d, first, inColumns, below);
+    linkDescendant(L, d, end);
+    d = following;
+  }
+}
+
 bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMatrix<double>& upper,
                                  std::string& message) {
   const auto n = static_cast<std::ptrdiff_t>(L.n);
@@ -98,7 +121,85 @@ bool SupernodalCholesky::prepare(const cholmod_factor& L, const Eigen::SparseMat
 }
 
 std::size_t SupernodalCholesky::factorize(cholmod_factor& L, const Eigen::SparseMatrix<double>& upper, double shift) {
+  return sweep(L, upper, shift, false);
+}
+
+std::size_t SupernodalCholesky::factorizeLdlt(cholmod_factor& L, const Eigen::SparseMatrix<double>& upper) {
+  return sweep(L, upper, 0.0, true);
+}
+
+std::size_t SupernodalCholesky::sweep(cholmod_factor& L, const Eigen::SparseMatrix<double>& upper, double shift,
+                                      bool ldlt) {
+  using Column = Eigen::Map<Eigen::VectorXd>;
+  using ConstColumn = Eigen::Map<const Eigen::VectorXd>;
   const Supernodes sn = supernodes(L);
+  double* x = static_cast<double*>(L.x);
+  scatterMatrix(L, upper, shift);
+  const double one = 1.0, zero = 0.0;
+  for (int t = 0; t < sn.count; ++t) {
+    const int k1 = sn.super[t], columns = sn.super[t + 1] - k1;
+    const int rowStart = sn.pi[t];
+    const int rows = sn.pi[t + 1] - rowStart;
+    double* block = x + sn.px[t];
+    for (int r = 0; r < rows; ++r) map_[static_cast<std::size_t>(sn.s[rowStart + r])] = r;
+
+    // Updates from the descendants whose next unprocessed row falls in this supernode's columns: −L_d L_dᵀ (a
+    // syrk and a gemm) or, for LDLᵀ, −L_d D_d L_dᵀ (one gemm with d's rows in t's columns scaled by d's pivots; a
+    // syrk needs a definite D).
+    forEachDescendant(L, t, [&](int d, int first, int inColumns, int below) {
+      const int dRows = sn.pi[d + 1] - sn.pi[d];
+      const int dColumns = sn.super[d + 1] - sn.super[d];
+      const double* dBlock = x + sn.px[d] + first;
+      double* c = update_.data();
+      if (ldlt) {
+        const auto scaledSize = static_cast<std::size_t>(inColumns) * static_cast<std::size_t>(dColumns);
+        if (scaledSize > scaled_.size()) scaled_.resize(scaledSize);
+        for (int k = 0; k < dColumns; ++k) {
+          const double pivot = x[sn.px[d] + static_cast<long>(k) * (dRows + 1)];
+          Column(scaled_.data() + static_cast<long>(k) * inColumns, inColumns) =
+              pivot * ConstColumn(dBlock + static_cast<long>(k) * dRows, inColumns);
+        }
+        dgemm_("N", "T", &below, &inColumns, &dColumns, &one, dBlock, &dRows, scaled_.data(), &inColumns, &zero, c,
+               &below, 1, 1);
+      } else {
+        dsyrk_("L", "N", &inColumns, &dColumns, &one, dBlock, &dRows, &zero, c, &below, 1, 1);
+        if (below > inColumns) {
+          const int rest = below - inColumns;
+          dgemm_("N", "T", &rest, &inColumns, &dColumns, &one, dBlock + inColumns, &dRows, dBlock, &dRows, &zero,
+                 c + inColumns, &below, 1, 1);
+        }
+      }
+      scatterUpdate(block, k1, rows, sn.s + sn.pi[d] + first, c, below, inColumns);
+    });
+
+    if (ldlt) {
+      // The supernode's own columns, right-looking, each carried down all its rows: column j holds l_ij d_j until
+      // the columns after it are updated, then l_ij.
+      for (int j = 0; j < columns; ++j) {
+        double* cj = block + static_cast<long>(j) * rows;
+        const double pivot = cj[j];
+        if (pivot == 0.0 || !std::isfinite(pivot)) return static_cast<std::size_t>(k1 + j);
+        for (int k = j + 1; k < columns; ++k)
+          Column(block + static_cast<long>(k) * rows + k, rows - k) -= (cj[k] / pivot) * ConstColumn(cj + k, rows - k);
+        Column(cj + j + 1, rows - j - 1) /= pivot;
+      }
+    } else {
+      int info = 0;
+      dpotrf_("L", &columns, block, &rows, &info, 1);
+      if (info > 0) return static_cast<std::size_t>(k1 + info - 1);
+      for (int k = 0; k < columns; ++k)
+        if (!std::isfinite(block[static_cast<long>(k) * (rows + 1)])) return static_cast<std::size_t>(k1 + k);
+      if (rows > columns) {
+        const int rest = rows - columns;
+        dtrsm_("R", "L", "T", "N", &rest, &columns, &one, block, &rows, block + columns, &rows, 1, 1, 1, 1);
+      }
+    }
+    linkDescendant(L, t, columns);
+  }
+  return L.n;
+}
+
+void SupernodalCholesky::scatterMatrix(cholmod_factor& L, const Eigen::SparseMatrix<double>& upper, double shift) {
   double* x = static_cast<double*>(L.x);
   std::fill(x, x + L.xsize, 0.0);
   const double* values = upper.valuePtr();
@@ -106,82 +207,45 @@ std::size_t SupernodalCholesky::factorize(cholmod_factor& L, const Eigen::Sparse
     if (target_[p] >= 0) x[target_[p]] = values[p];
   if (shift != 0.0)
     for (const long d : diagonal_) x[d] += shift;
-
   std::fill(head_.begin(), head_.end(), -1);
-  const double one = 1.0, zero = 0.0;
-  for (int t = 0; t < sn.count; ++t) {
-    const int k1 = sn.super[t], k2 = sn.super[t + 1];
-    const int columns = k2 - k1;
-    const int rowStart = sn.pi[t];
-    const int rows = sn.pi[t + 1] - rowStart;
-    double* block = x + sn.px[t];
-    for (int r = 0; r < rows; ++r) map_[static_cast<std::size_t>(sn.s[rowStart + r])] = r;
+}
 
-    // Updates from the descendants whose next unprocessed row falls in this supernode's columns.
-    int d = head_[static_cast<std::size_t>(t)];
-    head_[static_cast<std::size_t>(t)] = -1;
-    while (d >= 0) {
-      const int following = next_[static_cast<std::size_t>(d)];
-      const int dStart = sn.pi[d];
-      const int dRows = sn.pi[d + 1] - dStart;
-      const int dColumns = sn.super[d + 1] - sn.super[d];
-      const int first = position_[static_cast<std::size_t>(d)];
-      int end = first;
-      while (end < dRows && sn.s[dStart + end] < k2) ++end;
-      const int inColumns = end - first;  // rows of d that are columns of t
-      const int below = dRows - first;    // rows of d from there to the end
-      const double* dBlock = x + sn.px[d] + first;
-      const auto updateSize = static_cast<std::size_t>(below) * static_cast<std::size_t>(inColumns);
-      if (updateSize > update_.size()) update_.resize(updateSize);  // not expected: maxcsize bounds it
-      double* c = update_.data();
-      dsyrk_("L", "N", &inColumns, &dColumns, &one, dBlock, &dRows, &zero, c, &below, 1, 1);
-      if (below > inColumns) {
-        const int rest = below - inColumns;
-        dgemm_("N", "T", &rest, &inColumns, &dColumns, &one, dBlock + inColumns, &dRows, dBlock, &dRows, &zero,
-               c + inColumns, &below, 1, 1);
-      }
-      for (int j = 0; j < inColumns; ++j) {
-        double* column = block + static_cast<long>(sn.s[dStart + first + j] - k1) * rows;
-        const double* cj = c + static_cast<long>(j) * below;
-        for (int i = j; i < below; ++i) column[map_[static_cast<std::size_t>(sn.s[dStart + first + i])]] -= cj[i];
-      }
-      position_[static_cast<std::size_t>(d)] = end;
-      if (end < dRows) {
-        const int owner = superOf_[static_cast<std::size_t>(sn.s[dStart + end])];
-        next_[static_cast<std::size_t>(d)] = head_[static_cast<std::size_t>(owner)];
-        head_[static_cast<std::size_t>(owner)] = d;
-      }
-      d = following;
-    }
+void SupernodalCholesky::linkDescendant(const cholmod_factor& L, int t, int position) {
+  const Supernodes sn = supernodes(L);
+  const int rowStart = sn.pi[t];
+  if (position >= sn.pi[t + 1] - rowStart) return;
+  position_[static_cast<std::size_t>(t)] = position;
+  const int owner = superOf_[static_cast<std::size_t>(sn.s[rowStart + position])];
+  next_[static_cast<std::size_t>(t)] = head_[static_cast<std::size_t>(owner)];
+  head_[static_cast<std::size_t>(owner)] = t;
+}
 
-    int info = 0;
-    dpotrf_("L", &columns, block, &rows, &info, 1);
-    if (info > 0) return static_cast<std::size_t>(k1 + info - 1);
-    for (int k = 0; k < columns; ++k)
-      if (!std::isfinite(block[static_cast<long>(k) * (rows + 1)])) return static_cast<std::size_t>(k1 + k);
-    if (rows > columns) {
-      const int rest = rows - columns;
-      dtrsm_("R", "L", "T", "N", &rest, &columns, &one, block, &rows, block + columns, &rows, 1, 1, 1, 1);
-      position_[static_cast<std::size_t>(t)] = columns;
-      const int owner = superOf_[static_cast<std::size_t>(sn.s[rowStart + columns])];
-      next_[static_cast<std::size_t>(t)] = head_[static_cast<std::size_t>(owner)];
-      head_[static_cast<std::size_t>(owner)] = t;
-    }
+void SupernodalCholesky::scatterUpdate(double* block, int k1, int rows, const int* rowIndex, const double* c,
+                                       int below, int inColumns) {
+  for (int j = 0; j < inColumns; ++j) {
+    double* column = block + static_cast<long>(rowIndex[j] - k1) * rows;
+    const double* cj = c + static_cast<long>(j) * below;
+    for (int i = j; i < below; ++i) column[map_[static_cast<std::size_t>(rowIndex[i])]] -= cj[i];
   }
-  return L.n;
 }
 
 void SupernodalCholesky::solve(const cholmod_factor& L, const double* b, double* x) {
+  const int* perm = static_cast<const int*>(L.Perm);
+  double* y = permuted_.data();
+  const auto n = static_cast<int>(L.n);
+  for (int k = 0; k < n; ++k) y[k] = b[perm[k]];
+  forwardSweep(L, y, false);
+  backwardSweep(L, y, false);
+  for (int k = 0; k < n; ++k) x[perm[k]] = y[k];
+}
+
+void SupernodalCholesky::forwardSweep(const cholmod_factor& L, double* y, bool unit) {
   using Vector = Eigen::Map<Eigen::VectorXd>;
   using ConstVector = Eigen::Map<const Eigen::VectorXd>;
   const Supernodes sn = supernodes(L);
-  const int* perm = static_cast<const int*>(L.Perm);
   const double* lx = static_cast<const double*>(L.x);
-  double* y = permuted_.data();
   double* w = rows_.data();
-  const auto n = static_cast<int>(L.n);
-  for (int k = 0; k < n; ++k) y[k] = b[perm[k]];
-  // L y = Pb, supernode by supernode: the diagonal block's columns, each carried down its whole column.
+  // Supernode by supernode: the diagonal block's columns, each carried down its whole column.
   for (int t = 0; t < sn.count; ++t) {
     const int k1 = sn.super[t], columns = sn.super[t + 1] - k1;
     const int* rowIndex = sn.s + sn.pi[t];
@@ -191,13 +255,20 @@ void SupernodalCholesky::solve(const cholmod_factor& L, const double* b, double*
     std::fill(w + columns, w + rows, 0.0);
     for (int j = 0; j < columns; ++j) {
       const double* column = block + static_cast<long>(j) * rows;
-      w[j] /= column[j];
+      if (!unit) w[j] /= column[j];
       Vector(w + j + 1, rows - j - 1).noalias() -= w[j] * ConstVector(column + j + 1, rows - j - 1);
     }
-    for (int j = 0; j < columns; ++j) y[k1 + j] = w[j];
+    for (int j = 0; j < columns; ++j) y[k1 + j] = unit ? w[j] / block[static_cast<long>(j) * (rows + 1)] : w[j];
     for (int i = columns; i < rows; ++i) y[rowIndex[i]] += w[i];
   }
-  // Lᵀ z = y, in reverse: each column's dot product with its rows' solution, then the diagonal.
+}
+
+void SupernodalCholesky::backwardSweep(const cholmod_factor& L, double* y, bool unit) {
+  using ConstVector = Eigen::Map<const Eigen::VectorXd>;
+  const Supernodes sn = supernodes(L);
+  const double* lx = static_cast<const double*>(L.x);
+  double* w = rows_.data();
+  // In reverse: each column's dot product with its rows' solution, then (LLᵀ) the diagonal.
   for (int t = sn.count - 1; t >= 0; --t) {
     const int k1 = sn.super[t], columns = sn.super[t + 1] - k1;
     const int* rowIndex = sn.s + sn.pi[t];
@@ -206,11 +277,37 @@ void SupernodalCholesky::solve(const cholmod_factor& L, const double* b, double*
     for (int i = 0; i < rows; ++i) w[i] = y[rowIndex[i]];
     for (int j = columns - 1; j >= 0; --j) {
       const double* column = block + static_cast<long>(j) * rows;
-      w[j] = (w[j] - ConstVector(column + j + 1, rows - j - 1).dot(ConstVector(w + j + 1, rows - j - 1))) / column[j];
+      w[j] -= ConstVector(column + j + 1, rows - j - 1).dot(ConstVector(w + j + 1, rows - j - 1));
+      if (!unit) w[j] /= column[j];
     }
     for (int j = 0; j < columns; ++j) y[k1 + j] = w[j];
   }
+}
+
+
+
+void SupernodalCholesky::solveLdlt(const cholmod_factor& L, const double* b, double* x) {
+  const int* perm = static_cast<const int*>(L.Perm);
+  double* y = permuted_.data();
+  const auto n = static_cast<int>(L.n);
+  for (int k = 0; k < n; ++k) y[k] = b[perm[k]];
+  forwardSweep(L, y, true);
+  backwardSweep(L, y, true);
   for (int k = 0; k < n; ++k) x[perm[k]] = y[k];
+}
+
+void SupernodalCholesky::solveUnitTransposed(const cholmod_factor& L, const double* u, double* x) {
+  const int* perm = static_cast<const int*>(L.Perm);
+  const auto n = static_cast<int>(L.n);
+  double* y = permuted_.data();
+  std::copy(u, u + n, y);
+  backwardSweep(L, y, true);
+  for (int k = 0; k < n; ++k) x[perm[k]] = y[k];
+}
+
+void SupernodalCholesky::pivots(const cholmod_factor& L, double* d) const {
+  const double* lx = static_cast<const double*>(L.x);
+  for (std::size_t k = 0; k < diagonal_.size(); ++k) d[k] = lx[diagonal_[k]];
 }
 
 }  // namespace jetshell
