@@ -14,6 +14,18 @@
 namespace jetshell {
 namespace {
 
+/// The cubic Hermite interpolant between (λ_a, x_a) and (λ_b, x_b) = (λ_a + Δλ, ...) with slopes dx/dλ t_a and t_b,
+/// less the chord, at s = (λ − λ_a)/Δλ: s(1−s)(1−2s)(x_a − x_b) + s(1−s)² Δλ t_a − s²(1−s) Δλ t_b, zero on the
+/// fixed dofs (which keep the chord's values: prescribed motion is linear in λ).
+Eigen::VectorXd hermiteBend(const Eigen::VectorXd& xa, const Eigen::VectorXd& xb, const Eigen::VectorXd& ta,
+                            const Eigen::VectorXd& tb, double dLambda, double s, const Objective& objective) {
+  const double r = 1.0 - s;
+  Eigen::VectorXd bend = (s * r * (1.0 - 2.0 * s)) * (xa - xb);
+  bend += (s * r * r * dLambda) * ta - (s * s * r * dLambda) * tb;
+  objective.zeroFixed(bend);
+  return bend;
+}
+
 void checkPathOption(bool ok, const char* field, double value, const char* rule) {
   if (ok) return;
   std::ostringstream s;
@@ -442,8 +454,10 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       std::vector<double> crossed = crossedLevels(last.lambda, trialLambda);
       const double towards = trialLambda >= last.lambda ? 1.0 : -1.0;
       std::sort(crossed.begin(), crossed.end(), [&](double a, double b) { return towards * a < towards * b; });
-      // Each landing is a load-controlled correction from the chord. One that fails cuts the whole step while the
-      // increment can still be halved (a shorter chord starts closer); only then is the level reported missed.
+      // Each landing is a load-controlled correction from the cubic Hermite interpolant in λ between the two path
+      // points, with their tangents dx/dλ = K⁻¹q, where λ is monotone between them (dλ/dp of one sign at both
+      // ends); from the chord otherwise. One that fails cuts the whole step while the increment can still be
+      // halved (a shorter chord starts closer); only then is the level reported missed.
       struct Landing {
         double level, p;
         Eigen::VectorXd x;
@@ -451,9 +465,12 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
       };
       std::vector<Landing> landings;
       bool cutStep = false;
+      const bool hermite = tangent.size() > 0 && lastTangent.size() > 0 &&
+                           loadRate(lastTangent, du, dl) * loadRate(tangent, du, dl) > 0.0;
       for (double level : crossed) {
         const double f = (level - last.lambda) / (trialLambda - last.lambda);
         Landing l{level, last.p + f * (pNew - last.p), last.x + f * (trial - last.x), {}};
+        if (hermite) l.x += hermiteBend(last.x, trial, lastTangent, tangent, dl, f, objective);
         double ll = level;
         PathConstraint held;
         held.kind = PathConstraint::Kind::LoadFactor;

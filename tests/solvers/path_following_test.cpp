@@ -261,3 +261,35 @@ TEST_CASE("path following: the energy identity holds across a limit point and fa
   INFO("released " << jump.released << ", work " << jump.work);
   CHECK(std::abs(jump.released) > LoadJump::kRatio * jump.work);
 }
+
+TEST_CASE("path following: arc length's landings start from the Hermite cubic through the path points",
+          "[statics][path]") {
+  // Landing on a level between two path points is a load-controlled correction. From the cubic Hermite
+  // interpolant with the tangents dx/dλ = K⁻¹q at both points it starts third-order close (the chord: second).
+  // Measured: the 10 landings take 24 Newton iterations (from the chord: 50), the 11 steps 44.
+  testing::SingleThread single;
+  ShellSystem system(testing::cantileverPlate(6, 2, 0.2), AnalysisKind::Statics);
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o = pathOptions(PathControl::ArcLength);
+  o.newton.residualTolerance = 1e-9;
+  o.levels = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
+  int landings = 0, landingIterations = 0, stepIterations = 0, steps = 0;
+  const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
+    REQUIRE(s.summary.converged());
+    if (s.atLevel) {
+      ++landings;
+      landingIterations += s.summary.iterations;
+    } else {
+      ++steps;
+      stepIterations += s.summary.iterations;
+    }
+    return true;
+  });
+  INFO(r.message);
+  REQUIRE(r.completed);
+  INFO("landings " << landings << ": " << landingIterations << " iterations; steps " << steps << ": "
+                    << stepIterations);
+  CHECK(landings == 10);
+  CHECK(landingIterations <= 3 * landings);
+  CHECK((x - loadControlled(1.0)).cwiseAbs().maxCoeff() < 1e-6);
+}
