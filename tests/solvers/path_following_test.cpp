@@ -35,15 +35,26 @@ Eigen::VectorXd loadControlled(double lambda) {
   return x;
 }
 
+/// A cantilever plate under a tip load by arc length, to a residual of 1e-9, on one thread.
+struct CantileverArc {
+  testing::SingleThread single;
+  ShellSystem system{testing::cantileverPlate(6, 2, 0.2), AnalysisKind::Statics};
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions options = [] {
+    LoadSteppingOptions o = pathOptions(PathControl::ArcLength);
+    o.newton.residualTolerance = 1e-9;
+    return o;
+  }();
+};
+
 }  // namespace
 
 TEST_CASE("path following: arc length lands on every level crossed and agrees with load control there",
           "[statics][path]") {
-  testing::SingleThread single;
-  ShellSystem system(testing::cantileverPlate(6, 2, 0.2), AnalysisKind::Statics);
-  Eigen::VectorXd x = system.restPositions();
-  LoadSteppingOptions o = pathOptions(PathControl::ArcLength);
-  o.newton.residualTolerance = 1e-9;
+  CantileverArc c;
+  ShellSystem& system = c.system;
+  Eigen::VectorXd& x = c.x;
+  LoadSteppingOptions& o = c.options;
   o.levels = {0.5};
   std::vector<LoadStepResult> levels;
   const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
@@ -267,14 +278,10 @@ TEST_CASE("path following: arc length's landings start from the Hermite cubic th
   // Landing on a level between two path points is a load-controlled correction. From the cubic Hermite
   // interpolant with the tangents dx/dλ = K⁻¹q at both points it starts third-order close (the chord: second).
   // Measured: the 10 landings take 24 Newton iterations (from the chord: 50), the 11 steps 44.
-  testing::SingleThread single;
-  ShellSystem system(testing::cantileverPlate(6, 2, 0.2), AnalysisKind::Statics);
-  Eigen::VectorXd x = system.restPositions();
-  LoadSteppingOptions o = pathOptions(PathControl::ArcLength);
-  o.newton.residualTolerance = 1e-9;
-  o.levels = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
+  CantileverArc c;
+  c.options.levels = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
   int landings = 0, landingIterations = 0, stepIterations = 0, steps = 0;
-  const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
+  const StaticsResult r = solveStatics(c.system, c.x, c.options, [&](const LoadStepResult& s) {
     REQUIRE(s.summary.converged());
     if (s.atLevel) {
       ++landings;
@@ -291,5 +298,5 @@ TEST_CASE("path following: arc length's landings start from the Hermite cubic th
                     << stepIterations);
   CHECK(landings == 10);
   CHECK(landingIterations <= 3 * landings);
-  CHECK((x - loadControlled(1.0)).cwiseAbs().maxCoeff() < 1e-6);
+  CHECK((c.x - loadControlled(1.0)).cwiseAbs().maxCoeff() < 1e-6);
 }
