@@ -8,6 +8,12 @@ namespace jetshell {
 bool IndefiniteFactor::factorize(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion) {
   using Status = CholmodFactor::Status;
   factorized_ = false;
+  if (upper.rows() == 0) {  // nothing to factor (CHOLMOD refuses an empty matrix): no pivot, no direction
+    negative_ = 0;
+    empty_ = factorized_ = true;
+    return true;
+  }
+  empty_ = false;
   if (!analyzed_ || patternVersion != version_) {
     analyzed_ = false;
     if (ldlt_.analyze(upper) != Status::Ok) {
@@ -31,12 +37,16 @@ bool IndefiniteFactor::factorize(const Eigen::SparseMatrix<double>& upper, std::
 }
 
 bool IndefiniteFactor::negativeCurvatureDirection(Eigen::VectorXd& d) {
-  if (!factorized_ || negative_ == 0) return false;
+  if (!factorized_ || negative_ == 0 || empty_) return false;
   const Eigen::VectorXd u = (ldlt_.pivots().array() < negativeBelow_).cast<double>().matrix();
   return ldlt_.solveUnitTransposed(u, d) == CholmodFactor::Status::Ok && d.allFinite();
 }
 
 bool IndefiniteFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (factorized_ && empty_) {
+    x.resize(0);
+    return b.size() == 0;
+  }
   return factorized_ && ldlt_.solve(b, x) == CholmodFactor::Status::Ok && x.allFinite();
 }
 

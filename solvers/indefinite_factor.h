@@ -48,6 +48,7 @@ class IndefiniteFactor {
  private:
   CholmodFactor ldlt_;
   bool factorized_ = false;
+  bool empty_ = false;  // the last matrix was 0 × 0
   std::uint64_t version_ = 0;
   bool analyzed_ = false;
   int analyses_ = 0;

@@ -119,3 +119,25 @@ TEST_CASE("indefinite factor: a new pattern version is analysed again", "[solver
   CHECK(factor.analyses() == 2);
   CHECK(factor.negativePivots() == 0);
 }
+
+TEST_CASE("indefinite factor: a 1 x 1 negative matrix has one negative pivot, an empty one none", "[solvers]") {
+  IndefiniteFactor factor;
+  Eigen::SparseMatrix<double> one(1, 1);
+  one.insert(0, 0) = -2.0;
+  one.makeCompressed();
+  REQUIRE(factor.factorize(one, 1));
+  CHECK(factor.negativePivots() == 1);
+  Eigen::VectorXd x, d;
+  REQUIRE(factor.solve(Eigen::VectorXd::Ones(1), x));
+  CHECK(x[0] == -0.5);
+  REQUIRE(factor.negativeCurvatureDirection(d));
+  CHECK(d.size() == 1);
+  CHECK(d[0] != 0.0);
+
+  const Eigen::SparseMatrix<double> empty(0, 0);
+  REQUIRE(factor.factorize(empty, 2));
+  CHECK(factor.negativePivots() == 0);
+  CHECK(factor.solve(Eigen::VectorXd(), x));
+  CHECK(x.size() == 0);
+  CHECK_FALSE(factor.negativeCurvatureDirection(d));
+}
