@@ -54,10 +54,6 @@ class SupernodalCholesky {
   std::size_t entries() const { return target_.size(); }
 
  private:
-  std::vector<long> target_;    // per stored entry of upper: its index in L's values, or −1 (below diagonal)
-  std::vector<long> diagonal_;  // per column (L's order): the index of its diagonal in L's values
-  std::vector<int> superOf_;    // per column: its supernode
-  std::vector<int> head_, next_, position_, map_;  // the left-looking sweep's lists and relative row map
   /// The left-looking sweep of factorize (LLᵀ) and factorizeLdlt.
   std::size_t sweep(cholmod_factor_struct& L, const Eigen::SparseMatrix<double>& upper, double shift, bool ldlt);
   /// Moves the columns of P(A + shift·I)Pᵀ into L's values (zero elsewhere).
@@ -77,6 +73,10 @@ class SupernodalCholesky {
   void scatterUpdate(double* block, int k1, int rows, const int* rowIndex, const double* c, int below,
                      int inColumns);
 
+  std::vector<long> target_;    // per stored entry of upper: its index in L's values, or −1 (below diagonal)
+  std::vector<long> diagonal_;  // per column (L's order): the index of its diagonal in L's values
+  std::vector<int> superOf_;    // per column: its supernode
+  std::vector<int> head_, next_, position_, map_;  // the left-looking sweep's lists and relative row map
   std::vector<double> update_;  // one descendant's update block
   std::vector<double> scaled_;  // LDLᵀ: one descendant's rows in the target's columns, scaled by its pivots
   std::vector<double> permuted_, rows_;  // the solve's right-hand side in L's order, one supernode's rows
