@@ -5,8 +5,11 @@
 // Why these values:
 // - vertices, faces: 3N unknowns and the Hessian's ~170 N non-zeros must fit the int indices of the sparse
 //   matrices with room to spare (4e6 vertices → ~7e8 non-zeros); such a mesh already needs tens of GB to solve.
-// - steps: load steps, time steps (duration / timeStep) and relaxation steps; 1e7 steps of 60 Hz dynamics are
-//   46 hours of simulated time.
+// - steps: time steps (duration / timeStep) and relaxation steps; 1e7 steps of 60 Hz dynamics are 46 hours of
+//   simulated time.
+// - load levels: a static analysis' loadSteps, levels 1/N apart; the statics path takes no load increment below
+//   1e-4 (LoadSteppingOptions::minIncrement, solvers/statics.h), so 10,000 levels is the finest it can follow
+//   (a finer one was refused inside the solver, with a message that named its option, not the scene's field).
 // - Newton iterations per step, threads: far above any useful value, far below what breaks OpenMP or an int.
 // - file sizes, line length, JSON depth and string length: bound the memory a hostile file can claim (an OBJ
 //   line, a JSON document) and the recursion of everything that walks a JSON tree.
@@ -22,7 +25,8 @@ namespace jetshell {
 struct InputLimits {
   std::int64_t maxVertices = 4'000'000;      // per mesh and per scene (all shell actors stacked)
   std::int64_t maxFaces = 8'000'000;         // per mesh and per scene
-  std::int64_t maxSteps = 10'000'000;        // load steps, time steps, relaxation steps
+  std::int64_t maxSteps = 10'000'000;        // time steps, relaxation steps
+  std::int64_t maxLoadLevels = 10'000;       // static loadSteps: 1 / LoadSteppingOptions::minIncrement
   std::int64_t maxIterations = 1'000'000;    // Newton iterations per step
   int maxThreads = 256;                      // solver.threads
   std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)

@@ -3,6 +3,7 @@
 // enters, before anything is allocated for it, with one line naming the field and the bound.
 #include "core/input_limits.h"
 #include "core/mesh.h"
+#include "solvers/statics.h"
 #include "tools/scene/json_reader.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
@@ -126,7 +127,12 @@ TEST_CASE("scene bounds: selections, steps, iterations and threads", "[scene][ho
   CHECK(boundsErrorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", 1e-7}, {"duration", 10}}; }) ==
         "/analysis/timeStep = 1e-07: 1e+08 steps over the duration 10 s, too many (at most 10000000)");
   CHECK(boundsErrorAfter([](Json& s) { s["analysis"]["loadSteps"] = 1e12; }) ==
-        "/analysis/loadSteps = 1000000000000.0: too large (at most 10000000)");
+        "/analysis/loadSteps = 1000000000000.0: too large (at most 10000)");
+  // Levels finer than the statics path's smallest increment are refused here, naming the scene's field.
+  CHECK(boundsErrorAfter([](Json& s) { s["analysis"]["loadSteps"] = 10001; }) ==
+        "/analysis/loadSteps = 10001: too large (at most 10000)");
+  CHECK(boundsErrorAfter([](Json& s) { s["analysis"]["loadSteps"] = 10000; }) == "no error");
+  CHECK(1.0 / LoadSteppingOptions{}.minIncrement == static_cast<double>(inputLimits().maxLoadLevels));
   CHECK(boundsErrorAfter([](Json& s) { s["analysis"] = {{"type", "dynamicRelaxation"}, {"timeStep", 0.1}, {"maxSteps", 1e8}}; }) ==
         "/analysis/maxSteps = 100000000.0: too large (at most 10000000)");
   CHECK(boundsErrorAfter([](Json& s) { s["solver"] = {{"threads", 1000000}}; }) ==
@@ -149,7 +155,7 @@ TEST_CASE("scene bounds: the C++ scene API checks the same bounds", "[scene][hos
                                      "most 10000000)");
   scene.analysis.type = AnalysisType::Static;
   scene.analysis.loadSteps = 2000000000;
-  CHECK_THROWS_WITH(validate(scene), "/analysis/loadSteps = 2000000000: too large (at most 10000000)");
+  CHECK_THROWS_WITH(validate(scene), "/analysis/loadSteps = 2000000000: too large (at most 10000)");
   scene.analysis.loadSteps = 1;
   BoundsLimitOverride restore;
   inputLimits().maxVertices = 20;  // the strip has 15 vertices: one actor fits, two do not

@@ -116,7 +116,7 @@ void validate(const Scene& scene) {
   check::atMost(faces, limits.maxFaces, "scene: faces of all shell actors");
   const AnalysisSettings& a = scene.analysis;
   if (a.type == AnalysisType::Static) check::atLeast(a.loadSteps, 1, "/analysis/loadSteps");
-  if (a.type == AnalysisType::Static) check::atMost(a.loadSteps, limits.maxSteps, "/analysis/loadSteps");
+  if (a.type == AnalysisType::Static) check::atMost(a.loadSteps, limits.maxLoadLevels, "/analysis/loadSteps");
   if (a.type == AnalysisType::Static) {
     const PathControlSettings& c = a.pathControl;
     requireOneOf(c.type, {"load", "arcLength", "displacement"}, "/analysis/pathControl/type");

@@ -453,7 +453,7 @@ AnalysisSettings readAnalysis(const Value& v) {
   if (type == "static") {
     const Object o = v.object({"type", "loadSteps", "pathControl", "branchSwitching"}, "a static analysis");
     a.type = AnalysisType::Static;
-    a.loadSteps = o.integer("loadSteps", a.loadSteps, 1, maxSteps);
+    a.loadSteps = o.integer("loadSteps", a.loadSteps, 1, static_cast<int>(inputLimits().maxLoadLevels));
     a.branchSwitching = o.boolean("branchSwitching", a.branchSwitching);
     if (const auto p = o.find("pathControl")) a.pathControl = readPathControl(*p, maxSteps);
     return a;
