@@ -189,6 +189,8 @@ StaticsResult tracePath(Objective& objective, const LoadFactorHooks& loads, Eige
   objective.zeroFixed(t);
   int lastPivots = factor.negativePivots();  // at the last path point (branch switching)
   const double loadWeight = arc ? po.loadScaling * po.loadScaling * freeDot(q0, q0, fixed) : 0.0;
+  checkPathOption(std::isfinite(loadWeight), "loadScaling", po.loadScaling,
+                  "too large: the constraint's load term psi^2 |q|^2 is not finite for these loads");
   const double unit = std::sqrt(freeDot(t, t, fixed) + loadWeight);  // ds/dλ at the start
   if (!(unit > 0.0) || !std::isfinite(unit)) {
     result.message = "path following: the loads do not move the shell (no load vector at the start)";

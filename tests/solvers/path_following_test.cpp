@@ -124,6 +124,8 @@ TEST_CASE("path following: bad path options are refused by name", "[statics][pat
   a.path.maxSteps = 10;
   a.path.loadScaling = -1.0;
   CHECK_THROWS_WITH(solveStatics(system, x, a), Catch::Contains("loadScaling"));
+  a.path.loadScaling = 1e300;  // finite, but ψ²|q|² is not: refused, not "the loads do not move the shell"
+  CHECK_THROWS_WITH(solveStatics(system, x, a), Catch::Contains("loadScaling") && Catch::Contains("too large"));
 }
 
 TEST_CASE("path following: a path that runs out of steps says so and keeps its last equilibrium", "[statics][path]") {
