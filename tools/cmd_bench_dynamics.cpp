@@ -333,7 +333,7 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
   auto opts = std::make_shared<DynamicsBenchOptions>();
   CLI::App* cmd = bench->add_subcommand("dynamics", "Trajectory error against run time for time stepping (hanging cloth)");
   cmd->add_option("--n", opts->n, "Cloth squares per side (vertices = (n+1)^2)")->check(CLI::Range(2, 400));
-  cmd->add_option("--duration", opts->duration, "Simulated time [s]")->check(CLI::Range(1e-3, 60.0));
+  cmd->add_option("--duration", opts->duration, "Simulated time [s]")->check(finiteRange(1e-3, 60.0));
   cmd->add_option("--dts", opts->dts, "Time steps, comma-separated (e.g. 1/30,1/60); each divides the largest");
   cmd->add_option("--integrators", opts->integrators, "Comma-separated: backward_euler, bdf2");
   cmd->add_option("--policies", opts->policies, "Comma-separated: page, jetshell, reference");
@@ -346,7 +346,7 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
   cmd->add_option("--preconditioner", opts->preconditioner,
                   "PCG preconditioner: jacobi | block_jacobi | ic | lagged_cholesky | one_ring_cholesky")
       ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic", "lagged_cholesky", "one_ring_cholesky"}));
-  cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")->check(CLI::Range(1e-14, 0.5));
+  cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")->check(finiteRange(1e-14, 0.5));
   cmd->add_option("--ordering", opts->ordering, "CHOLMOD fill-reducing ordering: auto | amd | metis | nesdis")
       ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
   cmd->add_option("--json", opts->json, "Write the figures as JSON");

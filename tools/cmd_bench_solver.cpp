@@ -338,7 +338,7 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
   CLI::App* cmd = bench->add_subcommand("solver", "Newton, linear solver and time stepping on a hanging cloth");
   cmd->add_option("--n", opts->n, "Cloth squares per side (vertices = (n+1)^2)")->check(CLI::Range(2, 2000));
   cmd->add_option("--steps", opts->steps, "Dynamic steps")->check(CLI::Range(0, 100000));
-  cmd->add_option("--dt", opts->dt, "Time step [s]")->check(CLI::PositiveNumber);
+  cmd->add_option("--dt", opts->dt, "Time step [s]")->check(finiteNumber());
   cmd->add_option("--threads", opts->threads, "OpenMP threads (default: OpenMP's)")->check(CLI::Range(1, 256));
   cmd->add_option("--integrator", opts->integrator, "backward_euler | bdf2")
       ->check(CLI::IsMember({"backward_euler", "bdf2"}));
@@ -362,11 +362,11 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
                 "Only compare the fill-reducing orderings (nnz(L), flops, times) on the first step's Hessian");
   cmd->add_option("--cg-tolerance", opts->cgTolerance,
                   "PCG relative residual tolerance (default: the time-step policy's in dynamics)")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_option("--max-forcing", opts->maxForcing,
                   "PCG in dynamics: 0 = fixed --cg-tolerance; > 0 = Eisenstat-Walker forcing terms up to this value "
                   "(default: the policy's)")
-      ->check(CLI::Range(0.0, 0.9));
+      ->check(finiteRange(0.0, 0.9));
   cmd->add_option("--line-search", opts->lineSearch, "none | armijo | residual | wolfe")
       ->check(CLI::IsMember({"none", "armijo", "residual", "wolfe"}));
   cmd->add_flag("--project-all", opts->projectAll,
@@ -389,8 +389,8 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
       ->check(CLI::IsMember({"gaussNewton", "exact"}));
   cmd->add_option("--projection", opts->projection, "none | clamp | abs")
       ->check(CLI::IsMember({"none", "clamp", "abs"}));
-  cmd->add_option("--mass-damping", opts->massDamping, "alpha_R [1/s]")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--stiffness-damping", opts->stiffnessDamping, "beta_R [s]")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--mass-damping", opts->massDamping, "alpha_R [1/s]")->check(finiteNumber(std::numeric_limits<double>::max(), true));
+  cmd->add_option("--stiffness-damping", opts->stiffnessDamping, "beta_R [s]")->check(finiteNumber(std::numeric_limits<double>::max(), true));
   cmd->add_flag("--skip-statics", opts->skipStatics, "Dynamics only");
   cmd->add_option("--trace-from", opts->traceFrom,
                   "Print the Newton trace of every time step that takes at least this many iterations")

@@ -347,7 +347,7 @@ const RegisterSubcommand registerCheckDerivatives("check-derivatives", [](CLI::A
       ->default_val(o->tolerances.asymmetry);
   cmd->add_option("--fd-initial-step", o->check.initialStep, "First finite-difference step / length scale")
       ->default_val(o->check.initialStep)
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_option("--fd-steps", o->check.extrapolationSteps,
                   "Finite-difference steps (each half the previous) in the Richardson tableau")
       ->default_val(o->check.extrapolationSteps)
@@ -355,14 +355,14 @@ const RegisterSubcommand registerCheckDerivatives("check-derivatives", [](CLI::A
   cmd->add_option("--fold-min-delta", o->configuration.foldMinDelta,
                   "Folds: smallest 180 deg - (angle between normals), rad (> 0: the Kelvin inversion diverges at 0)")
       ->default_val(o->configuration.foldMinDelta)
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_option("--degenerate-aspect", o->configuration.degenerateAspect,
                   "Near-degenerate triangles: altitude / longest edge of the squashed face")
       ->default_val(o->configuration.degenerateAspect)
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_option("--fold-max-delta", o->configuration.foldMaxDelta, "Folds: largest 180 deg - angle, rad")
       ->default_val(o->configuration.foldMaxDelta)
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->callback([o, &exitCode] { exitCode = run(*o); });
 });
 

@@ -80,7 +80,7 @@ const RegisterSubcommand registerStress("stress", [](CLI::App& app, int& exitCod
   cmd->add_option("--only", a->only, "Only the cells whose name contains this text");
   cmd->add_option("--out", a->out, "Keep each cell's run outputs under this directory (default: a temporary one, removed)");
   cmd->add_option("--budget", a->budget, "Wall-clock budget per cell in seconds (a cell over it is a hang)")
-      ->check(CLI::Range(0.1, 3600.0));
+      ->check(finiteRange(0.1, 3600.0));
   cmd->callback([a, &exitCode] { exitCode = runStress(*a); });
 });
 

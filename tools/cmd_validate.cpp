@@ -228,16 +228,16 @@ const RegisterSubcommand registerValidate("validate", [](CLI::App& app, int& exi
   cmd->add_option("--linear-solver", a->linearSolver,
                   "Newton's linear solver: auto (default: CHOLMOD up to 300,000 unknowns, PCG above), cholmod, ldlt, pcg");
   cmd->add_option("--max-increment", a->maxIncrement, "Largest load-factor increment of one Newton solve")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_option("--initial-increment", a->initialIncrement, "The first load-factor increment")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_option("--predictor", a->predictor, "Order of the extrapolated start of each solve (0: last equilibrium)")
       ->check(CLI::Range(0, 5));
   cmd->add_option("--residual-tolerance", a->residualTolerance,
                   "Newton's residual tolerance (x the largest applied nodal force)")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_option("--max-error", a->maxError, "Fail (exit 1) when a benchmark's max relative error exceeds this")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber());
   cmd->add_flag("--log", a->log, "One line per Newton solve on stderr");
   cmd->add_flag("--relaxation-fresh-factors", a->relaxationFreshFactors,
                 "Dynamic relaxation: assemble and factor the Hessian at every Newton iteration instead of reusing "
@@ -246,21 +246,21 @@ const RegisterSubcommand registerValidate("validate", [](CLI::App& app, int& exi
                 "Dynamic relaxation: evaluate each step's static residual instead of reading it from the step's "
                 "last gradient");
   cmd->add_option("--thickness", a->thickness, "hinged-cylindrical-roof: shell thickness (12.7 or 6.35 in Sze et al.)")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber(1000.0));  // mm; the roof's radius is 2540
   cmd->add_option("--load", a->load, "hinged-cylindrical-roof: the point load P at lambda = 1 [N]")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber(1e9));
   cmd->add_option("--max-deflection", a->maxDeflection,
                   "hinged-cylindrical-roof: the load point's deflection that ends displacement control [mm]")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteNumber(1e4));
   cmd->add_option("--path-increment", a->pathIncrement,
                   "hinged-cylindrical-roof: first and largest increment (lambda for arc length, a fraction of "
                   "--max-deflection for displacement control)")
-      ->check(CLI::Range(1e-4, 1.0));
+      ->check(finiteRange(1e-4, 1.0));
   cmd->add_option("--path-max-increment", a->pathMaxIncrement,
                   "hinged-cylindrical-roof: largest increment, in the units of --path-increment")
-      ->check(CLI::Range(1e-4, 1.0));
+      ->check(finiteRange(1e-4, 1.0));
   cmd->add_option("--load-scaling", a->loadScaling, "hinged-cylindrical-roof: arc length's psi (0 cylindrical, 1 spherical)")
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(finiteRange(0.0, 1e6));
   cmd->callback([a, &exitCode] { exitCode = runValidate(*a); });
 });
 

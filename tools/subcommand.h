@@ -9,8 +9,11 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <iostream>
+#include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,6 +36,36 @@ struct RegisteredSubcommand {
 };
 
 std::vector<RegisteredSubcommand>& subcommandRegistry();
+
+/// A check for a real-valued option: a finite number > 0 (or >= 0 with allowZero), at most `maximum`.
+/// CLI::PositiveNumber lets NaN through (NaN <= 0 is false) and accepts inf.
+inline CLI::Validator finiteNumber(double maximum = std::numeric_limits<double>::max(), bool allowZero = false) {
+  return CLI::Validator(
+      [maximum, allowZero](std::string& text) -> std::string {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        if (std::isfinite(v) && (allowZero ? v >= 0.0 : v > 0.0) && v <= maximum) return "";
+        std::ostringstream s;
+        s << text << ": must be a finite number " << (allowZero ? ">= 0" : "> 0");
+        if (maximum < std::numeric_limits<double>::max()) s << " and at most " << maximum;
+        return s.str();
+      },
+      allowZero ? "NONNEGATIVE" : "POSITIVE");
+}
+
+/// A check for a real-valued option: a finite number in [minimum, maximum]. CLI::Range lets NaN through.
+inline CLI::Validator finiteRange(double minimum, double maximum) {
+  return CLI::Validator(
+      [minimum, maximum](std::string& text) -> std::string {
+        double v = 0.0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        if (std::isfinite(v) && v >= minimum && v <= maximum) return "";
+        std::ostringstream s;
+        s << text << ": must be a finite number in [" << minimum << ", " << maximum << "]";
+        return s.str();
+      },
+      "FLOAT in range");
+}
 
 /// The shared parent of all `jetshell bench <name>` benchmarks (created on first use). Benchmark files add
 /// their own subcommand to it: `benchCommand(app)->add_subcommand("solver", ...)`.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Hostile input through the `jetshell` program: each case must exit with code 3 and print one line naming the
-# problem (checked by a fragment), and finish quickly (a FIFO or /dev/zero must not hang or eat memory).
+# Hostile input through the `jetshell` program: each case must exit with its code (3 for input, 2 for the command
+# line) and print one line naming the problem (checked by a fragment), and finish quickly (a FIFO or /dev/zero
+# must not hang or eat memory).
 # Usage: hostile_cli_test.sh path/to/jetshell
 set -u
 js="$1"
@@ -60,9 +61,18 @@ expect 3 "--mesh: 100000x100000 gives 10000200001 vertices, too many (at most 40
 expect 3 "--mesh: '8x' is not N1xN2" -- "$js" validate cantilever-end-shear --mesh 8x
 expect 3 "--grading: 'x' is not one of: uniform, cosine" -- "$js" validate slit-annular-plate --grading x
 expect 3 "--linear-solver: linear solver 'x': expected auto, cholmod, ldlt or pcg" -- "$js" validate slit-annular-plate --linear-solver x
+# Real-valued options refuse NaN and infinities where they enter (CLI11's PositiveNumber and Range let NaN through).
+expect 2 "--load: nan: must be a finite number > 0" -- "$js" validate hinged-cylindrical-roof --load nan
+expect 2 "--thickness: 1e300: must be a finite number > 0 and at most 1000" -- \
+  "$js" validate hinged-cylindrical-roof --thickness 1e300
+expect 2 "--path-increment: nan: must be a finite number in" -- "$js" validate hinged-cylindrical-roof --path-increment nan
+expect 2 "--max-forcing: nan: must be a finite number in" -- "$js" bench solver --max-forcing nan
+expect 2 "--dt: inf: must be a finite number > 0" -- "$js" bench solver --dt inf
+expect 2 "--residual-tolerance: -nan: must be a finite number > 0" -- "$js" validate slit-annular-plate \
+  --residual-tolerance -nan
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures hostile command-line case(s) failed"
   exit 1
 fi
-echo "all hostile command-line cases exit 3 with their message"
+echo "all hostile command-line cases exit with their code and message"
