@@ -76,11 +76,17 @@ const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCod
   cmd->add_option("--png", args->png, "Output PNG file")->required();
   cmd->add_option("--width", args->options.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", args->options.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd->add_option("--azimuth", args->options.azimuthDegrees, "Camera angle around the up axis, degrees")->capture_default_str();
-  cmd->add_option("--elevation", args->options.elevationDegrees, "Camera angle above the horizon, degrees")->capture_default_str();
+  cmd->add_option("--azimuth", args->options.azimuthDegrees, "Camera angle around the up axis, degrees")
+      ->check(finiteRange(-360.0, 360.0))
+      ->capture_default_str();
+  cmd->add_option("--elevation", args->options.elevationDegrees, "Camera angle above the horizon, degrees")
+      ->check(finiteRange(-90.0, 90.0))
+      ->capture_default_str();
   cmd->add_option("--up", args->up, "Up axis")->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z"}))->capture_default_str();
   cmd->add_option("--color", args->color, "Point array whose magnitude colours the first frame, or 'none'")->capture_default_str();
-  cmd->add_option("--range", args->range, "Colour range: MIN MAX (default: the data's range)")->expected(2);
+  cmd->add_option("--range", args->range, "Colour range: MIN MAX (default: the data's range)")
+      ->expected(2)
+      ->check(finiteRange(-1e300, 1e300));
   cmd->add_option("--edges", args->edges, "Draw mesh edges")->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
   cmd->add_option("--supersample", args->options.supersample, "Samples per pixel along each axis")
       ->check(CLI::Range(1, 8))->capture_default_str();
@@ -88,7 +94,12 @@ const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCod
     RenderOptions o = args->options;
     o.up = axisFromName(args->up);
     o.edges = args->edges == "on" ? RenderOptions::Edges::On : args->edges == "off" ? RenderOptions::Edges::Off : RenderOptions::Edges::Auto;
-    if (args->range.size() == 2) o.scalarMin = args->range[0], o.scalarMax = args->range[1];
+    if (args->range.size() == 2) {
+      if (!(args->range[0] < args->range[1]))
+        throw CLI::ValidationError("--range", "MIN must be below MAX (got " + std::to_string(args->range[0]) + " " +
+                                                  std::to_string(args->range[1]) + ")");
+      o.scalarMin = args->range[0], o.scalarMax = args->range[1];
+    }
     const std::vector<std::string> files = resolveInputs(args->inputs);
     const std::string note = renderVtuFiles(files, args->color, o, args->png);
     std::cout << "wrote " << args->png << " (" << o.width << "x" << o.height << ", " << files.size() << " file"

@@ -70,6 +70,8 @@ expect 2 "--max-forcing: nan: must be a finite number in" -- "$js" bench solver 
 expect 2 "--dt: inf: must be a finite number > 0" -- "$js" bench solver --dt inf
 expect 2 "--residual-tolerance: -nan: must be a finite number > 0" -- "$js" validate slit-annular-plate \
   --residual-tolerance -nan
+expect 2 "--azimuth: nan: must be a finite number in [-360, 360]" -- "$js" render "$dir" --png "$dir/a.png" --azimuth nan
+expect 2 "--range: MIN must be below MAX" -- "$js" render "$dir" --png "$dir/r.png" --range 1 0
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures hostile command-line case(s) failed"
