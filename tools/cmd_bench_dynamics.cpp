@@ -346,7 +346,8 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
   cmd->add_option("--preconditioner", opts->preconditioner,
                   "PCG preconditioner: jacobi | block_jacobi | ic | lagged_cholesky | one_ring_cholesky")
       ->check(CLI::IsMember({"jacobi", "block_jacobi", "ic", "lagged_cholesky", "one_ring_cholesky"}));
-  cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")->check(finiteRange(1e-14, 0.5));
+  cmd->add_option("--cg-tolerance", opts->cgTolerance, "PCG relative residual tolerance")
+      ->check(finiteRange(1e-14, 0.5));
   cmd->add_option("--ordering", opts->ordering, "CHOLMOD fill-reducing ordering: auto | amd | metis | nesdis")
       ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
   cmd->add_option("--json", opts->json, "Write the figures as JSON");

@@ -211,7 +211,8 @@ const RegisterSubcommand registerBenchFit("bench-fit", [](CLI::App& app, int& ex
       "fit", "Fitting: derivative-free against gradient-based on a synthetic recovery (solves, time, misfit)");
   cmd->add_option("--fit", a->fit, "Fit file whose scene's material values are the truth");
   cmd->add_option("--algorithms", a->algorithms, "Algorithms to compare")->delimiter(',');
-  cmd->add_option("--tolerance", a->tolerance, "Relative parameter error that counts as recovered")->check(finiteNumber());
+  cmd->add_option("--tolerance", a->tolerance, "Relative parameter error that counts as recovered")
+      ->check(finiteNumber());
   cmd->add_option("--max-evaluations", a->maxEvaluations, "Evaluation cap per algorithm")->check(CLI::Range(1, 100000));
   cmd->add_flag("--demos", a->demos, "Also run the overhang and slit-plate demos (FITTING.md)");
   cmd->add_flag("--dynamic", a->dynamic, "Also compare the algorithms on the dynamic recovery (swinging strip)");

@@ -389,8 +389,10 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
       ->check(CLI::IsMember({"gaussNewton", "exact"}));
   cmd->add_option("--projection", opts->projection, "none | clamp | abs")
       ->check(CLI::IsMember({"none", "clamp", "abs"}));
-  cmd->add_option("--mass-damping", opts->massDamping, "alpha_R [1/s]")->check(finiteNumber(std::numeric_limits<double>::max(), true));
-  cmd->add_option("--stiffness-damping", opts->stiffnessDamping, "beta_R [s]")->check(finiteNumber(std::numeric_limits<double>::max(), true));
+  cmd->add_option("--mass-damping", opts->massDamping, "alpha_R [1/s]")
+      ->check(finiteNumber(std::numeric_limits<double>::max(), true));
+  cmd->add_option("--stiffness-damping", opts->stiffnessDamping, "beta_R [s]")
+      ->check(finiteNumber(std::numeric_limits<double>::max(), true));
   cmd->add_flag("--skip-statics", opts->skipStatics, "Dynamics only");
   cmd->add_option("--trace-from", opts->traceFrom,
                   "Print the Newton trace of every time step that takes at least this many iterations")

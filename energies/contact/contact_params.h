@@ -17,12 +17,16 @@ struct ContactParams {
   double frictionSlipVelocity = 0.01;  // V_f [m/s]: slip speed below which friction is regularized (sticking)
 };
 
+/// The smallest point-cloud radius a scene takes: the broad phase's cells are 2·radius wide, and cells of a
+/// micrometre already cover any garment-sized scene with ample room in its 64-bit cell indices.
+constexpr double kMinPointCloudRadius = 1e-6;  // m
+
 /// Point-cloud collider of a shell: spheres of `radius` at the contact samples (vertices). Two samples touch
 /// when closer than 2·radius. Samples of one actor whose rest positions are closer than
 /// selfContactExclusionRatio · 2·radius never collide (neighbours on the surface; see the note in
 /// energies/contact/point_cloud_contact.h on why the ratio applies to the diameter).
 struct PointCloudColliderParams {
-  double radius = 0.01;                    // m
+  double radius = 0.01;                    // m, at least kMinPointCloudRadius
   bool selfContact = false;
   double selfContactExclusionRatio = 1.5;
 };

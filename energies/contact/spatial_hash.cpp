@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <omp.h>
+#include <sstream>
 
 namespace jetshell {
 namespace {
@@ -59,7 +60,12 @@ std::vector<PointPair> findClosePairs(const std::vector<double>& points, double 
     }
     bucketOf[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(cellHash(cell) & mask);
   }
-  if (!finite) throw InputError("broad phase: non-finite or huge point coordinates");
+  if (!finite) {
+    std::ostringstream m;
+    m << "broad phase: a point coordinate is not finite, or lies more than 1e15 cells of " << radius
+      << " m from the origin (a point-cloud radius too small for the scene's size)";
+    throw InputError(m.str());
+  }
   // Counting sort of the points by bucket; each slot keeps its point's id, cell and coordinates side by side.
   std::vector<std::uint32_t> start(buckets + 1, 0);
   for (int i = 0; i < n; ++i) ++start[bucketOf[static_cast<std::size_t>(i)] + 1];

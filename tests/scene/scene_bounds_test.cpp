@@ -238,3 +238,24 @@ TEST_CASE("scene bounds: a rest mesh folded flat or with a reversed duplicate fa
         }) == "/actors/0/shape: mesh: face 1 (0, 2, 3) is folded flat onto face 0 (0, 1, 2) across the edge between "
               "vertices 0 and 2 (normals 180.000 degrees apart, at most 179.9: the rest curvature is undefined there)");
 }
+
+TEST_CASE("scene bounds: directions with huge or tiny components keep their direction, a tiny radius is refused",
+          "[scene][hostile]") {
+  // A plane's normal and a rotation's axis are directions: [0, 1e308, 1e308] overflowed the norm and the floor
+  // came out with a broken rotation, reported against worldFromLocalTransform instead of the normal.
+  auto withFloor = [](const Json& normal) {
+    return [normal](Json& s) {
+      s["actors"].push_back({{"type", "plane"}, {"name", "floor"}, {"point", {0, 0, -1}}, {"normal", normal}});
+    };
+  };
+  CHECK(boundsErrorAfter(withFloor({0, 1e308, 1e308})) == "no error");
+  CHECK(boundsErrorAfter(withFloor({0, 1e-200, 1e-200})) == "no error");
+  CHECK(boundsErrorAfter(withFloor({0, 0, 0})) == "/actors/1/normal = [0, 0, 0]: must be a non-zero vector");
+  CHECK(boundsErrorAfter([](Json& s) {
+          s["actors"][0]["worldFromLocalTransform"] = {{"rotation", {{"axis", {1e-200, 1e-200, 0}}, {"degrees", 30}}}};
+        }) == "no error");
+  // The broad phase's cells are 2r wide: a radius of 1e-300 m made every coordinate "huge" there, with no field.
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["pointCloudCollider"] = {{"radius", 1e-300}}; }) ==
+        "/actors/0/pointCloudCollider/radius = 1e-300: too small (at least 1e-6 m: the broad phase's cells are this "
+        "wide)");
+}

@@ -65,12 +65,14 @@ expect 3 "--linear-solver: linear solver 'x': expected auto, cholmod, ldlt or pc
 expect 2 "--load: nan: must be a finite number > 0" -- "$js" validate hinged-cylindrical-roof --load nan
 expect 2 "--thickness: 1e300: must be a finite number > 0 and at most 1000" -- \
   "$js" validate hinged-cylindrical-roof --thickness 1e300
-expect 2 "--path-increment: nan: must be a finite number in" -- "$js" validate hinged-cylindrical-roof --path-increment nan
+expect 2 "--path-increment: nan: must be a finite number in" -- \
+  "$js" validate hinged-cylindrical-roof --path-increment nan
 expect 2 "--max-forcing: nan: must be a finite number in" -- "$js" bench solver --max-forcing nan
 expect 2 "--dt: inf: must be a finite number > 0" -- "$js" bench solver --dt inf
 expect 2 "--residual-tolerance: -nan: must be a finite number > 0" -- "$js" validate slit-annular-plate \
   --residual-tolerance -nan
-expect 2 "--azimuth: nan: must be a finite number in [-360, 360]" -- "$js" render "$dir" --png "$dir/a.png" --azimuth nan
+expect 2 "--azimuth: nan: must be a finite number in [-360, 360]" -- \
+  "$js" render "$dir" --png "$dir/a.png" --azimuth nan
 expect 2 "--range: MIN must be below MAX" -- "$js" render "$dir" --png "$dir/r.png" --range 1 0
 
 if [ "$failures" -ne 0 ]; then

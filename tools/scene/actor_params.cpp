@@ -39,6 +39,9 @@ void validate(const ShellActorParams& p, const std::string& where) {
   jetshell::validate(p.material, where + ".material");
   validate(p.contact, where + ".contact");
   check::positive(p.pointCloudCollider.radius, where + ".pointCloudCollider.radius");
+  if (p.pointCloudCollider.radius < kMinPointCloudRadius)
+    check::fail(where + ".pointCloudCollider.radius", p.pointCloudCollider.radius,
+                "too small (at least 1e-6 m: the broad phase's cells are this wide)");
   check::nonNegative(p.pointCloudCollider.selfContactExclusionRatio,
                      where + ".pointCloudCollider.selfContactExclusionRatio");
 }

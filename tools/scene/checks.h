@@ -60,7 +60,13 @@ inline void finite(const Eigen::Vector3d& v, const std::string& field) {
 }
 inline void nonZero(const Eigen::Vector3d& v, const std::string& field) {
   finite(v, field);
-  if (v.norm() == 0.0) throw InputError(field + " = [0, 0, 0]: must be a non-zero vector");
+  if (v.cwiseAbs().maxCoeff() == 0.0) throw InputError(field + " = [0, 0, 0]: must be a non-zero vector");
+}
+/// A direction given as a vector (finite, non-zero), with unit length. Scaled by its largest component first, so
+/// that neither huge components (1e308: the norm overflows) nor tiny ones (1e-200: it underflows) lose it.
+inline Eigen::Vector3d unitDirection(const Eigen::Vector3d& v, const std::string& field) {
+  nonZero(v, field);
+  return (v / v.cwiseAbs().maxCoeff()).normalized();
 }
 
 }  // namespace jetshell::check

@@ -1,6 +1,7 @@
 #include "tools/scene/scene_json.h"
 
 #include "core/math_constants.h"
+#include "energies/contact/contact_params.h"
 #include "energies/contact/sdf_grid.h"
 #include "tools/scene/checks.h"
 #include "tools/scene/generated_shapes.h"
@@ -123,11 +124,10 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
 
 Eigen::Quaterniond readRotation(const Value& v) {
   const Object o = v.object({"axis", "degrees"}, "a rotation");
-  const Eigen::Vector3d axis = o.at("axis").vec3();
-  check::nonZero(axis, o.member("axis"));
+  const Eigen::Vector3d axis = check::unitDirection(o.at("axis").vec3(), o.member("axis"));
   const double degrees = o.at("degrees").number();
   check::finite(degrees, o.member("degrees"));
-  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * kRadiansPerDegree, axis.normalized()));
+  return Eigen::Quaterniond(Eigen::AngleAxisd(degrees * kRadiansPerDegree, axis));
 }
 
 RigidTransform readTransform(const Value& v) {
@@ -209,6 +209,8 @@ PointCloudColliderParams readPointCloud(const Value& v) {
   PointCloudColliderParams p;
   p.radius = o.number("radius", p.radius);
   check::positive(p.radius, o.member("radius"));
+  if (p.radius < kMinPointCloudRadius)
+    check::fail(o.member("radius"), p.radius, "too small (at least 1e-6 m: the broad phase's cells are this wide)");
   p.selfContact = o.boolean("selfContact", p.selfContact);
   p.selfContactExclusionRatio = o.number("selfContactExclusionRatio", p.selfContactExclusionRatio);
   check::nonNegative(p.selfContactExclusionRatio, o.member("selfContactExclusionRatio"));
@@ -381,8 +383,7 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
   if (const auto c = o.find("contact")) p.contact = readContact(*c);
   if (type == "plane") {
     p.kind = VolumeActorParams::Kind::Plane;
-    const Eigen::Vector3d normal = o.vec3("normal", Eigen::Vector3d::UnitZ());
-    check::nonZero(normal, o.member("normal"));
+    const Eigen::Vector3d normal = check::unitDirection(o.vec3("normal", Eigen::Vector3d::UnitZ()), o.member("normal"));
     p.worldFromLocalTransform.rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal);
     p.worldFromLocalTransform.translation = o.vec3("point", Eigen::Vector3d::Zero());
   } else if (type == "box") {
@@ -538,8 +539,7 @@ EdgeRuleSettings readEdgeRules(const Value& v) {
       const Object p = e.object({"point", "normal"}, "a symmetry plane");
       EdgeRuleSettings::SymmetryPlane plane;
       plane.point = p.vec3("point", plane.point);
-      plane.normal = p.vec3("normal", plane.normal);
-      if (!(plane.normal.norm() > 0.0)) throw InputError(e.pointer() + "/normal: must not be zero");
+      plane.normal = check::unitDirection(p.vec3("normal", plane.normal), e.pointer() + "/normal");
       r.symmetryPlanes.push_back(plane);
     }
   }

@@ -63,7 +63,7 @@ std::vector<int> selectOne(const VertexSelector& s, const SelectionContext& ctx,
     }
   }
   if (s.plane) {
-    const Eigen::Vector3d nhat = s.plane->normal.normalized();
+    const Eigen::Vector3d nhat = check::unitDirection(s.plane->normal, where + "/plane/normal");
     for (int v = 0; v < n; ++v) {
       const Eigen::Vector3d x = X.row(v);
       pass[v] = pass[v] && std::abs((x - s.plane->point).dot(nhat)) <= s.plane->distance;
