@@ -340,11 +340,14 @@ const RegisterSubcommand registerCheckDerivatives("check-derivatives", [](CLI::A
   cmd->add_flag("--by-kind", o->byKind, "Also print one row per configuration kind under each term");
   cmd->add_flag("-v,--verbose", o->verbose, "Print every configuration's errors");
   cmd->add_option("--tol-ad", o->tolerances.adVsAnalytic, "Tolerance, AD vs analytic")
-      ->default_val(o->tolerances.adVsAnalytic);
+      ->default_val(o->tolerances.adVsAnalytic)
+      ->check(finiteNumber());
   cmd->add_option("--tol-fd", o->tolerances.vsFd, "Tolerance, each path vs finite differences")
-      ->default_val(o->tolerances.vsFd);
+      ->default_val(o->tolerances.vsFd)
+      ->check(finiteNumber());
   cmd->add_option("--tol-asym", o->tolerances.asymmetry, "Tolerance, asymmetry of the FD Jacobian of the gradient")
-      ->default_val(o->tolerances.asymmetry);
+      ->default_val(o->tolerances.asymmetry)
+      ->check(finiteNumber());
   cmd->add_option("--fd-initial-step", o->check.initialStep, "First finite-difference step / length scale")
       ->default_val(o->check.initialStep)
       ->check(finiteNumber());

@@ -74,6 +74,7 @@ expect 2 "--residual-tolerance: -nan: must be a finite number > 0" -- "$js" vali
 expect 2 "--azimuth: nan: must be a finite number in [-360, 360]" -- \
   "$js" render "$dir" --png "$dir/a.png" --azimuth nan
 expect 2 "--range: MIN must be below MAX" -- "$js" render "$dir" --png "$dir/r.png" --range 1 0
+expect 2 "--tol-fd: nan: must be a finite number > 0" -- "$js" check-derivatives --term membrane --tol-fd nan
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures hostile command-line case(s) failed"
