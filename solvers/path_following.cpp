@@ -14,14 +14,24 @@
 namespace jetshell {
 namespace {
 
+/// The cubic Hermite basis on t ∈ [0, 1]: f(t) = h00 f(0) + h10 f'(0) + h01 f(1) + h11 f'(1) for a cubic f (slopes
+/// in t: the interval's length times the slopes in its own parameter). Limit points (hermiteTurn) and landings.
+struct HermiteBasis {
+  double h00, h10, h01, h11;
+};
+HermiteBasis hermiteBasis(double t) {
+  const double t2 = t * t, t3 = t2 * t;
+  return {2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + t, -2.0 * t3 + 3.0 * t2, t3 - t2};
+}
+
 /// The cubic Hermite interpolant between (λ_a, x_a) and (λ_b, x_b) = (λ_a + Δλ, ...) with slopes dx/dλ t_a and t_b,
-/// less the chord, at s = (λ − λ_a)/Δλ: s(1−s)(1−2s)(x_a − x_b) + s(1−s)² Δλ t_a − s²(1−s) Δλ t_b, zero on the
-/// fixed dofs (which keep the chord's values: prescribed motion is linear in λ).
+/// less the chord, at s = (λ − λ_a)/Δλ; zero on the fixed dofs (which keep the chord's values: prescribed motion
+/// is linear in λ).
 Eigen::VectorXd hermiteBend(const Eigen::VectorXd& xa, const Eigen::VectorXd& xb, const Eigen::VectorXd& ta,
                             const Eigen::VectorXd& tb, double dLambda, double s, const Objective& objective) {
-  const double r = 1.0 - s;
-  Eigen::VectorXd bend = (s * r * (1.0 - 2.0 * s)) * (xa - xb);
-  bend += (s * r * r * dLambda) * ta - (s * s * r * dLambda) * tb;
+  const HermiteBasis h = hermiteBasis(s);
+  Eigen::VectorXd bend = (h.h00 - (1.0 - s)) * xa + (h.h01 - s) * xb;
+  bend += (h.h10 * dLambda) * ta + (h.h11 * dLambda) * tb;
   objective.zeroFixed(bend);
   return bend;
 }
@@ -97,9 +107,8 @@ double hermiteTurn(double pa, double la, double ra, double pb, double lb, double
     }
   }
   if (!(t >= 0.0 && t <= 1.0) || !std::isfinite(h)) return fallback;
-  const double t2 = t * t, t3 = t2 * t;
-  const double value =
-      (2.0 * t3 - 3.0 * t2 + 1.0) * la + (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) * lb + (t3 - t2) * m1;
+  const HermiteBasis b = hermiteBasis(t);
+  const double value = b.h00 * la + b.h10 * m0 + b.h01 * lb + b.h11 * m1;
   return std::isfinite(value) ? value : fallback;
 }
 
