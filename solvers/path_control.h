@@ -12,6 +12,8 @@
 // LDLᵀ factor of K (solvers/path_corrector.h), which stays valid where K is indefinite.
 #pragma once
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <string>
 
 namespace jetshell {
@@ -68,6 +70,9 @@ struct LoadJump {
   double energyReleased = 0.0;    // the trapezoid's energy change minus the step's (J; > 0 for a snap-through)
   double ratio = 0.0;             // |that| / the loads' work in the step
 };
+
+/// A jump as summary.json (`load_jumps`) and the validation's traces record it; load_step counts from 1.
+nlohmann::json toJson(const LoadJump& jump);
 
 /// A bifurcation that load control found on its path and left for the stable branch crossing it
 /// (LoadSteppingOptions::branchSwitching, solvers/branch_switching.h).

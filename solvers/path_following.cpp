@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
@@ -73,6 +74,14 @@ void extrapolate(const std::deque<PathPoint>& history, double p, Eigen::VectorXd
 }
 
 }  // namespace
+
+nlohmann::json toJson(const LoadJump& j) {
+  return {{"load_step", j.step + 1},
+          {"load_factor_before", j.loadFactorBefore},
+          {"load_factor_after", j.loadFactorAfter},
+          {"energy_released", j.energyReleased},
+          {"energy_mismatch", j.ratio}};
+}
 
 const char* toString(PathControl c) {
   switch (c) {

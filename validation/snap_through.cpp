@@ -125,9 +125,7 @@ double loadAt(const RoofTrace& d, double w) {
 
 nlohmann::json toJson(const RoofTrace& t) {
   nlohmann::json jumps = nlohmann::json::array();
-  for (const LoadJump& j : t.jumps)
-    jumps.push_back({{"load_factor_before", j.loadFactorBefore}, {"load_factor_after", j.loadFactorAfter},
-                     {"energy_released", j.energyReleased}});
+  for (const LoadJump& j : t.jumps) jumps.push_back(toJson(j));
   nlohmann::json limits = nlohmann::json::array();
   for (const RoofLimit& l : t.limits)
     limits.push_back({{"kind", l.maximum ? "maximum" : "minimum"}, {"load", l.load}, {"deflection", l.deflection},

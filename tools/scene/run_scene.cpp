@@ -279,12 +279,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     // Steps whose equilibrium jumped (LoadJump): load control's snap-throughs, arc length's unresolved jumps,
     // displacement control's snap-backs.
     nlohmann::json jumps = nlohmann::json::array();
-    for (const LoadJump& j : r.loadJumps)
-      jumps.push_back({{"load_step", j.step + 1},
-                       {"load_factor_before", j.loadFactorBefore},
-                       {"load_factor_after", j.loadFactorAfter},
-                       {"energy_released", j.energyReleased},
-                       {"energy_mismatch", j.ratio}});
+    for (const LoadJump& j : r.loadJumps) jumps.push_back(toJson(j));
     summary.extra["load_jumps"] = jumps;
     if (!r.loadJumps.empty()) {
       std::string w = "the equilibrium changed abruptly in " + std::to_string(r.loadJumps.size()) + " step(s) (";
