@@ -27,6 +27,7 @@ struct InputLimits {
   std::int64_t maxFaces = 8'000'000;         // per mesh and per scene
   std::int64_t maxSteps = 10'000'000;        // time steps, relaxation steps
   std::int64_t maxLoadLevels = 10'000;       // static loadSteps: 1 / LoadSteppingOptions::minIncrement
+  std::int64_t maxEndMoments = 64;           // moment loads per scene (each one an energy term of its own)
   std::int64_t maxIterations = 1'000'000;    // Newton iterations per step
   int maxThreads = 256;                      // solver.threads
   std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)

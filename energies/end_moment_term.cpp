@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
+#include <utility>
 
 namespace jetshell {
 namespace {
@@ -27,8 +29,9 @@ void setOrigin(EndMomentEnergy::Element& el, const Eigen::VectorXd& x, const int
 
 }  // namespace
 
-EndMomentTerm::EndMomentTerm(int numVertices, const StencilTable& table, std::shared_ptr<EndMomentEnergy::State> state)
-    : ElementEnergyTerm<EndMomentEnergy>("end_moment", table, numVertices, EndMomentEnergy{std::move(state)},
+EndMomentTerm::EndMomentTerm(int numVertices, const StencilTable& table, std::shared_ptr<EndMomentEnergy::State> state,
+                             std::string name)
+    : ElementEnergyTerm<EndMomentEnergy>(std::move(name), table, numVertices, EndMomentEnergy{std::move(state)},
                                          /*zeroAtRest=*/false, /*rigidInvariant=*/false),
       faces_(table.ids) {}
 
@@ -58,7 +61,7 @@ double EndMomentTerm::meanRotation(const Eigen::VectorXd& x) const {
 }
 
 std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std::vector<int>& chain,
-                                                 const Eigen::Vector3d& axis, double moment) {
+                                                 const Eigen::Vector3d& axis, double moment, std::string name) {
   if (!(axis.norm() > 0.0)) throw InputError("end moment: the axis must be nonzero");
   if (chain.size() < 2) throw InputError("end moment: the chain needs at least two vertices");
   double length = 0.0;
@@ -72,15 +75,17 @@ std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std:
   auto state = std::make_shared<EndMomentEnergy::State>();
   StencilTable table;
   table.width = 3;
+  // The face along each chain segment, found in one pass over the edges.
+  std::map<std::pair<int, int>, int> segmentFace;
+  for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+    segmentFace[{std::min(chain[k], chain[k + 1]), std::max(chain[k], chain[k + 1])}] = -1;
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (!topo.isBoundaryEdge(e)) continue;
+    const auto it = segmentFace.find({topo.edges(e, 0), topo.edges(e, 1)});
+    if (it != segmentFace.end()) it->second = topo.edgeFaces(e, 0);
+  }
   for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
-    const int u = std::min(chain[k], chain[k + 1]), v = std::max(chain[k], chain[k + 1]);
-    int face = -1;
-    for (int e = 0; e < topo.numEdges(); ++e) {
-      if (topo.edges(e, 0) == u && topo.edges(e, 1) == v) {
-        if (topo.isBoundaryEdge(e)) face = topo.edgeFaces(e, 0);
-        break;
-      }
-    }
+    const int face = segmentFace.at({std::min(chain[k], chain[k + 1]), std::max(chain[k], chain[k + 1])});
     if (face < 0)
       throw InputError("end moment: chain segment " + std::to_string(k) + " (" + std::to_string(chain[k]) + ", " +
                        std::to_string(chain[k + 1]) + ") is not a boundary edge");
@@ -98,7 +103,7 @@ std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std:
     setOrigin(el, flatten(mesh.V), table.ids.data() + 3 * k, 0.0);
     state->elements.push_back(el);
   }
-  return std::make_shared<EndMomentTerm>(mesh.numVertices(), std::move(table), std::move(state));
+  return std::make_shared<EndMomentTerm>(mesh.numVertices(), std::move(table), std::move(state), std::move(name));
 }
 
 }  // namespace jetshell

@@ -23,6 +23,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace jetshell {
@@ -74,7 +75,8 @@ struct EndMomentEnergy {
 class EndMomentTerm : public ElementEnergyTerm<EndMomentEnergy> {
  public:
   /// Use makeEndMomentTerm; table holds one face (3 vertex ids) per element.
-  EndMomentTerm(int numVertices, const StencilTable& table, std::shared_ptr<EndMomentEnergy::State> state);
+  EndMomentTerm(int numVertices, const StencilTable& table, std::shared_ptr<EndMomentEnergy::State> state,
+                std::string name = "end_moment");
 
   void setLoadFactor(double lambda) { functor().parameters[0] = lambda; }
   double loadFactor() const { return functor().parameters[0]; }
@@ -94,9 +96,10 @@ class EndMomentTerm : public ElementEnergyTerm<EndMomentEnergy> {
 /// boundary edges of the mesh). `axis` gives the sense: each segment's rotation is measured about its
 /// current direction, oriented the way `axis` points in the reference configuration; `moment` is the total
 /// at load factor 1, positive when it turns the faces' normals by the right-hand rule about that direction,
-/// shared among the segments by reference length. Throws InputError when a chain segment is not a boundary
-/// edge or is perpendicular to the axis.
+/// shared among the segments by reference length; `name` is the term's name in an objective. Throws InputError
+/// when a chain segment is not a boundary edge or is perpendicular to the axis.
 std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std::vector<int>& chain,
-                                                 const Eigen::Vector3d& axis, double moment);
+                                                 const Eigen::Vector3d& axis, double moment,
+                                                 std::string name = "end_moment");
 
 }  // namespace jetshell

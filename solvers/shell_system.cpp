@@ -15,6 +15,17 @@ const char* toString(AnalysisKind k) {
   return "?";
 }
 
+std::vector<char> momentLoadedVertices(const ShellProblem& problem) {
+  std::vector<char> loaded;
+  for (const EndMomentLoad& m : problem.endMoments)
+    for (int v : m.chain) {
+      if (v < 0 || v >= problem.mesh.numVertices()) continue;  // the system refuses such a chain
+      if (loaded.empty()) loaded.assign(static_cast<std::size_t>(problem.mesh.numVertices()), 0);
+      loaded[static_cast<std::size_t>(v)] = 1;
+    }
+  return loaded;
+}
+
 namespace {
 
 double meanEdgeLength(const TriMesh& mesh, const Topology& topo) {
@@ -150,6 +161,27 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     nodalForces = makeNodalForceTerm(p.nodalForces);
     objective_.addTerm(nodalForces);
   }
+  double momentForce = 0.0;  // the force scale of the end moments (below)
+  if (!p.endMoments.empty() && kind != AnalysisKind::Statics)
+    throw InputError(p.endMoments.front().where + ": an end moment needs a static analysis (its rotation is "
+                     "unwrapped from one load step to the next), not " + toString(kind));
+  for (std::size_t k = 0; k < p.endMoments.size(); ++k) {
+    const EndMomentLoad& m = p.endMoments[k];
+    if (!std::isfinite(m.moment)) throw InputError(m.where + "/moment: must be finite");
+    if (!m.axis.allFinite()) throw InputError(m.where + "/axis: must be finite");
+    std::shared_ptr<EndMomentTerm> t;
+    try {
+      const std::string name = k == 0 ? "end_moment" : "end_moment/" + std::to_string(k);
+      t = makeEndMomentTerm(mesh_, m.chain, m.axis, m.moment, name);
+    } catch (const InputError& e) {
+      throw InputError(m.where + ": " + e.what());
+    }
+    objective_.addTerm(t);
+    endMoments.push_back(t);
+    // Newton's tolerances need a force: the couple of nodal forces that carries one segment's share of the
+    // moment across one element.
+    momentForce = std::max(momentForce, std::abs(m.moment) / static_cast<double>(m.chain.size() - 1));
+  }
   const bool massive = vertexMass_.maxCoeff() > 0.0;
   if (dynamic && massive) {
     inertia = makeInertiaTerm(vertexMass_, material_.density > 0.0 ? material_.density : 1.0);
@@ -196,6 +228,7 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
 
   PhysicalScales scales;
   scales.length = meanEdgeLength(mesh_, topology_);
+  scales.force = momentForce / scales.length;
   for (int v = 0; v < n; ++v) {
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
     if (gravityActive) f += gravityMass[v] * p.gravity;

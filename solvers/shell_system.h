@@ -4,6 +4,7 @@
 //   bending             when α or β ≠ 0 (clamped boundary edges as asked)
 //   gravity             when hasGravity, g ≠ 0 and ρ_A0 > 0
 //   nodal_forces        when some applied nodal force ≠ 0 (scaled by the load factor λ)
+//   end_moment, …       statics, one per applied end moment (scaled by λ; energies/end_moment_term.h)
 //   inertia             dynamics and dynamic relaxation, when ρ_A0 > 0
 //   mass_damping        dynamics when α_R > 0; dynamic relaxation always (its α comes from the relaxation)
 //   membrane_damping,   dynamics when β_R > 0 (and the matching elastic term is active)
@@ -22,6 +23,7 @@
 #include "core/mesh.h"
 #include "energies/shell/reference_state.h"
 #include "core/topology.h"
+#include "energies/end_moment_term.h"
 #include "energies/shell/bending_term.h"
 #include "energies/kinetic_terms.h"
 #include "energies/shell/material.h"
@@ -51,6 +53,16 @@ struct ShellActorPart {
   PointCloudColliderParams pointCloudCollider;
 };
 
+/// A moment applied along a boundary edge of the shell (energies/end_moment_term.h): `moment` N·m at load factor
+/// 1, about the edge's current direction oriented the way `axis` points at rest (right-hand rule), shared among
+/// the edge's segments by length. Statics only: the term unwraps its rotation between load steps.
+struct EndMomentLoad {
+  std::vector<int> chain;  // the loaded edge's vertices in order (consecutive pairs are boundary edges)
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  double moment = 0.0;     // N·m at λ = 1
+  std::string where;       // for messages, e.g. "/actors/0/loads/1"
+};
+
 struct ShellProblem {
   TriMesh mesh;                      // the reference configuration
   ShellMaterialParams material;
@@ -64,7 +76,13 @@ struct ShellProblem {
   std::vector<ShellActorPart> actors;
   /// Rigid volume actors shells collide with.
   std::vector<VolumeColliderPart> volumes;
+  /// Applied end moments (AnalysisKind::Statics only; InputError otherwise).
+  std::vector<EndMomentLoad> endMoments;
 };
+
+/// The vertices of the problem's end-moment edges (size N), or empty when it has none: the edges whose bending
+/// rule must let the applied moment in (energies/shell/boundary_rules.h).
+std::vector<char> momentLoadedVertices(const ShellProblem& problem);
 
 enum class AnalysisKind { Statics, Dynamics, DynamicRelaxation };
 const char* toString(AnalysisKind k);
@@ -96,6 +114,9 @@ class ShellSystem {
   std::shared_ptr<BendingTerm> bending;
   std::shared_ptr<NodalForceTerm> nodalForces;
   std::shared_ptr<GravityTerm> gravity;
+  /// One per ShellProblem::endMoments entry, named "end_moment", "end_moment/1", … (solvers/statics.h's
+  /// loadFactorHooks scales them with λ and advances their unwrapping after each equilibrium).
+  std::vector<std::shared_ptr<EndMomentTerm>> endMoments;
   std::shared_ptr<DiagonalQuadraticTerm> inertia;
   std::shared_ptr<DiagonalQuadraticTerm> massDamping;
   StiffnessDampingTerms stiffnessDamping;

@@ -300,7 +300,10 @@ LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFacto
   LoadFactorHooks hooks;
   hooks.nodalForces = system.nodalForces.get();
   hooks.gravity = system.gravity.get();
-  hooks.others = extra;
+  for (const std::shared_ptr<EndMomentTerm>& m : system.endMoments)
+    hooks.others.push_back(
+        {[m](double lambda) { m->setLoadFactor(lambda); }, [m](const Eigen::VectorXd& x) { m->advance(x); }});
+  hooks.others.insert(hooks.others.end(), extra.begin(), extra.end());
   return hooks;
 }
 

@@ -146,7 +146,8 @@ using LoadStepCallback = std::function<bool(const LoadStepResult&)>;
 /// Throws InputError for invalid options.
 StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, Eigen::VectorXd& x,
                            const LoadSteppingOptions& options, const LoadStepCallback& callback = {});
-/// The load-carrying terms of a system (its nodal forces and its weight; either may be absent), plus `extra`.
+/// The load-carrying terms of a system (its nodal forces, its weight and its end moments; any may be absent),
+/// plus `extra`.
 LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFactorHooks::Hook>& extra = {});
 /// The same on a ShellSystem built for AnalysisKind::Statics (its loadFactorHooks plus `extra` hooks).
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,

@@ -31,8 +31,9 @@ namespace jetshell::cli {
 namespace {
 
 struct StaticsBenchArgs {
-  std::vector<std::string> scenes{"cantilever_strip", "sze_cantilever_end_shear", "pinched_hemisphere",
-                                  "slit_annular_ring_static", "sze_slit_annular_plate", "hinged_roof_snap_through"};
+  std::vector<std::string> scenes{"cantilever_strip",         "sze_cantilever_end_shear", "cantilever_end_moment",
+                                  "pinched_hemisphere",       "slit_annular_ring_static", "sze_slit_annular_plate",
+                                  "hinged_roof_snap_through"};
   std::vector<std::string> controls{"load", "arcLength"};
   int repeats = 3;
   std::string json;

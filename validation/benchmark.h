@@ -6,7 +6,6 @@
 #include "solvers/dynamic_relaxation.h"
 #include "solvers/newton.h"
 #include "solvers/shell_system.h"
-#include "energies/end_moment_term.h"
 #include "energies/shell/edge_rules.h"
 #include "validation/reference_table.h"
 
@@ -62,14 +61,11 @@ struct Probe {
   double read(const Eigen::VectorXd& x, const Eigen::VectorXd& X) const;
 };
 
-/// One benchmark built at one resolution: the problem for the shell system, the probes (one per reference
-/// quantity) and, for end-moment problems, the loaded edge.
+/// One benchmark built at one resolution: the problem for the shell system (end moments included) and the
+/// probes (one per reference quantity).
 struct BenchmarkCase {
   ShellProblem problem;
   std::vector<Probe> probes;
-  std::vector<int> momentEdge;  // chain of vertices; empty when there is no end moment
-  Eigen::Vector3d momentAxis = Eigen::Vector3d::Zero();
-  double moment = 0.0;          // total at λ = 1
 };
 
 /// How a row's relative error is taken.

@@ -60,9 +60,12 @@ BenchmarkCase cantileverEndShear(const Resolution& r, ClampKind kind, QuadDiagon
 
 BenchmarkCase cantileverEndMoment(const Resolution& r, ClampKind kind, QuadDiagonals diagonals) {
   BenchmarkCase c = cantilever(12.0, r, kind, diagonals);
-  c.momentEdge = gridColumn(r.n1, r.n2, r.n1);
-  c.momentAxis = {0.0, -1.0, 0.0};  // turns +x towards +z: the strip rolls up
-  c.moment = 2.0 * kPi * 100.0 / 12.0;  // Mmax = 2π EI / L
+  EndMomentLoad m;
+  m.chain = gridColumn(r.n1, r.n2, r.n1);
+  m.axis = {0.0, -1.0, 0.0};             // turns +x towards +z: the strip rolls up
+  m.moment = 2.0 * kPi * 100.0 / 12.0;  // Mmax = 2π EI / L
+  m.where = "cantilever-end-moment";
+  c.problem.endMoments.push_back(std::move(m));
   return c;
 }
 

@@ -55,12 +55,8 @@ void addBoundaryRules(ShellSystem& system, const BenchmarkCase& c, const Benchma
   BoundaryRuleChoice choice;
   choice.free = o.freeRule;
   choice.clamp = o.clamp == ClampKind::Mirrored ? EdgeRule::MirroredClamp : EdgeRule::ReferenceClamp;
-  std::vector<char> momentLoaded;
-  if (!c.momentEdge.empty()) {
-    momentLoaded.assign(static_cast<std::size_t>(c.problem.mesh.numVertices()), 0);
-    for (int v : c.momentEdge) momentLoaded[v] = 1;
-  }
-  applyBoundaryRules(*system.bending, system.mesh(), c.problem.clampedVertices, momentLoaded, choice);
+  applyBoundaryRules(*system.bending, system.mesh(), c.problem.clampedVertices, momentLoadedVertices(c.problem),
+                     choice);
 }
 
 
@@ -88,7 +84,7 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
   };
 
   if (r.solver == SolverKind::DynamicRelaxation) {
-    if (!c.momentEdge.empty())
+    if (!c.problem.endMoments.empty())
       throw InputError("validate: " + b.name + " has an end moment, which dynamic relaxation cannot unwrap");
     ShellSystem system(c.problem, AnalysisKind::DynamicRelaxation);
     addBoundaryRules(system, c, o);
@@ -111,16 +107,6 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
   } else {
     ShellSystem system(c.problem, AnalysisKind::Statics);
     addBoundaryRules(system, c, o);
-    std::shared_ptr<EndMomentTerm> moment;
-    if (!c.momentEdge.empty()) {
-      moment = makeEndMomentTerm(c.problem.mesh, c.momentEdge, c.momentAxis, c.moment);
-      system.objective().addTerm(moment);
-      // Without nodal forces the Newton tolerances need a force scale: the couple of nodal forces that
-      // carries one segment's share of the moment across one element.
-      PhysicalScales scales = system.objective().scales();
-      scales.force = std::abs(c.moment) / (static_cast<double>(c.momentEdge.size() - 1) * scales.length);
-      system.objective().setScales(scales);
-    }
     LoadSteppingOptions so;
     so.levels = b.reference.lambda;
     so.targetLoadFactor = b.reference.lambda.back();
@@ -129,9 +115,6 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
     so.minIncrement = o.minIncrement;
     so.predictorOrder = o.predictorOrder;
     so.newton = o.newton;
-    std::vector<LoadFactorHooks::Hook> hooks;
-    if (moment)
-      hooks.push_back({[&](double l) { moment->setLoadFactor(l); }, [&](const Eigen::VectorXd& x) { moment->advance(x); }});
     Eigen::VectorXd x = X;
     int row = 0;
     const StaticsResult sr = solveStatics(system, x, so, [&](const LoadStepResult& s) {
@@ -150,7 +133,7 @@ BenchmarkResult runBenchmark(const Benchmark& b, const BenchmarkRunOptions& o) {
       }
       if (s.atLevel && row < b.reference.rows()) compare(b, row++, read(s.x), r);
       return true;
-    }, hooks);
+    });
     r.newtonIterations = sr.newtonIterations;
     r.loadSteps = static_cast<int>(sr.steps.size());
     r.cuts = sr.totalCuts;

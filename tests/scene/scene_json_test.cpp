@@ -3,6 +3,7 @@
 #include "tools/scene/json_reader.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
+#include "tools/scene/scene_problem.h"
 #include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
@@ -282,4 +283,62 @@ TEST_CASE("scene: broken and missing meshes name the file and line") {
 
 TEST_CASE("scene: a missing scene file is named") {
   CHECK_THROWS_WITH(loadSceneFile("/nonexistent/scene.json"), "/nonexistent/scene.json: cannot open scene file");
+}
+
+TEST_CASE("scene: a moment load resolves to one chain of boundary edges, and a bad one names the field") {
+  auto withMoment = [](const Json& select) {
+    Json s = baseScene();
+    s["actors"][0]["loads"][0] = {{"select", select}, {"moment", 2.0}, {"axis", {0, -1, 0}}};
+    return s;
+  };
+  {
+    const Scene scene = sceneFromJson(withMoment({{"group", "right"}}), tempDir());
+    const SceneModel model = buildSceneModel(scene);
+    REQUIRE(model.endMoments.size() == 1);
+    const EndMomentLoad& m = model.endMoments[0];
+    CHECK(m.chain == std::vector<int>{8, 17, 26});  // the right edge of the 9 × 3 grid, from the smaller id
+    CHECK(m.moment == 2.0);
+    CHECK(m.axis == Eigen::Vector3d(0, -1, 0));
+    CHECK(m.where == "/actors/0/loads/0");
+    CHECK(model.appliedForces.cwiseAbs().maxCoeff() == 0.0);  // a moment is not a nodal force
+    const ShellProblem problem = shellProblemFromScene(scene, model);
+    ShellSystem system(problem, AnalysisKind::Statics);
+    REQUIRE(system.endMoments.size() == 1);
+    CHECK(system.endMoments[0]->name() == "end_moment");
+    CHECK(momentLoadedVertices(problem)[17] == 1);
+    CHECK(momentLoadedVertices(problem)[16] == 0);
+  }
+  const std::string rule = ": a moment load's vertices must form one open chain of boundary edges (an edge of the "
+                           "shell, from one end to the other); ";
+  CHECK(errorOf(withMoment({{"indices", {0, 26}}})) ==
+        "/actors/0/loads/0/select" + rule + "vertex 0 is on no boundary edge to another");
+  CHECK(errorOf(withMoment({{"boundary", true}})) == "/actors/0/loads/0/select" + rule + "these close a loop");
+  CHECK(errorOf(withMoment(Json::array({{{"group", "left"}}, {{"group", "right"}}}))) ==
+        "/actors/0/loads/0/select" + rule + "they form separate pieces (3 of 6 vertices are joined to the first end)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["loads"][0]["moment"] = 1.0; }) ==
+        "/actors/0/loads/0/force: a moment load takes \"select\", \"moment\" and \"axis\" only (a force is a separate "
+        "load)");
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["loads"][0]["axis"] = {0, 1, 0}; }) ==
+        "/actors/0/loads/0/axis: only a moment load has an axis");
+  Json zeroAxis = withMoment({{"group", "right"}});
+  zeroAxis["actors"][0]["loads"][0]["axis"] = {0, 0, 0};
+  CHECK(errorOf(zeroAxis) == "/actors/0/loads/0/axis = [0, 0, 0]: must be a non-zero vector");
+  Json noAxis = withMoment({{"group", "right"}});
+  noAxis["actors"][0]["loads"][0].erase("axis");
+  CHECK(errorOf(noAxis) == "/actors/0/loads/0/axis: missing (required)");
+  Json dynamic = withMoment({{"group", "right"}});
+  dynamic["analysis"] = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.1}};
+  CHECK(errorOf(dynamic) == "/actors/0/loads/0/moment: an end moment needs a static analysis (its rotation is "
+                            "unwrapped from one load step to the next)");
+  Json many = baseScene();
+  for (int k = 0; k <= 64; ++k)
+    many["actors"][0]["loads"][k] = {{"select", {{"group", "right"}}}, {"moment", 1.0}, {"axis", {0, 1, 0}}};
+  CHECK(errorOf(many) == "/actors/0/loads/64: moment loads in the scene = 65: too large (at most 64)");
+  // The axis along the loaded edge's normal in the plane: no segment has a sense about it.
+  Json across = withMoment({{"group", "right"}});
+  across["actors"][0]["loads"][0]["axis"] = {1, 0, 0};
+  const Scene scene = sceneFromJson(across, tempDir());
+  const ShellProblem problem = shellProblemFromScene(scene, buildSceneModel(scene));
+  CHECK_THROWS_WITH(ShellSystem(problem, AnalysisKind::Statics),
+                    "/actors/0/loads/0: end moment: chain segment 0 is perpendicular to the axis");
 }

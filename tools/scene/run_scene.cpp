@@ -169,11 +169,19 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   }
   // The logged potential energy: elastic energy minus the loads' work on the displacements (F·u), i.e. the
   // potential at x minus the potential at the reference positions under the same loads (the load terms are
-  // −F·x; their value at rest, −F·X, would swamp the digits that matter).
+  // −F·x; their value at rest, −F·X, would swamp the digits that matter). An end moment's −λMθ is 0 at rest by
+  // definition; evaluated there it would be unwrapped from the path's last equilibrium (2π once the edge has
+  // turned full circle), so its value at rest is not subtracted.
   const Eigen::VectorXd rest = system.restPositions();
   auto potentialEnergy = [&](const Eigen::VectorXd& positions) {
-    return objective.evaluate(positions, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly) -
-           objective.evaluate(rest, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
+    const double atX = objective.evaluate(positions, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
+    double atRest = objective.evaluate(rest, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
+    const std::vector<std::string> names = objective.activeTermNames();
+    for (const std::shared_ptr<EndMomentTerm>& m : system.endMoments) {
+      const auto it = std::find(names.begin(), names.end(), m->name());
+      if (it != names.end()) atRest -= objective.termEnergies()[static_cast<std::size_t>(it - names.begin())];
+    }
+    return atX - atRest;
   };
   // Stops the solver's loop: Ctrl-C, or the step limit of a quick check.
   auto shouldStop = [&](int steps) {

@@ -99,6 +99,16 @@ void validate(const Scene& scene) {
     validateSelection(l.select, l.where + "/select");
     check::finite(l.force, l.where + "/force");
   }
+  check::atMost(static_cast<std::int64_t>(scene.moments.size()), inputLimits().maxEndMoments, "scene: moment loads");
+  for (const MomentLoad& m : scene.moments) {
+    requireActor(scene, m.actor, m.where);
+    validateSelection(m.select, m.where + "/select");
+    check::finite(m.moment, m.where + "/moment");
+    check::nonZero(m.axis, m.where + "/axis");
+    if (scene.analysis.type != AnalysisType::Static)
+      throw InputError(m.where + "/moment: an end moment needs a static analysis (its rotation is unwrapped from one "
+                       "load step to the next)");
+  }
   std::set<std::string> probeNames;
   for (const Probe& p : scene.probes) {
     requireActor(scene, p.actor, p.where);

@@ -52,6 +52,17 @@ struct LoadCondition {
   std::string where;
 };
 
+/// A moment along a boundary edge (an end moment, energies/end_moment_term.h), scaled by λ; static analyses only.
+/// The selected vertices must form one open chain of boundary edges; the moment turns the faces along it about
+/// the edge's current direction, oriented the way `axis` points at rest (right-hand rule).
+struct MomentLoad {
+  int actor = 0;
+  VertexSelection select;
+  double moment = 0.0;                             // N·m, the total at λ = 1
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();  // nonzero, not perpendicular to the edge
+  std::string where;
+};
+
 /// A vertex whose displacement is reported (probes.csv, summary.json). The selection must pick exactly one.
 struct Probe {
   std::string name;
@@ -134,6 +145,7 @@ struct Scene {
   std::vector<VolumeActorParams> volumes;
   std::vector<FixedCondition> fixed;
   std::vector<LoadCondition> loads;
+  std::vector<MomentLoad> moments;  // written in a shell actor's "loads" with "moment" instead of "force"
   std::vector<Probe> probes;
   AnalysisSettings analysis;
   SolverSettings solver;

@@ -27,10 +27,11 @@ void addSceneEdgeRules(const Scene& scene, const ShellProblem& problem, ShellSys
     choice.symmetryPlanes.push_back({p.point, p.normal});
   choice.planeTolerance = 1e-6;
   const std::vector<char> clamped = clampedVerticesOf(problem);
+  const std::vector<char> momentLoaded = momentLoadedVertices(problem);
   // Every actor's bending term and the bending stiffness damping (Rayleigh: β_R times the same stiffness, so the
   // same rules).
   for (const std::shared_ptr<BendingTerm>& bending : system.bendingTerms)
-    applyBoundaryRules(*bending, system.mesh(), clamped, {}, choice);
+    applyBoundaryRules(*bending, system.mesh(), clamped, momentLoaded, choice);
 }
 
 }  // namespace jetshell

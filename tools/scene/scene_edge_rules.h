@@ -1,8 +1,8 @@
 // A scene's boundary-edge rules applied to its shell system (SCENES.md "edgeRules", VALIDATION.md "Boundary
 // rules"): every rule is the bending term's own edge rule (energies/shell/edge_rules.h), set on each actor's
 // bending term by energies/shell/boundary_rules.h: the free rule on free edges, symmetry_plane on edges lying on
-// a symmetry plane, the clamp rule on the edges whose two ends some actor clamps (`clampRotation`); the bending
-// stiffness damping takes the same rules.
+// a symmetry plane, the clamp rule on the edges whose two ends some actor clamps (`clampRotation`), the page's
+// free rule on the edges a moment load turns; the bending stiffness damping takes the same rules.
 //
 // Inputs: the validated scene, the problem built from it (tools/scene/scene_problem.h) and the system built from
 // that problem. Output: the system's bending terms ruled.

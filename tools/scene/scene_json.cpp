@@ -303,8 +303,28 @@ void readFixed(const Value& v, int actor, Scene& scene) {
   scene.fixed.push_back(std::move(c));
 }
 
+void readMoment(const Value& v, const Object& o, int actor, Scene& scene) {
+  for (const char* key : {"force", "distribution", "name"})
+    if (o.has(key))
+      throw InputError(o.member(key) + ": a moment load takes \"select\", \"moment\" and \"axis\" only (a force is "
+                       "a separate load)");
+  MomentLoad m;
+  m.actor = actor;
+  m.where = v.pointer();
+  m.select = readSelection(o.at("select"));
+  m.moment = o.at("moment").number();
+  check::finite(m.moment, o.member("moment"));
+  m.axis = o.at("axis").vec3();
+  check::nonZero(m.axis, o.member("axis"));
+  check::atMost(static_cast<std::int64_t>(scene.moments.size()) + 1, inputLimits().maxEndMoments,
+                m.where + ": moment loads in the scene");
+  scene.moments.push_back(std::move(m));
+}
+
 void readLoad(const Value& v, int actor, Scene& scene) {
-  const Object o = v.object({"name", "select", "force", "distribution"}, "a load");
+  const Object o = v.object({"name", "select", "force", "distribution", "moment", "axis"}, "a load");
+  if (o.has("moment")) return readMoment(v, o, actor, scene);
+  if (o.has("axis")) throw InputError(o.member("axis") + ": only a moment load has an axis");
   LoadCondition l;
   l.actor = actor;
   l.where = v.pointer();

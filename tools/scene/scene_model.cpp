@@ -73,6 +73,43 @@ std::vector<double> loadWeights(const LoadCondition& load, const std::vector<int
   return w;
 }
 
+/// The selected vertices (local ids) in order along the one open chain of boundary edges that joins them, from
+/// the end with the smaller id. InputError naming `where` when they are not such a chain.
+std::vector<int> boundaryChain(const std::vector<int>& ids, const Topology& topo, const std::string& where) {
+  std::map<int, std::vector<int>> next;  // selected vertex -> its selected neighbours along boundary edges
+  for (int v : ids) next[v];
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (!topo.isBoundaryEdge(e)) continue;
+    const auto a = next.find(topo.edges(e, 0)), b = next.find(topo.edges(e, 1));
+    if (a == next.end() || b == next.end()) continue;
+    a->second.push_back(b->first);
+    b->second.push_back(a->first);
+  }
+  const std::string rule = ": a moment load's vertices must form one open chain of boundary edges (an edge of the "
+                           "shell, from one end to the other)";
+  int start = -1;
+  for (const auto& [v, n] : next) {
+    if (n.empty())
+      throw InputError(where + rule + "; vertex " + std::to_string(v) + " is on no boundary edge to another");
+    if (n.size() > 2) throw InputError(where + rule + "; vertex " + std::to_string(v) + " joins three or more");
+    if (n.size() == 1 && start < 0) start = v;
+  }
+  if (start < 0) throw InputError(where + rule + "; these close a loop");
+  std::vector<int> chain{start};
+  for (int previous = -1, v = start;;) {
+    const std::vector<int>& n = next.at(v);
+    const int following = n[0] != previous ? n[0] : n.size() > 1 ? n[1] : -1;
+    if (following < 0) break;
+    previous = v;
+    v = following;
+    chain.push_back(v);
+  }
+  if (chain.size() != next.size())
+    throw InputError(where + rule + "; they form separate pieces (" + std::to_string(chain.size()) + " of " +
+                     std::to_string(next.size()) + " vertices are joined to the first end)");
+  return chain;
+}
+
 }  // namespace
 
 SceneModel buildSceneModel(const Scene& scene) {
@@ -147,6 +184,17 @@ SceneModel buildSceneModel(const Scene& scene) {
       const double share = load.distribution == LoadCondition::Distribution::PerVertex ? 1.0 : w[k] / total;
       model.appliedForces.segment<3>(3 * (offset + ids[k])) += share * load.force;
     }
+  }
+
+  for (const MomentLoad& m : scene.moments) {
+    const std::vector<int> ids = select(m.actor, m.select, m.where + "/select");
+    EndMomentLoad e;
+    e.chain = boundaryChain(ids, geometry[static_cast<std::size_t>(m.actor)].topology, m.where + "/select");
+    for (int& v : e.chain) v += model.actors[static_cast<std::size_t>(m.actor)].firstVertex;
+    e.axis = m.axis;
+    e.moment = m.moment;
+    e.where = m.where;
+    model.endMoments.push_back(std::move(e));
   }
 
   const AnalysisSettings& analysis = scene.analysis;

@@ -1,13 +1,15 @@
 // A scene resolved onto one set of unknowns: every shell actor's reference mesh placed in world coordinates and
 // stacked into one mesh (actor a owns vertices [firstVertex, firstVertex + numVertices)), selections turned
-// into vertex ids, loads into a nodal force vector, fixed conditions into prescribed coordinates, probes into
-// vertices. This is what the solvers consume; nothing here solves.
+// into vertex ids, loads into a nodal force vector and end moments along ordered chains of boundary edges, fixed
+// conditions into prescribed coordinates, probes into vertices. This is what the solvers consume; nothing here
+// solves.
 #pragma once
 
 #include "tools/scene/scene.h"
 
 #include "core/mesh.h"
 #include "core/topology.h"
+#include "solvers/shell_system.h"
 
 #include <Eigen/Core>
 
@@ -48,6 +50,7 @@ struct SceneModel {
   TriMesh world;                    // all shell actors, stacked, reference configuration in world coordinates
   std::vector<ActorBlock> actors;   // one per Scene::shells entry
   Eigen::VectorXd appliedForces;    // 3N, nodal forces at λ = 1
+  std::vector<EndMomentLoad> endMoments;  // the moment loads, each along its chain of boundary edges (stacked ids)
   std::vector<PrescribedCoordinate> prescribed;  // sorted by (vertex, component); later conditions win
   std::vector<ResolvedProbe> probes;
   /// Selections that resolved but may not be what was meant (`run --check` prints them): a `nearest` point
@@ -60,8 +63,8 @@ struct SceneModel {
 };
 
 /// Resolves a validated scene. Throws InputError naming the field when a selection picks nothing or an index is
-/// out of range, when an edgeLength load finds no boundary edge between its vertices, or when a probe does not
-/// pick exactly one vertex.
+/// out of range, when an edgeLength load finds no boundary edge between its vertices, when a moment load's
+/// vertices are not one open chain of boundary edges, or when a probe does not pick exactly one vertex.
 SceneModel buildSceneModel(const Scene& scene);
 
 /// The rest positions of each actor's vertices in world coordinates (N_a × 3).

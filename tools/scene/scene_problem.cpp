@@ -28,6 +28,7 @@ ShellProblem shellProblemFromScene(const Scene& scene, const SceneModel& model) 
     else p.prescribed.fix(c.vertex, c.component, c.constant);
   }
   if (model.appliedForces.cwiseAbs().maxCoeff() > 0.0) p.nodalForces = model.appliedForces;
+  p.endMoments = model.endMoments;
   // Every shell actor with its own material, gravity flag, clamps and contact settings.
   for (std::size_t a = 0; a < scene.shells.size(); ++a) {
     const ShellActorParams& s = scene.shells[a];
