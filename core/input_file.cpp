@@ -23,6 +23,32 @@ std::ifstream openInputFile(const std::string& path, std::int64_t maxBytes, cons
   return in;
 }
 
+bool readBoundedLine(std::istream& in, std::string& line, std::int64_t maxLineBytes, const std::string& name,
+                     int number, std::int64_t& totalBytes, std::int64_t maxTotalBytes) {
+  auto fail = [&](const std::string& what, std::int64_t bound) {
+    std::ostringstream s;
+    s << name << ":" << number << ": " << what << " (at most " << bound << " bytes)";
+    throw InputError(s.str());
+  };
+  line.clear();
+  std::streambuf* buffer = in.rdbuf();
+  bool any = false;
+  for (;;) {
+    const int c = buffer->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      break;
+    }
+    any = true;
+    if (++totalBytes > maxTotalBytes) fail("the file is too large", maxTotalBytes);
+    if (c == '\n') break;
+    if (static_cast<std::int64_t>(line.size()) >= maxLineBytes) fail("line is too long", maxLineBytes);
+    line.push_back(static_cast<char>(c));
+  }
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return any;
+}
+
 std::string readInputFile(const std::string& path, std::int64_t maxBytes, const std::string& what) {
   std::ifstream in = openInputFile(path, maxBytes, what);
   std::string out;

@@ -9,11 +9,18 @@
 
 #include <cstdint>
 #include <fstream>
+#include <istream>
 #include <string>
 
 namespace jetshell {
 
 std::ifstream openInputFile(const std::string& path, std::int64_t maxBytes, const std::string& what);
+
+/// Reads one line of a text input (without its '\n' or '\r\n') of at most maxLineBytes; false at the end of the
+/// input. totalBytes counts what has been read so far; InputError "<name>:<number>: line is too long (at most N
+/// bytes)" or "<name>:<number>: the file is too large (at most N bytes)" past either bound.
+bool readBoundedLine(std::istream& in, std::string& line, std::int64_t maxLineBytes, const std::string& name,
+                     int number, std::int64_t& totalBytes, std::int64_t maxTotalBytes);
 
 /// The whole content of such a file.
 std::string readInputFile(const std::string& path, std::int64_t maxBytes, const std::string& what);

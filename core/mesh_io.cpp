@@ -54,36 +54,6 @@ struct PendingFace {
   int line;
 };
 
-/// Reads one line (without its '\n' or '\r\n') of at most maxBytes; false at the end of the input.
-bool readLine(std::istream& in, std::string& line, std::int64_t maxBytes, const std::string& name, int number,
-              std::int64_t& totalBytes, std::int64_t maxTotal) {
-  line.clear();
-  std::streambuf* buffer = in.rdbuf();
-  bool any = false;
-  for (;;) {
-    const int c = buffer->sbumpc();
-    if (c == std::char_traits<char>::eof()) {
-      in.setstate(std::ios::eofbit);
-      break;
-    }
-    any = true;
-    if (++totalBytes > maxTotal) {
-      std::ostringstream s;
-      s << "the file is too large (at most " << maxTotal << " bytes)";
-      fail(name, number, s.str());
-    }
-    if (c == '\n') break;
-    if (static_cast<std::int64_t>(line.size()) >= maxBytes) {
-      std::ostringstream s;
-      s << "line is too long (at most " << maxBytes << " bytes)";
-      fail(name, number, s.str());
-    }
-    line.push_back(static_cast<char>(c));
-  }
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  return any;
-}
-
 /// Text lines hold printable characters, tabs and (in names and comments) UTF-8; other control bytes mean the
 /// file is not text.
 void requireText(const std::string& text, const std::string& name, int line) {
@@ -108,7 +78,7 @@ ObjMesh parseObj(std::istream& in, const std::string& name) {
   std::string text;
   int line = 0;
   std::int64_t totalBytes = 0;
-  while (readLine(in, text, limits.maxObjLineBytes, name, line + 1, totalBytes, limits.maxObjBytes)) {
+  while (readBoundedLine(in, text, limits.maxObjLineBytes, name, line + 1, totalBytes, limits.maxObjBytes)) {
     ++line;
     if (line == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // UTF-8 byte-order mark
     requireText(text, name, line);

@@ -1,5 +1,7 @@
 #include "energies/contact/sdf_grid.h"
 
+#include "core/input_file.h"
+#include "core/input_limits.h"
 #include "core/mesh.h"
 
 #include <algorithm>
@@ -84,17 +86,18 @@ class GridShape : public VolumeShape {
 }  // namespace
 
 SdfGrid readSdfGrid(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open SDF grid file");
+  const InputLimits& limits = inputLimits();
+  std::ifstream in = openInputFile(path, limits.maxSdfBytes, "SDF grid file");
   SdfGrid g;
   int line = 0;
+  std::int64_t totalBytes = 0;
   std::string text;
   enum { Dims, Origin, Spacing, Values } stage = Dims;
   long long expected = 0;
   auto fail = [&](const std::string& what) -> void {
     throw InputError(path + ":" + std::to_string(line) + ": " + what);
   };
-  while (std::getline(in, text)) {
+  while (readBoundedLine(in, text, limits.maxSdfLineBytes, path, line + 1, totalBytes, limits.maxSdfBytes)) {
     ++line;
     std::istringstream s(text);
     std::string word;
@@ -104,7 +107,8 @@ SdfGrid readSdfGrid(const std::string& path) {
       if (word != "dims" || !(s >> n[0] >> n[1] >> n[2])) fail("expected 'dims nx ny nz'");
       for (long long v : n)
         if (v < 2 || v > kMaxSamples) fail("each grid dimension must be in [2, 16777216]");
-      if (n[0] * n[1] * n[2] > kMaxSamples) fail("at most 16777216 samples");
+      // Each factor is at most 2^24, so neither product overflows once the first is bounded.
+      if (n[0] * n[1] > kMaxSamples || n[0] * n[1] * n[2] > kMaxSamples) fail("at most 16777216 samples");
       g.nx = static_cast<int>(n[0]);
       g.ny = static_cast<int>(n[1]);
       g.nz = static_cast<int>(n[2]);
@@ -139,7 +143,9 @@ SdfGrid readSdfGrid(const std::string& path) {
 
 VolumeShapePtr makeSdfGridShape(SdfGrid grid) {
   if (grid.nx < 2 || grid.ny < 2 || grid.nz < 2) throw InputError("SDF grid: each dimension must be >= 2");
-  if (static_cast<long long>(grid.nx) * grid.ny * grid.nz != static_cast<long long>(grid.values.size()))
+  const long long plane = static_cast<long long>(grid.nx) * grid.ny;  // ints: no overflow in long long
+  if (plane > kMaxSamples || plane * grid.nz > kMaxSamples) throw InputError("SDF grid: at most 16777216 samples");
+  if (plane * grid.nz != static_cast<long long>(grid.values.size()))
     throw InputError("SDF grid: values do not match dims");
   if (!(std::isfinite(grid.spacing) && grid.spacing > 0)) throw InputError("SDF grid: spacing must be > 0");
   for (double v : grid.values)

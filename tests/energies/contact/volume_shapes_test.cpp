@@ -85,4 +85,19 @@ TEST_CASE("sdf grid: a sampled plane reads back exactly, bad files name their li
                     Catch::Contains("3 distance values, 8 expected"));
   CHECK_THROWS_WITH(readSdfGrid(tempFile("grid_bad4.sdf", "dims 100000 100000 100000\n")),
                     Catch::Contains("at most"));
+  // Each dimension within its bound, their product 2^72: once wrapped to 0 samples, then read past the values.
+  CHECK_THROWS_WITH(readSdfGrid(tempFile("grid_bad5.sdf", "dims 16777216 16777216 16777216\norigin 0 0 0\n"
+                                                          "spacing 0.1\n")),
+                    Catch::Contains("grid_bad5.sdf:1: at most 16777216 samples"));
+  SdfGrid wrapped;
+  wrapped.nx = wrapped.ny = wrapped.nz = 1 << 24;
+  wrapped.spacing = 0.1;
+  CHECK_THROWS_WITH(makeSdfGridShape(wrapped), "SDF grid: at most 16777216 samples");
+  // Only regular files of bounded size and line length are read.
+  CHECK_THROWS_WITH(readSdfGrid("/dev/zero"), Catch::Contains("not a regular file"));
+  CHECK_THROWS_WITH(readSdfGrid(test::scratchDirectory("volume_shapes").string()),
+                    Catch::Contains("not a regular file"));
+  CHECK_THROWS_WITH(readSdfGrid(tempFile("grid_bad6.sdf", "dims 2 2 2\norigin 0 0 0\nspacing 1\n" +
+                                                              std::string((1 << 20) + 1, ' ') + "\n")),
+                    Catch::Contains("grid_bad6.sdf:4: line is too long (at most 1048576 bytes)"));
 }
