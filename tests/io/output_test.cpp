@@ -92,6 +92,32 @@ TEST_CASE("output: an atomic write to a missing directory fails with the path") 
                     Catch::StartsWith("/nonexistent/dir/f.txt: cannot write"));
 }
 
+TEST_CASE("output: an atomic write replaces only a regular file") {
+  const std::filesystem::path dir = test::scratchDirectory("atomic_file");
+  std::filesystem::create_directories(dir);
+  const std::string fifo = (dir / "fifo").string(), link = (dir / "link").string(), file = (dir / "f.txt").string();
+  std::filesystem::remove(fifo);
+  std::filesystem::remove(link);
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  std::filesystem::create_symlink("f.txt", link);
+  for (const std::string& target : {fifo, link, dir.string()}) {
+    CHECK_THROWS_WITH(writeFileAtomically(target, "x"),
+                      target + ": not a regular file (a directory, device, FIFO or link): will not replace it");
+  }
+  CHECK(std::filesystem::is_fifo(fifo));
+  CHECK(std::filesystem::is_symlink(link));
+  // A link planted at the temporary file's name is removed, not written through.
+  const std::string planted = file + ".tmp" + std::to_string(::getpid());
+  std::filesystem::remove(planted);
+  std::filesystem::create_symlink("elsewhere.txt", planted);
+  writeFileAtomically(file, "content");
+  CHECK(!std::filesystem::exists(dir / "elsewhere.txt"));
+  std::ifstream in(file);
+  std::string text;
+  std::getline(in, text);
+  CHECK(text == "content");
+}
+
 TEST_CASE("output: the interrupt flag is set by a request and cleared on install") {
   installInterruptHandler();
   CHECK(!interruptRequested());

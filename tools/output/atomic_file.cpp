@@ -2,6 +2,8 @@
 
 #include "core/mesh.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -12,8 +14,17 @@
 namespace jetshell {
 
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  // The pid keeps concurrent runs writing into one directory from sharing a temporary file.
+  // The rename would replace whatever the path names: a device such as /dev/null (as root), a FIFO, a link.
+  struct stat info {};
+  if (::lstat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode))
+    throw InputError(path + ": not a regular file (a directory, device, FIFO or link): will not replace it");
+  // The pid keeps concurrent runs writing into one directory from sharing a temporary file; it is created
+  // afresh (a file or link already at its name is removed first, never written through).
   const std::string temporary = path + ".tmp" + std::to_string(::getpid());
+  if (::lstat(temporary.c_str(), &info) == 0) std::remove(temporary.c_str());
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0644);
+  if (fd < 0) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
+  ::close(fd);
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");

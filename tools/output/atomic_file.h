@@ -9,7 +9,8 @@
 namespace jetshell {
 
 /// Writes `path` atomically with `write`. Throws InputError naming the path when it cannot be written (missing
-/// directory, no permission, disk full).
+/// directory, no permission, disk full) or when it names something other than a regular file (a device, a FIFO,
+/// a directory, a symbolic link), which the rename would replace.
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 /// The same for a ready string.
