@@ -1,3 +1,4 @@
+#include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/vtu.h"
 #include "tools/scene/json_reader.h"
@@ -11,6 +12,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <fstream>
 #include <sstream>
@@ -249,6 +251,26 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
     REQUIRE(b.count(name) == 1);
     CHECK(b.at(name) == bytes);
   }
+  // A hand-edited checkpoint is refused with the field, not followed into a crash or an absurd summary.
+  const nlohmann::json saved = readCheckpoint(o.outputDirectory);
+  auto resumeEdited = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json c = saved;
+    edit(c);
+    writeCheckpoint(o.outputDirectory, c);
+    return runScene(scene, o);
+  };
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["history"]["u"] = nlohmann::json::array(); }),
+                    Catch::Contains("history: expected 3 finite series as long as the abscissa"));
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["solver"]["steps"] = 2147483647; }),
+                    Catch::Contains("solver/steps: must lie in [0, 10000000]"));
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["solver"]["t"] = 1e308; }),
+                    Catch::Contains("solver/t: must lie in [0, duration]"));
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["newton_iterations"] = -100; }),
+                    Catch::Contains("newton_iterations: must be >= 0"));
+  CHECK_THROWS_WITH(
+      resumeEdited([](nlohmann::json& c) { c["worst_residual_over_tolerance"] = std::nan(""); }),
+      Catch::Contains("worst_residual_over_tolerance: must be finite and >= 0"));
+  writeCheckpoint(o.outputDirectory, saved);
   // A different scene is refused.
   o.sceneFingerprint = "another";
   CHECK_THROWS_WITH(runScene(scene, o), Catch::Contains("written for another scene"));

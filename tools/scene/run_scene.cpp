@@ -1,6 +1,7 @@
 #include "tools/scene/run_scene.h"
 
 #include "core/format.h"
+#include "core/input_limits.h"
 #include "solvers/dynamic_relaxation.h"
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
@@ -163,6 +164,16 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     } catch (const nlohmann::json::exception& e) {
       throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
     }
+    // The probe history goes into probes.png: one series per probe component, one value per abscissa.
+    bool historyOk = !history.abscissa.empty() && history.u.size() == 3 * model.probes.size();
+    for (double a : history.abscissa) historyOk = historyOk && std::isfinite(a);
+    for (const std::vector<double>& series : history.u) {
+      historyOk = historyOk && series.size() == history.abscissa.size();
+      for (double u : series) historyOk = historyOk && std::isfinite(u);
+    }
+    if (!historyOk)
+      throw InputError(checkpointPath(options.outputDirectory) + ": history: expected " +
+                       std::to_string(3 * model.probes.size()) + " finite series as long as the abscissa");
   } else {
     output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
     remember(0.0, x);
@@ -389,6 +400,23 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       } catch (const nlohmann::json::exception& e) {
         throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
       }
+      // Counts and times a hand-edited checkpoint could make absurd.
+      const auto require = [&](bool ok, const std::string& field, const std::string& rule) {
+        if (!ok) throw InputError(checkpointPath(options.outputDirectory) + ": " + field + ": " + rule);
+      };
+      const nlohmann::json& c = checkpoint.at("solver");
+      const double t = c.at("t").get<double>(), historyStep = c.at("history_step").get<double>();
+      const double steps = c.at("steps").get<double>();
+      require(std::isfinite(t) && t >= 0.0 && t <= duration * (1.0 + 1e-9), "solver/t", "must lie in [0, duration]");
+      require(steps >= 0.0 && steps <= static_cast<double>(inputLimits().maxSteps), "solver/steps",
+              "must lie in [0, " + std::to_string(inputLimits().maxSteps) + "]");
+      require(std::isfinite(historyStep) && historyStep >= 0.0, "solver/history_step", "must be finite and >= 0");
+      require(previousIterations >= 0, "newton_iterations", "must be >= 0");
+      require(previousCuts >= 0, "cuts", "must be >= 0");
+      require(unconvergedSteps >= 0 && unconvergedSteps <= steps, "steps_at_iteration_cap",
+              "must lie in [0, solver/steps]");
+      require(std::isfinite(worstRatio) && worstRatio >= 0.0, "worst_residual_over_tolerance",
+              "must be finite and >= 0");
       progress.log("resumed from " + checkpointPath(options.outputDirectory) + " at step " +
                    std::to_string(solver.stepCount()) + ", t = " + formatNumber("%.4f", solver.time()) + " s");
     }
