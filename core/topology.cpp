@@ -167,6 +167,18 @@ std::vector<HalfEdge> checkedHalfEdges(const TriMesh& mesh, const MeshNaming& na
 
 }  // namespace
 
+int firstVertexWithoutFace(const TriMesh& mesh) {
+  std::vector<char> used(static_cast<std::size_t>(mesh.numVertices()), 0);
+  for (int f = 0; f < mesh.numFaces(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.F(f, c);
+      if (v >= 0 && v < mesh.numVertices()) used[static_cast<std::size_t>(v)] = 1;
+    }
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (!used[v]) return static_cast<int>(v);
+  return -1;
+}
+
 void validateMesh(const TriMesh& mesh) { checkedHalfEdges(mesh, defaultNaming(mesh)); }
 
 void validateMesh(const TriMesh& mesh, const MeshNaming& naming) { checkedHalfEdges(mesh, naming); }

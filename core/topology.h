@@ -53,6 +53,11 @@ constexpr double kMaxRestFoldDegrees = 179.9;
 /// (normals more than kMaxRestFoldDegrees apart).
 Topology buildTopology(const TriMesh& mesh);
 
+/// The first vertex that no face uses, or -1 when every vertex belongs to a face. A shell's vertex without a face
+/// has neither stiffness nor mass: loaded, it cannot be balanced (the shell system and scene shapes refuse it;
+/// buildTopology does not, since an actor's faces index the vertices of all actors stacked).
+int firstVertexWithoutFace(const TriMesh& mesh);
+
 /// The validation part of buildTopology alone, with the default naming or the caller's.
 void validateMesh(const TriMesh& mesh);
 void validateMesh(const TriMesh& mesh, const MeshNaming& naming);

@@ -182,7 +182,9 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
     NewtonSolver& newton;
     ~ClearIterateTest() { newton.setIterateTest({}); }
   } clearIterateTest{newton_};
-  if (options_.updateTolerance > 0.0 && sys.inertia) {
+  // The rule weighs each vertex's residual by its mass: a massless vertex (an actor of zero density beside massive
+  // ones) would go unjudged, so then Newton's residual test alone decides.
+  if (options_.updateTolerance > 0.0 && sys.inertia && sys.vertexMass().minCoeff() > 0.0) {
     // Time-discretization rule (see the header): Newton error estimates against the step's change, all as
     // mass-weighted RMS vertex distances.
     const Eigen::VectorXd& m = sys.vertexMass();

@@ -37,7 +37,9 @@
 // minimizer; ‖x − x̃‖ is Δt²‖a‖ (backward Euler; 4/9 of it for BDF2), the scale of the step's local truncation
 // error. So the Newton error stays a fraction η of the time-discretization error, and the test needs no solve:
 // a good start (the extrapolated trajectory) can pass it after one iteration. floor = 1e-9 × the mean edge
-// length stands for ‖x − x̃‖ when the step changes nothing. Newton's own residual tests still apply.
+// length stands for ‖x − x̃‖ when the step changes nothing. Newton's own residual tests still apply. The rule
+// needs every vertex massive (a massless one's residual would weigh nothing); otherwise the residual tests alone
+// decide.
 // BDF2: its local truncation error is O(Δt³) (≈ (2/9)Δt³ x'''), far below ‖x − x̃‖ = (4/9)Δt² ‖a‖ at small Δt, so
 // a Newton error held to a fraction of ‖x − x̃‖ adds up to an O(Δt) global error that BDF2's O(Δt²) one does not
 // hide (measured, 441 vertices, Δt = 1/240: 7 of 240 steps accepted at their start raised the RMS trajectory

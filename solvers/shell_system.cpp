@@ -82,6 +82,9 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
       objective_(p.mesh.numVertices()) {
   validate(material_, "material");
   const int n = mesh_.numVertices();
+  if (const int v = firstVertexWithoutFace(mesh_); v >= 0)
+    throw InputError("mesh: vertex " + std::to_string(v) + " belongs to no face (a shell vertex without a face has no "
+                     "stiffness and no mass)");
   if (!p.gravity.allFinite()) throw InputError("gravity: must be finite");
   if (p.nodalForces.size() != 0 && p.nodalForces.size() != 3 * n) {
     std::ostringstream s;

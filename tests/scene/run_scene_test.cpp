@@ -383,3 +383,32 @@ TEST_CASE("run: the fallback's bending Hessian reaches Newton, exact unless the 
   CHECK(newtonOptionsFor(s, 4).fallbackBendingHessian == HessianModel::GaussNewton);
   CHECK_THROWS_AS(hessianModelFromString("gauss"), InputError);
 }
+
+TEST_CASE("run: a massless actor beside a massive one is judged by the residual, not passed unweighed") {
+  // An actor of zero density takes a load; the time-discretization rule weighs residuals by mass, so its
+  // vertices once went unjudged: every step "converged" after 0 Newton iterations, the load unbalanced
+  // (residual 1e6 times its tolerance).
+  const Scene scene = sceneFromJson(nlohmann::json::parse(R"({
+    "gravity": [0, 0, 0],
+    "actors": [
+      {"type": "shell", "name": "light", "colliderType": "None",
+       "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 2, "ny": 2},
+       "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.01, "volumeDensity": 0},
+       "fixed": [{"select": {"group": "left"}}],
+       "loads": [{"select": {"group": "right"}, "force": [0, 0, 1]}]},
+      {"type": "shell", "name": "heavy", "colliderType": "None",
+       "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 2, "ny": 2},
+       "worldFromLocalTransform": {"translation": [0, 3, 0]},
+       "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.01, "volumeDensity": 100},
+       "fixed": [{"select": {"group": "left"}}]}],
+    "analysis": {"type": "dynamic", "timeStep": 0.01, "duration": 0.03},
+    "solver": {"threads": 1}})"),
+                                    ".");
+  RunOptions o;
+  o.pictures = false;
+  o.outputDirectory = freshDirectory("massless_actor").string();
+  const RunResult r = runScene(scene, o);
+  const double worst = r.summary.extra.value("worst_residual_over_tolerance", 0.0);
+  INFO("converged " << r.summary.converged << ", worst residual / tolerance " << worst);
+  CHECK_FALSE((r.summary.converged && worst > 1e3));
+}

@@ -285,6 +285,21 @@ TEST_CASE("scene: a missing scene file is named") {
   CHECK_THROWS_WITH(loadSceneFile("/nonexistent/scene.json"), "/nonexistent/scene.json: cannot open scene file");
 }
 
+TEST_CASE("scene: a vertex that no face uses is refused, in the scene and in the shell system") {
+  CHECK(errorAfter([](Json& s) {
+          s["actors"][0]["shape"] = {{"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 5, 5}}},
+                                     {"faces", {{0, 1, 2}}}};
+          s["actors"][0]["fixed"][0]["select"] = {{"indices", {0, 1, 2}}};
+        }) == "/actors/0/shape: arrays: vertex 3 (counted from 0) belongs to no face: a shell vertex without a face "
+              "has no stiffness and no mass (remove it from the mesh)");
+  ShellProblem p;
+  p.mesh.V = (Positions(4, 3) << 0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 5).finished();
+  p.mesh.F = (Faces(1, 3) << 0, 1, 2).finished();
+  p.material = ShellMaterialParamsFrom3dIsotropic(1e6, 0.3, 100, 0.01);
+  CHECK_THROWS_WITH(ShellSystem(p, AnalysisKind::Dynamics),
+                    "mesh: vertex 3 belongs to no face (a shell vertex without a face has no stiffness and no mass)");
+}
+
 TEST_CASE("scene: a moment load resolves to one chain of boundary edges, and a bad one names the field") {
   auto withMoment = [](const Json& select) {
     Json s = baseScene();

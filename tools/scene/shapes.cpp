@@ -3,6 +3,8 @@
 #include "core/mesh_io.h"
 #include "core/topology.h"
 
+#include <string>
+
 namespace jetshell {
 
 ShapeHandle CreateTriMeshShape(const Positions& vertices, const Faces& faces) {
@@ -15,6 +17,9 @@ ShapeHandle CreateTriMeshShape(const std::string& objPath) {
 
 ShapeHandle CreateTriMeshShape(TriMesh mesh, std::string source, std::map<std::string, std::vector<int>> groups) {
   buildTopology(mesh);  // validation; the topology itself is rebuilt where it is used
+  if (const int v = firstVertexWithoutFace(mesh); v >= 0)
+    throw InputError(source + ": vertex " + std::to_string(v) + " (counted from 0) belongs to no face: a shell "
+                     "vertex without a face has no stiffness and no mass (remove it from the mesh)");
   auto shape = std::make_shared<TriangularMeshShape>();
   shape->mesh = std::move(mesh);
   shape->source = std::move(source);
