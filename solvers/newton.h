@@ -54,6 +54,10 @@
 
 namespace jetshell {
 
+/// The largest relative tolerance a boundary accepts (residualTolerance, decrementTolerance, a relaxation's
+/// tolerance): a residual of a tenth of the force scale balances nothing, and at 1 the unloaded start passes.
+constexpr double kMaxRelativeTolerance = 0.1;
+
 struct NewtonOptions {
   int maxIterations = 50;
   PsdProjection projection = PsdProjection::Clamp;

@@ -6,6 +6,7 @@
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "solvers/linear_solver.h"
+#include "solvers/newton.h"
 #include "tools/validation/validation_plots.h"
 #include "validation/benchmark.h"
 #include "validation/report.h"
@@ -235,7 +236,7 @@ const RegisterSubcommand registerValidate("validate", [](CLI::App& app, int& exi
       ->check(CLI::Range(0, 5));
   cmd->add_option("--residual-tolerance", a->residualTolerance,
                   "Newton's residual tolerance (x the largest applied nodal force)")
-      ->check(finiteNumber());
+      ->check(finiteNumber(kMaxRelativeTolerance));
   cmd->add_option("--max-error", a->maxError, "Fail (exit 1) when a benchmark's max relative error exceeds this")
       ->check(finiteNumber());
   cmd->add_flag("--log", a->log, "One line per Newton solve on stderr");

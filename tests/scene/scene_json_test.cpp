@@ -237,6 +237,14 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
         "/solver/fallbackBendingHessian: \"gauss\" is not one of \"exact\", \"gaussNewton\"");
   CHECK(errorAfter([](Json& s) { s["actors"].push_back({{"type", "sphere"}, {"radius", -1}}); }) ==
         "/actors/1/radius = -1: must be finite and > 0");
+  // A tolerance of the force scale's size passes the unloaded start: "converged" with nothing balanced.
+  CHECK(errorAfter([](Json& s) { s["solver"] = {{"residualTolerance", 1e308}}; }) ==
+        "/solver/residualTolerance = 1e+308: too large (at most 0.1)");
+  CHECK(errorAfter([](Json& s) { s["solver"] = {{"decrementTolerance", 2}}; }) ==
+        "/solver/decrementTolerance = 2: too large (at most 0.1)");
+  CHECK(errorAfter([](Json& s) {
+          s["analysis"] = {{"type", "dynamicRelaxation"}, {"timeStep", 0.1}, {"tolerance", 0.5}};
+        }) == "/analysis/tolerance = 0.5: too large (at most 0.1)");
 }
 
 TEST_CASE("scene: selections that cannot resolve name the selector") {

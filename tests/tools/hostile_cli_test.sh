@@ -68,6 +68,7 @@ expect 2 "--thickness: 1e300: must be a finite number > 0 and at most 1000" -- \
 expect 2 "--path-increment: nan: must be a finite number in" -- \
   "$js" validate hinged-cylindrical-roof --path-increment nan
 expect 2 "--max-forcing: nan: must be a finite number in" -- "$js" bench solver --max-forcing nan
+expect 2 "--residual-tolerance: 5: must be a finite number > 0 and at most 0.1" -- "$js" validate cantilever-end-shear --residual-tolerance 5
 expect 2 "--dt: inf: must be a finite number > 0" -- "$js" bench solver --dt inf
 expect 2 "--residual-tolerance: -nan: must be a finite number > 0" -- "$js" validate slit-annular-plate \
   --residual-tolerance -nan

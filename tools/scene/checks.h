@@ -36,6 +36,13 @@ inline void atLeast(int v, int minimum, const std::string& field) {
     fail(field, v, rule.c_str());
   }
 }
+inline void atMostReal(double v, double maximum, const std::string& field) {
+  if (!(v <= maximum)) {
+    std::ostringstream s;
+    s << field << " = " << v << ": too large (at most " << maximum << ")";
+    throw InputError(s.str());
+  }
+}
 inline void atMost(std::int64_t v, std::int64_t maximum, const std::string& field) {
   if (v > maximum) {
     std::ostringstream s;

@@ -1,5 +1,6 @@
 #include "tools/scene/scene.h"
 
+#include "solvers/newton.h"
 #include "tools/scene/checks.h"
 
 #include "core/input_limits.h"
@@ -163,6 +164,9 @@ void validate(const Scene& scene) {
   if (s.maxIterations) check::atMost(*s.maxIterations, limits.maxIterations, "/solver/maxIterations");
   if (s.residualTolerance) check::nonNegative(*s.residualTolerance, "/solver/residualTolerance");
   if (s.decrementTolerance) check::nonNegative(*s.decrementTolerance, "/solver/decrementTolerance");
+  if (s.residualTolerance) check::atMostReal(*s.residualTolerance, kMaxRelativeTolerance, "/solver/residualTolerance");
+  if (s.decrementTolerance)
+    check::atMostReal(*s.decrementTolerance, kMaxRelativeTolerance, "/solver/decrementTolerance");
   requireOneOf(s.lineSearch, {"default", "none", "armijo", "residual", "wolfe"}, "/solver/lineSearch");
   requireOneOf(s.linearSolver, {"auto", "cholmod", "ldlt", "pcg"}, "/solver/linearSolver");
   requireOneOf(s.preconditioner, {"jacobi", "block_jacobi", "ic"}, "/solver/preconditioner");

@@ -3,6 +3,7 @@
 #include "core/math_constants.h"
 #include "energies/contact/contact_params.h"
 #include "energies/contact/sdf_grid.h"
+#include "solvers/newton.h"
 #include "tools/scene/checks.h"
 #include "tools/scene/generated_shapes.h"
 #include "tools/scene/json_reader.h"
@@ -497,6 +498,7 @@ AnalysisSettings readAnalysis(const Value& v) {
     a.maxSteps = o.integer("maxSteps", a.maxSteps, 1, maxSteps);
     a.tolerance = o.number("tolerance", a.tolerance);
     check::positive(a.tolerance, o.member("tolerance"));
+    check::atMostReal(a.tolerance, kMaxRelativeTolerance, o.member("tolerance"));
     a.massDamping = o.number("massDamping", a.massDamping);
     check::nonNegative(a.massDamping, o.member("massDamping"));
   }
@@ -515,10 +517,12 @@ SolverSettings readSolver(const Value& v) {
   if (const auto t = o.find("residualTolerance")) {
     s.residualTolerance = t->number();
     check::nonNegative(*s.residualTolerance, t->pointer());
+    check::atMostReal(*s.residualTolerance, kMaxRelativeTolerance, t->pointer());
   }
   if (const auto t = o.find("decrementTolerance")) {
     s.decrementTolerance = t->number();
     check::nonNegative(*s.decrementTolerance, t->pointer());
+    check::atMostReal(*s.decrementTolerance, kMaxRelativeTolerance, t->pointer());
   }
   s.lineSearch = o.choice("lineSearch", {"default", "none", "armijo", "residual", "wolfe"}, s.lineSearch);
   s.linearSolver = o.choice("linearSolver", {"auto", "cholmod", "ldlt", "pcg"}, s.linearSolver);
