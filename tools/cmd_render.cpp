@@ -74,8 +74,12 @@ const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCod
                   "(e.g. volumes.vtu) are drawn in grey")
       ->required();
   cmd->add_option("--png", args->png, "Output PNG file")->required();
-  cmd->add_option("--width", args->options.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-  cmd->add_option("--height", args->options.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  cmd->add_option("--width", args->options.width, "Image width in pixels")
+      ->check(CLI::Range(kMinImageSize, kMaxImageSize))
+      ->capture_default_str();
+  cmd->add_option("--height", args->options.height, "Image height in pixels")
+      ->check(CLI::Range(kMinImageSize, kMaxImageSize))
+      ->capture_default_str();
   cmd->add_option("--azimuth", args->options.azimuthDegrees, "Camera angle around the up axis, degrees")
       ->check(finiteRange(-360.0, 360.0))
       ->capture_default_str();
@@ -89,9 +93,14 @@ const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCod
       ->check(finiteRange(-1e300, 1e300));
   cmd->add_option("--edges", args->edges, "Draw mesh edges")->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
   cmd->add_option("--supersample", args->options.supersample, "Samples per pixel along each axis")
-      ->check(CLI::Range(1, 8))->capture_default_str();
+      ->check(CLI::Range(1, kMaxSupersample))->capture_default_str();
   cmd->callback([args, &exitCode] {
     RenderOptions o = args->options;
+    const long long samples = static_cast<long long>(o.width) * o.height * o.supersample * o.supersample;
+    if (samples > kMaxImageSamples)
+      throw CLI::ValidationError("--supersample", "width x height x supersample^2 = " + std::to_string(samples) +
+                                                      " samples, too many (at most " +
+                                                      std::to_string(kMaxImageSamples) + ")");
     o.up = axisFromName(args->up);
     o.edges = args->edges == "on" ? RenderOptions::Edges::On : args->edges == "off" ? RenderOptions::Edges::Off : RenderOptions::Edges::Auto;
     if (args->range.size() == 2) {

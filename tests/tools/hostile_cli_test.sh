@@ -54,7 +54,9 @@ expect 3 "garbage.obj:" -- "$js" run "$dir/garbage.json" --check
 expect 3 "/dev/zero: not a regular file" -- "$js" render /dev/zero --png "$dir/zero.png"
 mkfifo "$dir/frames.pvd"
 expect 3 "frames.pvd: not a regular file" -- "$js" render "$dir" --png "$dir/fifo.png"
-expect 2 "--width: Value -5 not in range 1 to 16384" -- "$js" render "$dir" --png "$dir/w.png" --width -5
+expect 2 "--width: Value -5 not in range 16 to 8192" -- "$js" render "$dir" --png "$dir/w.png" --width -5
+expect 2 "--supersample: width x height x supersample^2 = 268435456 samples, too many (at most 67108864)" -- \
+  "$js" render "$dir" --png "$dir/w.png" --width 2048 --height 2048 --supersample 8
 expect 3 "--mesh: '4294967300x1' is not N1xN2 with counts from 1 to 100000" -- "$js" validate cantilever-end-shear --mesh 4294967300x1
 expect 3 "--mesh: 100000x100000 gives 10000200001 vertices, too many (at most 4000000)" -- \
   "$js" validate cantilever-end-shear --mesh 100000x100000

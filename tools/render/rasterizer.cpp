@@ -85,9 +85,13 @@ Rgb viridis(double s) {
 }
 
 Image renderMeshes(const std::vector<RenderMesh>& meshes, const RenderOptions& o) {
-  if (o.width < 16 || o.height < 16 || o.width > 8192 || o.height > 8192)
+  if (o.width < kMinImageSize || o.height < kMinImageSize || o.width > kMaxImageSize || o.height > kMaxImageSize)
     throw InputError("render: image size must be between 16 and 8192 pixels");
-  if (o.supersample < 1 || o.supersample > 8) throw InputError("render: supersample must be 1..8");
+  if (o.supersample < 1 || o.supersample > kMaxSupersample) throw InputError("render: supersample must be 1..8");
+  const long long samples = static_cast<long long>(o.width) * o.height * o.supersample * o.supersample;
+  if (samples > kMaxImageSamples)
+    throw InputError("render: width x height x supersample^2 = " + std::to_string(samples) +
+                     " samples, too many (at most " + std::to_string(kMaxImageSamples) + ")");
   bool any = false;
   for (const RenderMesh& m : meshes) any = any || m.F.rows() > 0;
   if (!any) throw InputError("render: nothing to draw (no triangles)");

@@ -20,6 +20,11 @@ struct RenderMesh {
   Rgb back{0.80f, 0.45f, 0.20f};       // and of the other side
 };
 
+/// Image sizes renderMeshes accepts, and the most samples (width × height × supersample²) it draws: each costs
+/// about 16 bytes, so 2^26 of them about 1 GB.
+constexpr int kMinImageSize = 16, kMaxImageSize = 8192, kMaxSupersample = 8;
+constexpr long long kMaxImageSamples = 1LL << 26;
+
 struct RenderOptions {
   int width = 1200, height = 900;
   int supersample = 3;                 // rendered at supersample × size, then box-filtered
