@@ -90,8 +90,8 @@ fuzz() {
   bash scripts/install-fuzz-deps.sh &&
     configure "$build-fuzz" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++-14 &&
     cmake --build "$build-fuzz" -j"$jobs" || return 1
-  # Each fuzzer is one process on one core: the two run side by side.
-  local parsers=(obj scene) parser pids=()
+  # Each fuzzer is one process: they run side by side on the two cores.
+  local parsers=(obj scene sdf) parser pids=()
   for parser in "${parsers[@]}"; do
     mkdir -p "$build-fuzz/corpus-$parser"
     # New inputs go to the build directory; the committed seeds stay as they are.

@@ -47,7 +47,9 @@ class GridShape : public VolumeShape {
     int i0[3];
     double f[3];
     for (int a = 0; a < 3; ++a) {
-      i0[a] = std::clamp(static_cast<int>(std::floor(u[a])), 0, n[a] - 2);
+      // Clamped as a double: the cast of a value outside int's range (or of NaN) would be undefined.
+      const double cell = std::isnan(u[a]) ? 0.0 : std::clamp(std::floor(u[a]), 0.0, static_cast<double>(n[a] - 2));
+      i0[a] = static_cast<int>(cell);
       f[a] = u[a] - i0[a];
     }
     double c[2][2][2];
@@ -86,8 +88,12 @@ class GridShape : public VolumeShape {
 }  // namespace
 
 SdfGrid readSdfGrid(const std::string& path) {
+  std::ifstream in = openInputFile(path, inputLimits().maxSdfBytes, "SDF grid file");
+  return parseSdfGrid(in, path);
+}
+
+SdfGrid parseSdfGrid(std::istream& in, const std::string& path) {
   const InputLimits& limits = inputLimits();
-  std::ifstream in = openInputFile(path, limits.maxSdfBytes, "SDF grid file");
   SdfGrid g;
   int line = 0;
   std::int64_t totalBytes = 0;
@@ -115,12 +121,13 @@ SdfGrid readSdfGrid(const std::string& path) {
       expected = n[0] * n[1] * n[2];
       stage = Origin;
     } else if (stage == Origin) {
-      if (word != "origin" || !(s >> g.origin[0] >> g.origin[1] >> g.origin[2]) || !g.origin.allFinite())
-        fail("expected 'origin ox oy oz' (finite)");
+      if (word != "origin" || !(s >> g.origin[0] >> g.origin[1] >> g.origin[2]) ||
+          !(g.origin.cwiseAbs().maxCoeff() <= limits.maxDistance))
+        fail("expected 'origin ox oy oz' (each at most 1e+06 m in size)");
       stage = Spacing;
     } else if (stage == Spacing) {
-      if (word != "spacing" || !(s >> g.spacing) || !(std::isfinite(g.spacing) && g.spacing > 0))
-        fail("expected 'spacing h' with h finite and > 0");
+      if (word != "spacing" || !(s >> g.spacing) || !(g.spacing > 0 && g.spacing <= limits.maxDistance))
+        fail("expected 'spacing h' with h > 0 and at most 1e+06 m");
       stage = Values;
       g.values.reserve(static_cast<std::size_t>(expected));
     } else {
@@ -148,6 +155,8 @@ VolumeShapePtr makeSdfGridShape(SdfGrid grid) {
   if (plane * grid.nz != static_cast<long long>(grid.values.size()))
     throw InputError("SDF grid: values do not match dims");
   if (!(std::isfinite(grid.spacing) && grid.spacing > 0)) throw InputError("SDF grid: spacing must be > 0");
+  const Eigen::Vector3d upper = grid.origin + grid.spacing * Eigen::Vector3d(grid.nx - 1, grid.ny - 1, grid.nz - 1);
+  if (!grid.origin.allFinite() || !upper.allFinite()) throw InputError("SDF grid: its box must be finite");
   for (double v : grid.values)
     if (!std::isfinite(v)) throw InputError("SDF grid: values must be finite");
   return std::make_shared<GridShape>(std::move(grid));

@@ -12,6 +12,7 @@
 
 #include "energies/contact/volume_shapes.h"
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -24,8 +25,11 @@ struct SdfGrid {
   std::vector<double> values;  // x fastest
 };
 
-/// Reads a grid file; throws InputError "<path>:<line>: ..." for malformed or out-of-bounds content.
+/// Reads a grid file (a regular file of at most inputLimits().maxSdfBytes); throws InputError "<path>:<line>: ..."
+/// for malformed or out-of-bounds content.
 SdfGrid readSdfGrid(const std::string& path);
+/// The same from a stream, `name` standing for the path in messages.
+SdfGrid parseSdfGrid(std::istream& in, const std::string& name);
 /// The grid as a shape (validated: sizes and finite values).
 VolumeShapePtr makeSdfGridShape(SdfGrid grid);
 
