@@ -37,6 +37,10 @@ struct InputLimits {
   std::int64_t maxJsonBytes = 256LL << 20;   // scene (JSON) file size (256 MiB)
   int maxJsonDepth = 64;                     // nesting of JSON arrays and objects
   std::int64_t maxStringBytes = 4096;        // any JSON string (names, paths, description)
+  // Physical magnitudes whose squares and reciprocals the solvers form: past them energies overflow to inf.
+  double maxDistance = 1e6;                  // m (and m/s): prescribed displacements and velocities, translations
+  double minTimeStep = 1e-9;                 // s: time steps of dynamics and relaxation (1/Δt² stays finite)
+  double maxDampingCoefficient = 1e9;        // 1/s (mass damping α_R) and s (stiffness damping β_R)
 };
 
 /// The limits in force (defaults above).

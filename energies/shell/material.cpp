@@ -1,5 +1,6 @@
 #include "energies/shell/material.h"
 
+#include "core/input_limits.h"
 #include "core/mesh.h"
 
 #include <cmath>
@@ -46,10 +47,11 @@ void validate(const ShellMaterialParams& m, const std::string& w) {
   require(2.0 * m.bendingAlpha + m.bendingBeta > 0, w, "bendingAlpha", m.bendingAlpha,
           "must satisfy 2 bendingAlpha + bendingBeta > 0");
   require(std::isfinite(m.density) && m.density >= 0, w, "density", m.density, "must be finite and >= 0");
-  require(std::isfinite(m.massDampingCoefficient) && m.massDampingCoefficient >= 0, w, "massDampingCoefficient",
-          m.massDampingCoefficient, "must be finite and >= 0");
-  require(std::isfinite(m.stiffnessDampingCoefficient) && m.stiffnessDampingCoefficient >= 0, w,
-          "stiffnessDampingCoefficient", m.stiffnessDampingCoefficient, "must be finite and >= 0");
+  const double maxDamping = inputLimits().maxDampingCoefficient;
+  require(m.massDampingCoefficient >= 0 && m.massDampingCoefficient <= maxDamping, w, "massDampingCoefficient",
+          m.massDampingCoefficient, "must lie in [0, 1e+09] (1/s)");
+  require(m.stiffnessDampingCoefficient >= 0 && m.stiffnessDampingCoefficient <= maxDamping, w,
+          "stiffnessDampingCoefficient", m.stiffnessDampingCoefficient, "must lie in [0, 1e+09] (s)");
 }
 
 }  // namespace jetshell

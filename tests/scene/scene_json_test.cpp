@@ -237,6 +237,22 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
         "/solver/fallbackBendingHessian: \"gauss\" is not one of \"exact\", \"gaussNewton\"");
   CHECK(errorAfter([](Json& s) { s["actors"].push_back({{"type", "sphere"}, {"radius", -1}}); }) ==
         "/actors/1/radius = -1: must be finite and > 0");
+  // Magnitudes whose squares or reciprocals overflow, which run --check used to pass and the run then refused
+  // without naming the field (or wrote inf into the summary).
+  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamic"}, {"timeStep", 1e-12}, {"duration", 2e-12}}; }) ==
+        "/analysis/timeStep = 1e-12: must be at least 1e-09 s (its inverse square scales the inertia)");
+  CHECK(errorAfter([](Json& s) { s["analysis"] = {{"type", "dynamicRelaxation"}, {"timeStep", 0.1}}; }) ==
+        "/analysis/massDamping = 0: must be > 0 when no actor's material has a massDampingCoefficient (relaxation "
+        "needs damping)");
+  CHECK(errorAfter([](Json& s) {
+          s["analysis"] = {{"type", "dynamicRelaxation"}, {"timeStep", 0.1}, {"massDamping", 1e300}};
+        }) == "/analysis/massDamping = 1e+300: must be at most 1e+09 1/s");
+  CHECK_THAT(errorAfter([](Json& s) { s["actors"][0]["material"]["massDampingCoefficient"] = 1e308; }),
+             Catch::Contains("massDampingCoefficient") && Catch::Contains("must lie in [0, 1e+09] (1/s)"));
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["fixed"][0]["displacement"] = {1e200, 0, 0}; }) ==
+        "/actors/0/fixed/0/displacement = [1e+200, 0, 0]: too large (norm at most 1e+06)");
+  CHECK_THAT(errorAfter([](Json& s) { s["actors"][0]["worldFromLocalTransform"] = {{"translation", {1e308, 0, 0}}}; }),
+             Catch::Contains("translation = [1e+308, 0, 0]: too large (norm at most 1e+06)"));
   // A tolerance of the force scale's size passes the unloaded start: "converged" with nothing balanced.
   CHECK(errorAfter([](Json& s) { s["solver"] = {{"residualTolerance", 1e308}}; }) ==
         "/solver/residualTolerance = 1e+308: too large (at most 0.1)");

@@ -1,5 +1,6 @@
 #include "tools/scene/actor_params.h"
 
+#include "core/input_limits.h"
 #include "tools/scene/checks.h"
 
 namespace jetshell {
@@ -18,6 +19,7 @@ namespace {
 
 void validate(const RigidTransform& t, const std::string& where) {
   check::finite(t.translation, where + ".translation");
+  check::normAtMost(t.translation, inputLimits().maxDistance, where + ".translation");
   const double n = t.rotation.norm();
   if (!(std::abs(n - 1.0) < 1e-9)) check::fail(where + ".rotation (quaternion norm)", n, "must be 1");
 }

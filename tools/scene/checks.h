@@ -43,6 +43,14 @@ inline void atMostReal(double v, double maximum, const std::string& field) {
     throw InputError(s.str());
   }
 }
+/// |v| at most `maximum` (a magnitude bound: "<field> = [..]: too large (norm at most M)").
+inline void normAtMost(const Eigen::Vector3d& v, double maximum, const std::string& field) {
+  if (!(v.norm() <= maximum)) {
+    std::ostringstream s;
+    s << field << " = [" << v[0] << ", " << v[1] << ", " << v[2] << "]: too large (norm at most " << maximum << ")";
+    throw InputError(s.str());
+  }
+}
 inline void atMost(std::int64_t v, std::int64_t maximum, const std::string& field) {
   if (v > maximum) {
     std::ostringstream s;

@@ -5,6 +5,7 @@
 
 #include "core/input_limits.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -89,6 +90,8 @@ void validate(const Scene& scene) {
       throw InputError(c.where + "/components: fixes no component (use some of \"x\", \"y\", \"z\")");
     check::finite(c.displacement, c.where + "/displacement");
     check::finite(c.velocity, c.where + "/velocity");
+    check::normAtMost(c.displacement, inputLimits().maxDistance, c.where + "/displacement");
+    check::normAtMost(c.velocity, inputLimits().maxDistance, c.where + "/velocity");
     if (c.rotation) {
       check::nonZero(c.rotation->axis, c.where + "/rotation/axis");
       check::finite(c.rotation->center, c.where + "/rotation/center");
@@ -152,11 +155,22 @@ void validate(const Scene& scene) {
     if (a.duration < a.timeStep) check::fail("/analysis/duration", a.duration, "must be >= timeStep");
     check::stepCount(a.duration, a.timeStep, limits.maxSteps, "/analysis/timeStep");
   }
+  // After the step count: a time step too short for the duration is told as too many steps.
+  if (a.type != AnalysisType::Static && !(a.timeStep >= limits.minTimeStep))
+    check::fail("/analysis/timeStep", a.timeStep, "must be at least 1e-09 s (its inverse square scales the inertia)");
   if (a.type == AnalysisType::DynamicRelaxation) {
     check::atLeast(a.maxSteps, 1, "/analysis/maxSteps");
     check::atMost(a.maxSteps, limits.maxSteps, "/analysis/maxSteps");
     check::positive(a.tolerance, "/analysis/tolerance");
     check::nonNegative(a.massDamping, "/analysis/massDamping");
+    if (!(a.massDamping <= limits.maxDampingCoefficient))
+      check::fail("/analysis/massDamping", a.massDamping, "must be at most 1e+09 1/s");
+    double materialDamping = 0.0;
+    for (const ShellActorParams& shell : scene.shells)
+      materialDamping = std::max(materialDamping, shell.material.massDampingCoefficient);
+    if (a.massDamping == 0.0 && materialDamping == 0.0)
+      check::fail("/analysis/massDamping", a.massDamping,
+                  "must be > 0 when no actor's material has a massDampingCoefficient (relaxation needs damping)");
     if (a.loadRampTime != 0.0) check::fail("/analysis/loadRampTime", a.loadRampTime, "must be 0 for dynamic relaxation");
   }
   const SolverSettings& s = scene.solver;

@@ -130,7 +130,8 @@ TEST_CASE("fit file: bad fields give one-line errors naming the JSON pointer", "
   CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/scene/actors/0/material/poissonRatio"));
 
   j = fitJson();
-  j["scene"]["analysis"] = nlohmann::json::parse(R"({ "type": "dynamicRelaxation", "timeStep": 0.01 })");
+  j["scene"]["analysis"] =
+      nlohmann::json::parse(R"({ "type": "dynamicRelaxation", "timeStep": 0.01, "massDamping": 1 })");
   CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/scene") && Catch::Contains("static"));
 
   j = fitJson();
