@@ -1,6 +1,7 @@
 #include "tools/fit/fit_file.h"
 
 #include "core/input_file.h"
+#include "core/input_limits.h"
 
 #include "core/mesh_io.h"
 #include "tools/scene/checks.h"
@@ -114,6 +115,7 @@ double observationLevel(const Object& o, const Scene& scene) {
 double weight(const Object& o) {
   const double w = o.number("weight", 1.0);
   check::nonNegative(w, o.member("weight"));
+  if (!(w <= kMaxObservationWeight)) check::fail(o.member("weight"), w, "must be at most 1e+12");
   return w;
 }
 
@@ -141,9 +143,11 @@ ObservationSpec readProbeObservation(const Object& o, const Scene& scene) {
       throw InputError(o.member("component") + ": only with a number as displacement (an array gives all three)");
     s.components = {0, 1, 2};
     s.displacements = {d.vec3()};
+    check::normAtMost(s.displacements[0], inputLimits().maxDistance, d.pointer());
   } else {
     const double u = d.number();
     check::finite(u, d.pointer());
+    if (!(std::abs(u) <= inputLimits().maxDistance)) check::fail(d.pointer(), u, "must be at most 1e+06 m in size");
     const int c = componentIndex(o.at("component").string(), o.member("component"));
     s.components = {c};
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
@@ -222,6 +226,9 @@ ObservationSpec readCurveObservation(const Object& o, const Scene& scene, const 
     s.levels.push_back(lambda);
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     d[c] = scale * u;
+    if (!(std::abs(d[c]) <= inputLimits().maxDistance))
+      throw InputError(where + ": displacement x displacementScale = " + std::to_string(d[c]) +
+                       " m, too large (at most 1e+06 m in size)");
     s.displacements.push_back(d);
   }
   if (s.levels.empty()) throw InputError(o.member("csv") + ": " + path + " holds no data row");
@@ -362,6 +369,10 @@ FitFile fitFromJson(const nlohmann::json& document, const std::string& base, con
                        (dynamic ? "times" : "load levels") + " in all");
     f.observations.push_back(std::move(s));
   }
+  bool anyWeight = false;
+  for (const ObservationSpec& s : f.observations) anyWeight = anyWeight || s.weight > 0.0;
+  if (!f.observations.empty() && !anyWeight)
+    throw InputError(o.member("observations") + ": every observation has weight 0: nothing to fit");
 
   f.options.algorithm = fitAlgorithmFromString(
       o.choice("algorithm", {"bobyqa", "nelder-mead", "lbfgs", "mma", "levenberg-marquardt"}, "levenberg-marquardt"));

@@ -20,6 +20,7 @@ namespace jetshell {
 
 /// Bounds on the fit file's counts.
 constexpr int kMaxFitObservations = 1000;   // entries of "observations"
+constexpr double kMaxObservationWeight = 1e12;  // an observation's weight (its square scales the misfit)
 constexpr int kMaxCurvePoints = 10000;      // rows of one CSV curve
 constexpr int kMaxFitLevels = 200;          // distinct load levels over all observations
 

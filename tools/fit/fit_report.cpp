@@ -51,7 +51,7 @@ nlohmann::json fitReportJson(const FitReportInputs& in) {
   j["termination"] = r.termination;
   j["message"] = r.message;
   j["iterations"] = r.iterations;
-  j["misfit"] = number(r.misfit);
+  if (r.q.size() > 0) j["misfit"] = number(r.misfit);  // none when no evaluation succeeded
   j["wall_seconds"] = r.wallSeconds;
   nlohmann::json params = nlohmann::json::array();
   for (std::size_t i = 0; i < r.variables.size(); ++i) {
@@ -106,9 +106,12 @@ nlohmann::json fitReportJson(const FitReportInputs& in) {
     nlohmann::json e;
     e["evaluation"] = h.evaluation;
     e["ok"] = h.ok;
-    e["misfit"] = number(h.misfit);
-    e["gradient_norm"] = h.gradientNorm >= 0.0 ? number(h.gradientNorm) : nlohmann::json(nullptr);
-    if (h.gradientNorm >= 0.0) e["gradient_exact"] = h.exactGradient;
+    // A failed evaluation has no misfit, and a gradient not computed no norm: the keys are left out.
+    if (h.ok && std::isfinite(h.misfit)) e["misfit"] = number(h.misfit);
+    if (h.ok && h.gradientNorm >= 0.0 && std::isfinite(h.gradientNorm)) {
+      e["gradient_norm"] = number(h.gradientNorm);
+      e["gradient_exact"] = h.exactGradient;
+    }
     std::vector<double> q(h.q.data(), h.q.data() + h.q.size());
     e["parameters"] = q;
     history.push_back(e);
@@ -221,7 +224,8 @@ std::string fitSummaryText(const FitReportInputs& in) {
   std::ostringstream s;
   s << toString(r.algorithm) << ": " << (r.success ? "converged" : "not converged") << " (" << r.termination << ")"
     << (r.message.empty() || r.message == "converged" ? "" : ": " + r.message) << "\n";
-  s << "  misfit " << format(r.misfit) << " after " << r.counters.evaluations << " evaluations (" << r.counters.fullSolves
+  s << "  misfit " << (r.q.size() > 0 ? format(r.misfit) : std::string("none (no evaluation succeeded)")) << " after "
+    << r.counters.evaluations << " evaluations (" << r.counters.fullSolves
     << " full solves, " << r.counters.newtonIterations << " Newton iterations, " << r.counters.sensitivitySolves
     << " sensitivity solves)\n";
   if (r.inexactDerivativeEvaluations > 0)

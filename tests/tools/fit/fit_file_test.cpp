@@ -145,6 +145,22 @@ TEST_CASE("fit file: bad fields give one-line errors naming the JSON pointer", "
   CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/parameters") && Catch::Contains("at most 8"));
 }
 
+TEST_CASE("fit file: weights and observed displacements are bounded, and some weight must count", "[fit]") {
+  nlohmann::json j = fitJson();
+  j["observations"][0]["weight"] = 1e308;  // squared, it overflowed the misfit to inf
+  CHECK(fitErrorOf(j) == "/observations/0/weight = 1e+308: must be at most 1e+12");
+  j = fitJson();
+  j["observations"][0]["displacement"] = 1e308;
+  CHECK(fitErrorOf(j) == "/observations/0/displacement = 1e+308: must be at most 1e+06 m in size");
+  j = fitJson();
+  j["observations"][0].erase("component");
+  j["observations"][0]["displacement"] = {1e200, 0, 0};
+  CHECK(fitErrorOf(j) == "/observations/0/displacement = [1e+200, 0, 0]: too large (norm at most 1e+06)");
+  j = fitJson();
+  j["observations"][0]["weight"] = 0;
+  CHECK(fitErrorOf(j) == "/observations: every observation has weight 0: nothing to fit");
+}
+
 TEST_CASE("fit file: CSV curves and target shapes are read and checked", "[fit]") {
   const fs::path d = directory();
   write(d / "curve.csv", "load,u\n0.5,0.01\n1.0,0.02\n");
