@@ -73,6 +73,37 @@ TEST_CASE("output: broken .vtu files are named") {
   CHECK_THROWS_WITH(readVtu(scratch("none.vtu").string()), scratch("none.vtu").string() + ": cannot open frame file");
 }
 
+TEST_CASE("output: a .vtu with a non-finite number, a bad component count or a fractional index is refused") {
+  std::ostringstream text;
+  writeVtu(text, hemisphereFrame());
+  const std::string good = text.str();
+  // The file with the first token after `tag` replaced by `token` (or `token` put before it).
+  auto edited = [&](const std::string& name, const std::string& tag, const std::string& token, bool replace) {
+    std::string s = good;
+    std::size_t at = s.find(tag);
+    REQUIRE(at != std::string::npos);
+    at = s.find_first_not_of(" \n", at + tag.size());
+    const std::size_t end = replace ? s.find_first_of(" \n", at) : at;
+    s.replace(at, end - at, replace ? token : token + " ");
+    const std::string path = scratch(name).string();
+    writeFileAtomically(path, s);
+    return path;
+  };
+  const std::string nan = edited("nan.vtu", "Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">", "nan", true);
+  CHECK_THROWS_WITH(readVtu(nan), nan + ": array 'Points' has a non-finite entry (NaN or inf)");
+  const std::string inf = edited("inf.vtu", "Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">", "inf",
+                                 true);
+  CHECK_THROWS_WITH(readVtu(inf), inf + ": array 'displacement' has a non-finite entry (NaN or inf)");
+  std::string components = good;
+  components.replace(components.find("NumberOfComponents=\"3\""), 22, "NumberOfComponents=\"-5\"");
+  const std::string negative = scratch("components.vtu").string();
+  writeFileAtomically(negative, components);
+  CHECK_THROWS_WITH(readVtu(negative),
+                    negative + ": array 'displacement': NumberOfComponents=\"-5\" is not an integer from 1 to 9");
+  const std::string fraction = edited("fraction.vtu", "Name=\"connectivity\" format=\"ascii\">", "0.5", true);
+  CHECK_THROWS_WITH(readVtu(fraction), fraction + ": connectivity entry 0 is not an integer");
+}
+
 TEST_CASE("output: the .pvd series lists every frame with its time") {
   PvdSeries s;
   s.add(0.0, "frames/frame_00000.vtu");

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -86,6 +87,7 @@ std::vector<double> numbers(const std::string& text, const std::string& path, co
     char* next = nullptr;
     const double v = std::strtod(p, &next);
     if (next == p) throw InputError(path + ": array " + what + " has a non-numeric entry");
+    if (!std::isfinite(v)) throw InputError(path + ": array " + what + " has a non-finite entry (NaN or inf)");
     out.push_back(v);
     p = next;
   }
@@ -123,7 +125,16 @@ VtuFrame readVtu(const std::string& path) {
       const std::size_t shut = xml.rfind(std::string("</") + section, at);
       return open != std::string::npos && (shut == std::string::npos || shut < open);
     };
-    const int components = std::max(1, std::atoi(attribute(tag, "NumberOfComponents").c_str()));
+    const std::string componentsText = attribute(tag, "NumberOfComponents");
+    int components = 1;
+    if (!componentsText.empty()) {
+      char* endNumber = nullptr;
+      const long c = std::strtol(componentsText.c_str(), &endNumber, 10);
+      if (*endNumber != '\0' || c < 1 || c > 9)
+        throw InputError(path + ": array '" + name + "': NumberOfComponents=\"" + componentsText.substr(0, 32) +
+                         "\" is not an integer from 1 to 9");
+      components = static_cast<int>(c);
+    }
     if (openedBefore("Points")) {
       points = std::move(values);
     } else if (openedBefore("Cells")) {
@@ -150,6 +161,8 @@ VtuFrame readVtu(const std::string& path) {
   for (long k = 0; k < 3 * nf; ++k) {
     const double id = connectivity[static_cast<std::size_t>(k)];
     if (!(id >= 0 && id < n)) throw InputError(path + ": connectivity entry " + std::to_string(k) + " is out of range");
+    if (id != std::floor(id))
+      throw InputError(path + ": connectivity entry " + std::to_string(k) + " is not an integer");
     frame.triangles.data()[k] = static_cast<int>(id);
   }
   for (auto* data : {&frame.pointData, &frame.cellData})
