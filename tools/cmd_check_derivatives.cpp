@@ -3,6 +3,7 @@
 // analytic, each path vs Richardson-extrapolated central differences, symmetry of the gradient's Jacobian, and
 // PSD-ness of model (Gauss–Newton) Hessians (tools/checks/derivative_check.h). Prints a table of the largest errors per
 // term; exits 1 when a tolerance is exceeded.
+#include "core/math_constants.h"
 #include "tools/output/atomic_file.h"
 #include "tools/checks/check_configurations.h"
 #include "tools/checks/derivative_check.h"
@@ -350,7 +351,7 @@ const RegisterSubcommand registerCheckDerivatives("check-derivatives", [](CLI::A
       ->check(finiteNumber());
   cmd->add_option("--fd-initial-step", o->check.initialStep, "First finite-difference step / length scale")
       ->default_val(o->check.initialStep)
-      ->check(finiteNumber());
+      ->check(finiteNumber(1.0));
   cmd->add_option("--fd-steps", o->check.extrapolationSteps,
                   "Finite-difference steps (each half the previous) in the Richardson tableau")
       ->default_val(o->check.extrapolationSteps)
@@ -358,15 +359,21 @@ const RegisterSubcommand registerCheckDerivatives("check-derivatives", [](CLI::A
   cmd->add_option("--fold-min-delta", o->configuration.foldMinDelta,
                   "Folds: smallest 180 deg - (angle between normals), rad (> 0: the Kelvin inversion diverges at 0)")
       ->default_val(o->configuration.foldMinDelta)
-      ->check(finiteNumber());
+      ->check(finiteNumber(kPi));
   cmd->add_option("--degenerate-aspect", o->configuration.degenerateAspect,
                   "Near-degenerate triangles: altitude / longest edge of the squashed face")
       ->default_val(o->configuration.degenerateAspect)
-      ->check(finiteNumber());
+      ->check(finiteNumber(1.0));
   cmd->add_option("--fold-max-delta", o->configuration.foldMaxDelta, "Folds: largest 180 deg - angle, rad")
       ->default_val(o->configuration.foldMaxDelta)
-      ->check(finiteNumber());
-  cmd->callback([o, &exitCode] { exitCode = run(*o); });
+      ->check(finiteNumber(kPi));
+  cmd->callback([o, &exitCode] {
+    if (!(o->configuration.foldMinDelta <= o->configuration.foldMaxDelta))
+      throw CLI::ValidationError("--fold-min-delta", "must not exceed --fold-max-delta (" +
+                                                         std::to_string(o->configuration.foldMinDelta) + " > " +
+                                                         std::to_string(o->configuration.foldMaxDelta) + ")");
+    exitCode = run(*o);
+  });
 });
 
 }  // namespace

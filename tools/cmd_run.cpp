@@ -32,7 +32,9 @@ const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("run", "Solve a scene (SCENES.md) and write frames, probes.csv, summary.json and pictures");
   cmd->add_option("scene", args->scene, "Scene file (JSON)")->required();
-  cmd->add_option("--out,-o", args->out, "Output directory (default: out/<scene name>)");
+  cmd->add_option("--out,-o", args->out, "Output directory (default: out/<scene name>)")
+      ->check(CLI::Validator(
+          [](std::string& s) { return s.empty() ? std::string("must not be empty") : std::string(); }, "DIR"));
   cmd->add_option("--steps", args->steps, "Stop after this many steps (a quick look)")->check(CLI::PositiveNumber);
   cmd->add_flag("--check", args->checkOnly, "Only read and check the scene (and its meshes), then exit");
   cmd->add_flag("--quiet,-q", args->quiet, "No log lines, only the final report");

@@ -7,9 +7,12 @@
 #include "tools/stress/stress_cells.h"
 #include "tools/subcommand.h"
 
+#include <stdlib.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 
@@ -27,10 +30,20 @@ struct StressArgs {
 int runStress(const StressArgs& a) {
   namespace fs = std::filesystem;
   const std::vector<StressCell> cells = stressCells(a.quick);
-  const fs::path root = a.out.empty() ? fs::temp_directory_path() / ("jetshell_stress_" + std::to_string(::getpid())) : fs::path(a.out);
+  // Without --out, a fresh private directory (mkdtemp): a predictable name in the shared temporary directory
+  // could be taken first, by a link into someone's files that the cells' clean-up would then empty.
+  fs::path root;
   std::error_code ec;
-  fs::create_directories(root, ec);
-  if (ec) throw InputError(root.string() + ": cannot create the output directory (" + ec.message() + ")");
+  if (a.out.empty()) {
+    std::string pattern = (fs::temp_directory_path() / "jetshell_stress_XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr)
+      throw InputError(pattern + ": cannot create a temporary directory (" + std::strerror(errno) + ")");
+    root = pattern;
+  } else {
+    root = a.out;
+    fs::create_directories(root, ec);
+    if (ec) throw InputError(root.string() + ": cannot create the output directory (" + ec.message() + ")");
+  }
   nlohmann::json all = nlohmann::json::array();
   int ok = 0, clean = 0, defects = 0;
   std::printf("%-34s %-15s %8s  %s\n", "cell", "outcome", "wall [s]", "reason");

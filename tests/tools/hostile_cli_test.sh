@@ -41,6 +41,7 @@ expect 3 "/analysis/timeStep = 1e-300: 1e+300 steps over the duration 1 s, too m
 scene threads.json "$rect" "$static" ', "solver": {"threads": 1000000}'
 expect 3 "/solver/threads = 1000000: too large (at most 256)" -- "$js" run "$dir/threads.json" --check
 expect 3 "/dev/zero: not a regular file" -- "$js" run /dev/zero --check
+expect 2 "--out: must not be empty" -- "$js" run "$dir/threads.json" --out ""
 mkfifo "$dir/scene.fifo"
 expect 3 "scene.fifo: not a regular file" -- "$js" run "$dir/scene.fifo" --check
 mkfifo "$dir/mesh.fifo"
@@ -78,6 +79,12 @@ expect 2 "--azimuth: nan: must be a finite number in [-360, 360]" -- \
   "$js" render "$dir" --png "$dir/a.png" --azimuth nan
 expect 2 "--range: MIN must be below MAX" -- "$js" render "$dir" --png "$dir/r.png" --range 1 0
 expect 2 "--tol-fd: nan: must be a finite number > 0" -- "$js" check-derivatives --term membrane --tol-fd nan
+expect 2 "--fd-initial-step: 1e308: must be a finite number > 0 and at most 1" -- \
+  "$js" check-derivatives --term membrane --fd-initial-step 1e308
+expect 2 "--fold-min-delta: 10: must be a finite number > 0 and at most 3.14159" -- \
+  "$js" check-derivatives --term bending --fold-min-delta 10
+expect 2 "--fold-min-delta: must not exceed --fold-max-delta" -- \
+  "$js" check-derivatives --term bending --fold-min-delta 0.5 --fold-max-delta 0.1
 
 if [ "$failures" -ne 0 ]; then
   echo "$failures hostile command-line case(s) failed"
