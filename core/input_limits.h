@@ -33,7 +33,7 @@ struct InputLimits {
   std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)
   std::int64_t maxObjLineBytes = 1 << 16;    // one OBJ line (64 KiB)
   std::int64_t maxSdfBytes = 1LL << 30;      // SDF grid file size (1 GiB: 16.7M samples at up to 60 bytes each)
-  std::int64_t maxSdfLineBytes = 1 << 20;    // one SDF grid line (1 MiB)
+  std::int64_t maxSdfLineBytes = 64LL << 20;  // one SDF grid line (64 MiB: a 256 x 256 slice per line fits)
   std::int64_t maxJsonBytes = 256LL << 20;   // scene (JSON) file size (256 MiB)
   int maxJsonDepth = 64;                     // nesting of JSON arrays and objects
   std::int64_t maxStringBytes = 4096;        // any JSON string (names, paths, description)
