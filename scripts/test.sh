@@ -45,7 +45,7 @@ configure() {
 # the sanitizers' slow-down would break, and the accuracy benchmarks, the contact drops, the T-shirt and the
 # example runs repeat for minutes the code paths the unit suites already cover. The files made only of such runs
 # are not compiled in this pass either (CMakeLists.txt, JETSHELL_SANITIZE).
-sanitizeTargets=(jetshell_tests obj_replay scene_replay)
+sanitizeTargets=(jetshell_tests obj_replay scene_replay sdf_replay)
 sanitizeExclude="^(check_derivatives|check_parameter_derivatives|hostile_cli|interrupt_during_cut_step|stress_quick"
 sanitizeExclude+="|accuracy: .*|contact dynamics: .*|tshirt: .*|run: every example .*"
 # The Euler column relaxes for 943 steps (2 s in Release); the relaxation's saddle test covers the same code.
