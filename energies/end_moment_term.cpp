@@ -62,6 +62,12 @@ double EndMomentTerm::meanRotation(const Eigen::VectorXd& x) const {
 
 std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std::vector<int>& chain,
                                                  const Eigen::Vector3d& axis, double moment, std::string name) {
+  return makeEndMomentTerm(mesh, buildTopology(mesh), chain, axis, moment, std::move(name));
+}
+
+std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const Topology& topo,
+                                                 const std::vector<int>& chain, const Eigen::Vector3d& axis,
+                                                 double moment, std::string name) {
   if (!(axis.norm() > 0.0)) throw InputError("end moment: the axis must be nonzero");
   if (chain.size() < 2) throw InputError("end moment: the chain needs at least two vertices");
   double length = 0.0;
@@ -71,7 +77,6 @@ std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std:
                        " is out of range [0, " + std::to_string(mesh.numVertices()) + ")");
     if (k > 0) length += (mesh.V.row(chain[k]) - mesh.V.row(chain[k - 1])).norm();
   }
-  const Topology topo = buildTopology(mesh);
   auto state = std::make_shared<EndMomentEnergy::State>();
   StencilTable table;
   table.width = 3;

@@ -16,6 +16,7 @@
 
 #include "core/mesh.h"
 #include "core/scalar.h"
+#include "core/topology.h"
 #include "energies/element_energy_term.h"
 
 #include <Eigen/Core>
@@ -101,5 +102,9 @@ class EndMomentTerm : public ElementEnergyTerm<EndMomentEnergy> {
 std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const std::vector<int>& chain,
                                                  const Eigen::Vector3d& axis, double moment,
                                                  std::string name = "end_moment");
+/// The same on the mesh's topology, already built (the shell system's).
+std::shared_ptr<EndMomentTerm> makeEndMomentTerm(const TriMesh& mesh, const Topology& topology,
+                                                 const std::vector<int>& chain, const Eigen::Vector3d& axis,
+                                                 double moment, std::string name = "end_moment");
 
 }  // namespace jetshell

@@ -175,7 +175,7 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     std::shared_ptr<EndMomentTerm> t;
     try {
       const std::string name = k == 0 ? "end_moment" : "end_moment/" + std::to_string(k);
-      t = makeEndMomentTerm(mesh_, m.chain, m.axis, m.moment, name);
+      t = makeEndMomentTerm(mesh_, topology_, m.chain, m.axis, m.moment, name);
     } catch (const InputError& e) {
       throw InputError(m.where + ": " + e.what());
     }

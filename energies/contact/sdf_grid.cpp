@@ -1,5 +1,6 @@
 #include "energies/contact/sdf_grid.h"
 
+#include "core/format.h"
 #include "core/input_file.h"
 #include "core/input_limits.h"
 #include "core/mesh.h"
@@ -123,11 +124,11 @@ SdfGrid parseSdfGrid(std::istream& in, const std::string& path) {
     } else if (stage == Origin) {
       if (word != "origin" || !(s >> g.origin[0] >> g.origin[1] >> g.origin[2]) ||
           !(g.origin.cwiseAbs().maxCoeff() <= limits.maxDistance))
-        fail("expected 'origin ox oy oz' (each at most 1e+06 m in size)");
+        fail("expected 'origin ox oy oz' (each at most " + formatNumber("%g", limits.maxDistance) + " m in size)");
       stage = Spacing;
     } else if (stage == Spacing) {
       if (word != "spacing" || !(s >> g.spacing) || !(g.spacing > 0 && g.spacing <= limits.maxDistance))
-        fail("expected 'spacing h' with h > 0 and at most 1e+06 m");
+        fail("expected 'spacing h' with h > 0 and at most " + formatNumber("%g", limits.maxDistance) + " m");
       stage = Values;
       g.values.reserve(static_cast<std::size_t>(expected));
     } else {

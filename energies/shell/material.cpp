@@ -1,5 +1,6 @@
 #include "energies/shell/material.h"
 
+#include "core/format.h"
 #include "core/input_limits.h"
 #include "core/mesh.h"
 
@@ -9,7 +10,7 @@
 namespace jetshell {
 namespace {
 
-void require(bool ok, const std::string& where, const char* field, double value, const char* rule) {
+void require(bool ok, const std::string& where, const char* field, double value, const std::string& rule) {
   if (ok) return;
   std::ostringstream s;
   s << where << "." << field << " = " << value << ": " << rule;
@@ -49,9 +50,10 @@ void validate(const ShellMaterialParams& m, const std::string& w) {
   require(std::isfinite(m.density) && m.density >= 0, w, "density", m.density, "must be finite and >= 0");
   const double maxDamping = inputLimits().maxDampingCoefficient;
   require(m.massDampingCoefficient >= 0 && m.massDampingCoefficient <= maxDamping, w, "massDampingCoefficient",
-          m.massDampingCoefficient, "must lie in [0, 1e+09] (1/s)");
+          m.massDampingCoefficient, "must lie in [0, " + formatNumber("%g", maxDamping) + "] (1/s)");
   require(m.stiffnessDampingCoefficient >= 0 && m.stiffnessDampingCoefficient <= maxDamping, w,
-          "stiffnessDampingCoefficient", m.stiffnessDampingCoefficient, "must lie in [0, 1e+09] (s)");
+          "stiffnessDampingCoefficient", m.stiffnessDampingCoefficient,
+          "must lie in [0, " + formatNumber("%g", maxDamping) + "] (s)");
 }
 
 }  // namespace jetshell

@@ -1,5 +1,6 @@
 #include "tools/fit/fit_file.h"
 
+#include "core/format.h"
 #include "core/input_file.h"
 #include "core/input_limits.h"
 
@@ -115,7 +116,8 @@ double observationLevel(const Object& o, const Scene& scene) {
 double weight(const Object& o) {
   const double w = o.number("weight", 1.0);
   check::nonNegative(w, o.member("weight"));
-  if (!(w <= kMaxObservationWeight)) check::fail(o.member("weight"), w, "must be at most 1e+12");
+  if (!(w <= kMaxObservationWeight))
+    check::fail(o.member("weight"), w, "must be at most " + formatNumber("%g", kMaxObservationWeight));
   return w;
 }
 
@@ -147,7 +149,8 @@ ObservationSpec readProbeObservation(const Object& o, const Scene& scene) {
   } else {
     const double u = d.number();
     check::finite(u, d.pointer());
-    if (!(std::abs(u) <= inputLimits().maxDistance)) check::fail(d.pointer(), u, "must be at most 1e+06 m in size");
+    if (!(std::abs(u) <= inputLimits().maxDistance))
+      check::fail(d.pointer(), u, "must be at most " + formatNumber("%g", inputLimits().maxDistance) + " m in size");
     const int c = componentIndex(o.at("component").string(), o.member("component"));
     s.components = {c};
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
@@ -228,7 +231,7 @@ ObservationSpec readCurveObservation(const Object& o, const Scene& scene, const 
     d[c] = scale * u;
     if (!(std::abs(d[c]) <= inputLimits().maxDistance))
       throw InputError(where + ": displacement x displacementScale = " + std::to_string(d[c]) +
-                       " m, too large (at most 1e+06 m in size)");
+                       " m, too large (at most " + formatNumber("%g", inputLimits().maxDistance) + " m in size)");
     s.displacements.push_back(d);
   }
   if (s.levels.empty()) throw InputError(o.member("csv") + ": " + path + " holds no data row");

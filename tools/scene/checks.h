@@ -13,7 +13,7 @@
 
 namespace jetshell::check {
 
-[[noreturn]] inline void fail(const std::string& field, double value, const char* rule) {
+[[noreturn]] inline void fail(const std::string& field, double value, const std::string& rule) {
   std::ostringstream s;
   s << field << " = " << value << ": " << rule;
   throw InputError(s.str());

@@ -3,6 +3,7 @@
 #include "solvers/newton.h"
 #include "tools/scene/checks.h"
 
+#include "core/format.h"
 #include "core/input_limits.h"
 
 #include <algorithm>
@@ -157,14 +158,17 @@ void validate(const Scene& scene) {
   }
   // After the step count: a time step too short for the duration is told as too many steps.
   if (a.type != AnalysisType::Static && !(a.timeStep >= limits.minTimeStep))
-    check::fail("/analysis/timeStep", a.timeStep, "must be at least 1e-09 s (its inverse square scales the inertia)");
+    check::fail("/analysis/timeStep", a.timeStep,
+                "must be at least " + formatNumber("%g", limits.minTimeStep) +
+                    " s (its inverse square scales the inertia)");
   if (a.type == AnalysisType::DynamicRelaxation) {
     check::atLeast(a.maxSteps, 1, "/analysis/maxSteps");
     check::atMost(a.maxSteps, limits.maxSteps, "/analysis/maxSteps");
     check::positive(a.tolerance, "/analysis/tolerance");
     check::nonNegative(a.massDamping, "/analysis/massDamping");
     if (!(a.massDamping <= limits.maxDampingCoefficient))
-      check::fail("/analysis/massDamping", a.massDamping, "must be at most 1e+09 1/s");
+      check::fail("/analysis/massDamping", a.massDamping,
+                  "must be at most " + formatNumber("%g", limits.maxDampingCoefficient) + " 1/s");
     double materialDamping = 0.0;
     for (const ShellActorParams& shell : scene.shells)
       materialDamping = std::max(materialDamping, shell.material.massDampingCoefficient);
