@@ -16,6 +16,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 namespace jetshell {
 namespace {
@@ -36,16 +37,32 @@ double parseCoordinate(const std::string& token, const std::string& name, int li
   return value;
 }
 
-/// A face corner "i", "i/t", "i//n" or "i/t/n"; returns the 1-based (or negative, relative) vertex index.
-long parseCorner(const std::string& token, const std::string& name, int line) {
-  const std::string head = token.substr(0, token.find('/'));
-  const char* begin = head.c_str();
+/// One index of a face corner: a non-zero decimal integer (1-based, or negative = relative), the whole of `part`.
+bool parseIndex(const std::string& part, long* value) {
+  const char* begin = part.c_str();
   char* end = nullptr;
   errno = 0;
-  const long value = std::strtol(begin, &end, 10);
-  if (end == begin || *end != '\0' || errno == ERANGE) fail(name, line, "face corner '" + token + "' is not an index");
-  if (value == 0) fail(name, line, "face index 0 is invalid (OBJ indices start at 1)");
-  return value;
+  *value = std::strtol(begin, &end, 10);
+  return end != begin && *end == '\0' && errno != ERANGE;
+}
+
+/// A face corner "i", "i/t", "i//n" or "i/t/n"; returns the 1-based (or negative, relative) vertex index. The
+/// texture and normal indices are not used, but a corner that is none of these four forms is refused.
+long parseCorner(const std::string& token, const std::string& name, int line) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t slash = token.find('/'); slash != std::string::npos; slash = token.find('/', start)) {
+    parts.push_back(token.substr(start, slash - start));
+    start = slash + 1;
+  }
+  parts.push_back(token.substr(start));
+  long vertex = 0, other = 0;
+  const bool textureOk = parts.size() < 2 || (parts.size() == 3 && parts[1].empty()) || parseIndex(parts[1], &other);
+  const bool normalOk = parts.size() < 3 || parseIndex(parts[2], &other);
+  const bool wellFormed = parts.size() <= 3 && parseIndex(parts[0], &vertex) && textureOk && normalOk;
+  if (!wellFormed) fail(name, line, "face corner '" + token + "' is not an index (i, i/t, i//n or i/t/n)");
+  if (vertex == 0) fail(name, line, "face index 0 is invalid (OBJ indices start at 1)");
+  return vertex;
 }
 
 struct PendingFace {

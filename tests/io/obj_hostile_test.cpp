@@ -60,10 +60,11 @@ TEST_CASE("obj hostile: indices that are zero, out of range, relative or not num
         "m.obj:5: face index -5 is out of range (the file has 4 vertices, 4 before this line)");
   // Relative indices count back from the line: -1 is the last vertex defined above it.
   CHECK(errorOf("v 0 0 0\nv 1 0 0\nf -2 -1 3\nv 0 1 0\n") == "no error");
-  CHECK(errorOf(kSquare + "f 1 2 99999999999999999999\n") == "m.obj:5: face corner '99999999999999999999' is not an index");
-  CHECK(errorOf(kSquare + "f 1 2 3.0\n") == "m.obj:5: face corner '3.0' is not an index");
-  CHECK(errorOf(kSquare + "f 1 2 +\n") == "m.obj:5: face corner '+' is not an index");
-  CHECK(errorOf(kSquare + "f /1 2 3\n") == "m.obj:5: face corner '/1' is not an index");
+  CHECK(errorOf(kSquare + "f 1 2 99999999999999999999\n") ==
+        "m.obj:5: face corner '99999999999999999999' is not an index (i, i/t, i//n or i/t/n)");
+  CHECK(errorOf(kSquare + "f 1 2 3.0\n") == "m.obj:5: face corner '3.0' is not an index (i, i/t, i//n or i/t/n)");
+  CHECK(errorOf(kSquare + "f 1 2 +\n") == "m.obj:5: face corner '+' is not an index (i, i/t, i//n or i/t/n)");
+  CHECK(errorOf(kSquare + "f /1 2 3\n") == "m.obj:5: face corner '/1' is not an index (i, i/t, i//n or i/t/n)");
 }
 
 TEST_CASE("obj hostile: missing parts", "[obj][hostile]") {

@@ -55,7 +55,11 @@ TEST_CASE("obj: broken files name the file and line") {
   CHECK(objErrorOf(std::string(kSquareObj) + "f 0 1 2\n") == "m.obj:5: face index 0 is invalid (OBJ indices start at 1)");
   CHECK(objErrorOf(std::string(kSquareObj) + "f 1 2 2\n") == "m.obj:5: face repeats a vertex");
   CHECK(objErrorOf(std::string(kSquareObj) + "f 1 2\n") == "m.obj:5: a face needs at least 3 corners");
-  CHECK(objErrorOf(std::string(kSquareObj) + "f 1 x 3\n") == "m.obj:5: face corner 'x' is not an index");
+  CHECK(objErrorOf(std::string(kSquareObj) + "f 1 x 3\n") ==
+        "m.obj:5: face corner 'x' is not an index (i, i/t, i//n or i/t/n)");
+  for (const char* corner : {"2/x/", "2/", "2//", "2/1/", "2//7x", "2/1/1/1", "/2", "2/+/1"})
+    CHECK(objErrorOf(std::string(kSquareObj) + "f 1 " + corner + " 3\n") ==
+          std::string("m.obj:5: face corner '") + corner + "' is not an index (i, i/t, i//n or i/t/n)");
   CHECK(objErrorOf("v 0 0\n") == "m.obj:1: a vertex needs 3 coordinates (x y z, optionally w or a colour r g b)");
   CHECK(objErrorOf("v 0 nan 0\n") == "m.obj:1: vertex coordinate 'nan' is not finite");
   CHECK(objErrorOf("v 0 1e999 0\n") == "m.obj:1: vertex coordinate '1e999' is not finite");

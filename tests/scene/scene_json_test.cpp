@@ -215,6 +215,8 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
                                                 {"rings", 3}, {"nodesPerRing", 8}, {"ringSpacing", "log"}};
                    }),
                    "/actors/0/shape/ringSpacing: \"log\" is not one of \"uniform\", \"cosine\""));
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"]["diagonals"] = "zigzag"; }) ==
+        "/actors/0/shape/diagonals: \"zigzag\" is not one of \"alternating\", \"uniform\"");
   CHECK(errorAfter([](Json& s) { s["actors"][0]["type"] = "cloth"; }) ==
         "/actors/0/type: \"cloth\" is not one of \"shell\", \"plane\", \"box\", \"sphere\", \"capsule\", \"sdfGrid\"");
   CHECK(errorAfter([](Json& s) { s["actors"][0]["colliderType"] = "Sphere"; }) ==

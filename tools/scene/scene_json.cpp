@@ -88,7 +88,8 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
     const Object o = v.object({"generator", "width", "height", "nx", "ny", "diagonals"}, "a rectangle generator");
     const double w = positive(o, "width"), h = positive(o, "height");
     const int nx = atLeast(o, "nx", 1), ny = atLeast(o, "ny", 1);
-    return at(v.pointer(), [&] { return makeRectangleShape(w, h, nx, ny, diagonals(o)); });
+    const QuadDiagonals split = diagonals(o);
+    return at(v.pointer(), [&] { return makeRectangleShape(w, h, nx, ny, split); });
   }
   if (generator == "slitAnnulus") {
     const Object o =
@@ -98,7 +99,8 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
     if (!(ro > ri)) check::fail(o.member("outerRadius"), ro, "must be > innerRadius");
     const int rings = atLeast(o, "rings", 2), nodes = atLeast(o, "nodesPerRing", 4);
     const RingSpacing spacing = ringSpacingFromString(o.choice("ringSpacing", {"uniform", "cosine"}, "uniform"));
-    return at(v.pointer(), [&] { return makeSlitAnnulusShape(ri, ro, rings, nodes, diagonals(o), spacing); });
+    const QuadDiagonals split = diagonals(o);
+    return at(v.pointer(), [&] { return makeSlitAnnulusShape(ri, ro, rings, nodes, split, spacing); });
   }
   if (generator == "cylinder") {
     const Object o = v.object({"generator", "radius", "length", "arcDegrees", "nAround", "nAlong", "diagonals"},
@@ -107,7 +109,9 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
     const double arc = o.number("arcDegrees", 360.0);
     if (!(arc > 0 && arc <= 360)) check::fail(o.member("arcDegrees"), arc, "must lie in (0, 360]");
     const int nAround = atLeast(o, "nAround", arc == 360.0 ? 3 : 1), nAlong = atLeast(o, "nAlong", 1);
-    return at(v.pointer(), [&] { return makeCylinderShape(r, length, arc * kRadiansPerDegree, nAround, nAlong, diagonals(o)); });
+    const QuadDiagonals split = diagonals(o);
+    return at(v.pointer(),
+              [&] { return makeCylinderShape(r, length, arc * kRadiansPerDegree, nAround, nAlong, split); });
   }
   const Object o = v.object({"generator", "radius", "rings", "segments", "holeDegrees", "azimuthDegrees", "diagonals"},
                             "a hemisphere generator");
@@ -117,9 +121,9 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (!(hole >= 0 && hole < 90)) check::fail(o.member("holeDegrees"), hole, "must lie in [0, 90)");
   if (!(azimuth > 0 && azimuth <= 360)) check::fail(o.member("azimuthDegrees"), azimuth, "must lie in (0, 360]");
   const int segments = atLeast(o, "segments", azimuth == 360.0 ? 3 : 1);
+  const QuadDiagonals split = diagonals(o);
   return at(v.pointer(), [&] {
-    return makeHemisphereShape(r, rings, segments, hole * kRadiansPerDegree, azimuth * kRadiansPerDegree,
-                               diagonals(o));
+    return makeHemisphereShape(r, rings, segments, hole * kRadiansPerDegree, azimuth * kRadiansPerDegree, split);
   });
 }
 
