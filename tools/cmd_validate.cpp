@@ -168,13 +168,27 @@ int runValidate(const ValidateArgs& a) {
     for (const Benchmark& b : allBenchmarks()) selected.push_back(&b);
   bool roof = a.all;
   for (const std::string& n : a.names) {
-    if (n == kRoof)
+    if (n == kRoof) {
       roof = true;
-    else
-      selected.push_back(&findBenchmark(n));
+      continue;
+    }
+    const auto& all = allBenchmarks();
+    const auto found = std::find_if(all.begin(), all.end(), [&](const Benchmark& b) { return b.name == n; });
+    if (found == all.end()) {
+      std::string names;
+      for (const Benchmark& b : all) names += b.name + ", ";
+      throw InputError("validate: no benchmark named '" + n + "' (benchmarks: " + names + kRoof + ")");
+    }
+    selected.push_back(&*found);
   }
   if (selected.empty() && !roof) throw InputError("validate: name a benchmark, or --all, or --list");
   const BenchmarkRunOptions options = runOptions(a);
+  for (const Benchmark* b : selected) {
+    const Resolution& least = b->minimumResolution;
+    if (!a.mesh.empty() && (options.resolution.n1 < least.n1 || options.resolution.n2 < least.n2))
+      throw InputError("--mesh: " + a.mesh + " is too coarse for " + b->name + " (at least " +
+                       std::to_string(least.n1) + "x" + std::to_string(least.n2) + ")");
+  }
   if (!a.noPlot) std::filesystem::create_directories(a.plots);
 
   nlohmann::json out = nlohmann::json::array();

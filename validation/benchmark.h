@@ -83,6 +83,7 @@ struct Benchmark {
   Resolution defaultResolution;  // (with its grading) what `validate` runs without --mesh: a mesh within 1% at every
                                  // level in a few CPU seconds, or the page's own mesh for the page's ring
                                  // (VALIDATION.md lists the 1% meshes and their times)
+  Resolution minimumResolution{1, 1};  // the coarsest mesh `build` accepts; `validate --mesh` is checked against it
   SolverKind defaultSolver = SolverKind::LoadStepping;  // dynamic relaxation compares λ = 1 only
   std::function<BenchmarkCase(const Resolution&, ClampKind, QuadDiagonals)> build;
 };

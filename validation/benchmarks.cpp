@@ -104,6 +104,7 @@ std::vector<Benchmark> makeBenchmarks() {
     s.resolutionMeaning = "radial x angular quads (each split in two triangles)";
     s.reference = loadReferenceTable(dir + "/sze2004_3.3_slit_annular_plate.tsv", {"W_A", "W_B"});
     s.defaultResolution = {10, 128, MeshGrading::Cosine};  // within 1% at every level in about 5 s (VALIDATION.md)
+    s.minimumResolution = {1, 3};                              // 2 rings of 4 nodes
     s.build = [](const Resolution& r, ClampKind k, QuadDiagonals d) { return slitAnnulus(1.0, 21e6, 1.0, 0.0, r, k, d); };
     b.push_back(std::move(s));
   }
@@ -139,6 +140,7 @@ std::vector<Benchmark> makeBenchmarks() {
     s.resolutionMeaning = "radial x angular quads; the page's mesh is 4 x 64 (5 rings x 65 nodes)";
     s.reference = scaled(loadReferenceTable(dir + "/sze2004_3.3_slit_annular_plate.tsv", {"W_A", "W_B"}), 0.1);
     s.defaultResolution = {4, 64};
+    s.minimumResolution = {1, 3};
     s.build = [](const Resolution& r, ClampKind k, QuadDiagonals d) {
       return slitAnnulus(0.1, 210e6, 1000.0, 0.3, r, k, d);
     };

@@ -62,6 +62,9 @@ expect 3 "--mesh: '4294967300x1' is not N1xN2 with counts from 1 to 100000" -- "
 expect 3 "--mesh: 100000x100000 gives 10000200001 vertices, too many (at most 4000000)" -- \
   "$js" validate cantilever-end-shear --mesh 100000x100000
 expect 3 "--mesh: '8x' is not N1xN2" -- "$js" validate cantilever-end-shear --mesh 8x
+expect 3 "--mesh: 1x2 is too coarse for slit-ring-page (at least 1x3)" -- "$js" validate slit-ring-page --mesh 1x2
+expect 3 "cantilever-end-moment, slit-ring-page, slit-ring-page-relaxation, hinged-cylindrical-roof)" -- \
+  "$js" validate slit-plate
 expect 3 "--grading: 'x' is not one of: uniform, cosine" -- "$js" validate slit-annular-plate --grading x
 expect 3 "--linear-solver: linear solver 'x': expected auto, cholmod, ldlt or pcg" -- "$js" validate slit-annular-plate --linear-solver x
 # Real-valued options refuse NaN and infinities where they enter (CLI11's PositiveNumber and Range let NaN through).
