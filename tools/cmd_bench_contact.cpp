@@ -320,7 +320,7 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
   cmd->add_flag("--trace", opts->trace,
                 "Per step: Newton and CG iterations, the guards, how it ended; then per Newton iteration: residual, "
                 "step length, CG iterations, largest vertex move");
-  cmd->add_option("--json", opts->json, "Write the figures as JSON");
+  cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });
 

@@ -350,8 +350,8 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
       ->check(finiteRange(1e-14, 0.5));
   cmd->add_option("--ordering", opts->ordering, "CHOLMOD fill-reducing ordering: auto | amd | metis | nesdis")
       ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
-  cmd->add_option("--json", opts->json, "Write the figures as JSON");
-  cmd->add_option("--png", opts->png, "Write the error-against-time chart (PNG)");
+  cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
+  cmd->add_option("--png", opts->png, "Write the error-against-time chart (PNG)")->check(outputFile());
   cmd->add_option("--replot", opts->replot, "Only redraw --png from the JSON of an earlier run");
   cmd->add_option("--chart-time", opts->chartTime, "Time axis of the chart: wall | cpu (process CPU, steadier on a busy machine)")
       ->check(CLI::IsMember({"wall", "cpu"}));

@@ -350,7 +350,7 @@ const RegisterSubcommand registerBenchElements("bench elements", [](CLI::App& ap
   el->add_option("--repeats", opts->repeats,
                  "Timed repeats per figure (the median is reported); interleaved AD/analytic pairs for the ratio (at least 5)")
       ->check(CLI::Range(1, 100));
-  el->add_option("--json", opts->json, "Write the figures as a JSON list");
+  el->add_option("--json", opts->json, "Write the figures as a JSON list")->check(outputFile());
   el->add_option("--term", opts->term, "Only this term and its staged twin (hinge, midedge: a staged term against the same energy as one nested-Jet "
                  "element)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge", "midedge"}));
   el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));

@@ -217,7 +217,7 @@ const RegisterSubcommand registerBenchFit("bench-fit", [](CLI::App& app, int& ex
   cmd->add_flag("--demos", a->demos, "Also run the overhang and slit-plate demos (FITTING.md)");
   cmd->add_flag("--dynamic", a->dynamic, "Also compare the algorithms on the dynamic recovery (swinging strip)");
   cmd->add_flag("--no-synthetic", a->skipSynthetic, "Skip the synthetic (static) algorithm comparison");
-  cmd->add_option("--json", a->json, "Write the figures as JSON");
+  cmd->add_option("--json", a->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([a, &exitCode] { exitCode = run(*a); });
 });
 

@@ -397,7 +397,7 @@ const RegisterSubcommand registerBenchSolver("bench solver", [](CLI::App& app, i
   cmd->add_option("--trace-from", opts->traceFrom,
                   "Print the Newton trace of every time step that takes at least this many iterations")
       ->check(CLI::Range(1, 100000));
-  cmd->add_option("--json", opts->json, "Write the figures as JSON");
+  cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([opts, &exitCode]() { exitCode = runSolverBench(*opts); });
 });
 

@@ -10,12 +10,12 @@
 // Wall time: run it on a quiet machine and quote the load printed beside the figures.
 #include "tools/bench_cloth.h"
 #include "tools/output/atomic_file.h"
+#include "tools/output/temporary_directory.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/subcommand.h"
 
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -45,25 +45,6 @@ std::string scenePath(const std::string& name) {
   return std::string(JETSHELL_SOURCE_DIR) + "/examples/" + name + ".json";
 }
 
-/// The scratch directory of this process's runs, removed when the bench ends.
-class Scratch {
- public:
-  Scratch()
-      : path_(std::filesystem::temp_directory_path() / ("jetshell-bench-statics-" + std::to_string(::getpid()))) {
-    std::filesystem::create_directories(path_);
-  }
-  ~Scratch() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  Scratch(const Scratch&) = delete;
-  Scratch& operator=(const Scratch&) = delete;
-  std::string path() const { return path_.string(); }
-
- private:
-  std::filesystem::path path_;
-};
-
 template <class T>
 T extraValue(const RunSummary& s, const char* key, T fallback) {
   const auto it = s.extra.find(key);
@@ -73,7 +54,7 @@ T extraValue(const RunSummary& s, const char* key, T fallback) {
 /// One scene under one control, `repeats` times: the first run's counts (every run takes the same path) and the
 /// median wall time.
 nlohmann::json runCase(const Scene& base, const std::string& path, const std::string& control, int repeats,
-                       const Scratch& scratch) {
+                       const TemporaryDirectory& scratch) {
   Scene scene = base;
   if (control != "scene") {
     scene.analysis.pathControl = PathControlSettings{};
@@ -82,7 +63,7 @@ nlohmann::json runCase(const Scene& base, const std::string& path, const std::st
   scene.outputs.vtu = scene.outputs.obj = scene.outputs.probesCsv = false;
   scene.outputs.png = scene.outputs.plots = false;
   RunOptions options;
-  options.outputDirectory = scratch.path();
+  options.outputDirectory = scratch.path().string();
   options.scenePath = path;
   options.pictures = false;
   std::vector<double> walls;
@@ -94,7 +75,7 @@ nlohmann::json runCase(const Scene& base, const std::string& path, const std::st
   }
   std::sort(walls.begin(), walls.end());
   const RunSummary& s = first.summary;
-  std::ifstream summaryFile(std::filesystem::path(scratch.path()) / "summary.json");
+  std::ifstream summaryFile(scratch.path() / "summary.json");
   const nlohmann::json written = nlohmann::json::parse(summaryFile, nullptr, false);
   const int vertices = written.is_object() ? written.value("vertices", 0) : 0;
   return {{"control", scene.analysis.pathControl.type},
@@ -112,7 +93,7 @@ nlohmann::json runCase(const Scene& base, const std::string& path, const std::st
 }
 
 int run(const StaticsBenchArgs& a) {
-  const Scratch scratch;
+  const TemporaryDirectory scratch("jetshell-bench-statics-");  // this process's runs, removed at the end
   const double loadStart = loadAverage();
   std::printf("jetshell bench statics: %zu scenes x %zu controls, median of %d runs; load average at start %.2f\n",
               a.scenes.size(), a.controls.size(), a.repeats, loadStart);
@@ -185,7 +166,7 @@ const RegisterSubcommand registerBenchStatics("bench-statics", [](CLI::App& app,
       ->check(CLI::IsMember({"load", "arcLength", "scene"}));
   cmd->add_option("--repeats", a->repeats, "Runs per scene and control (the median wall time is reported)")
       ->check(CLI::Range(1, 100));
-  cmd->add_option("--json", a->json, "Write the figures as JSON");
+  cmd->add_option("--json", a->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([a, &exitCode] { exitCode = run(*a); });
 });
 

@@ -331,7 +331,7 @@ const RegisterSubcommand registerCheckDerivatives("check-derivatives", [](CLI::A
       ->check(CLI::IsMember({"random", "rotation", "stretch", "fold", "degenerate"}));
   cmd->add_option("--seed", o->seed, "Seed of the configuration generator")->default_val(o->seed);
   cmd->add_option("--json", o->json, "Write one object per term to FILE (term, checked, max_rel_err_ad_vs_analytic, "
-                                     "max_rel_err_vs_fd, pass, per_kind, ...)");
+                                     "max_rel_err_vs_fd, pass, per_kind, ...)")->check(outputFile());
   cmd->add_option("--threads", o->threads, "OpenMP threads for the evaluations")
       ->default_val(o->threads)
       ->check(CLI::Range(1, 256));

@@ -73,7 +73,7 @@ const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCod
                   "A frame (.vtu), a series (.pvd: its last step) or a run's output directory; more .vtu files "
                   "(e.g. volumes.vtu) are drawn in grey")
       ->required();
-  cmd->add_option("--png", args->png, "Output PNG file")->required();
+  cmd->add_option("--png", args->png, "Output PNG file")->required()->check(outputFile());
   cmd->add_option("--width", args->options.width, "Image width in pixels")
       ->check(CLI::Range(kMinImageSize, kMaxImageSize))
       ->capture_default_str();

@@ -3,18 +3,17 @@
 // Exit 0 when every cell is ok or failed_cleanly, 1 when any is a defect. STABILITY.md holds the table.
 #include "core/mesh.h"
 #include "tools/output/atomic_file.h"
+#include "tools/output/temporary_directory.h"
 #include "tools/stress/isolated_run.h"
 #include "tools/stress/stress_cells.h"
 #include "tools/subcommand.h"
 
-#include <stdlib.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 namespace jetshell::cli {
 namespace {
@@ -30,19 +29,16 @@ struct StressArgs {
 int runStress(const StressArgs& a) {
   namespace fs = std::filesystem;
   const std::vector<StressCell> cells = stressCells(a.quick);
-  // Without --out, a fresh private directory (mkdtemp): a predictable name in the shared temporary directory
-  // could be taken first, by a link into someone's files that the cells' clean-up would then empty.
+  // Without --out, a fresh private directory (tools/output/temporary_directory.h), removed at the end.
+  std::unique_ptr<TemporaryDirectory> temporary;
   fs::path root;
   std::error_code ec;
   if (a.out.empty()) {
-    std::string pattern = (fs::temp_directory_path() / "jetshell_stress_XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr)
-      throw InputError(pattern + ": cannot create a temporary directory (" + std::strerror(errno) + ")");
-    root = pattern;
+    temporary = std::make_unique<TemporaryDirectory>("jetshell_stress_");
+    root = temporary->path();
   } else {
     root = a.out;
-    fs::create_directories(root, ec);
-    if (ec) throw InputError(root.string() + ": cannot create the output directory (" + ec.message() + ")");
+    createOutputDirectory(a.out, "--out");
   }
   nlohmann::json all = nlohmann::json::array();
   int ok = 0, clean = 0, defects = 0;
@@ -81,7 +77,6 @@ int runStress(const StressArgs& a) {
                                         .dump(2) + "\n");
     std::printf("wrote %s\n", a.json.c_str());
   }
-  if (a.out.empty()) fs::remove_all(root, ec);
   return defects == 0 ? kOk : kFailed;
 }
 
@@ -89,7 +84,8 @@ const RegisterSubcommand registerStress("stress", [](CLI::App& app, int& exitCod
   auto a = std::make_shared<StressArgs>();
   CLI::App* cmd = app.add_subcommand("stress", "Run the stress matrix (STABILITY.md): every cell must end ok or failed_cleanly");
   cmd->add_flag("--quick", a->quick, "The reduced matrix (a few seconds; run by CTest)");
-  cmd->add_option("--json", a->json, "Write every cell (name, outcome, reason, wall_seconds, ...) to this JSON file");
+  cmd->add_option("--json", a->json, "Write every cell (name, outcome, reason, wall_seconds, ...) to this JSON file")
+      ->check(outputFile());
   cmd->add_option("--only", a->only, "Only the cells whose name contains this text");
   cmd->add_option("--out", a->out, "Keep each cell's run outputs under this directory (default: a temporary one, removed)");
   cmd->add_option("--budget", a->budget, "Wall-clock budget per cell in seconds (a cell over it is a hang)")

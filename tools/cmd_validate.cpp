@@ -3,6 +3,7 @@
 // --json, one object per benchmark. VALIDATION.md explains the benchmarks, the options and the figures.
 #include "core/input_limits.h"
 #include "tools/output/atomic_file.h"
+#include "tools/output/temporary_directory.h"
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "solvers/linear_solver.h"
@@ -189,7 +190,7 @@ int runValidate(const ValidateArgs& a) {
       throw InputError("--mesh: " + a.mesh + " is too coarse for " + b->name + " (at least " +
                        std::to_string(least.n1) + "x" + std::to_string(least.n2) + ")");
   }
-  if (!a.noPlot) std::filesystem::create_directories(a.plots);
+  if (!a.noPlot) createOutputDirectory(a.plots, "--plots");
 
   nlohmann::json out = nlohmann::json::array();
   bool ok = true;
@@ -229,7 +230,8 @@ const RegisterSubcommand registerValidate("validate", [](CLI::App& app, int& exi
   cmd->add_option("names", a->names, "Benchmarks to run (see --list)");
   cmd->add_flag("--all", a->all, "Run every benchmark");
   cmd->add_flag("--list", a->list, "List the benchmarks and their default meshes");
-  cmd->add_option("--json", a->json, "Write the results (one object per benchmark) to this JSON file");
+  cmd->add_option("--json", a->json, "Write the results (one object per benchmark) to this JSON file")
+      ->check(outputFile());
   cmd->add_option("--plots", a->plots, "Directory for the load-path PNGs (default validation-output)");
   cmd->add_flag("--no-plot", a->noPlot, "Skip the PNGs");
   cmd->add_option("--mesh", a->mesh, "Resolution N1xN2 instead of the benchmark's default (see --list)");

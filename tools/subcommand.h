@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/mesh.h"
+#include "tools/output/atomic_file.h"
 
 #include <CLI/CLI.hpp>
 
@@ -65,6 +66,21 @@ inline CLI::Validator finiteRange(double minimum, double maximum) {
         return s.str();
       },
       "FLOAT in range");
+}
+
+/// A check for an option naming a file the command writes (--json, --png): refused before any work when it names
+/// a directory, device, FIFO or link, or its directory does not exist (writeFileAtomically's own checks).
+inline CLI::Validator outputFile() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        try {
+          checkOutputFile(path);
+        } catch (const InputError& e) {
+          return e.what();
+        }
+        return "";
+      },
+      "FILE");
 }
 
 /// The shared parent of all `jetshell bench <name>` benchmarks (created on first use). Benchmark files add

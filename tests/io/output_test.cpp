@@ -4,6 +4,7 @@
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
 #include "tools/output/run_output.h"
+#include "tools/output/temporary_directory.h"
 #include "tools/output/vtu.h"
 #include "tools/render/image.h"
 #include "tools/render/plot.h"
@@ -120,7 +121,29 @@ TEST_CASE("output: the .pvd series lists every frame with its time") {
 
 TEST_CASE("output: an atomic write to a missing directory fails with the path") {
   CHECK_THROWS_WITH(writeFileAtomically("/nonexistent/dir/f.txt", "x"),
-                    Catch::StartsWith("/nonexistent/dir/f.txt: cannot write"));
+                    "/nonexistent/dir/f.txt: cannot write (no directory '/nonexistent/dir')");
+  // The same checks, made before a command's work (--json, --png): an empty name, a missing directory.
+  CHECK_THROWS_WITH(checkOutputFile(""), "an output file name must not be empty");
+  CHECK_THROWS_WITH(checkOutputFile("/nonexistent/f.json"),
+                    "/nonexistent/f.json: cannot write (no directory '/nonexistent')");
+  CHECK_NOTHROW(checkOutputFile((test::scratchDirectory("atomic_file") / "new.json").string()));
+}
+
+TEST_CASE("output: a temporary directory is private, fresh and removed with its contents") {
+  std::filesystem::path kept;
+  {
+    const TemporaryDirectory a("jetshell-test-"), b("jetshell-test-");
+    CHECK(a.path() != b.path());
+    struct stat info {};
+    REQUIRE(::stat(a.path().c_str(), &info) == 0);
+    CHECK(S_ISDIR(info.st_mode));
+    CHECK((info.st_mode & 0777) == 0700);
+    std::ofstream(a.path() / "f.txt") << "x";
+    kept = a.path();
+  }
+  CHECK(!std::filesystem::exists(kept));
+  CHECK_THROWS_WITH(createOutputDirectory("/dev/null/x", "--plots"),
+                    Catch::StartsWith("--plots: /dev/null/x: cannot create the directory ("));
 }
 
 TEST_CASE("output: an atomic write replaces only a regular file") {

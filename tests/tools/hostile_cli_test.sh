@@ -63,6 +63,12 @@ expect 3 "--mesh: 100000x100000 gives 10000200001 vertices, too many (at most 40
   "$js" validate cantilever-end-shear --mesh 100000x100000
 expect 3 "--mesh: '8x' is not N1xN2" -- "$js" validate cantilever-end-shear --mesh 8x
 expect 3 "--mesh: 1x2 is too coarse for slit-ring-page (at least 1x3)" -- "$js" validate slit-ring-page --mesh 1x2
+expect 3 "--plots: /dev/null: cannot create the directory" -- "$js" validate cantilever-end-shear --plots /dev/null
+# An output file that cannot be written is refused before the work, not after it.
+expect 2 "--json: /tmp: not a regular file" -- "$js" bench statics --json /tmp
+expect 2 "--json: /nonexistent/x.json: cannot write (no directory '/nonexistent')" -- \
+  "$js" bench elements --json /nonexistent/x.json
+expect 2 "--png: /dev/null: not a regular file" -- "$js" render x.vtu --png /dev/null
 expect 3 "cantilever-end-moment, slit-ring-page, slit-ring-page-relaxation, hinged-cylindrical-roof)" -- \
   "$js" validate slit-plate
 expect 3 "--grading: 'x' is not one of: uniform, cosine" -- "$js" validate slit-annular-plate --grading x

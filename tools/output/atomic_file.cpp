@@ -9,15 +9,26 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 
 namespace jetshell {
 
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+void checkOutputFile(const std::string& path) {
+  if (path.empty()) throw InputError("an output file name must not be empty");
   // The rename would replace whatever the path names: a device such as /dev/null (as root), a FIFO, a link.
   struct stat info {};
   if (::lstat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode))
     throw InputError(path + ": not a regular file (a directory, device, FIFO or link): will not replace it");
+  const std::string directory = std::filesystem::path(path).parent_path().string();
+  const std::string where = directory.empty() ? "." : directory;
+  if (::stat(where.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
+    throw InputError(path + ": cannot write (no directory '" + where + "')");
+}
+
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  checkOutputFile(path);
+  struct stat info {};
   // The pid keeps concurrent runs writing into one directory from sharing a temporary file; it is created
   // afresh (a file or link already at its name is removed first, never written through).
   const std::string temporary = path + ".tmp" + std::to_string(::getpid());

@@ -13,6 +13,10 @@ namespace jetshell {
 /// a directory, a symbolic link), which the rename would replace.
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
+/// The checks writeFileAtomically makes before it writes, for a command to make before it starts its work: throws
+/// InputError naming the path when it names something other than a regular file or its directory does not exist.
+void checkOutputFile(const std::string& path);
+
 /// The same for a ready string.
 void writeFileAtomically(const std::string& path, const std::string& content);
 
