@@ -1,4 +1,5 @@
 // `jetshell run SCENE.json --out DIR`: solve a scene and write its frames, probes, summary and pictures.
+#include "core/input_limits.h"
 #include "core/mesh.h"
 #include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
@@ -35,13 +36,14 @@ const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
   cmd->add_option("--out,-o", args->out, "Output directory (default: out/<scene name>)")
       ->check(CLI::Validator(
           [](std::string& s) { return s.empty() ? std::string("must not be empty") : std::string(); }, "DIR"));
-  cmd->add_option("--steps", args->steps, "Stop after this many steps (a quick look)")->check(CLI::PositiveNumber);
+  cmd->add_option("--steps", args->steps, "Stop after this many steps (a quick look)")
+      ->check(CLI::Range(1, static_cast<int>(inputLimits().maxSteps)));
   cmd->add_flag("--check", args->checkOnly, "Only read and check the scene (and its meshes), then exit");
   cmd->add_flag("--quiet,-q", args->quiet, "No log lines, only the final report");
   cmd->add_flag("--no-pictures", args->noPictures, "Skip final.png and probes.png");
   cmd->add_option("--checkpoint-every", args->checkpointEvery,
                   "Dynamics: write checkpoint.cbor into the output directory every N steps")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, static_cast<int>(inputLimits().maxSteps)));
   cmd->add_option("--resume", args->resume,
                   "Dynamics: continue the run whose output directory DIR holds a checkpoint (same scene file); "
                   "it ends bit for bit as an uninterrupted run");
