@@ -215,6 +215,9 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
                                                 {"rings", 3}, {"nodesPerRing", 8}, {"ringSpacing", "log"}};
                    }),
                    "/actors/0/shape/ringSpacing: \"log\" is not one of \"uniform\", \"cosine\""));
+  CHECK(errorAfter([](Json& s) { s["actors"][0]["material"]["thickness"] = 1e-200; }) ==
+        "/actors/0/material: youngsModulus 1e+06 and thickness 1e-200 give a membrane stiffness mu = 3.84615e-195 N/m "
+        "and a bending stiffness beta = 0 N m, which must be finite and > 0 (E h and E h^3 out of a double's range)");
   CHECK(errorAfter([](Json& s) { s["actors"][0]["shape"]["diagonals"] = "zigzag"; }) ==
         "/actors/0/shape/diagonals: \"zigzag\" is not one of \"alternating\", \"uniform\"");
   CHECK(errorAfter([](Json& s) { s["actors"][0]["type"] = "cloth"; }) ==
