@@ -23,6 +23,7 @@
 #include "core/mesh.h"
 #include "energies/shell/reference_state.h"
 #include "core/topology.h"
+#include "energies/end_moment_load.h"
 #include "energies/end_moment_term.h"
 #include "energies/shell/bending_term.h"
 #include "energies/kinetic_terms.h"
@@ -51,16 +52,6 @@ struct ShellActorPart {
   ContactQuadrature contactQuadrature = ContactQuadrature::Vertices;
   bool pointCloud = true;  // has a point-cloud collider (shell–shell contact)
   PointCloudColliderParams pointCloudCollider;
-};
-
-/// A moment applied along a boundary edge of the shell (energies/end_moment_term.h): `moment` N·m at load factor
-/// 1, about the edge's current direction oriented the way `axis` points at rest (right-hand rule), shared among
-/// the edge's segments by length. Statics only: the term unwraps its rotation between load steps.
-struct EndMomentLoad {
-  std::vector<int> chain;  // the loaded edge's vertices in order (consecutive pairs are boundary edges)
-  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
-  double moment = 0.0;     // N·m at λ = 1
-  std::string where;       // for messages, e.g. "/actors/0/loads/1"
 };
 
 struct ShellProblem {

@@ -9,7 +9,7 @@
 
 #include "core/mesh.h"
 #include "core/topology.h"
-#include "solvers/shell_system.h"
+#include "energies/end_moment_load.h"
 
 #include <Eigen/Core>
 
