@@ -3,7 +3,7 @@
 // trade time for accuracy; prints markdown tables (error at λ = 1 and over the path, wall and CPU time, Newton
 // iterations, observed order), and writes the error-versus-time chart and, with --json, every run.
 #include "tools/output/atomic_file.h"
-#include "tools/output/temporary_directory.h"
+#include "tools/output/directories.h"
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "tools/validation/validation_plots.h"

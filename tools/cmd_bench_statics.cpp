@@ -10,7 +10,7 @@
 // Wall time: run it on a quiet machine and quote the load printed beside the figures.
 #include "tools/bench_cloth.h"
 #include "tools/output/atomic_file.h"
-#include "tools/output/temporary_directory.h"
+#include "tools/output/directories.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
 #include "tools/subcommand.h"

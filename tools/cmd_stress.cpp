@@ -3,14 +3,12 @@
 // Exit 0 when every cell is ok or failed_cleanly, 1 when any is a defect. STABILITY.md holds the table.
 #include "core/mesh.h"
 #include "tools/output/atomic_file.h"
-#include "tools/output/temporary_directory.h"
+#include "tools/output/directories.h"
 #include "tools/stress/isolated_run.h"
 #include "tools/stress/stress_cells.h"
 #include "tools/subcommand.h"
 
-
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -29,7 +27,7 @@ struct StressArgs {
 int runStress(const StressArgs& a) {
   namespace fs = std::filesystem;
   const std::vector<StressCell> cells = stressCells(a.quick);
-  // Without --out, a fresh private directory (tools/output/temporary_directory.h), removed at the end.
+  // Without --out, a fresh private directory (tools/output/directories.h), removed at the end.
   std::unique_ptr<TemporaryDirectory> temporary;
   fs::path root;
   std::error_code ec;

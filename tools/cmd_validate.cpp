@@ -3,7 +3,7 @@
 // --json, one object per benchmark. VALIDATION.md explains the benchmarks, the options and the figures.
 #include "core/input_limits.h"
 #include "tools/output/atomic_file.h"
-#include "tools/output/temporary_directory.h"
+#include "tools/output/directories.h"
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "solvers/linear_solver.h"

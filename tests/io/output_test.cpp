@@ -4,7 +4,7 @@
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
 #include "tools/output/run_output.h"
-#include "tools/output/temporary_directory.h"
+#include "tools/output/directories.h"
 #include "tools/output/vtu.h"
 #include "tools/render/image.h"
 #include "tools/render/plot.h"

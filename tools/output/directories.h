@@ -1,8 +1,10 @@
-// A private temporary directory: created by mkdtemp under the system's temporary directory (a fresh name that no
-// one else could have taken first, mode 0700) and removed with its contents when the object goes.
+// The directories a command writes into: a private temporary one (TemporaryDirectory), or one the user names
+// (createOutputDirectory).
 //
-// A predictable name there (a process id, a fixed word) can be created first by another user, as a link into
-// someone's files that the clean-up would then empty, or as a directory they can write into while the run does.
+// A temporary directory is created by mkdtemp under the system's temporary directory (a fresh name that no one
+// else could have taken first, mode 0700) and removed with its contents when the object goes. A predictable name
+// there (a process id, a fixed word) can be created first by another user: as a link into someone's files that
+// the clean-up would then empty, or as a directory they can write into while the run does.
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "tools/output/temporary_directory.h"
+#include "tools/output/directories.h"
 
 #include "core/mesh.h"
 
