@@ -66,6 +66,13 @@ expect 3 "--mesh: 1x2 is too coarse for slit-ring-page (at least 1x3)" -- "$js" 
 expect 3 "--plots: /dev/null: cannot create the directory" -- "$js" validate cantilever-end-shear --plots /dev/null
 # An output file that cannot be written is refused before the work, not after it.
 expect 2 "--json: /tmp: not a regular file" -- "$js" bench statics --json /tmp
+expect 3 "--json: /tmp: not a regular file" -- "$js" validate cantilever-end-shear --no-plot --json /tmp
+# validate's --json may name a file in the --plots directory it creates.
+if ! "$js" validate cantilever-end-shear --plots "$dir/plots" --json "$dir/plots/results.json" >/dev/null 2>&1 ||
+  [ ! -s "$dir/plots/results.json" ]; then
+  echo "FAIL: validate --json into the --plots directory it creates"
+  failures=$((failures + 1))
+fi
 expect 2 "--json: /nonexistent/x.json: cannot write (no directory '/nonexistent')" -- \
   "$js" bench elements --json /nonexistent/x.json
 expect 2 "--png: /dev/null: not a regular file" -- "$js" render x.vtu --png /dev/null
