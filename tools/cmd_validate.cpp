@@ -191,14 +191,7 @@ int runValidate(const ValidateArgs& a) {
                        std::to_string(least.n1) + "x" + std::to_string(least.n2) + ")");
   }
   if (!a.noPlot) createOutputDirectory(a.plots, "--plots");
-  // Checked here, not when the command line is read: --json may name a file in the --plots directory just made.
-  if (!a.json.empty()) {
-    try {
-      checkOutputFile(a.json);
-    } catch (const InputError& e) {
-      throw InputError(std::string("--json: ") + e.what());
-    }
-  }
+  checkOutputOption(a.json, "--json");  // here, not on the command line: it may go in the --plots directory
 
   nlohmann::json out = nlohmann::json::array();
   bool ok = true;

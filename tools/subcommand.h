@@ -83,6 +83,17 @@ inline CLI::Validator outputFile() {
       "FILE");
 }
 
+/// The same check for a command that first creates the directory the file may go in (validate's --plots, stress's
+/// --out): it calls this after making the directory and before its work. Throws InputError naming `option`.
+inline void checkOutputOption(const std::string& path, const std::string& option) {
+  if (path.empty()) return;
+  try {
+    checkOutputFile(path);
+  } catch (const InputError& e) {
+    throw InputError(option + ": " + e.what());
+  }
+}
+
 /// The shared parent of all `jetshell bench <name>` benchmarks (created on first use). Benchmark files add
 /// their own subcommand to it: `benchCommand(app)->add_subcommand("solver", ...)`.
 inline CLI::App* benchCommand(CLI::App& app) {

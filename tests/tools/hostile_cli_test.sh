@@ -67,10 +67,16 @@ expect 3 "--plots: /dev/null: cannot create the directory" -- "$js" validate can
 # An output file that cannot be written is refused before the work, not after it.
 expect 2 "--json: /tmp: not a regular file" -- "$js" bench statics --json /tmp
 expect 3 "--json: /tmp: not a regular file" -- "$js" validate cantilever-end-shear --no-plot --json /tmp
+expect 3 "--json: /tmp: not a regular file" -- "$js" stress --quick --only no-such-cell --json /tmp
 # validate's --json may name a file in the --plots directory it creates.
 if ! "$js" validate cantilever-end-shear --plots "$dir/plots" --json "$dir/plots/results.json" >/dev/null 2>&1 ||
   [ ! -s "$dir/plots/results.json" ]; then
   echo "FAIL: validate --json into the --plots directory it creates"
+  failures=$((failures + 1))
+fi
+if ! "$js" stress --quick --only no-such-cell --out "$dir/stress" --json "$dir/stress/cells.json" >/dev/null 2>&1 ||
+  [ ! -s "$dir/stress/cells.json" ]; then
+  echo "FAIL: stress --json into the --out directory it creates"
   failures=$((failures + 1))
 fi
 expect 2 "--json: /nonexistent/x.json: cannot write (no directory '/nonexistent')" -- \
