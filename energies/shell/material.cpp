@@ -19,13 +19,20 @@ void require(bool ok, const std::string& where, const char* field, double value,
 
 }  // namespace
 
-ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double E, double nu, double rho0, double h) {
-  const std::string w = "ShellMaterialParamsFrom3dIsotropic";
+ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double E, double nu, double rho0, double h,
+                                                       const std::string& w) {
   require(std::isfinite(E) && E > 0, w, "youngsModulus", E, "must be finite and > 0");
   require(std::isfinite(nu) && nu > -1.0 && nu < 0.5, w, "poissonRatio", nu, "must lie in (-1, 0.5)");
   require(std::isfinite(rho0) && rho0 >= 0, w, "density", rho0, "must be finite and >= 0");
   require(std::isfinite(h) && h > 0, w, "thickness", h, "must be finite and > 0");
   const ShellMaterialValues<double> v = shellMaterialFrom3dIsotropic(E, nu, rho0, h);
+  // E h and E h³ can leave a double's range although E and h are each fine.
+  const auto fine = [](double x) { return std::isfinite(x) && x > 0; };
+  if (!fine(v.membraneMu) || !fine(v.bendingBeta) || !std::isfinite(v.density))
+    throw InputError(w + ": youngsModulus " + formatNumber("%g", E) + " and thickness " + formatNumber("%g", h) +
+                     " give a membrane stiffness mu = " + formatNumber("%g", v.membraneMu) +
+                     " N/m and a bending stiffness beta = " + formatNumber("%g", v.bendingBeta) +
+                     " N m, which must be finite and > 0 (E h and E h^3 out of a double's range)");
   ShellMaterialParams m;
   m.membraneLambda = v.membraneLambda;
   m.membraneMu = v.membraneMu;

@@ -30,9 +30,11 @@ ShellMaterialValues<T> shellMaterialFrom3dIsotropic(const T& E, const T& nu, con
 }
 
 /// λ = hEν/(1−ν²), μ = hE/(2(1+ν)), α = h³Eν/(12(1−ν²)), β = h³E(1−ν)/(12(1−ν²)), ρ_A0 = hρ0.
-/// Throws InputError for E <= 0, ν outside (−1, 0.5), ρ0 < 0, h <= 0 or non-finite values.
-ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(double youngsModulus, double poissonRatio,
-                                                       double density3d, double thickness);
+/// Throws InputError for E <= 0, ν outside (−1, 0.5), ρ0 < 0, h <= 0 or non-finite values, and when E·h or E·h³
+/// leaves a double's range (μ or β not finite and > 0: h = 1e-200 gives β = 0). Messages begin with `where`.
+ShellMaterialParams ShellMaterialParamsFrom3dIsotropic(
+    double youngsModulus, double poissonRatio, double density3d, double thickness,
+    const std::string& where = "ShellMaterialParamsFrom3dIsotropic");
 
 /// Throws InputError naming the field (prefixed by `where`) when a parameter is non-finite, a density or damping
 /// coefficient negative, or an energy not positive definite: it accepts exactly μ > 0, λ + μ > 0, β > 0 and

@@ -68,6 +68,10 @@ TEST_CASE("api: parameters are validated with the field named") {
                     "ShellMaterialParamsFrom3dIsotropic.poissonRatio = 0.5: must lie in (-1, 0.5)");
   CHECK_THROWS_WITH(ShellMaterialParamsFrom3dIsotropic(1e6, 0.3, 1, 0),
                     "ShellMaterialParamsFrom3dIsotropic.thickness = 0: must be finite and > 0");
+  CHECK_THROWS_WITH(ShellMaterialParamsFrom3dIsotropic(1e6, 0.3, 1, 1e-200),
+                    Catch::StartsWith("ShellMaterialParamsFrom3dIsotropic: youngsModulus 1e+06 and thickness 1e-200 "
+                                      "give a membrane stiffness mu = 3.84615e-195 N/m and a bending stiffness "
+                                      "beta = 0 N m"));
   Positions V(3, 3);
   V << 0, 0, 0, 1, 0, 0, 2, 0, 0;
   Faces F(1, 3);

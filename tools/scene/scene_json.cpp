@@ -8,7 +8,6 @@
 #include "tools/scene/generated_shapes.h"
 #include "tools/scene/json_reader.h"
 
-#include "core/format.h"
 #include "core/input_limits.h"
 
 #include <cmath>
@@ -170,14 +169,7 @@ ShellMaterialParams readMaterial(const Value& v) {
     check::positive(h, o.member("thickness"));
     const double rho0 = o.at("volumeDensity").number();
     check::nonNegative(rho0, o.member("volumeDensity"));
-    m = ShellMaterialParamsFrom3dIsotropic(E, nu, rho0, h);
-    // E h and E h³ can leave a double's range although E and h are each fine (h = 1e-200 gives β = 0).
-    const auto fine = [](double x) { return std::isfinite(x) && x > 0; };
-    if (!fine(m.membraneMu) || !fine(m.bendingBeta) || !std::isfinite(m.density))
-      throw InputError(o.pointer() + ": youngsModulus " + formatNumber("%g", E) + " and thickness " +
-                       formatNumber("%g", h) + " give a membrane stiffness mu = " + formatNumber("%g", m.membraneMu) +
-                       " N/m and a bending stiffness beta = " + formatNumber("%g", m.bendingBeta) +
-                       " N m, which must be finite and > 0 (E h and E h^3 out of a double's range)");
+    m = ShellMaterialParamsFrom3dIsotropic(E, nu, rho0, h, o.pointer());  // E, ν, h checked above, E·h³ there
   } else {
     m.membraneLambda = o.number("membraneLambda", m.membraneLambda);
     check::finite(m.membraneLambda, o.member("membraneLambda"));
