@@ -16,7 +16,6 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
-#include <vector>
 
 namespace jetshell {
 namespace {
@@ -37,30 +36,31 @@ double parseCoordinate(const std::string& token, const std::string& name, int li
   return value;
 }
 
-/// One index of a face corner: a non-zero decimal integer (1-based, or negative = relative), the whole of `part`.
-bool parseIndex(const std::string& part, long* value) {
-  const char* begin = part.c_str();
+/// Reads a decimal integer at `*p` and moves past it; false when there is none (or it overflows).
+bool readIndex(const char** p, long* value) {
   char* end = nullptr;
   errno = 0;
-  *value = std::strtol(begin, &end, 10);
-  return end != begin && *end == '\0' && errno != ERANGE;
+  *value = std::strtol(*p, &end, 10);
+  const bool ok = end != *p && errno != ERANGE;
+  *p = end;
+  return ok;
 }
 
-/// A face corner "i", "i/t", "i//n" or "i/t/n"; returns the 1-based (or negative, relative) vertex index. The
-/// texture and normal indices are not used, but a corner that is none of these four forms is refused.
+/// A face corner "i", "i/t", "i//n" or "i/t/n" with integer parts; returns the 1-based (or negative, relative)
+/// vertex index. The texture and normal indices are not used, but a corner of any other form is refused.
 long parseCorner(const std::string& token, const std::string& name, int line) {
-  std::vector<std::string> parts;
-  std::size_t start = 0;
-  for (std::size_t slash = token.find('/'); slash != std::string::npos; slash = token.find('/', start)) {
-    parts.push_back(token.substr(start, slash - start));
-    start = slash + 1;
+  const char* p = token.c_str();
+  long vertex = 0, unused = 0;
+  bool ok = readIndex(&p, &vertex);
+  if (ok && *p == '/') {
+    ++p;
+    if (*p != '/') ok = readIndex(&p, &unused);  // i/t or i/t/n
+    if (ok && *p == '/') {
+      ++p;
+      ok = readIndex(&p, &unused);  // the normal index
+    }
   }
-  parts.push_back(token.substr(start));
-  long vertex = 0, other = 0;
-  const bool textureOk = parts.size() < 2 || (parts.size() == 3 && parts[1].empty()) || parseIndex(parts[1], &other);
-  const bool normalOk = parts.size() < 3 || parseIndex(parts[2], &other);
-  const bool wellFormed = parts.size() <= 3 && parseIndex(parts[0], &vertex) && textureOk && normalOk;
-  if (!wellFormed) fail(name, line, "face corner '" + token + "' is not an index (i, i/t, i//n or i/t/n)");
+  if (!ok || *p != '\0') fail(name, line, "face corner '" + token + "' is not an index (i, i/t, i//n or i/t/n)");
   if (vertex == 0) fail(name, line, "face index 0 is invalid (OBJ indices start at 1)");
   return vertex;
 }

@@ -6,34 +6,25 @@
 // outputs).
 #pragma once
 
+#include "tools/output/directories.h"
+
 #include <cstdlib>
 #include <filesystem>
-#include <stdexcept>
+#include <memory>
 #include <string>
-#include <system_error>
-
-#include <stdlib.h>
 
 namespace jetshell::test {
 
 namespace detail {
+/// This process's scratch root, made on first use.
 struct ScratchRoot {
-  std::filesystem::path path;  // empty until the first scratch directory is asked for
-  ScratchRoot() = default;
+  std::unique_ptr<TemporaryDirectory> directory;
   const std::filesystem::path& created() {
-    if (path.empty()) {
-      std::string pattern = (std::filesystem::temp_directory_path() / "jetshell-tests-XXXXXX").string();
-      if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("cannot create " + pattern);
-      path = pattern;
+    if (!directory) {
+      directory = std::make_unique<TemporaryDirectory>("jetshell-tests-");
+      if (std::getenv("JETSHELL_KEEP_TEST_FILES") != nullptr) directory->keep();
     }
-    return path;
-  }
-  ScratchRoot(const ScratchRoot&) = delete;
-  ScratchRoot& operator=(const ScratchRoot&) = delete;
-  ~ScratchRoot() {
-    std::error_code ignored;
-    if (!path.empty() && std::getenv("JETSHELL_KEEP_TEST_FILES") == nullptr)
-      std::filesystem::remove_all(path, ignored);
+    return directory->path();
   }
 };
 inline ScratchRoot scratchRoot;

@@ -169,18 +169,10 @@ int runValidate(const ValidateArgs& a) {
     for (const Benchmark& b : allBenchmarks()) selected.push_back(&b);
   bool roof = a.all;
   for (const std::string& n : a.names) {
-    if (n == kRoof) {
+    if (n == kRoof)
       roof = true;
-      continue;
-    }
-    const auto& all = allBenchmarks();
-    const auto found = std::find_if(all.begin(), all.end(), [&](const Benchmark& b) { return b.name == n; });
-    if (found == all.end()) {
-      std::string names;
-      for (const Benchmark& b : all) names += b.name + ", ";
-      throw InputError("validate: no benchmark named '" + n + "' (benchmarks: " + names + kRoof + ")");
-    }
-    selected.push_back(&*found);
+    else
+      selected.push_back(&findBenchmark(n, {kRoof}));
   }
   if (selected.empty() && !roof) throw InputError("validate: name a benchmark, or --all, or --list");
   const BenchmarkRunOptions options = runOptions(a);

@@ -90,8 +90,9 @@ struct Benchmark {
 
 /// Every benchmark, in a fixed order.
 const std::vector<Benchmark>& allBenchmarks();
-/// The benchmark with this name; throws InputError listing the names otherwise.
-const Benchmark& findBenchmark(const std::string& name);
+/// The benchmark with this name; throws InputError listing the names otherwise (and `otherNames`, benchmarks the
+/// caller runs by other means, such as the snap-through of validation/snap_through.h).
+const Benchmark& findBenchmark(const std::string& name, const std::vector<std::string>& otherNames = {});
 
 /// Newton's defaults with the per-element PSD projection off: on these large-rotation paths the projected
 /// Hessian turns Newton's convergence linear (the slit annular plate at 4 x 32 quads: 658 iterations and

@@ -193,12 +193,13 @@ const std::vector<Benchmark>& allBenchmarks() {
   return benchmarks;
 }
 
-const Benchmark& findBenchmark(const std::string& name) {
+const Benchmark& findBenchmark(const std::string& name, const std::vector<std::string>& otherNames) {
   std::string names;
   for (const Benchmark& b : allBenchmarks()) {
     if (b.name == name) return b;
     names += (names.empty() ? "" : ", ") + b.name;
   }
+  for (const std::string& other : otherNames) names += ", " + other;
   throw InputError("validate: no benchmark named '" + name + "' (benchmarks: " + names + ")");
 }
 

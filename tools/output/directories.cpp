@@ -18,7 +18,7 @@ TemporaryDirectory::TemporaryDirectory(const std::string& prefix) {
 
 TemporaryDirectory::~TemporaryDirectory() {
   std::error_code ignored;
-  std::filesystem::remove_all(path_, ignored);
+  if (!kept_) std::filesystem::remove_all(path_, ignored);
 }
 
 void createOutputDirectory(const std::string& path, const std::string& option) {

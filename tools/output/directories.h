@@ -21,9 +21,12 @@ class TemporaryDirectory {
   TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
 
   const std::filesystem::path& path() const { return path_; }
+  /// Leaves the directory on disk when the object goes (to look at what a failed run left).
+  void keep() { kept_ = true; }
 
  private:
   std::filesystem::path path_;
+  bool kept_ = false;
 };
 
 /// Creates the directory `path` (and its parents) for a command's outputs; throws InputError naming `option` and
