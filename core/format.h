@@ -6,11 +6,14 @@
 
 namespace jetshell {
 
-/// fmt holds exactly one conversion of a double (for example "%.3f"); the text is cut at 63 characters.
+/// fmt holds exactly one conversion of a double (for example "%.3f"). The whole text is returned: "%.3f" of
+/// 1e300 is 305 characters, never a prefix that would read as another number.
 inline std::string formatNumber(const char* fmt, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, fmt, v);
-  return buffer;
+  const int n = std::snprintf(nullptr, 0, fmt, v);
+  if (n < 0) return "?";
+  std::string text(static_cast<std::size_t>(n), '\0');
+  std::snprintf(text.data(), text.size() + 1, fmt, v);  // the terminator goes where std::string keeps its own
+  return text;
 }
 
 }  // namespace jetshell

@@ -4,6 +4,7 @@
 // iterations, observed order), and writes the error-versus-time chart and, with --json, every run.
 #include "tools/output/atomic_file.h"
 #include "tools/output/directories.h"
+#include "core/format.h"
 #include "core/mesh.h"
 #include "tools/subcommand.h"
 #include "tools/validation/validation_plots.h"
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -158,17 +160,12 @@ std::vector<StudyRun> studyRuns(bool quick, bool large) {
   return runs;
 }
 
-std::string percent(double e) {
-  if (!std::isfinite(e)) return "failed";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3f", 100.0 * e);
-  return b;
-}
+std::string percent(double e) { return std::isfinite(e) ? formatNumber("%.3f", 100.0 * e) : "failed"; }
 
 std::string fixed(double v, int digits) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
 }
 
 struct Done {

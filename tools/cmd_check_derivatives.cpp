@@ -3,6 +3,7 @@
 // analytic, each path vs Richardson-extrapolated central differences, symmetry of the gradient's Jacobian, and
 // PSD-ness of model (Gauss–Newton) Hessians (tools/checks/derivative_check.h). Prints a table of the largest errors per
 // term; exits 1 when a tolerance is exceeded.
+#include "core/format.h"
 #include "core/math_constants.h"
 #include "tools/output/atomic_file.h"
 #include "tools/checks/check_configurations.h"
@@ -93,11 +94,7 @@ struct KindGeometry {
   double maxStretch = 0.0;
 };
 
-std::string sci(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1e", v);
-  return buf;
-}
+std::string sci(double v) { return formatNumber("%.1e", v); }
 
 nlohmann::json nullable(bool present, double v) { return present ? nlohmann::json(v) : nlohmann::json(nullptr); }
 

@@ -190,6 +190,9 @@ TEST_CASE("output: progress prints plain lines when not on a terminal") {
   CHECK(out.str() == "step 5: ok\n");
   CHECK(Progress::formatDuration(125) == "2 min 05 s");
   CHECK(Progress::formatDuration(3.25) == "3.2 s");
+  CHECK(Progress::formatDuration(7265) == "2 h 01 min");
+  // An ETA from a tiny fraction done: 1e10 s is more seconds than an int holds.
+  CHECK(Progress::formatDuration(1e10) == "2.78e+06 h");
 }
 
 TEST_CASE("render: a frame becomes a PNG with the mesh in the middle") {

@@ -1,11 +1,11 @@
 #include "tools/fit/fit_report.h"
 
+#include "core/format.h"
 #include "core/mesh.h"
 #include "tools/output/atomic_file.h"
 #include "tools/render/plot.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -16,11 +16,7 @@ namespace {
 
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-std::string format(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.9g", v);
-  return b;
-}
+std::string format(double v) { return formatNumber("%.9g", v); }
 
 /// Observed and fitted displacements of every observed coordinate.
 struct Displacements {

@@ -1,5 +1,7 @@
 #include "tools/output/progress.h"
 
+#include "core/format.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,10 +19,15 @@ bool Progress::isTerminal(int fd) { return ::isatty(fd) == 1; }
 std::string Progress::formatDuration(double s) {
   char buffer[64];
   if (!std::isfinite(s) || s < 0) return "?";
+  // An estimate from a tiny fraction done can exceed any int: hours are counted in a double, and a million or
+  // more are shown in scientific notation.
+  if (s >= 3.6e9) return formatNumber("%.2e h", s / 3600);
   if (s < 10) std::snprintf(buffer, sizeof buffer, "%.1f s", s);
   else if (s < 60) std::snprintf(buffer, sizeof buffer, "%.0f s", s);
   else if (s < 3600) std::snprintf(buffer, sizeof buffer, "%d min %02d s", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
-  else std::snprintf(buffer, sizeof buffer, "%d h %02d min", static_cast<int>(s) / 3600, static_cast<int>(s) % 3600 / 60);
+  else
+    std::snprintf(buffer, sizeof buffer, "%.0f h %02d min", std::floor(s / 3600),
+                  static_cast<int>(std::fmod(s, 3600) / 60));
   return buffer;
 }
 

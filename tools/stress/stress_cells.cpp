@@ -1,5 +1,6 @@
 #include "tools/stress/stress_cells.h"
 
+#include "core/format.h"
 #include "core/mesh.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_json.h"
@@ -7,7 +8,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,11 +17,7 @@ namespace {
 
 using Json = nlohmann::json;
 
-std::string sci(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
+std::string sci(double v) { return formatNumber("%g", v); }
 
 Json rectangle(double w, double h, int nx, int ny) {
   return {{"generator", "rectangle"}, {"width", w}, {"height", h}, {"nx", nx}, {"ny", ny}};
