@@ -1,3 +1,4 @@
+#include "core/input_limits.h"
 #include "core/mesh_generators.h"
 #include "tools/output/append_file.h"
 #include "tools/output/atomic_file.h"
@@ -18,6 +19,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -103,6 +105,35 @@ TEST_CASE("output: a .vtu with a non-finite number, a bad component count or a f
                     negative + ": array 'displacement': NumberOfComponents=\"-5\" is not an integer from 1 to 9");
   const std::string fraction = edited("fraction.vtu", "Name=\"connectivity\" format=\"ascii\">", "0.5", true);
   CHECK_THROWS_WITH(readVtu(fraction), fraction + ": connectivity entry 0 is not an integer");
+}
+
+TEST_CASE("output: a .vtu's point and cell counts are bounded integers, and so are its arrays' lengths") {
+  std::ostringstream text;
+  writeVtu(text, hemisphereFrame());
+  // The frame with the values of the Piece's attributes replaced, written to scratch file `name`.
+  auto withCounts = [&](const std::string& name, const std::string& points, const std::string& cells) {
+    std::string s = text.str();
+    for (const auto& [key, value] : {std::pair{"NumberOfPoints=\"", points}, std::pair{"NumberOfCells=\"", cells}}) {
+      const std::size_t at = s.find(key) + std::strlen(key);
+      s.replace(at, s.find('"', at) - at, value);
+    }
+    const std::string path = scratch(name).string();
+    writeFileAtomically(path, s);
+    return path;
+  };
+  const std::string maxPoints = std::to_string(inputLimits().maxVertices);
+  const std::string maxCells = std::to_string(inputLimits().maxFaces);
+  // 3 × this count overflowed a long before it was compared with the array's length.
+  const std::string huge = withCounts("huge.vtu", "9223372036854775807", "1");
+  CHECK_THROWS_WITH(readVtu(huge),
+                    huge + ": NumberOfPoints=\"9223372036854775807\" is not an integer from 0 to " + maxPoints);
+  const std::string negative = withCounts("negative.vtu", "1", "-3");
+  CHECK_THROWS_WITH(readVtu(negative), negative + ": NumberOfCells=\"-3\" is not an integer from 0 to " + maxCells);
+  const std::string word = withCounts("word.vtu", "12abc", "1");
+  CHECK_THROWS_WITH(readVtu(word), word + ": NumberOfPoints=\"12abc\" is not an integer from 0 to " + maxPoints);
+  // A frame of 1 point and 1 cell holds at most 9 numbers in any array: a longer one is refused as it is read.
+  const std::string tooLong = withCounts("long.vtu", "1", "1");
+  CHECK_THROWS_WITH(readVtu(tooLong), Catch::Contains("has more than 9 values (9 per point or cell at most)"));
 }
 
 TEST_CASE("output: the .pvd series lists every frame with its time") {

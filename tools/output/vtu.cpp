@@ -9,6 +9,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -77,7 +78,22 @@ std::string attribute(const std::string& tag, const std::string& name) {
   return tag.substr(start, tag.find('"', start) - start);
 }
 
-std::vector<double> numbers(const std::string& text, const std::string& path, const std::string& what) {
+/// A count attribute of a tag (NumberOfPoints, NumberOfCells): an integer from 0 to `maximum`, the limit a scene's
+/// meshes have (core/input_limits.h).
+long countAttribute(const std::string& tag, const std::string& name, const std::string& path, std::int64_t maximum) {
+  const std::string text = attribute(tag, name);
+  long value = -1;
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, value);
+  if (text.empty() || error != std::errc() || stop != end || value < 0 || value > maximum)
+    throw InputError(path + ": " + name + "=\"" + text.substr(0, 32) + "\" is not an integer from 0 to " +
+                     std::to_string(maximum));
+  return value;
+}
+
+/// The numbers of an ASCII array, at most `maximum` of them (no array of a valid frame holds more).
+std::vector<double> numbers(const std::string& text, const std::string& path, const std::string& what,
+                            std::size_t maximum) {
   std::vector<double> out;
   const char* p = text.c_str();
   const char* end = p + text.size();
@@ -88,6 +104,9 @@ std::vector<double> numbers(const std::string& text, const std::string& path, co
     const double v = std::strtod(p, &next);
     if (next == p) throw InputError(path + ": array " + what + " has a non-numeric entry");
     if (!std::isfinite(v)) throw InputError(path + ": array " + what + " has a non-finite entry (NaN or inf)");
+    if (out.size() == maximum)
+      throw InputError(path + ": array " + what + " has more than " + std::to_string(maximum) +
+                       " values (9 per point or cell at most)");
     out.push_back(v);
     p = next;
   }
@@ -105,8 +124,9 @@ VtuFrame readVtu(const std::string& path) {
   const std::size_t piece = xml.find("<Piece");
   if (piece == std::string::npos) throw InputError(path + ": no <Piece>");
   const std::string pieceTag = xml.substr(piece, xml.find('>', piece) - piece);
-  const long n = std::atol(attribute(pieceTag, "NumberOfPoints").c_str());
-  const long nf = std::atol(attribute(pieceTag, "NumberOfCells").c_str());
+  const long n = countAttribute(pieceTag, "NumberOfPoints", path, inputLimits().maxVertices);
+  const long nf = countAttribute(pieceTag, "NumberOfCells", path, inputLimits().maxFaces);
+  const std::size_t maxValues = 9 * static_cast<std::size_t>(std::max(n, nf));
 
   VtuFrame frame;
   std::vector<double> points, connectivity, offsets, types;
@@ -118,7 +138,8 @@ VtuFrame readVtu(const std::string& path) {
     const std::string name = attribute(tag, "Name");
     if (attribute(tag, "format") != "ascii")
       throw InputError(path + ": array '" + name + "' is not ASCII; save the file with ASCII data");
-    std::vector<double> values = numbers(xml.substr(close + 1, endArray - close - 1), path, "'" + name + "'");
+    std::vector<double> values =
+        numbers(xml.substr(close + 1, endArray - close - 1), path, "'" + name + "'", maxValues);
     // The section an array belongs to is the innermost one opened before it.
     auto openedBefore = [&](const char* section) {
       const std::size_t open = xml.rfind(std::string("<") + section, at);
