@@ -1,40 +1,15 @@
 // `jetshell render`: a shaded PNG of an output frame (.vtu), of the last frame of a series (.pvd), or of a run's
 // output directory.
-#include "core/input_file.h"
-#include "core/input_limits.h"
 #include "core/mesh.h"
+#include "tools/output/vtu.h"
 #include "tools/render/render_frames.h"
 #include "tools/subcommand.h"
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 namespace jetshell::cli {
 namespace {
-
-/// The files of the last time step of a .pvd collection, as paths.
-std::vector<std::string> lastStepOf(const std::string& pvd) {
-  const std::string xml = readInputFile(pvd, inputLimits().maxJsonBytes, "frame collection");
-  std::vector<std::pair<std::string, std::string>> entries;  // (timestep, file)
-  for (std::size_t at = xml.find("<DataSet"); at != std::string::npos; at = xml.find("<DataSet", at + 1)) {
-    const std::string tag = xml.substr(at, xml.find('>', at) - at);
-    auto attribute = [&](const std::string& name) {
-      const std::size_t k = tag.find(" " + name + "=\"");
-      if (k == std::string::npos) return std::string();
-      const std::size_t start = k + name.size() + 3;
-      return tag.substr(start, tag.find('"', start) - start);
-    };
-    entries.emplace_back(attribute("timestep"), attribute("file"));
-  }
-  if (entries.empty()) throw InputError(pvd + ": no <DataSet> entries");
-  std::vector<std::string> files;
-  const std::filesystem::path base = std::filesystem::path(pvd).parent_path();
-  for (const auto& [time, file] : entries)
-    if (time == entries.back().first) files.push_back((base / file).string());
-  return files;
-}
 
 std::vector<std::string> resolveInputs(const std::vector<std::string>& inputs) {
   std::vector<std::string> files;
@@ -42,7 +17,7 @@ std::vector<std::string> resolveInputs(const std::vector<std::string>& inputs) {
     std::string path = input;
     if (std::filesystem::is_directory(path)) path = (std::filesystem::path(path) / "frames.pvd").string();
     if (std::filesystem::path(path).extension() == ".pvd") {
-      for (const std::string& f : lastStepOf(path)) files.push_back(f);
+      for (const std::string& f : readPvdLastStep(path)) files.push_back(f);
     } else {
       files.push_back(path);
     }

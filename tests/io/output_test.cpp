@@ -148,6 +148,20 @@ TEST_CASE("output: the .pvd series lists every frame with its time") {
   text << in.rdbuf();
   CHECK(text.str().find("<DataSet timestep=\"0.5\" group=\"\" part=\"1\" file=\"volumes.vtu\"/>") != std::string::npos);
   CHECK(text.str().find("type=\"Collection\"") != std::string::npos);
+  // Read back: the last time step's files, joined to the collection's directory.
+  const fs::path directory = fs::path(path).parent_path();
+  CHECK(readPvdLastStep(path) == std::vector<std::string>{(directory / "frames/frame_00001.vtu").string(),
+                                                          (directory / "volumes.vtu").string()});
+}
+
+TEST_CASE("output: a .pvd's last step is read with its names decoded, and an empty one is refused") {
+  std::ostringstream text;
+  text << PvdSeries::head() << PvdSeries::entry(0.0, "a&b.vtu") << PvdSeries::entry(1.0, "c\"d<.vtu", 0, "x & y")
+       << PvdSeries::tail();
+  CHECK(pvdLastStep(text.str(), "s.pvd") == std::vector<std::string>{"c\"d<.vtu"});
+  CHECK_THROWS_WITH(pvdLastStep(PvdSeries::head() + PvdSeries::tail(), "s.pvd"), "s.pvd: no <DataSet> entries");
+  CHECK_THROWS_WITH(pvdLastStep("<DataSet timestep=\"0\" file=\"\"/>", "s.pvd"),
+                    "s.pvd: a <DataSet> of the last time step names no file");
 }
 
 TEST_CASE("output: an atomic write to a missing directory fails with the path") {

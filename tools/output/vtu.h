@@ -1,4 +1,5 @@
-// VTK XML unstructured grids (.vtu, triangles only, ASCII) and ParaView collections (.pvd) of time series.
+// VTK XML unstructured grids (.vtu, triangles only, ASCII) and ParaView collections (.pvd) of time series: the
+// writers (vtu.cpp) and the readers (vtu_reader.cpp).
 //
 // ASCII with shortest round-trip numbers keeps frames lossless, diffable and readable by our own renderer;
 // ParaView opens both the frames and the .pvd series.
@@ -33,8 +34,17 @@ struct VtuFrame {
 void writeVtu(std::ostream& out, const VtuFrame& frame);
 
 /// Reads an ASCII .vtu of triangles (as written by writeVtu or by ParaView with ASCII output). Throws
-/// InputError naming the file on anything else (binary or appended data, non-triangle cells, missing arrays).
+/// InputError naming the file on anything else (binary or appended data, non-triangle cells, missing arrays,
+/// more than the scene limits' points or cells). tools/output/vtu_reader.cpp.
 VtuFrame readVtu(const std::string& path);
+/// The same from the file's text; `path` names it in messages.
+VtuFrame parseVtu(const std::string& xml, const std::string& path);
+
+/// The files of the last time step of a .pvd collection's text, as written in it (relative to its directory).
+/// InputError naming `path` when it has no <DataSet> or one of them no file.
+std::vector<std::string> pvdLastStep(const std::string& xml, const std::string& path);
+/// The same, read from the file at `path`, as paths (joined to its directory).
+std::vector<std::string> readPvdLastStep(const std::string& path);
 
 /// A .pvd collection: one entry per (time, part, file). File names are relative to the .pvd's directory.
 class PvdSeries {
