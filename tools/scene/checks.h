@@ -30,10 +30,7 @@ inline void nonNegative(double v, const std::string& field) {
 }
 inline void atLeast(int v, int minimum, const std::string& field) {
   if (v < minimum) {
-    std::ostringstream s;
-    s << "must be >= " << minimum;
-    const std::string rule = s.str();
-    fail(field, v, rule.c_str());
+    fail(field, v, "must be >= " + std::to_string(minimum));
   }
 }
 inline void atMostReal(double v, double maximum, const std::string& field) {
