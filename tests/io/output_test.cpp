@@ -162,6 +162,21 @@ TEST_CASE("output: a .pvd's last step is read with its names decoded, and an emp
   CHECK_THROWS_WITH(pvdLastStep(PvdSeries::head() + PvdSeries::tail(), "s.pvd"), "s.pvd: no <DataSet> entries");
   CHECK_THROWS_WITH(pvdLastStep("<DataSet timestep=\"0\" file=\"\"/>", "s.pvd"),
                     "s.pvd: a <DataSet> of the last time step names no file");
+  // Entries without '>' were each copied to the end of the file: 200,000 of them took 24 s.
+  const std::string entry = "<DataSet timestep=\"0\" file=\"x.vtu\"";
+  std::string open;
+  for (int k = 0; k < 200000; ++k) open += entry;
+  CHECK_THROWS_WITH(pvdLastStep(open, "s.pvd"),
+                    "s.pvd: the tag at byte " + std::to_string(open.size() - entry.size()) + " has no closing '>'");
+}
+
+TEST_CASE("output: a .vtu of many arrays is refused by count, and read in one pass") {
+  // 200,000 empty arrays: each searched the file backwards for its section, which took minutes.
+  std::string xml = "<VTKFile type=\"UnstructuredGrid\"><Piece NumberOfPoints=\"1\" NumberOfCells=\"1\">";
+  for (int k = 0; k < 200000; ++k) xml += "<DataArray Name=\"a\" format=\"ascii\"></DataArray>";
+  CHECK_THROWS_WITH(parseVtu(xml, "many.vtu"), "many.vtu: more than 1024 <DataArray> elements");
+  CHECK_THROWS_WITH(parseVtu("<VTKFile type=\"UnstructuredGrid\"><Piece NumberOfPoints=\"1\"", "open.vtu"),
+                    "open.vtu: the tag at byte 33 has no closing '>'");
 }
 
 TEST_CASE("output: an atomic write to a missing directory fails with the path") {

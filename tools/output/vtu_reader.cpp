@@ -80,6 +80,41 @@ std::vector<double> numbers(const std::string& text, const std::string& path, co
   return out;
 }
 
+/// The text of the tag that opens at `at` (from '<' to before its '>'); InputError when it has no '>'.
+std::string tagAt(const std::string& xml, std::size_t at, const std::string& path) {
+  const std::size_t close = xml.find('>', at);
+  if (close == std::string::npos)
+    throw InputError(path + ": the tag at byte " + std::to_string(at) + " has no closing '>'");
+  return xml.substr(at, close - at);
+}
+
+/// Whether a section (Points, Cells, PointData, CellData) is open at positions that only grow: the last opening
+/// and closing tags before the position, found by one forward scan over the file (a backward search from every
+/// array made a file of many arrays quadratic: 9 MB took minutes).
+class SectionTracker {
+ public:
+  SectionTracker(const std::string& xml, const char* name)
+      : xml_(xml), open_(std::string("<") + name), close_(std::string("</") + name) {
+    nextOpen_ = xml_.find(open_);
+    nextClose_ = xml_.find(close_);
+  }
+  bool openAt(std::size_t at) {
+    while (nextOpen_ < at) lastOpen_ = std::exchange(nextOpen_, xml_.find(open_, nextOpen_ + 1));
+    while (nextClose_ < at) lastClose_ = std::exchange(nextClose_, xml_.find(close_, nextClose_ + 1));
+    return lastOpen_ != std::string::npos && (lastClose_ == std::string::npos || lastClose_ < lastOpen_);
+  }
+
+ private:
+  const std::string& xml_;
+  std::string open_, close_;
+  std::size_t nextOpen_, nextClose_, lastOpen_ = std::string::npos, lastClose_ = std::string::npos;
+};
+
+/// Arrays in one frame: writeVtu writes about ten.
+constexpr int kMaxVtuArrays = 1024;
+/// Files of one time step of a .pvd: a run writes one per shell actor and one for the volumes.
+constexpr std::size_t kMaxPvdFiles = 4096;
+
 }  // namespace
 
 VtuFrame parseVtu(const std::string& xml, const std::string& path) {
@@ -89,16 +124,21 @@ VtuFrame parseVtu(const std::string& xml, const std::string& path) {
     throw InputError(path + ": appended (binary) data is not supported; save the file with ASCII data");
   const std::size_t piece = xml.find("<Piece");
   if (piece == std::string::npos) throw InputError(path + ": no <Piece>");
-  const std::string pieceTag = xml.substr(piece, xml.find('>', piece) - piece);
+  const std::string pieceTag = tagAt(xml, piece, path);
   const long n = countAttribute(pieceTag, "NumberOfPoints", path, inputLimits().maxVertices);
   const long nf = countAttribute(pieceTag, "NumberOfCells", path, inputLimits().maxFaces);
   const std::size_t maxValues = 9 * static_cast<std::size_t>(std::max(n, nf));
 
   VtuFrame frame;
   std::vector<double> points, connectivity, offsets, types;
+  SectionTracker inPoints(xml, "Points"), inCells(xml, "Cells"), inPointData(xml, "PointData"),
+      inCellData(xml, "CellData");
+  int arrays = 0;
   for (std::size_t at = xml.find("<DataArray", piece); at != std::string::npos; at = xml.find("<DataArray", at + 1)) {
-    const std::size_t close = xml.find('>', at);
-    const std::string tag = xml.substr(at, close - at);
+    if (++arrays > kMaxVtuArrays)
+      throw InputError(path + ": more than " + std::to_string(kMaxVtuArrays) + " <DataArray> elements");
+    const std::string tag = tagAt(xml, at, path);
+    const std::size_t close = at + tag.size();
     const std::size_t endArray = xml.find("</DataArray>", close);
     if (endArray == std::string::npos) throw InputError(path + ": unterminated <DataArray>");
     const std::string name = attribute(tag, "Name");
@@ -106,12 +146,6 @@ VtuFrame parseVtu(const std::string& xml, const std::string& path) {
       throw InputError(path + ": array '" + name + "' is not ASCII; save the file with ASCII data");
     std::vector<double> values =
         numbers(xml.substr(close + 1, endArray - close - 1), path, "'" + name + "'", maxValues);
-    // The section an array belongs to is the innermost one opened before it.
-    auto openedBefore = [&](const char* section) {
-      const std::size_t open = xml.rfind(std::string("<") + section, at);
-      const std::size_t shut = xml.rfind(std::string("</") + section, at);
-      return open != std::string::npos && (shut == std::string::npos || shut < open);
-    };
     const std::string componentsText = attribute(tag, "NumberOfComponents");
     int components = 1;
     if (!componentsText.empty()) {
@@ -122,15 +156,18 @@ VtuFrame parseVtu(const std::string& xml, const std::string& path) {
                          "\" is not an integer from 1 to 9");
       components = static_cast<int>(c);
     }
-    if (openedBefore("Points")) {
+    // The section an array belongs to is the first open one of these (each is asked, so each scan moves on).
+    const bool isPoints = inPoints.openAt(at), isCells = inCells.openAt(at), isPointData = inPointData.openAt(at),
+               isCellData = inCellData.openAt(at);
+    if (isPoints) {
       points = std::move(values);
-    } else if (openedBefore("Cells")) {
+    } else if (isCells) {
       if (name == "connectivity") connectivity = std::move(values);
       else if (name == "offsets") offsets = std::move(values);
       else if (name == "types") types = std::move(values);
-    } else if (openedBefore("PointData")) {
+    } else if (isPointData) {
       frame.pointData[name] = {components, std::move(values)};
-    } else if (openedBefore("CellData")) {
+    } else if (isCellData) {
       frame.cellData[name] = {components, std::move(values)};
     }
   }
@@ -167,16 +204,19 @@ VtuFrame readVtu(const std::string& path) {
 }
 
 std::vector<std::string> pvdLastStep(const std::string& xml, const std::string& path) {
-  std::vector<std::pair<std::string, std::string>> entries;  // (timestep, file)
-  for (std::size_t at = xml.find("<DataSet"); at != std::string::npos; at = xml.find("<DataSet", at + 1)) {
-    const std::string tag = xml.substr(at, xml.find('>', at) - at);
-    entries.emplace_back(attribute(tag, "timestep"), attribute(tag, "file"));
-  }
-  if (entries.empty()) throw InputError(path + ": no <DataSet> entries");
+  // The last entry's time step first, then one pass that keeps only that step's files: a collection of
+  // millions of entries is read without holding them.
+  const std::size_t last = xml.rfind("<DataSet");
+  if (last == std::string::npos) throw InputError(path + ": no <DataSet> entries");
+  const std::string lastTime = attribute(tagAt(xml, last, path), "timestep");
   std::vector<std::string> files;
-  for (const auto& [time, file] : entries) {
-    if (time != entries.back().first) continue;
+  for (std::size_t at = xml.find("<DataSet"); at != std::string::npos; at = xml.find("<DataSet", at + 1)) {
+    const std::string tag = tagAt(xml, at, path);
+    if (attribute(tag, "timestep") != lastTime) continue;
+    const std::string file = attribute(tag, "file");
     if (file.empty()) throw InputError(path + ": a <DataSet> of the last time step names no file");
+    if (files.size() == kMaxPvdFiles)
+      throw InputError(path + ": more than " + std::to_string(kMaxPvdFiles) + " files in the last time step");
     files.push_back(file);
   }
   return files;
