@@ -166,6 +166,40 @@ TEST_CASE("scene bounds: the C++ scene API checks the same bounds", "[scene][hos
   CHECK(boundsErrorOf(two) == "scene: vertices of all shell actors = 30: too large (at most 20)");
 }
 
+TEST_CASE("scene bounds: conditions, probes, selected vertices and actors x vertices are bounded", "[scene][hostile]") {
+  BoundsLimitOverride restore;
+  // 20,000 conditions selecting all of a 40,401-vertex mesh took 181 s of `run --check`; 100,000 probes 17 s
+  // (each name compared with every earlier one); 3,000 four-vertex actors 866 MB (each holds every position).
+  inputLimits().maxConditions = 2;
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["probes"].push_back({{"name", "b"}, {"select", {{"all", true}}}});
+                                       s["actors"][0]["probes"].push_back({{"name", "c"}, {"select", {{"all", true}}}});
+        }) == "/actors/0/probes/2: probes in the scene = 3: too large (at most 2)");
+  CHECK(boundsErrorAfter([](Json& s) {
+          for (int k = 0; k < 2; ++k) s["actors"][0]["fixed"].push_back({{"select", {{"all", true}}}});
+        }) == "/actors/0/fixed/2: fixed conditions in the scene = 3: too large (at most 2)");
+  CHECK(boundsErrorAfter([](Json& s) {
+          for (int k = 0; k < 3; ++k)
+            s["actors"][0]["loads"].push_back({{"select", {{"all", true}}}, {"force", {0, 0, 1}}});
+        }) == "/actors/0/loads/2: loads in the scene = 3: too large (at most 2)");
+  Scene api = sceneFromJson(boundsScene(), ".");
+  api.probes.resize(3, api.probes[0]);
+  CHECK_THROWS_WITH(validate(api), "scene: probes = 3: too large (at most 2)");
+  inputLimits() = restore.saved;
+  // The strip has 15 vertices: its "left" group (3) and one load on all of them (15) select 18.
+  inputLimits().maxSelectedVertices = 17;
+  CHECK(boundsErrorAfter([](Json& s) {
+          s["actors"][0]["loads"].push_back({{"select", {{"all", true}}}, {"force", {0, 0, 1}}});
+        }) == "/actors/0/fixed/0/select: the scene's fixed conditions and loads select more than 17 vertices in all");
+  inputLimits() = restore.saved;
+  inputLimits().maxShellActorVertices = 59;  // two actors of 15 vertices: 2 x 30 = 60
+  Json two = boundsScene();
+  two["actors"].push_back(two["actors"][0]);
+  two["actors"][1]["name"] = "second";
+  two["actors"][1]["probes"][0]["name"] = "tip2";
+  CHECK(boundsErrorOf(two) == "scene: 2 shell actors over 30 vertices: each shell actor holds the whole scene's "
+                              "positions, so actors x vertices must be at most 59 (merge actors into one mesh)");
+}
+
 TEST_CASE("scene bounds: inline meshes and index lists are bounded", "[scene][hostile]") {
   BoundsLimitOverride restore;
   inputLimits().maxVertices = 2;

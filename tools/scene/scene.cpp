@@ -84,6 +84,10 @@ void validate(const Scene& scene) {
     if (!volumeNames.insert(scene.volumes[i].name).second)
       throw InputError("volume actor " + std::to_string(i) + ": duplicate name '" + scene.volumes[i].name + "'");
   }
+  const InputLimits& limits = inputLimits();
+  check::atMost(static_cast<std::int64_t>(scene.fixed.size()), limits.maxConditions, "scene: fixed conditions");
+  check::atMost(static_cast<std::int64_t>(scene.loads.size()), limits.maxConditions, "scene: loads");
+  check::atMost(static_cast<std::int64_t>(scene.probes.size()), limits.maxConditions, "scene: probes");
   for (const FixedCondition& c : scene.fixed) {
     requireActor(scene, c.actor, c.where);
     validateSelection(c.select, c.where + "/select");
@@ -121,7 +125,6 @@ void validate(const Scene& scene) {
     if (p.name.empty()) throw InputError(p.where + "/name: must not be empty");
     if (!probeNames.insert(p.name).second) throw InputError(p.where + "/name = \"" + p.name + "\": duplicate probe name");
   }
-  const InputLimits& limits = inputLimits();
   std::int64_t vertices = 0, faces = 0;
   for (const ShellActorParams& s : scene.shells) {
     vertices += s.shape->mesh.numVertices();
@@ -129,6 +132,11 @@ void validate(const Scene& scene) {
   }
   check::atMost(vertices, limits.maxVertices, "scene: vertices of all shell actors");
   check::atMost(faces, limits.maxFaces, "scene: faces of all shell actors");
+  const auto actors = static_cast<std::int64_t>(scene.shells.size());
+  if (actors * vertices > limits.maxShellActorVertices)
+    throw InputError("scene: " + std::to_string(actors) + " shell actors over " + std::to_string(vertices) +
+                     " vertices: each shell actor holds the whole scene's positions, so actors x vertices must be at "
+                     "most " + std::to_string(limits.maxShellActorVertices) + " (merge actors into one mesh)");
   const AnalysisSettings& a = scene.analysis;
   if (a.type == AnalysisType::Static) check::atLeast(a.loadSteps, 1, "/analysis/loadSteps");
   if (a.type == AnalysisType::Static) check::atMost(a.loadSteps, limits.maxLoadLevels, "/analysis/loadSteps");

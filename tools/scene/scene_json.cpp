@@ -282,6 +282,8 @@ void readFixed(const Value& v, int actor, Scene& scene) {
   FixedCondition c;
   c.actor = actor;
   c.where = v.pointer();
+  check::atMost(static_cast<std::int64_t>(scene.fixed.size()) + 1, inputLimits().maxConditions,
+                c.where + ": fixed conditions in the scene");
   c.select = readSelection(o.at("select"));
   if (const auto comp = o.find("components")) {
     const std::string s = comp->string();
@@ -333,6 +335,8 @@ void readLoad(const Value& v, int actor, Scene& scene) {
   LoadCondition l;
   l.actor = actor;
   l.where = v.pointer();
+  check::atMost(static_cast<std::int64_t>(scene.loads.size()) + 1, inputLimits().maxConditions,
+                l.where + ": loads in the scene");
   l.name = o.string("name", "");
   if (o.has("name") && l.name.empty()) throw InputError(o.member("name") + ": must not be empty");
   for (const LoadCondition& q : scene.loads)
@@ -351,6 +355,8 @@ void readProbe(const Value& v, int actor, Scene& scene) {
   Probe p;
   p.actor = actor;
   p.where = v.pointer();
+  check::atMost(static_cast<std::int64_t>(scene.probes.size()) + 1, inputLimits().maxConditions,
+                p.where + ": probes in the scene");
   p.name = o.at("name").string();
   if (p.name.empty()) throw InputError(o.member("name") + ": must not be empty");
   for (const Probe& q : scene.probes)

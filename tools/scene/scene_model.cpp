@@ -1,5 +1,6 @@
 #include "tools/scene/scene_model.h"
 
+#include "core/input_limits.h"
 #include "core/topology.h"
 #include "tools/scene/shapes.h"
 
@@ -172,9 +173,17 @@ SceneModel buildSceneModel(const Scene& scene) {
     return ids;
   };
 
+  std::int64_t selected = 0;  // by fixed conditions and loads together (each vertex costs a map entry or a force)
+  auto count = [&](const std::vector<int>& ids, const std::string& where) {
+    selected += static_cast<std::int64_t>(ids.size());
+    if (selected > inputLimits().maxSelectedVertices)
+      throw InputError(where + ": the scene's fixed conditions and loads select more than " +
+                       std::to_string(inputLimits().maxSelectedVertices) + " vertices in all");
+  };
   model.appliedForces = Eigen::VectorXd::Zero(3 * numVertices);
   for (const LoadCondition& load : scene.loads) {
     const std::vector<int> ids = select(load.actor, load.select, load.where + "/select");
+    count(ids, load.where + "/select");
     const std::vector<double> w =
         loadWeights(load, ids, geometry[static_cast<std::size_t>(load.actor)], scene.shells[static_cast<std::size_t>(load.actor)].shape->mesh);
     double total = 0;
@@ -204,6 +213,7 @@ SceneModel buildSceneModel(const Scene& scene) {
   std::map<std::pair<int, int>, PrescribedCoordinate> prescribed;  // later conditions replace earlier ones
   for (const FixedCondition& c : scene.fixed) {
     const std::vector<int> ids = select(c.actor, c.select, c.where + "/select");
+    count(ids, c.where + "/select");
     const ActorBlock& block = model.actors[static_cast<std::size_t>(c.actor)];
     const bool moving = c.displacement.norm() > 0 || (!statics && c.velocity.norm() > 0) ||
                         (c.rotation && c.rotation->radians != 0.0);
