@@ -1,3 +1,4 @@
+#include "tools/output/atomic_file.h"
 #include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/vtu.h"
@@ -278,6 +279,28 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
   Scene statics = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
   o.resume = false;
   CHECK_THROWS_WITH(runScene(statics, o), Catch::Contains("only dynamic analyses have checkpoints"));
+}
+
+TEST_CASE("run: a checkpoint file is read only if it is a bounded regular file of shallow CBOR", "[checkpoint]") {
+  const fs::path dir = freshDirectory("hostile_checkpoint");
+  fs::create_directories(dir);
+  const std::string path = checkpointPath(dir.string());
+  CHECK_THROWS_WITH(readCheckpoint(dir.string()), path + ": no checkpoint to resume from (run with "
+                                                         "--checkpoint-every N first)");
+  // 2 MB of nested one-element arrays: the CBOR parser recursed once per level and overflowed the stack.
+  writeFileAtomically(path, std::string(2000000, '\x81') + std::string(1, '\0'));
+  CHECK_THROWS_WITH(readCheckpoint(dir.string()), path + ": not a jetshell checkpoint");
+  // An array that declares 2^64 - 1 elements.
+  writeFileAtomically(path, "\x9b\xff\xff\xff\xff\xff\xff\xff\xff");
+  CHECK_THROWS_WITH(readCheckpoint(dir.string()), path + ": not a jetshell checkpoint");
+  // /dev/zero under the checkpoint's name was read without end.
+  fs::remove(path);
+  fs::create_symlink("/dev/zero", path);
+  CHECK_THROWS_WITH(readCheckpoint(dir.string()),
+                    path + ": not a regular file (a directory, FIFO or device): cannot read it as a checkpoint");
+  fs::remove(path);
+  writeCheckpoint(dir.string(), {{"state", {1, 2, 3}}});
+  CHECK(readCheckpoint(dir.string())["state"] == nlohmann::json({1, 2, 3}));
 }
 
 TEST_CASE("run: a static run that reaches no load step under the weight points to dynamic relaxation") {
