@@ -12,6 +12,7 @@
 #include "tools/bench_cloth.h"
 #include "tools/output/atomic_file.h"
 #include "tools/render/plot.h"
+#include "tools/scene/json_reader.h"
 #include "tools/subcommand.h"
 
 #include <nlohmann/json.hpp>
@@ -20,7 +21,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -200,14 +200,8 @@ void plotRuns(const std::vector<RunFigures>& runs, int vertices, const DynamicsB
 /// Redraws the chart from an earlier --json.
 int replot(const DynamicsBenchOptions& o) {
   if (o.png.empty()) throw InputError("--replot: needs --png");
-  std::ifstream in(o.replot);
-  if (!in) throw InputError(o.replot + ": cannot be read");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(o.replot + ": not JSON (" + std::string(e.what()) + ")");
-  }
+  // A regular file of bounded size and nesting, as scenes are (a FIFO given here blocked the read).
+  const nlohmann::json j = json::parseFile(o.replot, "bench dynamics JSON file");
   if (!j.contains("runs") || !j["runs"].is_array() || !j.contains("mesh"))
     throw InputError(o.replot + ": /runs or /mesh missing: not a 'bench dynamics' JSON file");
   if (j["runs"].size() > 4096) throw InputError(o.replot + ": /runs: more than 4096 runs");

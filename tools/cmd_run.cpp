@@ -1,4 +1,5 @@
 // `jetshell run SCENE.json --out DIR`: solve a scene and write its frames, probes, summary and pictures.
+#include "core/input_file.h"
 #include "core/input_limits.h"
 #include "core/mesh.h"
 #include "tools/output/checkpoint.h"
@@ -12,8 +13,6 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <iostream>
 
 namespace jetshell::cli {
@@ -72,12 +71,8 @@ const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
                             : args->out;
     o.checkpointEvery = args->checkpointEvery;
     o.resume = !args->resume.empty();
-    {
-      std::ifstream in(args->scene, std::ios::binary);
-      std::stringstream text;
-      text << in.rdbuf();
-      o.sceneFingerprint = fingerprint(text.str());
-    }
+    // The same bounds as the scene's reading above (the file could have been replaced in between).
+    o.sceneFingerprint = fingerprint(readInputFile(args->scene, inputLimits().maxJsonBytes, "scene file"));
     o.stepLimit = args->steps;
     o.pictures = !args->noPictures;
     o.log = args->quiet ? nullptr : &std::cerr;

@@ -111,6 +111,13 @@ expect 2 "--fold-min-delta: 10: must be a finite number > 0 and at most 3.14159"
 expect 2 "--fold-min-delta: must not exceed --fold-max-delta" -- \
   "$js" check-derivatives --term bending --fold-min-delta 0.5 --fold-max-delta 0.1
 
+# A FIFO given to bench dynamics --replot blocked its read; a checkpoint of nested CBOR arrays crashed --resume.
+expect 3 "frames.pvd: not a regular file (a directory, FIFO or device): cannot read it as a bench dynamics" -- \
+  "$js" bench dynamics --replot "$dir/frames.pvd" --png "$dir/replot.png"
+mkdir "$dir/nested"
+head -c 2000000 /dev/zero | tr '\0' '\201' >"$dir/nested/checkpoint.cbor"
+expect 3 "checkpoint.cbor: not a jetshell checkpoint" -- \
+  "$js" run examples/hanging_cloth.json --resume "$dir/nested" -o "$dir/nested" -q
 if [ "$failures" -ne 0 ]; then
   echo "$failures hostile command-line case(s) failed"
   exit 1
