@@ -117,7 +117,7 @@ expect 3 "frames.pvd: not a regular file (a directory, FIFO or device): cannot r
 mkdir "$dir/nested"
 head -c 2000000 /dev/zero | tr '\0' '\201' >"$dir/nested/checkpoint.cbor"
 expect 3 "checkpoint.cbor: not a jetshell checkpoint" -- \
-  "$js" run examples/hanging_cloth.json --resume "$dir/nested" -o "$dir/nested" -q
+  "$js" run "$(dirname "$0")/../../examples/hanging_cloth.json" --resume "$dir/nested" -o "$dir/nested" -q
 if [ "$failures" -ne 0 ]; then
   echo "$failures hostile command-line case(s) failed"
   exit 1
