@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace jetshell {
@@ -160,6 +161,7 @@ class Objective {
   int numVertices_;
   int numFree_;
   std::vector<Entry> terms_;
+  std::unordered_set<std::string> termNames_;  // terms_' names, for addTerm's duplicate check in constant time
   PrescribedPositions prescribed_;
   std::vector<char> fixedDof_;
   HessianAssembler assembler_;

@@ -39,3 +39,14 @@ TEST_CASE("objective: the potential terms' part of the last gradient is kept for
   CHECK(obj.lastPotentialGradient(x, DerivativePath::Analytic) == nullptr);
   CHECK(obj.lastPotentialGradient(y, DerivativePath::Analytic) != nullptr);
 }
+
+TEST_CASE("objective: a second term of the same name is refused, however many terms came before", "[objective]") {
+  ShellProblem problem = testing::cantileverPlate(4, 2, 0.01);
+  ShellSystem system(problem, AnalysisKind::DynamicRelaxation);
+  REQUIRE(system.membrane);
+  Objective obj(static_cast<int>(system.restPositions().size() / 3));
+  obj.addTerm(system.membrane);
+  obj.addTerm(system.inertia);
+  CHECK_THROWS_WITH(obj.addTerm(system.membrane),
+                    "objective: duplicate term name '" + system.membrane->name() + "'");
+}
