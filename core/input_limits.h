@@ -30,9 +30,10 @@ struct InputLimits {
   std::int64_t maxEndMoments = 64;           // moment loads per scene (each one an energy term of its own)
   std::int64_t maxConditions = 10'000;       // fixed conditions, loads and probes, each per scene
   std::int64_t maxSelectedVertices = 16'000'000;  // vertices selected by all fixed conditions and loads together
-  // Shell actors × the scene's vertices: each shell actor's mesh and terms hold the positions of the whole scene
-  // (about 80 bytes per actor and vertex), so 20,000 four-vertex actors would need over 100 GB.
-  std::int64_t maxShellActorVertices = 50'000'000;
+  // Actors × the scene's vertices: each shell actor's mesh and terms hold the positions of the whole scene, and
+  // each volume actor's contact terms hold data for every vertex (80-110 bytes per actor and vertex): 20,000
+  // four-vertex shell actors would need over 100 GB.
+  std::int64_t maxActorVertices = 50'000'000;
   std::int64_t maxIterations = 1'000'000;    // Newton iterations per step
   int maxThreads = 256;                      // solver.threads
   std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)

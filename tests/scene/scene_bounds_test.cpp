@@ -169,7 +169,8 @@ TEST_CASE("scene bounds: the C++ scene API checks the same bounds", "[scene][hos
 TEST_CASE("scene bounds: conditions, probes, selected vertices and actors x vertices are bounded", "[scene][hostile]") {
   BoundsLimitOverride restore;
   // 20,000 conditions selecting all of a 40,401-vertex mesh took 181 s of `run --check`; 100,000 probes 17 s
-  // (each name compared with every earlier one); 3,000 four-vertex actors 866 MB (each holds every position).
+  // (each name compared with every earlier one); 3,000 four-vertex actors 866 MB (each holds every position), and
+  // 20,000 spheres over a 121-vertex cloth 1.2 GB.
   inputLimits().maxConditions = 2;
   CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["probes"].push_back({{"name", "b"}, {"select", {{"all", true}}}});
                                        s["actors"][0]["probes"].push_back({{"name", "c"}, {"select", {{"all", true}}}});
@@ -191,13 +192,23 @@ TEST_CASE("scene bounds: conditions, probes, selected vertices and actors x vert
           s["actors"][0]["loads"].push_back({{"select", {{"all", true}}}, {"force", {0, 0, 1}}});
         }) == "/actors/0/fixed/0/select: the scene's fixed conditions and loads select more than 17 vertices in all");
   inputLimits() = restore.saved;
-  inputLimits().maxShellActorVertices = 59;  // two actors of 15 vertices: 2 x 30 = 60
+  inputLimits().maxActorVertices = 59;  // two actors of 15 vertices: 2 x 30 = 60
   Json two = boundsScene();
   two["actors"].push_back(two["actors"][0]);
   two["actors"][1]["name"] = "second";
   two["actors"][1]["probes"][0]["name"] = "tip2";
-  CHECK(boundsErrorOf(two) == "scene: 2 shell actors over 30 vertices: each shell actor holds the whole scene's "
-                              "positions, so actors x vertices must be at most 59 (merge actors into one mesh)");
+  CHECK(boundsErrorOf(two) == "scene: 2 actors (2 shell, 0 volume) over 30 vertices: each actor holds data for every "
+                              "vertex of the scene, so actors x vertices must be at most 59 (merge shells into one "
+                              "mesh, or use fewer volume actors)");
+  // One shell of 15 vertices and four spheres: 5 x 15 = 75.
+  inputLimits().maxActorVertices = 74;
+  Json balls = boundsScene();
+  for (int k = 0; k < 4; ++k)
+    balls["actors"].push_back(
+        {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
+  CHECK(boundsErrorOf(balls) == "scene: 5 actors (1 shell, 4 volume) over 15 vertices: each actor holds data for "
+                                "every vertex of the scene, so actors x vertices must be at most 74 (merge shells "
+                                "into one mesh, or use fewer volume actors)");
 }
 
 TEST_CASE("scene bounds: inline meshes and index lists are bounded", "[scene][hostile]") {

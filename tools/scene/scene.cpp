@@ -132,11 +132,13 @@ void validate(const Scene& scene) {
   }
   check::atMost(vertices, limits.maxVertices, "scene: vertices of all shell actors");
   check::atMost(faces, limits.maxFaces, "scene: faces of all shell actors");
-  const auto actors = static_cast<std::int64_t>(scene.shells.size());
-  if (actors * vertices > limits.maxShellActorVertices)
-    throw InputError("scene: " + std::to_string(actors) + " shell actors over " + std::to_string(vertices) +
-                     " vertices: each shell actor holds the whole scene's positions, so actors x vertices must be at "
-                     "most " + std::to_string(limits.maxShellActorVertices) + " (merge actors into one mesh)");
+  const auto actors = static_cast<std::int64_t>(scene.shells.size() + scene.volumes.size());
+  if (actors * vertices > limits.maxActorVertices)
+    throw InputError("scene: " + std::to_string(actors) + " actors (" + std::to_string(scene.shells.size()) +
+                     " shell, " + std::to_string(scene.volumes.size()) + " volume) over " + std::to_string(vertices) +
+                     " vertices: each actor holds data for every vertex of the scene, so actors x vertices must be at "
+                     "most " + std::to_string(limits.maxActorVertices) + " (merge shells into one mesh, or use fewer "
+                     "volume actors)");
   const AnalysisSettings& a = scene.analysis;
   if (a.type == AnalysisType::Static) check::atLeast(a.loadSteps, 1, "/analysis/loadSteps");
   if (a.type == AnalysisType::Static) check::atMost(a.loadSteps, limits.maxLoadLevels, "/analysis/loadSteps");
