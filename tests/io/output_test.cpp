@@ -103,6 +103,13 @@ TEST_CASE("output: a .vtu with a non-finite number, a bad component count or a f
   writeFileAtomically(negative, components);
   CHECK_THROWS_WITH(readVtu(negative),
                     negative + ": array 'displacement': NumberOfComponents=\"-5\" is not an integer from 1 to 9");
+  // Read like the counts: digits alone (strtol took " 3" and "+3").
+  components = good;
+  components.replace(components.find("NumberOfComponents=\"3\""), 22, "NumberOfComponents=\"+3\"");
+  const std::string signed3 = scratch("components_plus.vtu").string();
+  writeFileAtomically(signed3, components);
+  CHECK_THROWS_WITH(readVtu(signed3),
+                    signed3 + ": array 'displacement': NumberOfComponents=\"+3\" is not an integer from 1 to 9");
   const std::string fraction = edited("fraction.vtu", "Name=\"connectivity\" format=\"ascii\">", "0.5", true);
   CHECK_THROWS_WITH(readVtu(fraction), fraction + ": connectivity entry 0 is not an integer");
 }

@@ -45,16 +45,17 @@ std::string attribute(const std::string& tag, const std::string& name) {
   return out;
 }
 
-/// A count attribute of a tag (NumberOfPoints, NumberOfCells): an integer from 0 to `maximum`, the limit a scene's
-/// meshes have (core/input_limits.h).
-long countAttribute(const std::string& tag, const std::string& name, const std::string& path, std::int64_t maximum) {
+/// A count attribute of a tag (NumberOfPoints, NumberOfCells: from 0 to the limit a scene's meshes have,
+/// core/input_limits.h; NumberOfComponents: from 1 to 9): plain decimal digits, nothing before or after them.
+long countAttribute(const std::string& tag, const std::string& name, const std::string& path, std::int64_t maximum,
+                    std::int64_t minimum = 0) {
   const std::string text = attribute(tag, name);
   long value = -1;
   const char* end = text.data() + text.size();
   const auto [stop, error] = std::from_chars(text.data(), end, value);
-  if (text.empty() || error != std::errc() || stop != end || value < 0 || value > maximum)
-    throw InputError(path + ": " + name + "=\"" + text.substr(0, 32) + "\" is not an integer from 0 to " +
-                     std::to_string(maximum));
+  if (text.empty() || error != std::errc() || stop != end || value < minimum || value > maximum)
+    throw InputError(path + ": " + name + "=\"" + text.substr(0, 32) + "\" is not an integer from " +
+                     std::to_string(minimum) + " to " + std::to_string(maximum));
   return value;
 }
 
@@ -146,16 +147,9 @@ VtuFrame parseVtu(const std::string& xml, const std::string& path) {
       throw InputError(path + ": array '" + name + "' is not ASCII; save the file with ASCII data");
     std::vector<double> values =
         numbers(xml.substr(close + 1, endArray - close - 1), path, "'" + name + "'", maxValues);
-    const std::string componentsText = attribute(tag, "NumberOfComponents");
     int components = 1;
-    if (!componentsText.empty()) {
-      char* endNumber = nullptr;
-      const long c = std::strtol(componentsText.c_str(), &endNumber, 10);
-      if (*endNumber != '\0' || c < 1 || c > 9)
-        throw InputError(path + ": array '" + name + "': NumberOfComponents=\"" + componentsText.substr(0, 32) +
-                         "\" is not an integer from 1 to 9");
-      components = static_cast<int>(c);
-    }
+    if (!attribute(tag, "NumberOfComponents").empty())
+      components = static_cast<int>(countAttribute(tag, "NumberOfComponents", path + ": array '" + name + "'", 9, 1));
     // The section an array belongs to is the first open one of these (each is asked, so each scan moves on).
     const bool isPoints = inPoints.openAt(at), isCells = inCells.openAt(at), isPointData = inPointData.openAt(at),
                isCellData = inCellData.openAt(at);
