@@ -47,7 +47,9 @@ const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
                   "Dynamics: continue the run whose output directory DIR holds a checkpoint (same scene file); "
                   "it ends bit for bit as an uninterrupted run");
   cmd->callback([args, &exitCode] {
-    const Scene scene = loadSceneFile(args->scene);
+    // Read once: the run is built from, and its checkpoints fingerprint, the same text.
+    const std::string sceneText = readInputFile(args->scene, inputLimits().maxJsonBytes, "scene file");
+    const Scene scene = sceneFromText(sceneText, args->scene);
     if (args->checkOnly) {
       const SceneModel model = buildSceneModel(scene);
       checkRigidModes(scene, model);
@@ -71,8 +73,7 @@ const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
                             : args->out;
     o.checkpointEvery = args->checkpointEvery;
     o.resume = !args->resume.empty();
-    // The same bounds as the scene's reading above (the file could have been replaced in between).
-    o.sceneFingerprint = fingerprint(readInputFile(args->scene, inputLimits().maxJsonBytes, "scene file"));
+    o.sceneFingerprint = fingerprint(sceneText);
     o.stepLimit = args->steps;
     o.pictures = !args->noPictures;
     o.log = args->quiet ? nullptr : &std::cerr;

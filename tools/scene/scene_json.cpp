@@ -8,6 +8,7 @@
 #include "tools/scene/generated_shapes.h"
 #include "tools/scene/json_reader.h"
 
+#include "core/input_file.h"
 #include "core/input_limits.h"
 
 #include <cmath>
@@ -608,7 +609,11 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
 }
 
 Scene loadSceneFile(const std::string& path) {
-  const nlohmann::json document = json::parseFile(path, "scene file");
+  return sceneFromText(readInputFile(path, inputLimits().maxJsonBytes, "scene file"), path);
+}
+
+Scene sceneFromText(const std::string& text, const std::string& path) {
+  const nlohmann::json document = json::parse(text, path);
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   return sceneFromJson(document, base.empty() ? "." : base.string());
 }
