@@ -12,6 +12,7 @@
 #include "tools/bench_cloth.h"
 
 #include "core/math_constants.h"
+#include "tools/fit/fit_optimizer.h"
 #include "tools/fit/fit_setup.h"
 #include "tools/output/atomic_file.h"
 #include "tools/subcommand.h"

@@ -197,15 +197,31 @@ ObservationSpec readCurveObservation(const Object& o, const Scene& scene, const 
   if (loadColumn < 0 || loadColumn > 63) check::fail(o.member("loadColumn"), loadColumn, "must lie in [0, 63]");
   if (valueColumn < 0 || valueColumn > 63 || valueColumn == loadColumn)
     check::fail(o.member("displacementColumn"), valueColumn, "must lie in [0, 63] and differ from loadColumn");
-  const int columns = std::max(loadColumn, valueColumn) + 1;
   const std::string path = resolve(base, o.at("csv").string());
-  std::istringstream in(readText(path, "CSV curve"));
+  readCurveRows(readText(path, "CSV curve"), path, loadColumn, valueColumn, c, scale, s);
+  if (s.levels.empty()) throw InputError(o.member("csv") + ": " + path + " holds no data row");
+  return s;
+}
+
+}  // namespace
+
+void readCurveRows(const std::string& text, const std::string& path, int loadColumn, int valueColumn, int component,
+                   double scale, ObservationSpec& s) {
+  if (component < 0 || component > 2 || loadColumn < 0 || loadColumn > 63 || valueColumn < 0 || valueColumn > 63 ||
+      loadColumn == valueColumn)
+    throw InputError(path + ": the curve's columns must be distinct and in [0, 63], its component 0, 1 or 2");
+  const int c = component;
+  const int columns = std::max(loadColumn, valueColumn) + 1;
+  std::istringstream in(text);
   std::string line;
   int lineNumber = 0;
+  bool firstContent = true;  // the first line that is neither blank nor a comment may be a header
   while (std::getline(in, line)) {
     ++lineNumber;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.find_first_not_of(" \t") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+    const bool mayBeHeader = firstContent;
+    firstContent = false;
     std::replace(line.begin(), line.end(), ',', ' ');
     std::istringstream fields(line);
     std::vector<double> row;
@@ -213,7 +229,7 @@ ObservationSpec readCurveObservation(const Object& o, const Scene& scene, const 
     while (static_cast<int>(row.size()) < columns && fields >> value) row.push_back(value);
     const std::string where = path + ":" + std::to_string(lineNumber);
     if (static_cast<int>(row.size()) < columns) {
-      if (s.levels.empty() && lineNumber == 1 && row.empty()) continue;  // a header line
+      if (mayBeHeader && row.empty()) continue;  // a header line
       throw InputError(where + ": expected at least " + std::to_string(columns) +
                        " numbers (load factor in column " + std::to_string(loadColumn) + ", displacement in column " +
                        std::to_string(valueColumn) + ", counted from 0)");
@@ -234,11 +250,7 @@ ObservationSpec readCurveObservation(const Object& o, const Scene& scene, const 
                        " m, too large (at most " + formatNumber("%g", inputLimits().maxDistance) + " m in size)");
     s.displacements.push_back(d);
   }
-  if (s.levels.empty()) throw InputError(o.member("csv") + ": " + path + " holds no data row");
-  return s;
 }
-
-}  // namespace
 
 FitFile fitFromJson(const nlohmann::json& document, const std::string& base, const std::string& name) {
   const Value root(document, "");
@@ -254,8 +266,11 @@ FitFile fitFromJson(const nlohmann::json& document, const std::string& base, con
     const std::string path = resolve(base, sceneValue.string());
     const std::string text = readText(path, "scene file");
     sceneJson = json::parse(text, path);
+    // The scene is built from the text just read (a second read could see another file: the material base below
+    // reads this JSON, which the scene reader has then checked).
+    const std::filesystem::path sceneBase = std::filesystem::path(path).parent_path();
     try {
-      f.scene = loadSceneFile(path);
+      f.scene = sceneFromJson(sceneJson, sceneBase.empty() ? "." : sceneBase.string());
     } catch (const InputError& e) {
       throw InputError(sceneValue.pointer() + ": " + e.what());
     }

@@ -5,8 +5,8 @@
 // every count is bounded.
 #pragma once
 
-#include "tools/fit/fit_optimizer.h"
-#include "tools/fit/material_mapping.h"
+#include "tools/fit/fit_options.h"
+#include "tools/fit/material_base.h"
 #include "tools/scene/scene.h"
 
 #include <Eigen/Core>
@@ -60,6 +60,14 @@ struct FitFile {
   FitOptions options;
   bool plots = true;
 };
+
+/// The rows of a curve observation's CSV text (`path` names it in messages, file:line): blank lines, lines
+/// starting with '#' and the first other line when it starts with no number (a header) are skipped; each other
+/// row gives a load factor in [0, 100] (column loadColumn, increasing) and a displacement (column valueColumn,
+/// times scale, at most inputLimits().maxDistance in size) along `component`. Appended to s.levels and
+/// s.displacements, at most kMaxCurvePoints. InputError naming file:line otherwise.
+void readCurveRows(const std::string& text, const std::string& path, int loadColumn, int valueColumn, int component,
+                   double scale, ObservationSpec& s);
 
 /// Reads a fit file; relative paths (scene, OBJ, CSV) are relative to its directory.
 FitFile loadFitFile(const std::string& path);

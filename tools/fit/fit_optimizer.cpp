@@ -237,28 +237,6 @@ void runLevenbergMarquardt(Run& run, const Eigen::VectorXd& z0, const Eigen::Vec
 
 }  // namespace
 
-const char* toString(FitAlgorithm a) {
-  switch (a) {
-    case FitAlgorithm::Bobyqa: return "bobyqa";
-    case FitAlgorithm::NelderMead: return "nelder-mead";
-    case FitAlgorithm::Lbfgs: return "lbfgs";
-    case FitAlgorithm::Mma: return "mma";
-    case FitAlgorithm::LevenbergMarquardt: return "levenberg-marquardt";
-  }
-  return "?";
-}
-
-FitAlgorithm fitAlgorithmFromString(const std::string& name) {
-  for (FitAlgorithm a : {FitAlgorithm::Bobyqa, FitAlgorithm::NelderMead, FitAlgorithm::Lbfgs, FitAlgorithm::Mma,
-                         FitAlgorithm::LevenbergMarquardt})
-    if (name == toString(a)) return a;
-  throw InputError("algorithm '" + name + "' is not one of: bobyqa, nelder-mead, lbfgs, mma, levenberg-marquardt");
-}
-
-bool usesDerivatives(FitAlgorithm a) {
-  return a == FitAlgorithm::Lbfgs || a == FitAlgorithm::Mma || a == FitAlgorithm::LevenbergMarquardt;
-}
-
 FitUncertainty gaussNewtonUncertainty(const Eigen::MatrixXd& J, const Eigen::VectorXd& r) {
   FitUncertainty u;
   const int M = static_cast<int>(J.rows()), Q = static_cast<int>(J.cols());

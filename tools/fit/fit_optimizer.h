@@ -11,6 +11,7 @@
 // cost counters, uncertainty).
 #pragma once
 
+#include "tools/fit/fit_options.h"
 #include "tools/fit/fit_problem.h"
 
 #include <Eigen/Core>
@@ -19,26 +20,6 @@
 #include <vector>
 
 namespace jetshell {
-
-enum class FitAlgorithm { Bobyqa, NelderMead, Lbfgs, Mma, LevenbergMarquardt };
-const char* toString(FitAlgorithm a);
-/// "bobyqa" | "nelder-mead" | "lbfgs" | "mma" | "levenberg-marquardt"; InputError otherwise.
-FitAlgorithm fitAlgorithmFromString(const std::string& name);
-/// True for the algorithms that use derivatives.
-bool usesDerivatives(FitAlgorithm a);
-
-struct FitVariable {
-  std::string label;  // for reports, e.g. "strip.youngsModulus"
-  double initial = 1.0, lower = 0.0, upper = 1.0;
-  bool logScale = false;
-};
-
-struct FitOptions {
-  FitAlgorithm algorithm = FitAlgorithm::LevenbergMarquardt;
-  int maxEvaluations = 200;          // forward evaluations (each a full solve of every level)
-  double parameterTolerance = 1e-9;  // stop when a step changes no scaled variable by more than this
-  double misfitTolerance = 1e-14;    // stop when a step lowers the misfit by less than this fraction
-};
 
 /// One forward evaluation.
 struct FitRecord {

@@ -1,5 +1,6 @@
 #include "tools/fit/fit_setup.h"
 
+#include "tools/fit/material_mapping.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_edge_rules.h"
 #include "tools/scene/scene_evaluator.h"

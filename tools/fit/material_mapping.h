@@ -20,6 +20,7 @@
 #pragma once
 
 #include "energies/shell/material.h"
+#include "tools/fit/material_base.h"
 #include "solvers/objective.h"
 #include "tools/fit/fit_problem.h"
 
@@ -27,27 +28,6 @@
 #include <vector>
 
 namespace jetshell {
-
-/// At most this many material parameters are fitted at once (the Jet width).
-constexpr int kMaxFitParameters = 8;
-
-struct MaterialBase {
-  bool isotropic = false;  // given as youngsModulus, poissonRatio, thickness, volumeDensity
-  double youngsModulus = 0.0, poissonRatio = 0.0, thickness = 0.0, volumeDensity = 0.0;
-  ShellMaterialParams shell;  // the shell parameters (derived from the above when isotropic)
-};
-
-/// The names that can be fitted with this base: youngsModulus, poissonRatio, thickness, volumeDensity for an
-/// isotropic base; membraneLambda, membraneMu, bendingAlpha, bendingBeta, density otherwise; and with either,
-/// massDampingCoefficient, stiffnessDampingCoefficient, gravityScale, loadScale.
-std::vector<std::string> fittableMaterialNames(const MaterialBase& base);
-
-/// The name under which materialMapping takes the scale of the named load `load` ("loadScale/<load>"): it sets
-/// the load term's parameter "scale/<load>" (NodalForceTerm::addNamedPart), exactly linearly.
-std::string namedLoadScale(const std::string& load);
-
-/// The current value of a fittable name in the base.
-double materialBaseValue(const MaterialBase& base, const std::string& name);
 
 /// The mapping. Throws InputError naming the parameter (by `labels`, same order as names) when a name is not
 /// fittable for this base, repeated, or has no effect on any active term, or when more than kMaxFitParameters

@@ -182,6 +182,13 @@ TEST_CASE("fit file: CSV curves and target shapes are read and checked", "[fit]"
   j["observations"][0]["displacementColumn"] = 0;
   CHECK_THAT(fitErrorOf(j), Catch::StartsWith("/observations/0/displacementColumn"));
   j["observations"][0].erase("displacementColumn");
+  // A header after comment lines is still the header; a second line without numbers is an error.
+  write(d / "commented.csv", "# measured 2026-11-29\n\n# load factor, deflection\nlambda,w\n0.5,0.01\n1,0.03\n");
+  j["observations"][0]["csv"] = "commented.csv";
+  CHECK(fitFromJson(j, d.string(), "fit.json").observations[0].displacements[1].z() == 0.03);
+  write(d / "two_headers.csv", "lambda,w\nload,u\n0.5,0.01\n");
+  j["observations"][0]["csv"] = "two_headers.csv";
+  CHECK_THAT(fitErrorOf(j), Catch::Contains("two_headers.csv:2") && Catch::Contains("at least 2 numbers"));
   j["observations"][0]["csv"] = "missing.csv";
   CHECK_THAT(fitErrorOf(j), Catch::Contains("missing.csv") && Catch::Contains("cannot open"));
 
