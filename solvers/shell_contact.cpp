@@ -23,10 +23,14 @@ ShellContact addShellContact(Objective& objective, const std::vector<ShellContac
   const int n = static_cast<int>(rest.rows());
   for (const ShellContactActor& a : actors) {
     if (!a.mesh) throw InputError("contact: actor '" + a.name + "' has no mesh");
+    if (a.firstVertex < 0 || a.mesh->numVertices() > n - a.firstVertex)
+      throw InputError("contact: actor '" + a.name + "': its vertices from " + std::to_string(a.firstVertex) +
+                       " go past the " + std::to_string(n) + " stacked ones");
     for (const VolumeColliderPart& v : volumes) {
       const std::string suffix = "/" + a.name + "/" + v.collider->name();
-      VolumeContactTerms t = makeVolumeContactTerms(sampleContactPoints(*a.mesh, a.faceArea, a.quadrature), n,
-                                                    v.collider, combine(a.contact, v.contact), suffix);
+      VolumeContactTerms t =
+          makeVolumeContactTerms(sampleContactPoints(*a.mesh, a.faceArea, a.quadrature), a.mesh->numVertices(),
+                                 v.collider, combine(a.contact, v.contact), suffix, a.firstVertex);
       objective.addTerm(t.penalty, TermRole::Potential);
       if (dynamic && t.damping) objective.addTerm(t.damping, TermRole::Transient);
       if (dynamic && t.friction) objective.addTerm(t.friction, TermRole::Transient);
@@ -45,17 +49,18 @@ ShellContact addShellContact(Objective& objective, const std::vector<ShellContac
     std::vector<PointCloudActor> cloud;
     for (const ShellContactActor& a : actors) {
       if (!a.pointCloud) continue;
-      // Samples at the actor's vertices, with their lumped rest areas.
-      std::vector<double> area(static_cast<std::size_t>(n), 0.0);
+      // Samples at the actor's vertices (stacked ids), with their lumped rest areas.
+      const int na = a.mesh->numVertices();
+      std::vector<double> area(static_cast<std::size_t>(na), 0.0);
       for (int f = 0; f < a.mesh->numFaces(); ++f)
         for (int k = 0; k < 3; ++k) area[a.mesh->F(f, k)] += a.faceArea[f] / 3.0;
       PointCloudActor p;
       p.collider = a.pointCloudCollider;
       p.contact = a.contact;
-      for (int v = 0; v < n; ++v)
-        if (area[v] > 0.0) {
-          p.vertices.push_back(v);
-          p.area.push_back(area[v]);
+      for (int v = 0; v < na; ++v)
+        if (area[static_cast<std::size_t>(v)] > 0.0) {
+          p.vertices.push_back(a.firstVertex + v);
+          p.area.push_back(area[static_cast<std::size_t>(v)]);
         }
       cloud.push_back(std::move(p));
     }

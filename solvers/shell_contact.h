@@ -30,7 +30,8 @@ namespace jetshell {
 
 struct ShellContactActor {
   std::string name;
-  const TriMesh* mesh = nullptr;       // the actor's faces over the stacked vertices
+  const TriMesh* mesh = nullptr;       // the actor's own vertices and faces (ShellActorPart::mesh)
+  int firstVertex = 0;                 // the stacked id of its vertex 0
   std::vector<double> faceArea;        // rest area per face of *mesh
   ContactParams contact;
   ContactQuadrature quadrature = ContactQuadrature::Vertices;

@@ -1,5 +1,7 @@
 #include "solvers/shell_system.h"
 
+#include "core/vertex_block_term.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -26,6 +28,15 @@ std::vector<char> momentLoadedVertices(const ShellProblem& problem) {
   return loaded;
 }
 
+std::vector<char> vertexBlock(const std::vector<char>& mask, int first, int count) {
+  if (mask.empty()) return {};
+  if (first < 0 || count < 0 || static_cast<std::size_t>(first) + static_cast<std::size_t>(count) > mask.size())
+    throw InputError("vertex mask of size " + std::to_string(mask.size()) + ": no block of " + std::to_string(count) +
+                     " vertices from " + std::to_string(first));
+  const std::vector<char> block(mask.begin() + first, mask.begin() + first + count);
+  return std::find(block.begin(), block.end(), 1) == block.end() ? std::vector<char>{} : block;
+}
+
 namespace {
 
 double meanEdgeLength(const TriMesh& mesh, const Topology& topo) {
@@ -49,6 +60,28 @@ std::vector<ShellActorPart> actorsOf(const ShellProblem& p) {
   a.clampedVertices = p.clampedVertices;
   a.pointCloud = false;  // a plain problem has no shell-shell contact
   return {a};
+}
+
+/// An actor's vertices and faces are the stacked mesh's next block: the `covered` vertices and `faces` faces
+/// before it belong to the actors before it.
+void checkActorBlock(const ShellActorPart& a, const TriMesh& stacked, int covered, int faces) {
+  const std::string actor = "actor '" + a.name + "'";
+  const int na = a.mesh.numVertices(), nf = a.mesh.numFaces();
+  if (a.firstVertex != covered)
+    throw InputError(actor + ": firstVertex = " + std::to_string(a.firstVertex) + "; the actors' vertices follow one "
+                     "another in the stacked mesh, so this one starts at " + std::to_string(covered));
+  if (na > stacked.numVertices() - covered || nf > stacked.numFaces() - faces)
+    throw InputError(actor + ": " + std::to_string(na) + " vertices and " + std::to_string(nf) + " faces from vertex " +
+                     std::to_string(covered) + " and face " + std::to_string(faces) + " go past the stacked mesh");
+  if (a.mesh.V != stacked.V.middleRows(covered, na))
+    throw InputError(actor + ": its reference positions are not the stacked mesh's rows " + std::to_string(covered) +
+                     " to " + std::to_string(covered + na - 1));
+  if ((a.mesh.F.array() + covered).matrix() != stacked.F.middleRows(faces, nf))
+    throw InputError(actor + ": its faces, shifted by its first vertex " + std::to_string(covered) +
+                     ", are not the stacked mesh's faces " + std::to_string(faces) + " to " +
+                     std::to_string(faces + nf - 1));
+  if (!a.clampedVertices.empty() && static_cast<int>(a.clampedVertices.size()) != na)
+    throw InputError(actor + ": clampedVertices size must equal the actor's vertices (" + std::to_string(na) + ")");
 }
 
 bool sameMaterial(const ShellMaterialParams& a, const ShellMaterialParams& b) {
@@ -99,59 +132,74 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
   std::vector<Topology> actorTopology;
   std::vector<ShellReference> actorReference;
   bool uniform = true;
-  int faces = 0;
+  int faces = 0, covered = 0;
   for (const ShellActorPart& a : actors) {
-    const std::string where = a.name.empty() ? std::string("material") : "actor '" + a.name + "'.material";
-    validate(a.material, where);
-    if (a.mesh.numVertices() != n) throw InputError("actor '" + a.name + "': mesh must hold all stacked vertices");
-    if (!a.clampedVertices.empty() && static_cast<int>(a.clampedVertices.size()) != n)
-      throw InputError("actor '" + a.name + "': clampedVertices size must equal the number of vertices");
+    const std::string actor = "actor '" + a.name + "'";
+    validate(a.material, a.name.empty() ? std::string("material") : actor + ".material");
+    checkActorBlock(a, mesh_, covered, faces);
     uniform = uniform && sameMaterial(a.material, actors.front().material);
+    covered += a.mesh.numVertices();
     faces += a.mesh.numFaces();
     actorTopology.push_back(p.actors.empty() ? topology_ : buildTopology(a.mesh));
     actorReference.push_back(p.actors.empty() ? reference_ : computeReference(a.mesh, actorTopology.back()));
   }
-  if (faces != mesh_.numFaces()) throw InputError("actors: their faces must be those of the stacked mesh");
+  if (covered != n || faces != mesh_.numFaces())
+    throw InputError("actors: they hold " + std::to_string(covered) + " vertices and " + std::to_string(faces) +
+                     " faces; the stacked mesh has " + std::to_string(n) + " and " +
+                     std::to_string(mesh_.numFaces()));
+  actorMeshes_.reserve(actors.size());
+  for (const ShellActorPart& a : actors) actorMeshes_.push_back(a.mesh);
 
   const bool dynamic = kind != AnalysisKind::Statics;
   vertexMass_ = Eigen::VectorXd::Zero(n);
   Eigen::VectorXd gravityMass = Eigen::VectorXd::Zero(n), dampedMass = Eigen::VectorXd::Zero(n);
   for (std::size_t i = 0; i < actors.size(); ++i) {
     const Eigen::VectorXd m = lumpedMass(actors[i].mesh, actorReference[i], actors[i].material.density);
-    vertexMass_ += m;
-    if (actors[i].hasGravity) gravityMass += m;
-    if (material_.massDampingCoefficient > 0.0)
-      dampedMass += (actors[i].material.massDampingCoefficient / material_.massDampingCoefficient) * m;
+    const int first = actors[i].firstVertex, na = actors[i].mesh.numVertices();
+    vertexMass_.segment(first, na) += m;
+    if (actors[i].hasGravity) gravityMass.segment(first, na) += m;
+    if (material_.massDampingCoefficient > 0.0) {
+      const double share = actors[i].material.massDampingCoefficient / material_.massDampingCoefficient;
+      dampedMass.segment(first, na) += share * m;
+    }
   }
   std::vector<char> clamped;
   for (const ShellActorPart& a : actors) {
     if (a.clampedVertices.empty()) continue;
     if (clamped.empty()) clamped.assign(static_cast<std::size_t>(n), 0);
-    for (std::size_t v = 0; v < a.clampedVertices.size(); ++v) clamped[v] |= a.clampedVertices[v];
+    for (std::size_t v = 0; v < a.clampedVertices.size(); ++v)
+      clamped[static_cast<std::size_t>(a.firstVertex) + v] |= a.clampedVertices[v];
   }
 
-  // Elastic terms: one set over the whole mesh when the actors agree, else one per actor.
+  // Elastic terms: one set over the whole mesh when the actors agree, else one per actor on its own vertices,
+  // placed in the objective by a VertexBlockTerm.
   const std::size_t sets = uniform ? 1 : actors.size();
   for (std::size_t i = 0; i < sets; ++i) {
     const ShellMaterialParams& m = actors[i].material;
-    const TriMesh& mesh = uniform ? mesh_ : actors[i].mesh;
+    const TriMesh& mesh = uniform ? mesh_ : actorMeshes_[i];
     const Topology& topo = uniform ? topology_ : actorTopology[i];
     const ShellReference& ref = uniform ? reference_ : actorReference[i];
     const std::string suffix = uniform ? "" : "/" + actors[i].name;
+    const int first = uniform ? 0 : actors[i].firstVertex;
+    auto place = [&](const EnergyTermPtr& t) -> EnergyTermPtr {
+      return uniform ? t : std::make_shared<VertexBlockTerm>(t, first, mesh.numVertices());
+    };
     if (m.membraneLambda != 0.0 || m.membraneMu != 0.0) {
       auto t = std::make_shared<MembraneTerm>(mesh, ref, m.membraneLambda, m.membraneMu);
       if (!uniform) t->setName("membrane" + suffix);
-      objective_.addTerm(t);
+      objective_.addTerm(place(t));
       if (!membrane) membrane = t;
       membraneTerms.push_back(t);
     }
     if (m.bendingAlpha != 0.0 || m.bendingBeta != 0.0) {
       auto t = std::make_shared<BendingTerm>(mesh, topo, ref, m.bendingAlpha, m.bendingBeta);
-      if (!clamped.empty()) t->setClampedBoundary(clamped);
+      const std::vector<char> clampedHere = uniform ? clamped : vertexBlock(clamped, first, mesh.numVertices());
+      if (!clampedHere.empty()) t->setClampedBoundary(clampedHere);
       if (!uniform) t->setName("bending" + suffix);
-      objective_.addTerm(t);
+      objective_.addTerm(place(t));
       if (!bending) bending = t;
       bendingTerms.push_back(t);
+      bendingBlocks.push_back({&mesh, first});
     }
   }
   const bool gravityActive = p.gravity.squaredNorm() > 0.0 && gravityMass.maxCoeff() > 0.0;
@@ -208,6 +256,7 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
       if (!clamped.empty()) stiffnessDamping.bending->setClampedBoundary(clamped);
       objective_.addTerm(stiffnessDamping.bending, TermRole::Transient);
       bendingTerms.push_back(stiffnessDamping.bending);
+      bendingBlocks.push_back({&mesh_, 0});
     }
   }
 
@@ -216,7 +265,8 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
   for (std::size_t i = 0; i < actors.size(); ++i) {
     ShellContactActor c;
     c.name = actors[i].name.empty() ? "shell" : actors[i].name;
-    c.mesh = &actors[i].mesh;
+    c.mesh = &actorMeshes_[i];
+    c.firstVertex = actors[i].firstVertex;
     c.faceArea = actorReference[i].area;
     c.contact = actors[i].contact;
     c.quadrature = actors[i].contactQuadrature;

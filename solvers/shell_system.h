@@ -11,9 +11,12 @@
 //   bending_damping
 //   contact terms       when the problem has volume colliders or interacting point clouds (solvers/shell_contact.h)
 // Statics has no inertia and no dissipation. objective().activeTermNames() is the run summary's list.
-// Several actors (ShellProblem::actors): each has its own material, gravity flag, clamps and contact settings.
-// When their materials agree the elastic terms span the whole stacked mesh as for one actor; otherwise each
-// actor gets "membrane/<name>" and "bending/<name>" on its own faces (membrane/bending point to the first).
+// Several actors (ShellProblem::actors): each has its own material, gravity flag, clamps and contact settings,
+// and its own mesh over its own vertices, a block of the stacked ones. When their materials agree the elastic
+// terms span the whole stacked mesh as for one actor; otherwise each actor gets "membrane/<name>" and
+// "bending/<name>" on its own mesh, placed in the objective by a VertexBlockTerm (core/vertex_block_term.h;
+// membrane/bending point to the first actor's, which take that actor's vertex ids). Per-actor data (meshes,
+// masses, contact samples) grows with the actor, so many actors cost the sum of their sizes.
 // Mass damping weights each vertex by its actor's α_R (material().massDampingCoefficient is the largest);
 // stiffness damping needs one β_R for all actors.
 // The objective is finalized at its first evaluation, so more terms (contact, user energies written as
@@ -44,10 +47,13 @@ namespace jetshell {
 /// One shell actor of a multi-actor problem.
 struct ShellActorPart {
   std::string name;
-  TriMesh mesh;  // every stacked vertex, only this actor's faces
+  /// The actor's own vertices and its faces over them (ids from 0): the stacked mesh's rows firstVertex … and its
+  /// next faces, shifted by firstVertex. Its terms are built on this mesh, so an actor costs its own size.
+  TriMesh mesh;
+  int firstVertex = 0;  // its vertex 0 in the stacked mesh; the actors' blocks follow one another
   ShellMaterialParams material;
   bool hasGravity = true;
-  std::vector<char> clampedVertices;  // N or empty
+  std::vector<char> clampedVertices;  // the actor's vertex count, or empty
   ContactParams contact;
   ContactQuadrature contactQuadrature = ContactQuadrature::Vertices;
   bool pointCloud = true;  // has a point-cloud collider (shell–shell contact)
@@ -70,6 +76,10 @@ struct ShellProblem {
   /// Applied end moments (AnalysisKind::Statics only; InputError otherwise).
   std::vector<EndMomentLoad> endMoments;
 };
+
+/// The block [first, first + count) of a per-vertex mask, or empty when the mask is empty or the block holds no 1
+/// (InputError when the block is not inside the mask).
+std::vector<char> vertexBlock(const std::vector<char>& mask, int first, int count);
 
 /// The vertices of the problem's end-moment edges (size N), or empty when it has none: the edges whose bending
 /// rule must let the applied moment in (energies/shell/boundary_rules.h).
@@ -114,6 +124,14 @@ class ShellSystem {
   /// Every bending term: the elastic ones (one per actor when their materials differ; `bending` is the first)
   /// and the stiffness damping's. Boundary-edge rules go to all of them (energies/shell/boundary_rules.h).
   std::vector<std::shared_ptr<BendingTerm>> bendingTerms;
+  /// Where bendingTerms[k] sits: the mesh it is built on and the stacked id of that mesh's vertex 0. The stacked
+  /// mesh and 0 for a term over every actor (materials that agree, stiffness damping); an actor's own mesh and
+  /// first vertex for an actor's term (its masks are the block of the stacked ones: vertexBlock).
+  struct TermBlock {
+    const TriMesh* mesh;
+    int firstVertex;
+  };
+  std::vector<TermBlock> bendingBlocks;
   /// Every membrane term: the elastic ones and the stiffness damping's (`membrane` is the first).
   std::vector<std::shared_ptr<MembraneTerm>> membraneTerms;
   ShellContact contact;  // empty without colliders
@@ -121,6 +139,7 @@ class ShellSystem {
  private:
   AnalysisKind kind_;
   TriMesh mesh_;
+  std::vector<TriMesh> actorMeshes_;  // each actor's own mesh (ShellActorPart::mesh)
   Topology topology_;
   ShellReference reference_;
   ShellMaterialParams material_;

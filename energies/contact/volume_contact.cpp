@@ -1,5 +1,6 @@
 #include "energies/contact/volume_contact.h"
 
+#include "core/vertex_block_term.h"
 #include "energies/contact/contact_ramp.h"
 #include "energies/contact/sdf_model.h"
 #include "energies/contact/stiffness_parameter.h"
@@ -133,7 +134,7 @@ Eigen::Vector3d VolumeContactState::point(const Eigen::VectorXd& x, int e, int q
   const int* ids = sampling.table.element(e);
   const double* w = sampling.weights.data() + (static_cast<std::size_t>(e) * sampling.pointsPerElement + q) * K;
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  for (int k = 0; k < K; ++k) p += w[k] * x.segment<3>(3 * ids[k]);
+  for (int k = 0; k < K; ++k) p += w[k] * x.segment<3>(3 * (firstVertex + ids[k]));
   return p;
 }
 
@@ -183,14 +184,19 @@ double VolumeContactState::minDistance(const Eigen::VectorXd& x) const {
 }
 
 VolumeContactTerms makeVolumeContactTerms(ContactSampling sampling, int numVertices, VolumeColliderPtr collider,
-                                          const ContactParams& params, const std::string& suffix) {
+                                          const ContactParams& params, const std::string& suffix, int firstVertex) {
+  if (firstVertex < 0) throw InputError("volume contact: firstVertex must not be negative");
   VolumeContactTerms t;
   t.state = std::make_shared<VolumeContactState>(std::move(sampling), std::move(collider), params);
-  t.penalty = makeTerm<VolumePenaltyEnergy>("contact_penalty" + suffix, t.state, numVertices, true);
+  t.state->firstVertex = firstVertex;
+  auto place = [&](const EnergyTermPtr& term) -> EnergyTermPtr {
+    return firstVertex == 0 ? term : std::make_shared<VertexBlockTerm>(term, firstVertex, numVertices);
+  };
+  t.penalty = place(makeTerm<VolumePenaltyEnergy>("contact_penalty" + suffix, t.state, numVertices, true));
   if (params.huntCrossleyDamping > 0.0)
-    t.damping = makeTerm<VolumeDampingEnergy>("contact_damping" + suffix, t.state, numVertices, false);
+    t.damping = place(makeTerm<VolumeDampingEnergy>("contact_damping" + suffix, t.state, numVertices, false));
   if (params.frictionCoefficient > 0.0)
-    t.friction = makeTerm<VolumeFrictionEnergy>("contact_friction" + suffix, t.state, numVertices, false);
+    t.friction = place(makeTerm<VolumeFrictionEnergy>("contact_friction" + suffix, t.state, numVertices, false));
   return t;
 }
 

@@ -29,9 +29,10 @@ namespace jetshell {
 struct VolumeContactState {
   VolumeContactState(ContactSampling sampling, VolumeColliderPtr collider, const ContactParams& params);
 
-  ContactSampling sampling;
+  ContactSampling sampling;  // over the shell's own vertex ids (0 … its count − 1)
   VolumeColliderPtr collider;
   ContactParams params;
+  int firstVertex = 0;  // the problem's id of the shell's vertex 0: point(x) reads x (3N) there
   double time = 0.0;      // t at which the collider is evaluated (end of the step)
   double timeStep = 0.0;  // Δt of the current step; 0 before the first step
   // Lagged per sample point (element × Q + q), from beginStep.
@@ -58,9 +59,12 @@ struct VolumeContactTerms {
   EnergyTermPtr friction;  // Transient; null when μ = 0
 };
 
-/// Builds the terms for one shell (sampling over numVertices stacked vertices) and one collider. Names are
-/// "contact_penalty<suffix>", "contact_damping<suffix>", "contact_friction<suffix>".
+/// Builds the terms for one shell and one collider: the sampling is over the shell's numVertices vertices, which
+/// are the problem's vertices firstVertex … (the terms sit there through a VertexBlockTerm when firstVertex > 0,
+/// core/vertex_block_term.h). Names are "contact_penalty<suffix>", "contact_damping<suffix>",
+/// "contact_friction<suffix>".
 VolumeContactTerms makeVolumeContactTerms(ContactSampling sampling, int numVertices, VolumeColliderPtr collider,
-                                          const ContactParams& params, const std::string& suffix = "");
+                                          const ContactParams& params, const std::string& suffix = "",
+                                          int firstVertex = 0);
 
 }  // namespace jetshell

@@ -167,7 +167,11 @@ TEST_CASE("scene: several actors stack into one set of unknowns") {
   REQUIRE(m.actors.size() == 2);
   CHECK(m.actors[1].firstVertex == 27);
   CHECK(m.numVertices() == 54);
-  CHECK(m.actors[1].mesh.F.minCoeff() == 27);
+  // Each actor's mesh holds its own vertices (ids from 0); the stacked faces are its faces shifted.
+  CHECK(m.actors[1].mesh.numVertices() == 27);
+  CHECK(m.actors[1].mesh.F.minCoeff() == 0);
+  CHECK(m.actors[1].mesh.V == m.world.V.middleRows(27, 27));
+  CHECK(m.world.F.middleRows(m.actors[1].firstFace, m.actors[1].numFaces).minCoeff() == 27);
   CHECK(m.world.V(27, 2) == 1.0);
 }
 

@@ -205,8 +205,8 @@ TEST_CASE("contact dynamics: two cloths dropped on each other do not interpenetr
   for (int a = 0; a < 2; ++a) {
     ShellActorPart part;
     part.name = a == 0 ? "lower" : "upper";
-    part.mesh.V = p.mesh.V;
-    part.mesh.F = a == 0 ? lower.F : Faces((upper.F.array() + n).matrix());
+    part.mesh = a == 0 ? lower : upper;  // its own vertices, the stacked mesh's block from firstVertex
+    part.firstVertex = a == 0 ? 0 : n;
     part.material = cloth();
     part.pointCloudCollider.radius = 0.015;
     p.actors.push_back(part);

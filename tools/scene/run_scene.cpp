@@ -556,7 +556,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   {
     std::vector<int> inverted;
     for (const ActorBlock& b : model.actors)
-      for (int f : invertedFaces(b.mesh, b.topology, x)) inverted.push_back(b.firstFace + f);
+      for (int f : invertedFaces(b.mesh, b.topology, x.segment(3 * b.firstVertex, 3 * b.numVertices)))
+        inverted.push_back(b.firstFace + f);
     summary.extra["inverted_faces"] = inverted.size();
     if (!inverted.empty()) {
       std::ostringstream w;

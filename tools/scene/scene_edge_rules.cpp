@@ -8,11 +8,14 @@ namespace jetshell {
 
 std::vector<char> clampedVerticesOf(const ShellProblem& problem) {
   std::vector<char> clamped = problem.clampedVertices;
+  const std::size_t n = static_cast<std::size_t>(problem.mesh.numVertices());
   for (const ShellActorPart& a : problem.actors) {
     if (a.clampedVertices.empty()) continue;
-    if (clamped.empty()) clamped.assign(a.clampedVertices.size(), 0);
-    const std::size_t n = std::min(clamped.size(), a.clampedVertices.size());
-    for (std::size_t v = 0; v < n; ++v) clamped[v] = static_cast<char>(clamped[v] | a.clampedVertices[v]);
+    if (clamped.empty()) clamped.assign(n, 0);
+    for (std::size_t v = 0; v < a.clampedVertices.size(); ++v) {
+      const std::size_t stacked = static_cast<std::size_t>(a.firstVertex) + v;
+      if (stacked < n) clamped[stacked] = static_cast<char>(clamped[stacked] | a.clampedVertices[v]);
+    }
   }
   if (std::find(clamped.begin(), clamped.end(), 1) == clamped.end()) clamped.clear();
   return clamped;
@@ -30,8 +33,13 @@ void addSceneEdgeRules(const Scene& scene, const ShellProblem& problem, ShellSys
   const std::vector<char> momentLoaded = momentLoadedVertices(problem);
   // Every actor's bending term and the bending stiffness damping (Rayleigh: β_R times the same stiffness, so the
   // same rules).
-  for (const std::shared_ptr<BendingTerm>& bending : system.bendingTerms)
-    applyBoundaryRules(*bending, system.mesh(), clamped, momentLoaded, choice);
+  // An actor's own term takes the actor's block of the masks, on its own mesh.
+  for (std::size_t k = 0; k < system.bendingTerms.size(); ++k) {
+    const ShellSystem::TermBlock& b = system.bendingBlocks[k];
+    const int count = b.mesh->numVertices();
+    applyBoundaryRules(*system.bendingTerms[k], *b.mesh, vertexBlock(clamped, b.firstVertex, count),
+                       vertexBlock(momentLoaded, b.firstVertex, count), choice);
+  }
 }
 
 }  // namespace jetshell

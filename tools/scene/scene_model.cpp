@@ -136,17 +136,15 @@ SceneModel buildSceneModel(const Scene& scene) {
     block.numVertices = local.numVertices();
     block.firstFace = f0;
     block.numFaces = local.numFaces();
+    block.mesh.V = g.world;
+    block.mesh.F = local.F;
+    block.topology = g.topology;
     model.world.V.middleRows(v0, local.numVertices()) = g.world;
     model.world.F.middleRows(f0, local.numFaces()) = local.F.array() + v0;
     model.actors.push_back(std::move(block));
     geometry.push_back(std::move(g));
     v0 += local.numVertices();
     f0 += local.numFaces();
-  }
-  for (ActorBlock& b : model.actors) {
-    b.mesh.V = model.world.V;
-    b.mesh.F = model.world.F.middleRows(b.firstFace, b.numFaces);
-    b.topology = buildTopology(b.mesh);
   }
   double meanEdge = 0.0;
   {
@@ -249,8 +247,8 @@ SceneModel buildSceneModel(const Scene& scene) {
     }
     if (c.clampRotation) {
       ActorBlock& b = model.actors[static_cast<std::size_t>(c.actor)];
-      if (b.clampedVertices.empty()) b.clampedVertices.assign(static_cast<std::size_t>(numVertices), 0);
-      for (int local : ids) b.clampedVertices[static_cast<std::size_t>(b.firstVertex + local)] = 1;
+      if (b.clampedVertices.empty()) b.clampedVertices.assign(static_cast<std::size_t>(b.numVertices), 0);
+      for (int local : ids) b.clampedVertices[static_cast<std::size_t>(local)] = 1;
     }
   }
   for (auto& entry : prescribed) model.prescribed.push_back(std::move(entry.second));

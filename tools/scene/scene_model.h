@@ -22,11 +22,13 @@ namespace jetshell {
 struct ActorBlock {
   int firstVertex = 0, numVertices = 0;
   int firstFace = 0, numFaces = 0;
-  /// The actor's faces with world (stacked) vertex ids over the full stacked positions: energy terms built on
-  /// it touch only this actor's vertices but share the global 3N unknowns.
+  /// The actor's own vertices (world reference positions, the rows firstVertex … of the stacked mesh) and its
+  /// faces over them (ids 0 … numVertices − 1): what the actor's terms are built on (core/vertex_block_term.h), so
+  /// that each actor costs its own size, not the scene's.
   TriMesh mesh;
   Topology topology;
-  /// Vertices (stacked ids, size N) whose boundary edges are clamped against rotation; empty when none.
+  /// The actor's vertices (its own ids, size numVertices) whose boundary edges are clamped against rotation;
+  /// empty when none.
   std::vector<char> clampedVertices;
 };
 

@@ -36,6 +36,7 @@ ShellProblem shellProblemFromScene(const Scene& scene, const SceneModel& model) 
     ShellActorPart part;
     part.name = s.name;
     part.mesh = b.mesh;
+    part.firstVertex = b.firstVertex;
     part.material = s.material;
     part.hasGravity = s.hasGravity;
     part.clampedVertices = b.clampedVertices;
