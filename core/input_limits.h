@@ -30,15 +30,20 @@ struct InputLimits {
   std::int64_t maxEndMoments = 64;           // moment loads per scene (each one an energy term of its own)
   std::int64_t maxConditions = 10'000;       // fixed conditions, loads and probes, each per scene
   std::int64_t maxSelectedVertices = 16'000'000;  // vertices selected by all fixed conditions and loads together
-  // Actors × the scene's vertices: each shell actor's mesh and terms hold the positions of the whole scene, and
-  // each volume actor's contact terms hold data for every vertex (80-110 bytes per actor and vertex): 20,000
-  // four-vertex shell actors would need over 100 GB.
-  std::int64_t maxActorVertices = 50'000'000;
+  // Actors: each costs its own size (its mesh, its terms) and a few KB besides. Each pair of a shell actor and
+  // a volume actor has contact terms of its own (about 4 KB: 1,000 × 1,000 pairs took 4.1 GB), and each volume
+  // actor samples every shell vertex (80-110 bytes per volume actor and vertex).
+  std::int64_t maxActors = 100'000;              // shell and volume actors together
+  std::int64_t maxContactPairs = 100'000;        // shell actors × volume actors
+  std::int64_t maxVolumeActorVertices = 50'000'000;  // volume actors × the shell vertices
   std::int64_t maxIterations = 1'000'000;    // Newton iterations per step
   int maxThreads = 256;                      // solver.threads
   std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)
   std::int64_t maxObjLineBytes = 1 << 16;    // one OBJ line (64 KiB)
   std::int64_t maxSdfBytes = 1LL << 30;      // SDF grid file size (1 GiB: 16.7M samples at up to 60 bytes each)
+  // Samples of all sdfGrid actors together: each actor holds its grid (8 bytes a sample), and a scene can name one
+  // file many times. Four grids of the largest size one file may have (16,777,216 samples).
+  std::int64_t maxSdfSamples = 4LL << 24;
   std::int64_t maxSdfLineBytes = 64LL << 20;  // one SDF grid line (64 MiB: a 256 x 256 slice per line fits)
   std::int64_t maxJsonBytes = 256LL << 20;   // scene (JSON) file size (256 MiB)
   int maxJsonDepth = 64;                     // nesting of JSON arrays and objects

@@ -163,14 +163,19 @@ TEST_CASE("scene bounds: the C++ scene API checks the same bounds", "[scene][hos
   two["actors"].push_back(two["actors"][0]);
   two["actors"][1]["name"] = "second";
   two["actors"][1]["probes"][0]["name"] = "tip2";
-  CHECK(boundsErrorOf(two) == "scene: vertices of all shell actors = 30: too large (at most 20)");
+  // Refused at the second actor, before a third could be generated.
+  CHECK(boundsErrorOf(two) == "/actors/1: vertices of all shell actors = 30: too large (at most 20)");
+  Scene api = sceneFromJson(boundsScene(), ".");
+  api.shells.push_back(api.shells[0]);
+  api.shells[1].name = "second";
+  CHECK_THROWS_WITH(validate(api), "scene: vertices of all shell actors = 30: too large (at most 20)");
 }
 
-TEST_CASE("scene bounds: conditions, probes, selected vertices and actors x vertices are bounded", "[scene][hostile]") {
+TEST_CASE("scene bounds: conditions, probes, selected vertices, actors and contact pairs are bounded",
+          "[scene][hostile]") {
   BoundsLimitOverride restore;
   // 20,000 conditions selecting all of a 40,401-vertex mesh took 181 s of `run --check`; 100,000 probes 17 s
-  // (each name compared with every earlier one); 3,000 four-vertex actors 866 MB (each holds every position), and
-  // 20,000 spheres over a 121-vertex cloth 1.2 GB.
+  // (each name compared with every earlier one); 20,000 spheres over a 121-vertex cloth 1.2 GB.
   inputLimits().maxConditions = 2;
   CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["probes"].push_back({{"name", "b"}, {"select", {{"all", true}}}});
                                        s["actors"][0]["probes"].push_back({{"name", "c"}, {"select", {{"all", true}}}});
@@ -192,23 +197,72 @@ TEST_CASE("scene bounds: conditions, probes, selected vertices and actors x vert
           s["actors"][0]["loads"].push_back({{"select", {{"all", true}}}, {"force", {0, 0, 1}}});
         }) == "/actors/0/fixed/0/select: the scene's fixed conditions and loads select more than 17 vertices in all");
   inputLimits() = restore.saved;
-  inputLimits().maxActorVertices = 59;  // two actors of 15 vertices: 2 x 30 = 60
-  Json two = boundsScene();
-  two["actors"].push_back(two["actors"][0]);
-  two["actors"][1]["name"] = "second";
-  two["actors"][1]["probes"][0]["name"] = "tip2";
-  CHECK(boundsErrorOf(two) == "scene: 2 actors (2 shell, 0 volume) over 30 vertices: each actor holds data for every "
-                              "vertex of the scene, so actors x vertices must be at most 59 (merge shells into one "
-                              "mesh, or use fewer volume actors)");
-  // One shell of 15 vertices and four spheres: 5 x 15 = 75.
-  inputLimits().maxActorVertices = 74;
+  // Actors: 12 large generated shells in a 1 KB scene took 7.7 s and 948 MB before the total was checked (300
+  // would have needed 24 GB); the totals are now checked after each actor.
+  inputLimits().maxActors = 2;
+  Json three = boundsScene();
+  for (int k = 0; k < 2; ++k)
+    three["actors"].push_back(
+        {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
+  CHECK(boundsErrorOf(three) == "/actors/2: actors = 3: too large (at most 2)");
+  inputLimits() = restore.saved;
+  // Each shell-volume pair has contact terms of its own (1,000 x 1,000 pairs of four-vertex shells and spheres
+  // took 4.1 GB and 36 s for two steps).
+  inputLimits().maxContactPairs = 3;
+  Json pairs = boundsScene();
+  pairs["actors"].push_back(pairs["actors"][0]);
+  pairs["actors"][1]["name"] = "second";
+  pairs["actors"][1]["probes"][0]["name"] = "tip2";
+  for (int k = 0; k < 2; ++k)
+    pairs["actors"].push_back(
+        {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
+  CHECK(boundsErrorOf(pairs) == "/actors/3: 2 shell actors x 2 volume actors = 4 contact pairs, each with terms of "
+                                "its own: at most 3 (merge shells into one mesh, or use fewer volume actors)");
+  inputLimits() = restore.saved;
+  // Each volume actor samples every shell vertex: one shell of 15 vertices and four spheres, 4 x 15 = 60.
+  inputLimits().maxVolumeActorVertices = 59;
   Json balls = boundsScene();
   for (int k = 0; k < 4; ++k)
     balls["actors"].push_back(
         {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
-  CHECK(boundsErrorOf(balls) == "scene: 5 actors (1 shell, 4 volume) over 15 vertices: each actor holds data for "
-                                "every vertex of the scene, so actors x vertices must be at most 74 (merge shells "
-                                "into one mesh, or use fewer volume actors)");
+  CHECK(boundsErrorOf(balls) == "/actors/4: 4 volume actors over 15 shell vertices: each volume actor samples every "
+                                "shell vertex, so volume actors x vertices must be at most 59 (use fewer volume "
+                                "actors)");
+  inputLimits() = restore.saved;
+  // Shell actors no longer multiply: each holds its own vertices (3,000 four-vertex actors took 866 MB for
+  // `run --check` when each held every position of the scene). 40 actors of 15 vertices build, and each actor's
+  // mesh holds only its own.
+  Json many = boundsScene();
+  for (int k = 1; k < 40; ++k) {
+    Json a = many["actors"][0];
+    a["name"] = "strip" + std::to_string(k);
+    a.erase("probes");
+    a["worldFromLocalTransform"] = {{"translation", {0, 2 * k, 0}}};
+    many["actors"].push_back(a);
+  }
+  const SceneModel model = buildSceneModel(sceneFromJson(many, "."));
+  REQUIRE(model.actors.size() == 40);
+  CHECK(model.numVertices() == 600);
+  for (const ActorBlock& b : model.actors) CHECK(b.mesh.numVertices() == 15);
+}
+
+TEST_CASE("scene bounds: the SDF grids of a scene are bounded together", "[scene][hostile]") {
+  BoundsLimitOverride restore;
+  // A scene can name one grid file many times; each actor holds its grid.
+  const std::filesystem::path dir = test::scratchDirectory("sdf_total");
+  std::ofstream(dir / "g.sdf") << "dims 2 2 2\norigin 0 0 0\nspacing 1\n-1 -1 -1 -1 1 1 1 1\n";
+  inputLimits().maxSdfSamples = 16;  // two grids of 8 samples fit, three do not
+  Json s = boundsScene();
+  for (int k = 0; k < 3; ++k)
+    s["actors"].push_back({{"type", "sdfGrid"}, {"name", "g" + std::to_string(k)}, {"file", "g.sdf"},
+                           {"center", {0, 0, -5}}});
+  std::string error = "no error";
+  try {
+    sceneFromJson(s, dir.string());
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  CHECK(error == "/actors/3: samples of all SDF grids = 24: too large (at most 16)");
 }
 
 TEST_CASE("scene bounds: inline meshes and index lists are bounded", "[scene][hostile]") {

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <string>
 
 namespace jetshell {
@@ -56,6 +57,7 @@ struct VolumeActorParams {
   double radius = 0.5;                                            // sphere and capsule, m
   double halfLength = 0.5;    // capsule: half length of its axis segment along local z, m
   std::string sdfFile;        // SdfGrid: the grid file (energies/contact/sdf_grid.h), local coordinates
+  std::int64_t sdfSamples = 0;  // SdfGrid: its sample count, as the scene reader found it (for the scene's bounds)
   /// Prescribed motion from the transform at t = 0: constant velocity [m/s] and angular velocity [rad/s]
   /// (world axes, about the actor's origin). Zero: static.
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();

@@ -19,8 +19,12 @@ int Scene::addShellActor(ShellActorParams params) {
   if (params.name.empty()) params.name = "shell" + std::to_string(index);
   const std::string where = "shell actor '" + params.name + "'";
   validate(params, where);
-  for (const ShellActorParams& s : shells)
-    if (s.name == params.name) throw InputError(where + ": the name is already used by another shell actor");
+  if (shellNames_.size() != shells.size()) {
+    shellNames_.clear();
+    for (const ShellActorParams& s : shells) shellNames_.insert(s.name);
+  }
+  if (shellNames_.count(params.name)) throw InputError(where + ": the name is already used by another shell actor");
+  shellNames_.insert(params.name);
   shells.push_back(std::move(params));
   return index;
 }
@@ -30,8 +34,12 @@ int Scene::addVolumeActor(VolumeActorParams params) {
   if (params.name.empty()) params.name = std::string(toString(params.kind)) + std::to_string(index);
   const std::string where = "volume actor '" + params.name + "'";
   validate(params, where);
-  for (const VolumeActorParams& v : volumes)
-    if (v.name == params.name) throw InputError(where + ": the name is already used by another volume actor");
+  if (volumeNames_.size() != volumes.size()) {
+    volumeNames_.clear();
+    for (const VolumeActorParams& v : volumes) volumeNames_.insert(v.name);
+  }
+  if (volumeNames_.count(params.name)) throw InputError(where + ": the name is already used by another volume actor");
+  volumeNames_.insert(params.name);
   volumes.push_back(std::move(params));
   return index;
 }
@@ -69,6 +77,41 @@ void requireOneOf(const std::string& value, std::initializer_list<const char*> o
 }
 
 }  // namespace
+
+void SceneTotals::add(const ShellActorParams& s) {
+  ++shells;
+  vertices += s.shape ? s.shape->mesh.numVertices() : 0;
+  faces += s.shape ? s.shape->mesh.numFaces() : 0;
+}
+
+void SceneTotals::add(const VolumeActorParams& v) {
+  ++volumes;
+  sdfSamples += v.sdfSamples;
+}
+
+SceneTotals sceneTotals(const Scene& scene) {
+  SceneTotals t;
+  for (const ShellActorParams& s : scene.shells) t.add(s);
+  for (const VolumeActorParams& v : scene.volumes) t.add(v);
+  return t;
+}
+
+void checkSceneTotals(const SceneTotals& t, const std::string& where) {
+  const InputLimits& limits = inputLimits();
+  check::atMost(t.vertices, limits.maxVertices, where + ": vertices of all shell actors");
+  check::atMost(t.faces, limits.maxFaces, where + ": faces of all shell actors");
+  check::atMost(t.shells + t.volumes, limits.maxActors, where + ": actors");
+  if (t.shells * t.volumes > limits.maxContactPairs)
+    throw InputError(where + ": " + std::to_string(t.shells) + " shell actors x " + std::to_string(t.volumes) +
+                     " volume actors = " + std::to_string(t.shells * t.volumes) + " contact pairs, each with terms of "
+                     "its own: at most " + std::to_string(limits.maxContactPairs) + " (merge shells into one mesh, or "
+                     "use fewer volume actors)");
+  if (t.volumes * t.vertices > limits.maxVolumeActorVertices)
+    throw InputError(where + ": " + std::to_string(t.volumes) + " volume actors over " + std::to_string(t.vertices) +
+                     " shell vertices: each volume actor samples every shell vertex, so volume actors x vertices "
+                     "must be at most " + std::to_string(limits.maxVolumeActorVertices) + " (use fewer volume actors)");
+  check::atMost(t.sdfSamples, limits.maxSdfSamples, where + ": samples of all SDF grids");
+}
 
 void validate(const Scene& scene) {
   check::finite(scene.gravity, "gravity");
@@ -125,20 +168,7 @@ void validate(const Scene& scene) {
     if (p.name.empty()) throw InputError(p.where + "/name: must not be empty");
     if (!probeNames.insert(p.name).second) throw InputError(p.where + "/name = \"" + p.name + "\": duplicate probe name");
   }
-  std::int64_t vertices = 0, faces = 0;
-  for (const ShellActorParams& s : scene.shells) {
-    vertices += s.shape->mesh.numVertices();
-    faces += s.shape->mesh.numFaces();
-  }
-  check::atMost(vertices, limits.maxVertices, "scene: vertices of all shell actors");
-  check::atMost(faces, limits.maxFaces, "scene: faces of all shell actors");
-  const auto actors = static_cast<std::int64_t>(scene.shells.size() + scene.volumes.size());
-  if (actors * vertices > limits.maxActorVertices)
-    throw InputError("scene: " + std::to_string(actors) + " actors (" + std::to_string(scene.shells.size()) +
-                     " shell, " + std::to_string(scene.volumes.size()) + " volume) over " + std::to_string(vertices) +
-                     " vertices: each actor holds data for every vertex of the scene, so actors x vertices must be at "
-                     "most " + std::to_string(limits.maxActorVertices) + " (merge shells into one mesh, or use fewer "
-                     "volume actors)");
+  checkSceneTotals(sceneTotals(scene), "scene");
   const AnalysisSettings& a = scene.analysis;
   if (a.type == AnalysisType::Static) check::atLeast(a.loadSteps, 1, "/analysis/loadSteps");
   if (a.type == AnalysisType::Static) check::atMost(a.loadSteps, limits.maxLoadLevels, "/analysis/loadSteps");

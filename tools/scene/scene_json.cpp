@@ -442,7 +442,8 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
     const std::string file = o.string("file", "");
     if (file.empty()) throw InputError(o.member("file") + ": missing (the SDF grid file)");
     p.sdfFile = (std::filesystem::path(baseDirectory) / file).lexically_normal().string();
-    at(o.member("file"), [&] { return readSdfGrid(p.sdfFile); });  // named errors now, not at run time
+    const SdfGrid grid = at(o.member("file"), [&] { return readSdfGrid(p.sdfFile); });  // named errors now
+    p.sdfSamples = static_cast<std::int64_t>(grid.values.size());
   }
   p.velocity = o.vec3("velocity", Eigen::Vector3d::Zero());
   p.angularVelocity = o.vec3("angularVelocity", Eigen::Vector3d::Zero());
@@ -590,14 +591,23 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
   scene.description = o.string("description", "");
   scene.gravity = o.vec3("gravity", scene.gravity);
   const std::vector<Value> actors = o.at("actors").array();
+  // The totals are checked after each actor, so that no shape is generated or read past a scene-wide bound (a
+  // 1 KB scene of many large generated shells would otherwise fill the memory before validate() below).
+  SceneTotals totals;
   for (const Value& a : actors) {
     if (!a.isObject()) a.typeError("an object (an actor)");
     const std::string type =
         Object(a).choice("type", {"shell", "plane", "box", "sphere", "capsule", "sdfGrid"}, "");
     if (type.empty())
       throw InputError(a.pointer() + "/type: missing (required: shell, plane, box, sphere, capsule or sdfGrid)");
-    if (type == "shell") readShell(a, scene, baseDirectory);
-    else readVolume(a, type, scene, baseDirectory);
+    if (type == "shell") {
+      readShell(a, scene, baseDirectory);
+      totals.add(scene.shells.back());
+    } else {
+      readVolume(a, type, scene, baseDirectory);
+      totals.add(scene.volumes.back());
+    }
+    checkSceneTotals(totals, a.pointer());
   }
   if (scene.shells.empty()) throw InputError("/actors: no shell actor (nothing to simulate)");
   scene.analysis = readAnalysis(o.at("analysis"));
