@@ -7,6 +7,7 @@
 #include "tools/scene/json_reader.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
+#include "tools/scene/scene_problem.h"
 #include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
@@ -246,7 +247,8 @@ TEST_CASE("scene bounds: conditions, probes, selected vertices, actors and conta
   for (const ActorBlock& b : model.actors) CHECK(b.mesh.numVertices() == 15);
 }
 
-TEST_CASE("scene bounds: the SDF grids of a scene are bounded together", "[scene][hostile]") {
+TEST_CASE("scene bounds: the SDF grids of a scene are bounded together, and a file named twice is held once",
+          "[scene][hostile]") {
   BoundsLimitOverride restore;
   // A scene can name one grid file many times; each actor holds its grid.
   const std::filesystem::path dir = test::scratchDirectory("sdf_total");
@@ -263,6 +265,15 @@ TEST_CASE("scene bounds: the SDF grids of a scene are bounded together", "[scene
     error = e.what();
   }
   CHECK(error == "/actors/3: samples of all SDF grids = 24: too large (at most 16)");
+  // Two actors naming one file (a second name for it too) share its shape: the grid is read and held once.
+  inputLimits() = restore.saved;
+  s["actors"][3]["file"] = "./g.sdf";
+  const Scene scene = sceneFromJson(s, dir.string());
+  const ShellProblem problem = shellProblemFromScene(scene, buildSceneModel(scene));
+  REQUIRE(problem.volumes.size() == 3);
+  CHECK(&problem.volumes[0].collider->shape() == &problem.volumes[1].collider->shape());
+  CHECK(&problem.volumes[0].collider->shape() == &problem.volumes[2].collider->shape());
+  CHECK(problem.volumes[2].collider->name() == "g2");
 }
 
 TEST_CASE("scene bounds: inline meshes and index lists are bounded", "[scene][hostile]") {

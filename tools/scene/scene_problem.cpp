@@ -46,7 +46,8 @@ ShellProblem shellProblemFromScene(const Scene& scene, const SceneModel& model) 
     part.pointCloudCollider = s.pointCloudCollider;
     p.actors.push_back(std::move(part));
   }
-  for (const VolumeActorParams& v : scene.volumes) p.volumes.push_back({makeVolumeCollider(v), v.contact});
+  SdfShapes grids;  // one shape per grid file, however many actors name it
+  for (const VolumeActorParams& v : scene.volumes) p.volumes.push_back({makeVolumeCollider(v, &grids), v.contact});
   return p;
 }
 

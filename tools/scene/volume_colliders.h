@@ -6,8 +6,15 @@
 #include "energies/contact/volume_collider.h"
 #include "tools/scene/actor_params.h"
 
+#include <map>
+#include <string>
+
 namespace jetshell {
 
-VolumeColliderPtr makeVolumeCollider(const VolumeActorParams& volume);
+/// The shapes made from SDF grid files so far, by resolved path: actors that name one file share its shape (a
+/// shape is immutable; each collider places it on its own path), so the grid is read and held once.
+using SdfShapes = std::map<std::string, VolumeShapePtr>;
+
+VolumeColliderPtr makeVolumeCollider(const VolumeActorParams& volume, SdfShapes* shapes = nullptr);
 
 }  // namespace jetshell
