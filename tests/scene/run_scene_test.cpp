@@ -188,6 +188,34 @@ TEST_CASE("run: several shell actors write one frame file per actor, each a name
   CHECK(fs::exists(fs::path(o.outputDirectory) / "final.png"));
 }
 
+TEST_CASE("run: past 64 shell actors a frame is one file, its actor cell array telling the actors apart") {
+  // 65 one-quad actors (100,000 actors had written 300,000 files for 3 frames).
+  nlohmann::json scene = {{"gravity", {0, 0, -9.81}}, {"analysis", {{"type", "static"}, {"loadSteps", 1}}}};
+  for (int k = 0; k < 65; ++k)
+    scene["actors"].push_back({{"type", "shell"}, {"name", "s" + std::to_string(k)},
+                               {"shape",
+                                {{"generator", "rectangle"}, {"width", 1}, {"height", 1}, {"nx", 1}, {"ny", 1}}},
+                               {"worldFromLocalTransform", {{"translation", {2 * k, 0, 0}}}}, {"colliderType", "None"},
+                               {"fixed", {{{"select", {{"group", "left"}}}}}}});
+  RunOptions o;
+  o.outputDirectory = freshDirectory("many_frames").string();
+  o.pictures = false;
+  const RunResult r = runScene(sceneFromJson(scene, "."), o);
+  REQUIRE(r.lastFrame.size() == 1);
+  const fs::path frames = fs::path(o.outputDirectory) / "frames";
+  CHECK_FALSE(fs::exists(frames / "frame_00001_a0.vtu"));
+  const VtuFrame f = readVtu((frames / "frame_00001.vtu").string());
+  CHECK(f.points.rows() == 65 * 4);
+  REQUIRE(f.cellData.count("actor") == 1);
+  const std::vector<double>& actor = f.cellData.at("actor").values;
+  REQUIRE(actor.size() == 65 * 2);
+  CHECK(actor.front() == 0.0);
+  CHECK(actor.back() == 64.0);
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(frames)) files += entry.is_regular_file() ? 1 : 0;
+  CHECK(files == 2);  // the rest state and load step 1
+}
+
 namespace {
 
 

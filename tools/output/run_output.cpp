@@ -94,9 +94,11 @@ void RunOutput::writeFrame(const StepState& s) {
   const Eigen::VectorXd& x = *s.x;
   const Positions X = unflatten(x);
   if (scene_.outputs.vtu) {
-    // One file for a single actor; with several, one per actor (a block each in ParaView).
+    // One file for a single actor; with several, one per actor (a block each in ParaView), up to
+    // kMaxFramePartActors; beyond, one file a frame again, its `actor` cell array telling the actors apart, so
+    // that the files do not grow with actors x frames (100,000 actors wrote 300,000 files for 3 frames).
     const std::size_t numActors = model_.actors.size();
-    const bool perActor = numActors > 1;
+    const bool perActor = numActors > 1 && numActors <= kMaxFramePartActors;
     const std::string base = frameName(frames_, "vtu");
     std::string entries;
     lastFrame_.clear();

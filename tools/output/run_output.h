@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -32,6 +33,10 @@ struct StepState {
   const Eigen::VectorXd* x = nullptr;         // 3N positions
   const Eigen::VectorXd* velocity = nullptr;  // 3N, or null in statics
 };
+
+/// Up to this many shell actors, each frame is one .vtu per actor (a named block each in ParaView); with more,
+/// one .vtu a frame holds them all and its `actor` cell array tells them apart.
+constexpr std::size_t kMaxFramePartActors = 64;
 
 /// How the run ended, for summary.json.
 struct RunSummary {
