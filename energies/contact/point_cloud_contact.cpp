@@ -60,6 +60,7 @@ class DynamicPairTerm : public EnergyTerm {
   bool stencilsFollowConfiguration() const override { return true; }
   void updateStencils(const Eigen::VectorXd& x) override {
     if (!friction_) state_->refresh(x);
+    if (!friction_ && state_->unhashable() && inner_) return;  // keep the last list (its energy is +inf there)
     const std::uint64_t v = friction_ ? state_->frictionVersion() : state_->candidateVersion();
     if (inner_ && v == seen_) return;
     seen_ = v;
@@ -72,6 +73,8 @@ class DynamicPairTerm : public EnergyTerm {
     // Without a Hessian the pair list may follow x (the pattern is not involved); with one, the caller has
     // brought the stencils up to date (Objective::evaluate does).
     if (request.hessian == nullptr || !inner_) updateStencils(x);
+    // Positions the broad phase cannot hash (a wild line-search trial): no pair list, an infinite energy.
+    if (!friction_ && state_->unhashable()) return std::numeric_limits<double>::infinity();
     return inner_->evaluate(x, request, options);
   }
 
@@ -128,6 +131,10 @@ ContactParams PointCloudState::pairParams(int a, int b) const {
 
 bool PointCloudState::refresh(const Eigen::VectorXd& x) {
   const int n = numPoints();
+  const double radius = maxContactDistance_ + skin_;
+  unhashable_ = false;
+  for (int i = 0; i < n && !unhashable_; ++i) unhashable_ = !hashablePoint(x.data() + 3 * vertex_[i], radius);
+  if (unhashable_) return false;
   if (builtAt_.size() == 3 * n) {
     // Pair distances change only by the samples' relative motion: measure each displacement from the centre t
     // of their bounding box. |d_i − d_j| <= |d_i − t| + |d_j − t| <= skin, so no pair that was farther than
@@ -151,7 +158,7 @@ bool PointCloudState::refresh(const Eigen::VectorXd& x) {
   for (int i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) points.push_back(builtAt_[3 * i + c] = x[3 * vertex_[i] + c]);
   const std::vector<PointPair> pairs =
-      findClosePairs(points, maxContactDistance_ + skin_, [&](int a, int b) { return interacts(a, b); });
+      findClosePairs(points, radius, [&](int a, int b) { return interacts(a, b); });
   auto data = std::make_shared<PointPairData>();
   StencilTable table{2, {}};
   table.ids.reserve(2 * pairs.size());

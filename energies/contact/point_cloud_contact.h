@@ -58,8 +58,11 @@ class PointCloudState {
   int numPoints() const { return static_cast<int>(vertex_.size()); }
   /// Rebuilds the candidate pairs when a sample moved more than skin/2 since the last build, relative to the
   /// centre of all samples' displacements (or never built).
-  /// Returns true when it rebuilt.
+  /// Returns true when it rebuilt. Positions the broad phase cannot hash (a coordinate not finite, or beyond 1e15
+  /// cells: a line search's trial of a wild step) build nothing and mark the state unhashable until a refresh at
+  /// hashable positions; the penalty term's energy there is +inf, so the trial is rejected, not the run.
   bool refresh(const Eigen::VectorXd& x);
+  bool unhashable() const { return unhashable_; }
   /// Lags the friction pairs (in contact at x_n) for a step of length h.
   void beginStep(const Eigen::VectorXd& xStart, double h);
   /// Largest α ≤ 1 such that no candidate pair approaches by more than `fraction` of its distance.
@@ -97,6 +100,7 @@ class PointCloudState {
   std::uint64_t candidateVersion_ = 0, frictionVersion_ = 0;
   double broadPhaseSeconds_ = 0.0;
   int rebuilds_ = 0;
+  bool unhashable_ = false;
 };
 
 struct PointCloudTerms {

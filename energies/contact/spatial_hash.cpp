@@ -38,6 +38,15 @@ constexpr std::array<Cell, 13> kForward = {{{0, 0, 1},
 
 }  // namespace
 
+bool hashablePoint(const double* point, double radius) {
+  const double inv = 1.0 / radius;
+  for (int c = 0; c < 3; ++c) {
+    const double v = point[c] * inv;
+    if (!(std::isfinite(v) && std::abs(v) < 1e15)) return false;
+  }
+  return true;
+}
+
 std::vector<PointPair> findClosePairs(const std::vector<double>& points, double radius, const PairFilter& filter) {
   if (!(std::isfinite(radius) && radius > 0.0)) throw InputError("broad phase: radius must be finite and > 0");
   const int n = static_cast<int>(points.size() / 3);
@@ -53,10 +62,11 @@ std::vector<PointPair> findClosePairs(const std::vector<double>& points, double 
 #pragma omp parallel for schedule(static) reduction(&& : finite) if (n >= 4096)
   for (int i = 0; i < n; ++i) {
     Cell& cell = cellOf[static_cast<std::size_t>(i)];
+    finite = finite && hashablePoint(points.data() + 3 * static_cast<std::size_t>(i), radius);
     for (int c = 0; c < 3; ++c) {
       const double v = points[3 * static_cast<std::size_t>(i) + c] * inv;
-      finite = finite && std::isfinite(v) && std::abs(v) < 1e15;
-      cell[static_cast<std::size_t>(c)] = std::isfinite(v) ? static_cast<std::int64_t>(std::floor(v)) : 0;
+      const bool inRange = std::isfinite(v) && std::abs(v) < 1e15;
+      cell[static_cast<std::size_t>(c)] = inRange ? static_cast<std::int64_t>(std::floor(v)) : 0;
     }
     bucketOf[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(cellHash(cell) & mask);
   }

@@ -21,5 +21,8 @@ using PairFilter = std::function<bool(int i, int j)>;
 
 /// points: 3n coordinates (point i at 3i). Throws InputError for r ≤ 0 or non-finite coordinates.
 std::vector<PointPair> findClosePairs(const std::vector<double>& points, double radius, const PairFilter& filter = {});
+/// True when findClosePairs can hash every point for this radius: each coordinate finite and within 1e15 cells of
+/// the origin (findClosePairs throws InputError otherwise).
+bool hashablePoint(const double* point, double radius);
 
 }  // namespace jetshell

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -145,6 +146,34 @@ TEST_CASE("contact terms: the point-cloud pair list follows the points and bumps
   CHECK(g[3] < 0.0);
   CHECK(t.state->minDistanceRatio(x) == Approx(0.75));
   requireAccurate(*t.penalty, x, 1e-4);
+}
+
+TEST_CASE("contact terms: positions the broad phase cannot hash give the point-cloud penalty an infinite energy",
+          "[contact]") {
+  // A line search's trial of a wild step (a floppy static scene's first Newton step): the broad phase refused it
+  // with an input error that ended the run ("a point-cloud radius too small for the scene's size").
+  Positions rest(2, 3);
+  rest << 0, 0, 0, 0.015, 0, 0;
+  PointCloudActor a, b;
+  a.vertices = {0};
+  b.vertices = {1};
+  a.area = b.area = {1e-4};
+  a.collider.radius = b.collider.radius = 0.01;
+  PointCloudTerms t = makePointCloudTerms({a, b}, rest);
+  const Eigen::VectorXd x = flatten(rest);
+  const double e = t.penalty->evaluate(x, {}, {});
+  REQUIRE(e > 0.0);
+  for (double wild : {std::numeric_limits<double>::quiet_NaN(), 1e300, 1e20}) {
+    Eigen::VectorXd y = x;
+    y[4] = wild;
+    t.penalty->updateStencils(y);
+    CHECK(t.state->unhashable());
+    CHECK(t.penalty->evaluate(y, {}, {}) == std::numeric_limits<double>::infinity());
+  }
+  // Back at hashable positions, the same pairs and energy.
+  t.penalty->updateStencils(x);
+  CHECK_FALSE(t.state->unhashable());
+  CHECK(t.penalty->evaluate(x, {}, {}) == e);
 }
 
 TEST_CASE("contact terms: the point-cloud candidate list survives a common translation and never misses a pair",
