@@ -133,8 +133,6 @@ bool PointCloudState::refresh(const Eigen::VectorXd& x) {
   const int n = numPoints();
   const double radius = maxContactDistance_ + skin_;
   unhashable_ = false;
-  for (int i = 0; i < n && !unhashable_; ++i) unhashable_ = !hashablePoint(x.data() + 3 * vertex_[i], radius);
-  if (unhashable_) return false;
   if (builtAt_.size() == 3 * n) {
     // Pair distances change only by the samples' relative motion: measure each displacement from the centre t
     // of their bounding box. |d_i − d_j| <= |d_i − t| + |d_j − t| <= skin, so no pair that was farther than
@@ -147,16 +145,26 @@ bool PointCloudState::refresh(const Eigen::VectorXd& x) {
     }
     const Eigen::Vector3d t = 0.5 * (lo + hi);
     double moved2 = 0.0;
-    for (int i = 0; i < n; ++i)
-      moved2 = std::max(moved2, (x.segment<3>(3 * vertex_[i]) - builtAt_.segment<3>(3 * i) - t).squaredNorm());
-    if (moved2 <= 0.25 * skin_ * skin_) return false;
+    bool finite = true;  // a NaN displacement is a move (std::max would pass it over), so it rebuilds, and fails
+    for (int i = 0; i < n; ++i) {
+      const double m = (x.segment<3>(3 * vertex_[i]) - builtAt_.segment<3>(3 * i) - t).squaredNorm();
+      finite = finite && std::isfinite(m);
+      moved2 = std::max(moved2, m);
+    }
+    if (finite && moved2 <= 0.25 * skin_ * skin_) return false;
   }
   const auto start = std::chrono::steady_clock::now();
-  builtAt_.resize(3 * n);
   std::vector<double> points;
   points.reserve(3 * static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) points.push_back(builtAt_[3 * i + c] = x[3 * vertex_[i] + c]);
+  for (int i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) points.push_back(x[3 * vertex_[i] + c]);
+    // Only a rebuild hashes the points (within the skin the last list stands), so only a rebuild checks them.
+    if (!hashablePoint(points.data() + 3 * i, radius)) {
+      unhashable_ = true;
+      return false;
+    }
+  }
+  builtAt_ = Eigen::Map<const Eigen::VectorXd>(points.data(), 3 * n);
   const std::vector<PointPair> pairs =
       findClosePairs(points, radius, [&](int a, int b) { return interacts(a, b); });
   auto data = std::make_shared<PointPairData>();

@@ -37,6 +37,13 @@ Json boundsScene() {
   })");
 }
 
+/// Adds `count` small spheres (volume actors) to a scene.
+void addSpheres(Json& scene, int count) {
+  for (int k = 0; k < count; ++k)
+    scene["actors"].push_back(
+        {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
+}
+
 std::string boundsErrorOf(const Json& scene) {
   try {
     buildSceneModel(sceneFromJson(scene, "."));
@@ -202,9 +209,7 @@ TEST_CASE("scene bounds: conditions, probes, selected vertices, actors and conta
   // would have needed 24 GB); the totals are now checked after each actor.
   inputLimits().maxActors = 2;
   Json three = boundsScene();
-  for (int k = 0; k < 2; ++k)
-    three["actors"].push_back(
-        {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
+  addSpheres(three, 2);
   CHECK(boundsErrorOf(three) == "/actors/2: actors = 3: too large (at most 2)");
   inputLimits() = restore.saved;
   // Each shell-volume pair has contact terms of its own (1,000 x 1,000 pairs of four-vertex shells and spheres
@@ -214,18 +219,14 @@ TEST_CASE("scene bounds: conditions, probes, selected vertices, actors and conta
   pairs["actors"].push_back(pairs["actors"][0]);
   pairs["actors"][1]["name"] = "second";
   pairs["actors"][1]["probes"][0]["name"] = "tip2";
-  for (int k = 0; k < 2; ++k)
-    pairs["actors"].push_back(
-        {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
+  addSpheres(pairs, 2);
   CHECK(boundsErrorOf(pairs) == "/actors/3: 2 shell actors x 2 volume actors = 4 contact pairs, each with terms of "
                                 "its own: at most 3 (merge shells into one mesh, or use fewer volume actors)");
   inputLimits() = restore.saved;
   // Each volume actor samples every shell vertex: one shell of 15 vertices and four spheres, 4 x 15 = 60.
   inputLimits().maxVolumeActorVertices = 59;
   Json balls = boundsScene();
-  for (int k = 0; k < 4; ++k)
-    balls["actors"].push_back(
-        {{"type", "sphere"}, {"name", "ball" + std::to_string(k)}, {"center", {k, 5, 5}}, {"radius", 0.1}});
+  addSpheres(balls, 4);
   CHECK(boundsErrorOf(balls) == "/actors/4: 4 volume actors over 15 shell vertices: each volume actor samples every "
                                 "shell vertex, so volume actors x vertices must be at most 59 (use fewer volume "
                                 "actors)");

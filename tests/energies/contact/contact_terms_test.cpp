@@ -121,17 +121,32 @@ TEST_CASE("contact terms: the penalty stiffness is a differentiable parameter", 
   CHECK_THROWS_AS(term.setParameterValues({-1.0}), InputError);
 }
 
-TEST_CASE("contact terms: the point-cloud pair list follows the points and bumps the stencil version",
-          "[contact]") {
-  // Two points of different actors approaching along x.
+namespace {
+
+/// Two points `gap` apart along x.
+Positions twoPoints(double gap) {
   Positions rest(2, 3);
-  rest << 0, 0, 0, 0.1, 0, 0;
+  rest << 0, 0, 0, gap, 0, 0;
+  return rest;
+}
+
+/// A point cloud of two one-point actors (radius 1 cm) at `rest`.
+PointCloudTerms twoPointCloud(const Positions& rest) {
   PointCloudActor a, b;
   a.vertices = {0};
   b.vertices = {1};
   a.area = b.area = {1e-4};
   a.collider.radius = b.collider.radius = 0.01;
-  PointCloudTerms t = makePointCloudTerms({a, b}, rest);
+  return makePointCloudTerms({a, b}, rest);
+}
+
+}  // namespace
+
+TEST_CASE("contact terms: the point-cloud pair list follows the points and bumps the stencil version",
+          "[contact]") {
+  // Two points of different actors approaching along x.
+  const Positions rest = twoPoints(0.1);
+  PointCloudTerms t = twoPointCloud(rest);
   Eigen::VectorXd x = flatten(rest);
   t.penalty->updateStencils(x);
   CHECK(t.penalty->stencils().size() == 0);  // 10 cm apart: not even a candidate
@@ -152,14 +167,8 @@ TEST_CASE("contact terms: positions the broad phase cannot hash give the point-c
           "[contact]") {
   // A line search's trial of a wild step (a floppy static scene's first Newton step): the broad phase refused it
   // with an input error that ended the run ("a point-cloud radius too small for the scene's size").
-  Positions rest(2, 3);
-  rest << 0, 0, 0, 0.015, 0, 0;
-  PointCloudActor a, b;
-  a.vertices = {0};
-  b.vertices = {1};
-  a.area = b.area = {1e-4};
-  a.collider.radius = b.collider.radius = 0.01;
-  PointCloudTerms t = makePointCloudTerms({a, b}, rest);
+  const Positions rest = twoPoints(0.015);
+  PointCloudTerms t = twoPointCloud(rest);
   const Eigen::VectorXd x = flatten(rest);
   const double e = t.penalty->evaluate(x, {}, {});
   REQUIRE(e > 0.0);
