@@ -45,7 +45,7 @@ configure() {
 # the sanitizers' slow-down would break, and the accuracy benchmarks, the contact drops, the T-shirt and the
 # example runs repeat for minutes the code paths the unit suites already cover. The files made only of such runs
 # are not compiled in this pass either (CMakeLists.txt, JETSHELL_SANITIZE).
-sanitizeTargets=(jetshell_tests obj_replay scene_replay sdf_replay vtu_replay fit_replay)
+sanitizeTargets=(jetshell_tests obj_replay scene_replay sdf_replay vtu_replay fit_replay checkpoint_replay)
 sanitizeExclude="^(check_derivatives|check_parameter_derivatives|hostile_cli|interrupt_during_cut_step|stress_quick"
 sanitizeExclude+="|accuracy: .*|contact dynamics: .*|tshirt: .*|run: every example .*"
 # The Euler column relaxes for 943 steps (2 s in Release); the relaxation's saddle test covers the same code.
@@ -91,7 +91,7 @@ fuzz() {
     configure "$build-fuzz" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++-14 &&
     cmake --build "$build-fuzz" -j"$jobs" || return 1
   # Each fuzzer is one process: they run side by side on the two cores.
-  local parsers=(obj scene sdf vtu fit) parser pids=()
+  local parsers=(obj scene sdf vtu fit checkpoint) parser pids=()
   for parser in "${parsers[@]}"; do
     mkdir -p "$build-fuzz/corpus-$parser"
     # New inputs go to the build directory; the committed seeds stay as they are.

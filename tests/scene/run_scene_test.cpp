@@ -291,14 +291,20 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["history"]["u"] = nlohmann::json::array(); }),
                     Catch::Contains("history: expected 3 finite series as long as the abscissa"));
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["solver"]["steps"] = 2147483647; }),
-                    Catch::Contains("solver/steps: must lie in [0, 10000000]"));
+                    Catch::Contains("solver/steps: must be a whole number in [0, 10000000]"));
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["solver"]["t"] = 1e308; }),
                     Catch::Contains("solver/t: must lie in [0, duration]"));
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["newton_iterations"] = -100; }),
-                    Catch::Contains("newton_iterations: must be >= 0"));
+                    Catch::Contains("newton_iterations: must be a whole number in [0, 1000000000]"));
   CHECK_THROWS_WITH(
       resumeEdited([](nlohmann::json& c) { c["worst_residual_over_tolerance"] = std::nan(""); }),
       Catch::Contains("worst_residual_over_tolerance: must be finite and >= 0"));
+  // The last frame is drawn into final.png when no step is left: it was read from wherever the checkpoint named.
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["output"]["last_frame"] = {"/etc/hostname"}; }),
+                    Catch::Contains("output/last_frame: must name files frames/NAME.vtu"));
+  // Probe rows without their values wrote probes.csv rows short of columns.
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["output"]["rows"][0]["u"] = nlohmann::json::array(); }),
+                    Catch::Contains("output/rows/0/u: must be a list of 3 numbers"));
   writeCheckpoint(o.outputDirectory, saved);
   // A different scene is refused.
   o.sceneFingerprint = "another";

@@ -6,7 +6,6 @@
 // the sizes of frames.pvd and probes.csv to cut back to), with a fingerprint of the scene it belongs to.
 #pragma once
 
-#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -19,12 +18,9 @@ std::string checkpointPath(const std::string& directory);
 /// Writes the checkpoint atomically. Throws InputError naming the file when it cannot.
 void writeCheckpoint(const std::string& directory, const nlohmann::json& state);
 
-/// Reads it back. Throws InputError naming the file when it is missing, unreadable or not a checkpoint.
+/// Reads it back. Throws InputError naming the file when it is missing, unreadable or not a checkpoint. Its
+/// fields are read by runCheckpointFromJson (tools/output/run_checkpoint.h).
 nlohmann::json readCheckpoint(const std::string& directory);
-
-/// A vector as a JSON array and back (exact through CBOR); fromJson throws InputError naming `what` on a bad one.
-nlohmann::json toJsonArray(const Eigen::VectorXd& v);
-Eigen::VectorXd vectorFromJson(const nlohmann::json& j, const std::string& what);
 
 /// FNV-1a of a text, as 16 hex digits: a scene's fingerprint.
 std::string fingerprint(const std::string& text);

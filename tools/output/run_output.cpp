@@ -89,6 +89,11 @@ void RunOutput::record(const StepState& s, bool forceFrame) {
   }
 }
 
+int RunOutput::filesPerFrame() const {
+  const std::size_t numActors = model_.actors.size();
+  return numActors > 1 && numActors <= kMaxFramePartActors ? static_cast<int>(numActors) : 1;
+}
+
 void RunOutput::writeFrame(const StepState& s) {
   namespace fs = std::filesystem;
   const Eigen::VectorXd& x = *s.x;
@@ -98,7 +103,7 @@ void RunOutput::writeFrame(const StepState& s) {
     // kMaxFramePartActors; beyond, one file a frame again, its `actor` cell array telling the actors apart, so
     // that the files do not grow with actors x frames (100,000 actors wrote 300,000 files for 3 frames).
     const std::size_t numActors = model_.actors.size();
-    const bool perActor = numActors > 1 && numActors <= kMaxFramePartActors;
+    const bool perActor = filesPerFrame() > 1;
     const std::string base = frameName(frames_, "vtu");
     std::string entries;
     lastFrame_.clear();
@@ -178,45 +183,33 @@ std::map<std::string, Eigen::Vector3d> RunOutput::probeDisplacements() const {
   return out;
 }
 
-nlohmann::json RunOutput::lastFrameRelative() const {
-  nlohmann::json files = nlohmann::json::array();
-  for (const std::string& f : lastFrame_) files.push_back(std::filesystem::relative(f, directory_).string());
-  return files;
+OutputCheckpoint RunOutput::state() const {
+  OutputCheckpoint o;
+  o.frames = frames_;
+  o.lastRecordedStep = lastRecordedStep_;
+  o.lastFrameStep = lastFrameStep_;
+  for (const std::string& f : lastFrame_)
+    o.lastFrame.push_back(std::filesystem::relative(f, directory_).generic_string());
+  o.rows = rows_;
+  o.flushedRows = flushedRows_;
+  o.flushedRowChanged = flushedRowChanged_;
+  if (pvd_.isOpen()) o.pvdBytes = pvd_.size();
+  if (probesCsv_.isOpen()) o.probesBytes = probesCsv_.size();
+  return o;
 }
 
-nlohmann::json RunOutput::state() const {
-  nlohmann::json rows = nlohmann::json::array();
-  for (const ProbeRow& r : rows_) rows.push_back({{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}});
-  return {{"frames", frames_},
-          {"last_recorded_step", lastRecordedStep_},
-          {"last_frame_step", lastFrameStep_},
-          {"last_frame", lastFrameRelative()},
-          {"rows", rows},
-          {"flushed_rows", flushedRows_},
-          {"flushed_row_changed", flushedRowChanged_},
-          {"pvd_bytes", pvd_.isOpen() ? nlohmann::json(pvd_.size()) : nlohmann::json(nullptr)},
-          {"probes_bytes", probesCsv_.isOpen() ? nlohmann::json(probesCsv_.size()) : nlohmann::json(nullptr)}};
-}
-
-void RunOutput::restore(const nlohmann::json& j) {
+void RunOutput::restore(const OutputCheckpoint& o) {
   namespace fs = std::filesystem;
-  frames_ = j.at("frames").get<int>();
-  lastRecordedStep_ = j.at("last_recorded_step").get<int>();
-  lastFrameStep_ = j.at("last_frame_step").get<int>();
+  frames_ = o.frames;
+  lastRecordedStep_ = o.lastRecordedStep;
+  lastFrameStep_ = o.lastFrameStep;
   lastFrame_.clear();
-  const nlohmann::json& last = j.at("last_frame");
-  if (!last.is_array()) throw InputError("checkpoint: last_frame must be a list of files");
-  for (const nlohmann::json& f : last) lastFrame_.push_back((fs::path(directory_) / f.get<std::string>()).string());
-  rows_.clear();
-  for (const nlohmann::json& r : j.at("rows"))
-    rows_.push_back({r.at("step").get<int>(), r.at("time").get<double>(), r.at("load_factor").get<double>(),
-                     r.at("u").get<std::vector<double>>()});
-  flushedRows_ = j.at("flushed_rows").get<std::size_t>();
-  flushedRowChanged_ = j.at("flushed_row_changed").get<bool>();
-  if (!j.at("pvd_bytes").is_null())
-    pvd_.reopen((fs::path(directory_) / "frames.pvd").string(), j.at("pvd_bytes").get<std::uint64_t>(), PvdSeries::tail());
-  if (!j.at("probes_bytes").is_null())
-    probesCsv_.reopen((fs::path(directory_) / "probes.csv").string(), j.at("probes_bytes").get<std::uint64_t>(), "");
+  for (const std::string& f : o.lastFrame) lastFrame_.push_back((fs::path(directory_) / f).string());
+  rows_ = o.rows;
+  flushedRows_ = o.flushedRows;
+  flushedRowChanged_ = o.flushedRowChanged;
+  if (o.pvdBytes) pvd_.reopen((fs::path(directory_) / "frames.pvd").string(), *o.pvdBytes, PvdSeries::tail());
+  if (o.probesBytes) probesCsv_.reopen((fs::path(directory_) / "probes.csv").string(), *o.probesBytes, "");
 }
 
 nlohmann::json RunOutput::actorSummaries() const {

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "tools/output/append_file.h"
+#include "tools/output/run_checkpoint.h"
 #include "tools/output/vtu.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_model.h"
@@ -66,21 +67,22 @@ class RunOutput {
   /// The volume actors' file, or "" when the scene has none.
   const std::string& volumesFile() const { return volumesFile_; }
   int framesWritten() const { return frames_; }
+  /// The .vtu files of one frame: one per shell actor with 2 to kMaxFramePartActors actors, else one.
+  int filesPerFrame() const;
   /// The last recorded displacement of each probe.
   std::map<std::string, Eigen::Vector3d> probeDisplacements() const;
 
   /// What a checkpoint needs to continue the outputs exactly (frame count, probe rows, file sizes).
-  nlohmann::json state() const;
-  /// Continues the outputs of an earlier run of the same scene from its state(): frames.pvd and probes.csv are
-  /// cut back to their sizes at that point. Throws InputError when the files do not match it.
-  void restore(const nlohmann::json& state);
+  OutputCheckpoint state() const;
+  /// Continues the outputs of an earlier run of the same scene from its state() (as runCheckpointFromJson checks
+  /// it): frames.pvd and probes.csv are cut back to their sizes at that point. Throws InputError when the files
+  /// do not match it.
+  void restore(const OutputCheckpoint& state);
 
  private:
   void writeFrame(const StepState& state);
   void writeProbes();
   std::string probeRows(std::size_t from) const;
-  /// lastFrame_ relative to the output directory, as a JSON list (for checkpoints).
-  nlohmann::json lastFrameRelative() const;
   /// One entry per shell actor: name, layer, vertex and face counts, and from the last recorded state the
   /// largest displacement from the reference, the largest speed (dynamics) and the bounding box.
   nlohmann::json actorSummaries() const;
@@ -97,11 +99,6 @@ class RunOutput {
   int frames_ = 0;
   int lastRecordedStep_ = -1;
   int lastFrameStep_ = -1;
-  struct ProbeRow {
-    int step;
-    double time, loadFactor;
-    std::vector<double> u;  // 3 per probe
-  };
   std::vector<ProbeRow> rows_;
   Eigen::VectorXd lastPositions_, lastVelocities_;  // the last recorded state, for the per-actor summary
 };

@@ -10,6 +10,7 @@
 #include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
+#include "tools/output/run_checkpoint.h"
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
 #include "tools/scene/safeguard_report.h"
@@ -53,11 +54,6 @@ void recordResidualClaim(nlohmann::json& extra, const SolverSummary& s) {
 Eigen::Vector3d upAxis(const Scene& scene) {
   return scene.gravity.norm() > 0 ? Eigen::Vector3d(-scene.gravity.normalized()) : Eigen::Vector3d::UnitZ();
 }
-
-struct ProbeHistory {
-  std::vector<double> abscissa;
-  std::vector<std::vector<double>> u;  // per probe × component: 3 series each
-};
 
 }  // namespace
 
@@ -131,19 +127,20 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     throw InputError(std::string("--checkpoint-every/--resume: only dynamic analyses have checkpoints (this one is ") +
                      toString(type) + ")");
   if (options.checkpointEvery < 0) throw InputError("--checkpoint-every: must be >= 0");
-  nlohmann::json checkpoint;
-  if (options.resume) {
-    checkpoint = readCheckpoint(options.outputDirectory);
-    const std::string file = checkpointPath(options.outputDirectory);
-    const nlohmann::json expected = {{"scene_fingerprint", options.sceneFingerprint},
-                                     {"vertices", model.numVertices()},
-                                     {"time_step", scene.analysis.timeStep}};
-    bool same = true;
-    for (const auto& item : expected.items())
-      same = same && checkpoint.contains(item.key()) && checkpoint.at(item.key()) == item.value();
-    if (!same)
-      throw InputError(file + ": written for another scene (or the scene file changed since)");
-  }
+  // The run a checkpoint belongs to, and what it holds (tools/output/run_checkpoint.h checks every field).
+  CheckpointScene checkpointScene;
+  checkpointScene.fingerprint = options.sceneFingerprint;
+  checkpointScene.vertices = model.numVertices();
+  checkpointScene.timeStep = scene.analysis.timeStep;
+  checkpointScene.duration = scene.analysis.duration;
+  checkpointScene.probes = static_cast<int>(model.probes.size());
+  checkpointScene.frameFiles = output.filesPerFrame();
+  checkpointScene.maxSteps = static_cast<int>(inputLimits().maxSteps);
+  checkpointScene.cutReasons = SafeguardReport::cutReasons();
+  RunCheckpoint checkpoint;
+  if (options.resume)
+    checkpoint = runCheckpointFromJson(readCheckpoint(options.outputDirectory), checkpointScene,
+                                       checkpointPath(options.outputDirectory));
 
   Eigen::VectorXd x = system.restPositions();
   objective.applyPrescribed(0.0, x);
@@ -157,23 +154,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                                                                  model.world.V(model.probes[p].vertex, c));
   };
   if (options.resume) {
-    try {
-      output.restore(checkpoint.at("output"));
-      history.abscissa = checkpoint.at("history").at("abscissa").get<std::vector<double>>();
-      history.u = checkpoint.at("history").at("u").get<std::vector<std::vector<double>>>();
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
-    }
-    // The probe history goes into probes.png: one series per probe component, one value per abscissa.
-    bool historyOk = !history.abscissa.empty() && history.u.size() == 3 * model.probes.size();
-    for (double a : history.abscissa) historyOk = historyOk && std::isfinite(a);
-    for (const std::vector<double>& series : history.u) {
-      historyOk = historyOk && series.size() == history.abscissa.size();
-      for (double u : series) historyOk = historyOk && std::isfinite(u);
-    }
-    if (!historyOk)
-      throw InputError(checkpointPath(options.outputDirectory) + ": history: expected " +
-                       std::to_string(3 * model.probes.size()) + " finite series as long as the abscissa");
+    output.restore(checkpoint.output);
+    history = checkpoint.history;
   } else {
     output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
     remember(0.0, x);
@@ -379,65 +361,30 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     double worstRatio = 0.0;   // the largest final residual / tolerance over the steps
     SolverSummary lastSolve;
     if (options.resume) {
-      try {
-        const nlohmann::json& c = checkpoint.at("solver");
-        DynamicsSolver::Snapshot snap;
-        snap.x = vectorFromJson(c.at("x"), "solver/x");
-        snap.v = vectorFromJson(c.at("v"), "solver/v");
-        snap.xPrev = vectorFromJson(c.at("x_prev"), "solver/x_prev");
-        snap.vPrev = vectorFromJson(c.at("v_prev"), "solver/v_prev");
-        snap.t = c.at("t").get<double>();
-        snap.historyStep = c.at("history_step").get<double>();
-        snap.steps = c.at("steps").get<int>();
-        snap.historyValid = c.at("history_valid").get<bool>();
-        solver.restore(snap);
-        lastVelocity = snap.v;
-        previousIterations = checkpoint.at("newton_iterations").get<int>();
-        previousCuts = checkpoint.at("cuts").get<int>();
-        unconvergedSteps = checkpoint.at("steps_at_iteration_cap").get<int>();
-        worstRatio = checkpoint.at("worst_residual_over_tolerance").get<double>();
-        safeguards.restore(checkpoint.at("safeguards"));
-      } catch (const nlohmann::json::exception& e) {
-        throw InputError(checkpointPath(options.outputDirectory) + ": incomplete checkpoint (" + e.what() + ")");
-      }
-      // Counts and times a hand-edited checkpoint could make absurd.
-      const auto require = [&](bool ok, const std::string& field, const std::string& rule) {
-        if (!ok) throw InputError(checkpointPath(options.outputDirectory) + ": " + field + ": " + rule);
-      };
-      const nlohmann::json& c = checkpoint.at("solver");
-      const double t = c.at("t").get<double>(), historyStep = c.at("history_step").get<double>();
-      const double steps = c.at("steps").get<double>();
-      require(std::isfinite(t) && t >= 0.0 && t <= duration * (1.0 + 1e-9), "solver/t", "must lie in [0, duration]");
-      require(steps >= 0.0 && steps <= static_cast<double>(inputLimits().maxSteps), "solver/steps",
-              "must lie in [0, " + std::to_string(inputLimits().maxSteps) + "]");
-      require(std::isfinite(historyStep) && historyStep >= 0.0, "solver/history_step", "must be finite and >= 0");
-      require(previousIterations >= 0, "newton_iterations", "must be >= 0");
-      require(previousCuts >= 0, "cuts", "must be >= 0");
-      require(unconvergedSteps >= 0 && unconvergedSteps <= steps, "steps_at_iteration_cap",
-              "must lie in [0, solver/steps]");
-      require(std::isfinite(worstRatio) && worstRatio >= 0.0, "worst_residual_over_tolerance",
-              "must be finite and >= 0");
+      const SolverCheckpoint& c = checkpoint.solver;
+      solver.restore({c.x, c.v, c.xPrev, c.vPrev, c.t, c.historyStep, c.steps, c.historyValid});
+      lastVelocity = c.v;
+      previousIterations = checkpoint.newtonIterations;
+      previousCuts = checkpoint.cuts;
+      unconvergedSteps = checkpoint.stepsAtIterationCap;
+      worstRatio = checkpoint.worstResidualOverTolerance;
+      safeguards.restore(checkpoint.safeguards);
       progress.log("resumed from " + checkpointPath(options.outputDirectory) + " at step " +
                    std::to_string(solver.stepCount()) + ", t = " + formatNumber("%.4f", solver.time()) + " s");
     }
     int doneIterations = 0, doneCuts = 0;
     auto writeCheckpointNow = [&](const DynamicsSolver& d) {
       const DynamicsSolver::Snapshot snap = d.snapshot();
-      writeCheckpoint(options.outputDirectory,
-                      {{"scene_fingerprint", options.sceneFingerprint},
-                       {"vertices", model.numVertices()},
-                       {"time_step", scene.analysis.timeStep},
-                       {"solver", {{"x", toJsonArray(snap.x)}, {"v", toJsonArray(snap.v)},
-                                   {"x_prev", toJsonArray(snap.xPrev)}, {"v_prev", toJsonArray(snap.vPrev)},
-                                   {"t", snap.t}, {"history_step", snap.historyStep}, {"steps", snap.steps},
-                                   {"history_valid", snap.historyValid}}},
-                       {"newton_iterations", previousIterations + doneIterations},
-                       {"cuts", previousCuts + doneCuts},
-                       {"steps_at_iteration_cap", unconvergedSteps},
-                       {"worst_residual_over_tolerance", worstRatio},
-                       {"safeguards", safeguards.state()},
-                       {"history", {{"abscissa", history.abscissa}, {"u", history.u}}},
-                       {"output", output.state()}});
+      RunCheckpoint c;
+      c.solver = {snap.x, snap.v, snap.xPrev, snap.vPrev, snap.t, snap.historyStep, snap.steps, snap.historyValid};
+      c.newtonIterations = previousIterations + doneIterations;
+      c.cuts = previousCuts + doneCuts;
+      c.stepsAtIterationCap = unconvergedSteps;
+      c.worstResidualOverTolerance = worstRatio;
+      c.safeguards = safeguards.state();
+      c.history = history;
+      c.output = output.state();
+      writeCheckpoint(options.outputDirectory, toJson(c, checkpointScene));
     };
     // Whole steps to the end, counted from the start of the run (a resumed run does the rest).
     const int totalSteps = static_cast<int>(std::ceil(duration / o.timeStep - 1e-9));

@@ -7,11 +7,13 @@
 #pragma once
 
 #include "solvers/solver_summary.h"
+#include "tools/output/run_checkpoint.h"
 
 #include <nlohmann/json.hpp>
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace jetshell {
 
@@ -21,16 +23,16 @@ class SafeguardReport {
   void add(const SolverSummary& solve, bool accepted);
   /// iterationCapPolicy: "move_on" (take the iterate) or "cut_step" (retry smaller, then stop).
   nlohmann::json toJson(const std::string& iterationCapPolicy) const;
-  /// The counts for a checkpoint, and back.
-  nlohmann::json state() const;
-  void restore(const nlohmann::json& state);
+  /// The counts for a checkpoint, and back (as runCheckpointFromJson checks them).
+  const SafeguardCounts& state() const { return n_; }
+  void restore(const SafeguardCounts& state);
+  /// The names a step can be cut for (its solve's termination reason): the keys of the cuts by reason.
+  static std::vector<std::string> cutReasons();
 
  private:
-  std::map<std::string, int> cuts_;
-  int nonFiniteTrials_ = 0, regularizedSolves_ = 0, regularizations_ = 0, projectionFallbacks_ = 0;
-  int directFallbacks_ = 0;  // PCG solves finished with the whole Hessian's factor (LinearSolverOptions::cgDirectAfter)
-  int acceptedAtCap_ = 0, discarded_ = 0;
-  double largestShift_ = 0.0;
+  // directFallbacks: PCG solves finished with the whole Hessian's factor (LinearSolverOptions::cgDirectAfter);
+  // solvedAgain: time steps solved again from their previous positions.
+  SafeguardCounts n_;
 };
 
 }  // namespace jetshell
