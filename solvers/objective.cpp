@@ -220,11 +220,26 @@ double Objective::energyMagnitude() const {
   return m;
 }
 
+void Objective::setPrescribedPath(double from, double to) {
+  prescribedPathMotion_ = 0.0;
+  if (!std::isfinite(from) || !std::isfinite(to) || scales_.reference.size() != numDofs()) return;
+  // Samples of the path: from 0 to 1, an end turned by 720° peaks at λ = 1/4 and 3/4, both samples.
+  constexpr int kSamples = 64;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double t = from + (to - from) * k / kSamples;
+    for (const PrescribedPositions::Entry& e : prescribed_.entries()) {
+      if (!e.value) continue;  // a constant: the configuration's own displacement has it
+      const double moved = std::abs(e.value(t) - scales_.reference[3 * e.vertex + e.component]);
+      if (std::isfinite(moved)) prescribedPathMotion_ = std::max(prescribedPathMotion_, moved);
+    }
+  }
+}
+
 ForceScale Objective::forceScale(const Eigen::VectorXd& x, double initialResidual) const {
   ForceScale f;
   if (scales_.force > 0.0) f = {scales_.force, "external_loads"};
   if (scales_.stiffness > 0.0 && scales_.reference.size() == x.size()) {
-    double moved = 0.0;
+    double moved = prescribedPathMotion_;
     for (Eigen::Index i = 0; i < x.size(); ++i)
       if (fixedDof_[static_cast<std::size_t>(i)])
         moved = std::max(moved, std::abs(x[i] - scales_.reference[i]));

@@ -118,11 +118,18 @@ class Objective {
   const PhysicalScales& scales() const { return scales_; }
   /// The force scale F of the configuration x (prescribed values applied) that residuals are judged against, the
   /// same for every solver: the larger of the largest external nodal force and the force of the prescribed motion
-  /// (stiffness × largest prescribed displacement from the reference); when neither drives the problem, the
-  /// material's force at unit strain (stiffness × length). It never depends on the current residual, so a wild
-  /// starting point cannot loosen its own test. Only an objective with no scales at all falls back to
-  /// initialResidual (source "initial_residual").
+  /// (stiffness × largest prescribed displacement from the reference, in x or, after setPrescribedPath, anywhere
+  /// on the path); when neither drives the problem, the material's force at unit strain (stiffness × length). It
+  /// never depends on the current residual, so a wild starting point cannot loosen its own test. Only an objective
+  /// with no scales at all falls back to initialResidual (source "initial_residual").
   ForceScale forceScale(const Eigen::VectorXd& x, double initialResidual) const;
+  /// Statics (solveStatics sets it for its path): the prescribed motion is judged by its largest displacement over
+  /// the load path λ in [from, to], as the loads are judged by their value at λ = 1 (after setScales and
+  /// setPrescribed). By the displacement at the current λ alone, a motion that comes back left its tolerance at
+  /// nothing while the deformation it caused remained: an end turned by 360° is back at its reference, and the
+  /// tolerance fell to 1e-19 N there. clearPrescribedPath() returns to the current displacement alone.
+  void setPrescribedPath(double from, double to);
+  void clearPrescribedPath() { prescribedPathMotion_ = 0.0; }
 
   using StepStartHook = std::function<void(const Eigen::VectorXd& xStart, double tStart, double timeStep)>;
   using StepBound = std::function<double(const Eigen::VectorXd& x, const Eigen::VectorXd& direction)>;
@@ -167,6 +174,7 @@ class Objective {
   HessianAssembler assembler_;
   std::vector<double> termEnergies_;
   PhysicalScales scales_;
+  double prescribedPathMotion_ = 0.0;  // m: setPrescribedPath's largest prescribed displacement
   std::vector<StepStartHook> stepStartHooks_;
   std::vector<StepBound> stepBounds_;
   int patternRebuilds_ = 0;

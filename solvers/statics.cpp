@@ -111,6 +111,12 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
   checkBranchSwitchOptions(o.branchSwitch);
   if (x.size() != objective.numDofs()) throw InputError("load stepping: x has the wrong size");
 
+  // Residuals along this path are judged against its prescribed motion as a whole (Objective::forceScale).
+  struct PrescribedPathScope {
+    Objective& objective;
+    ~PrescribedPathScope() { objective.clearPrescribedPath(); }
+  } scope{objective};
+  objective.setPrescribedPath(o.startLoadFactor, o.targetLoadFactor);
   if (o.path.control != PathControl::Load) return followPath(objective, loads, x, o, callback);
   const double start = o.startLoadFactor, target = o.targetLoadFactor;
   const double direction = target >= start ? 1.0 : -1.0;

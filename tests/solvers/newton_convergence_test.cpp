@@ -68,6 +68,44 @@ TEST_CASE("newton: an edge twisted 720 degrees in 4 load steps never reports con
   SUCCEED();
 }
 
+TEST_CASE("newton: a prescribed motion that comes back to its reference is judged by its whole path",
+          "[newton][convergence]") {
+  // The end turned by two full revolutions is back at its reference at λ = 1/2 and 1 while the strip stays
+  // twisted. Judged by its displacement at λ alone, the tolerance fell to 1e-19 N there: load stepping stalled at
+  // λ = 0.4999 with a residual of 1e-12 N (the stress matrix's extreme/twist_720deg).
+  testing::SingleThread single;
+  ShellSystem system(twistedStrip(2.0), AnalysisKind::Statics);
+  Objective& objective = system.objective();
+  const double stiffness = objective.scales().stiffness;
+  Eigen::VectorXd back = system.restPositions();
+  objective.applyPrescribed(1.0, back);
+  CHECK(objective.forceScale(back, 1.0).value < 1e-9 * stiffness);  // by the displacement at λ = 1 alone
+  objective.setPrescribedPath(0.0, 1.0);
+  // Over the path: the edge's outer vertices 2 × 0.05 m from their reference at λ = 1/4 (half a turn).
+  const ForceScale F = objective.forceScale(back, 1.0);
+  CHECK(F.value == Approx(0.1 * stiffness).epsilon(1e-12));
+  CHECK(F.source == "prescribed_motion");
+  objective.clearPrescribedPath();
+  CHECK(objective.forceScale(back, 1.0).value < 1e-9 * stiffness);
+
+  // Load stepping sets the path itself: it lands on both full turns, each step within its tolerance.
+  Eigen::VectorXd x = system.restPositions();
+  LoadSteppingOptions o;
+  o.levels = {0.25, 0.5, 0.75};
+  o.initialIncrement = 0.0625;
+  o.maxIncrement = 0.0625;
+  const StaticsResult r = solveStatics(system, x, o);
+  INFO(r.message);
+  CHECK(r.completed);
+  for (const LoadStepResult& step : r.steps) {
+    checkClaim(step.summary);
+    CHECK(step.summary.forceScale == Approx(0.1 * stiffness).epsilon(1e-12));
+  }
+  CHECK(x.allFinite());
+  // The path's scale is the solve's alone: the objective is left judging by the displacement at λ again.
+  CHECK(objective.forceScale(back, 1.0).value < 1e-9 * stiffness);
+}
+
 TEST_CASE("newton: with no load and no prescribed motion the tolerance comes from the material, not the residual",
           "[newton][convergence]") {
   testing::SingleThread single;
