@@ -100,7 +100,10 @@ DynamicsSolver::DynamicsSolver(ShellSystem& system, const DynamicsOptions& optio
   Eigen::VectorXd x = system.restPositions();
   system.objective().applyPrescribed(0.0, x);
   setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
+  if (options.duration > 0.0) system.objective().setPrescribedPath(0.0, options.duration);
 }
+
+DynamicsSolver::~DynamicsSolver() { system_.objective().clearPrescribedPath(); }
 
 void DynamicsSolver::setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t) {
   const Eigen::Index n = system_.objective().numDofs();

@@ -112,6 +112,10 @@ struct DynamicsOptions {
   /// κ δ, δ the narrowest contact ramp (ShellContact::narrowestRamp), and its RMS threshold is at least δ/100.
   /// 0: no correction test with contact terms (only the residual estimate and Newton's own tests).
   double contactCorrectionFraction = 0.3;
+  /// The run's length [s]: while the solver lives, its residuals judge the prescribed motion by its largest
+  /// displacement over [0, duration] (Objective::setPrescribedPath), so a grip turned by full turns keeps its
+  /// tolerance where it passes its reference. 0: by the displacement at each step's end alone.
+  double duration = 0.0;
 };
 
 /// Whether the Newton correction test may judge an iterate (see the file comment): its residual estimate fell at
@@ -156,6 +160,10 @@ class DynamicsSolver {
   /// system must be built for Dynamics or DynamicRelaxation and outlive the solver. Starts at rest in the
   /// reference configuration at t = 0 (prescribed positions applied). Throws InputError for invalid options.
   DynamicsSolver(ShellSystem& system, const DynamicsOptions& options);
+  /// Leaves the objective judging prescribed motion by its displacement alone again (DynamicsOptions::duration).
+  ~DynamicsSolver();
+  DynamicsSolver(const DynamicsSolver&) = delete;
+  DynamicsSolver& operator=(const DynamicsSolver&) = delete;
 
   /// Sets the state (x, v: 3N; t in s). Resets the BDF2 history.
   void setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t);

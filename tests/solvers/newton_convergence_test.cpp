@@ -1,6 +1,7 @@
 // Newton never claims a convergence it did not reach: the cases the hostile-input probe found (a twisted edge,
 // a nearly folded rest mesh, huge gravity, loads, stiffness and prescribed displacements) either converge with
 // the residual below a tolerance that does not scale with the residual itself, or say they did not.
+#include "solvers/dynamics.h"
 #include "solvers/newton.h"
 #include "solvers/statics.h"
 #include "tests/solvers/test_problems.h"
@@ -104,6 +105,37 @@ TEST_CASE("newton: a prescribed motion that comes back to its reference is judge
   CHECK(x.allFinite());
   // The path's scale is the solve's alone: the objective is left judging by the displacement at λ again.
   CHECK(objective.forceScale(back, 1.0).value < 1e-9 * stiffness);
+}
+
+TEST_CASE("newton: a grip turned by full turns in dynamics keeps the tolerance of its whole run",
+          "[newton][convergence]") {
+  // The same strip driven in time: two turns in 0.2 s. At t = 0.1 s and 0.2 s the grip is at its reference; with
+  // the run's duration every step is judged against the motion over the run (2 × 0.05 m at a quarter of it).
+  testing::SingleThread single;
+  ShellSystem system(twistedStrip(10.0), AnalysisKind::Dynamics);
+  const double stiffness = system.objective().scales().stiffness;
+  DynamicsOptions o;
+  o.timeStep = 0.01;
+  o.duration = 0.2;
+  std::vector<double> scales;
+  {
+    DynamicsSolver solver(system, o);
+    for (int step = 0; step < 20; ++step) {
+      const StepReport r = solver.step();
+      REQUIRE(r.success);
+      for (const SolverSummary& s : r.solves) {  // (time steps may also end on their iterate test, in metres)
+        CHECK(s.forceScaleSource == "prescribed_motion");
+        if (s.convergenceTest == "residual") CHECK(s.finalResidual <= s.residualThreshold);
+        scales.push_back(s.forceScale);
+      }
+    }
+  }
+  REQUIRE(!scales.empty());
+  for (double F : scales) CHECK(F == Approx(0.1 * stiffness).epsilon(1e-12));
+  // Gone with the solver.
+  Eigen::VectorXd back = system.restPositions();
+  system.objective().applyPrescribed(0.2, back);
+  CHECK(system.objective().forceScale(back, 1.0).value < 1e-9 * stiffness);
 }
 
 TEST_CASE("newton: with no load and no prescribed motion the tolerance comes from the material, not the residual",

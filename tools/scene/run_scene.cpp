@@ -86,6 +86,7 @@ DynamicsOptions dynamicsOptionsFor(const Scene& scene) {
   o.timeStep = scene.analysis.timeStep;
   o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations);
   o.acceptIterationCap = scene.solver.acceptIterationCap;
+  o.duration = scene.analysis.duration;
   return o;
 }
 
