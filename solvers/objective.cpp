@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -239,10 +240,15 @@ ForceScale Objective::forceScale(const Eigen::VectorXd& x, double initialResidua
   ForceScale f;
   if (scales_.force > 0.0) f = {scales_.force, "external_loads"};
   if (scales_.stiffness > 0.0 && scales_.reference.size() == x.size()) {
+    // A displacement within the round-off of the coordinates is no motion (an end turned by exactly 360° lands
+    // 1e-17 m off its reference: that gave a scale of 1e-13 N, and relaxation ran to its step limit at rest).
+    constexpr double kRoundOff = 64.0 * std::numeric_limits<double>::epsilon();
     double moved = prescribedPathMotion_;
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-      if (fixedDof_[static_cast<std::size_t>(i)])
-        moved = std::max(moved, std::abs(x[i] - scales_.reference[i]));
+    for (Eigen::Index i = 0; i < x.size(); ++i) {
+      if (!fixedDof_[static_cast<std::size_t>(i)]) continue;
+      const double d = std::abs(x[i] - scales_.reference[i]);
+      if (d > kRoundOff * (std::abs(scales_.reference[i]) + scales_.length)) moved = std::max(moved, d);
+    }
     const double prescribed = scales_.stiffness * moved;
     if (prescribed > f.value) f = {prescribed, "prescribed_motion"};
   }
