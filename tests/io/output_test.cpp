@@ -324,6 +324,17 @@ TEST_CASE("output: an append-only file is complete after every append and cut ba
   CHECK(readText(path) == "<a>\n1\n3\n</a>\n");
   AppendOnlyFile wrong;
   CHECK_THROWS_WITH(wrong.reopen(path.string(), 1000, "</a>\n"), Catch::Contains("shorter than at the checkpoint"));
+  // A link in its place (an output directory unpacked from elsewhere) is not followed: reopening cut back and
+  // wrote into whatever it pointed to. Nor is a FIFO opened as the file.
+  const fs::path outside = scratch("outside.txt"), link = scratch("linked.xml"), fifo = scratch("fifo.xml");
+  writeFileAtomically(outside.string(), "a file outside the output directory, longer than the cut\n");
+  fs::remove(link);
+  fs::create_symlink(outside, link);
+  CHECK_THROWS_WITH(wrong.reopen(link.string(), afterOne, "</a>\n"), Catch::Contains("a symbolic link"));
+  CHECK(readText(outside) == "a file outside the output directory, longer than the cut\n");
+  fs::remove(fifo);
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_WITH(wrong.reopen(fifo.string(), afterOne, "</a>\n"), Catch::Contains("not a regular file"));
 }
 
 TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete after every frame", "[append]") {

@@ -33,10 +33,18 @@ void AppendOnlyFile::reopen(const std::string& path, std::uint64_t size, const s
   close();
   path_ = path;
   tail_ = tail;
-  fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+  // Not through a symbolic link, and only a regular file: the file is cut back and written in place, so a link
+  // in an output directory (one unpacked from elsewhere) would have cut and written whatever it points to.
+  fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+  if (fd_ < 0 && errno == ELOOP)
+    throw InputError(path + ": a symbolic link: a resumed run writes only the files it wrote itself");
   if (fd_ < 0) throw InputError(path + ": cannot reopen (" + std::strerror(errno) + ")");
   struct stat st {};
-  if (::fstat(fd_, &st) != 0 || static_cast<std::uint64_t>(st.st_size) < size || size < tail.size())
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    close();
+    throw InputError(path + ": not a regular file (a directory, FIFO or device): cannot continue it");
+  }
+  if (static_cast<std::uint64_t>(st.st_size) < size || size < tail.size())
     throw InputError(path + ": shorter than at the checkpoint (" + std::to_string(size) + " bytes)");
   // Whatever was appended after the checkpoint goes; the tail is written back at the cut.
   const std::uint64_t cut = size - tail.size();
