@@ -20,6 +20,7 @@
 #include "solvers/fill_ordering.h"
 #include "solvers/shell_system.h"
 #include "tools/bench_cloth.h"
+#include "tools/output/atomic_file.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_edge_rules.h"
 #include "tools/scene/scene_evaluator.h"
@@ -35,7 +36,6 @@
 #include <chrono>
 #include <ctime>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <memory>
 #include <set>
@@ -282,7 +282,7 @@ int runContactBench(const ContactBenchOptions& o) {
     else out["speedup_scene_over_direct"] = {{"wall", 1.0 / wallRatio}, {"cpu", 1.0 / cpuRatio}};
   }
   if (!o.json.empty()) {
-    std::ofstream(o.json) << out.dump(2) << "\n";
+    writeFileAtomically(o.json, out.dump(2) + "\n");
     std::printf("wrote %s\n", o.json.c_str());
   }
   return failed ? kFailed : kOk;

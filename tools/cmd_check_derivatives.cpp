@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -246,9 +245,7 @@ int run(const CheckOptions& o) {
     nlohmann::json out = nlohmann::json::array();
     const bool pass = runParameterChecks(o, terms, meshes, configurations, out);
     if (!o.json.empty()) {
-      std::ofstream f(o.json);
-      if (!f) throw InputError("--json: cannot write '" + o.json + "'");
-      f << out.dump(2) << "\n";
+      writeFileAtomically(o.json, out.dump(2) + "\n");
     }
     return pass ? kOk : kFailed;
   }
