@@ -362,4 +362,13 @@ TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete a
   }
   CHECK(inode(dir / "frames.pvd") == pvd);
   CHECK(inode(dir / "probes.csv") == csv);
+  // frames/ as a link out of the output directory is refused: the frames would have gone where it points.
+  const fs::path linked = scratch("linked_run"), elsewhere = scratch("elsewhere");
+  fs::remove_all(linked);
+  fs::remove_all(elsewhere);
+  fs::create_directories(linked);
+  fs::create_directories(elsewhere);
+  fs::create_directory_symlink(elsewhere, linked / "frames");
+  CHECK_THROWS_WITH(RunOutput(linked.string(), scene, model), Catch::Contains("frames: a symbolic link"));
+  CHECK(fs::is_empty(elsewhere));
 }

@@ -24,6 +24,15 @@ void createDirectory(const std::filesystem::path& p) {
   if (ec || !std::filesystem::is_directory(p)) throw InputError(p.string() + ": cannot create the output directory (" + ec.message() + ")");
 }
 
+/// frames/ or obj/ inside the output directory, not a link out of it: a link there (an output directory unpacked
+/// from elsewhere, resumed) would put the run's files, and replace same-named ones, wherever it points.
+void createSubdirectory(const std::filesystem::path& p) {
+  std::error_code ec;
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(p, ec)))
+    throw InputError(p.string() + ": a symbolic link: a run writes its files only inside its output directory");
+  createDirectory(p);
+}
+
 /// A CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break, quotes doubled.
 std::string csvField(const std::string& text) {
   if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
@@ -38,8 +47,8 @@ RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel
     : directory_(std::move(directory)), scenePath_(std::move(scenePath)), scene_(scene), model_(model) {
   namespace fs = std::filesystem;
   createDirectory(directory_);
-  if (scene.outputs.vtu) createDirectory(fs::path(directory_) / "frames");
-  if (scene.outputs.obj) createDirectory(fs::path(directory_) / "obj");
+  if (scene.outputs.vtu) createSubdirectory(fs::path(directory_) / "frames");
+  if (scene.outputs.obj) createSubdirectory(fs::path(directory_) / "obj");
   if (!scene.volumes.empty()) {
     const Eigen::Vector3d lo = model.world.V.colwise().minCoeff(), hi = model.world.V.colwise().maxCoeff();
     const double size = std::max(1e-3, 0.8 * (hi - lo).maxCoeff());  // a plane is drawn as a square this half-size
