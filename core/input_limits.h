@@ -41,9 +41,9 @@ struct InputLimits {
   std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)
   std::int64_t maxObjLineBytes = 1 << 16;    // one OBJ line (64 KiB)
   std::int64_t maxSdfBytes = 1LL << 30;      // SDF grid file size (1 GiB: 16.7M samples at up to 60 bytes each)
-  // Samples of all sdfGrid actors together, counted per actor: the scene reader reads each actor's grid, and a
-  // scene can name one file many times (a run holds each file's grid once, 8 bytes a sample). Four grids of the
-  // largest size one file may have (16,777,216 samples).
+  // Samples of all SDF grid files of a scene together, each file counted once however many sdfGrid actors name
+  // it: the scene reader reads each file once, and a run holds each file's grid once (8 bytes a sample). Four
+  // grids of the largest size one file may have (16,777,216 samples).
   std::int64_t maxSdfSamples = 4LL << 24;
   std::int64_t maxSdfLineBytes = 64LL << 20;  // one SDF grid line (64 MiB: a 256 x 256 slice per line fits)
   std::int64_t maxJsonBytes = 256LL << 20;   // scene (JSON) file size (256 MiB)

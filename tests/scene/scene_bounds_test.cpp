@@ -251,14 +251,14 @@ TEST_CASE("scene bounds: conditions, probes, selected vertices, actors and conta
 TEST_CASE("scene bounds: the SDF grids of a scene are bounded together, and a file named twice is held once",
           "[scene][hostile]") {
   BoundsLimitOverride restore;
-  // A scene can name one grid file many times; each actor holds its grid.
+  // The grid files of a scene are bounded together, each counted once however many actors name it.
   const std::filesystem::path dir = test::scratchDirectory("sdf_total");
-  std::ofstream(dir / "g.sdf") << "dims 2 2 2\norigin 0 0 0\nspacing 1\n-1 -1 -1 -1 1 1 1 1\n";
+  for (const char* name : {"g.sdf", "h.sdf", "i.sdf"})
+    std::ofstream(dir / name) << "dims 2 2 2\norigin 0 0 0\nspacing 1\n-1 -1 -1 -1 1 1 1 1\n";
   inputLimits().maxSdfSamples = 16;  // two grids of 8 samples fit, three do not
   Json s = boundsScene();
-  for (int k = 0; k < 3; ++k)
-    s["actors"].push_back({{"type", "sdfGrid"}, {"name", "g" + std::to_string(k)}, {"file", "g.sdf"},
-                           {"center", {0, 0, -5}}});
+  for (const char* name : {"g.sdf", "h.sdf", "i.sdf"})
+    s["actors"].push_back({{"type", "sdfGrid"}, {"name", name}, {"file", name}, {"center", {0, 0, -5}}});
   std::string error = "no error";
   try {
     sceneFromJson(s, dir.string());
@@ -266,15 +266,21 @@ TEST_CASE("scene bounds: the SDF grids of a scene are bounded together, and a fi
     error = e.what();
   }
   CHECK(error == "/actors/3: samples of all SDF grids = 24: too large (at most 16)");
-  // Two actors naming one file (a second name for it too) share its shape: the grid is read and held once.
-  inputLimits() = restore.saved;
+  // One file named by three actors (by a second name for it too) counts once, and its shape is read and held once.
+  s["actors"][2]["file"] = "g.sdf";
   s["actors"][3]["file"] = "./g.sdf";
   const Scene scene = sceneFromJson(s, dir.string());
+  CHECK(sceneTotals(scene).sdfSamples == 8);
+  // Two files, one of them named twice: 16 samples, within the bound.
+  Json two = s;
+  two["actors"][3]["file"] = "h.sdf";
+  CHECK(sceneTotals(sceneFromJson(two, dir.string())).sdfSamples == 16);
+  inputLimits() = restore.saved;
   const ShellProblem problem = shellProblemFromScene(scene, buildSceneModel(scene));
   REQUIRE(problem.volumes.size() == 3);
   CHECK(&problem.volumes[0].collider->shape() == &problem.volumes[1].collider->shape());
   CHECK(&problem.volumes[0].collider->shape() == &problem.volumes[2].collider->shape());
-  CHECK(problem.volumes[2].collider->name() == "g2");
+  CHECK(problem.volumes[2].collider->name() == "i.sdf");
 }
 
 TEST_CASE("scene bounds: inline meshes and index lists are bounded", "[scene][hostile]") {

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <optional>
+#include <set>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -172,7 +173,8 @@ struct Scene {
 struct SceneTotals {
   std::int64_t shells = 0, volumes = 0;
   std::int64_t vertices = 0, faces = 0;  // of all shell actors (stacked)
-  std::int64_t sdfSamples = 0;           // of all sdfGrid actors
+  std::int64_t sdfSamples = 0;           // of all SDF grid files, each counted once (a run holds each once)
+  std::set<std::string> sdfFiles;        // the files counted
   void add(const ShellActorParams& s);
   void add(const VolumeActorParams& v);
 };
