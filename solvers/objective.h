@@ -119,15 +119,17 @@ class Objective {
   /// The force scale F of the configuration x (prescribed values applied) that residuals are judged against, the
   /// same for every solver: the larger of the largest external nodal force and the force of the prescribed motion
   /// (stiffness × largest prescribed displacement from the reference, in x or, after setPrescribedPath, anywhere
-  /// on the path); when neither drives the problem, the material's force at unit strain (stiffness × length). It
+  /// on the path; a displacement within the coordinates' round-off, 64 ε (|X| + L), is no motion); when neither
+  /// drives the problem, the material's force at unit strain (stiffness × length). It
   /// never depends on the current residual, so a wild starting point cannot loosen its own test. Only an objective
   /// with no scales at all falls back to initialResidual (source "initial_residual").
   ForceScale forceScale(const Eigen::VectorXd& x, double initialResidual) const;
-  /// Statics (solveStatics sets it for its path): the prescribed motion is judged by its largest displacement over
-  /// the load path λ in [from, to], as the loads are judged by their value at λ = 1 (after setScales and
-  /// setPrescribed). By the displacement at the current λ alone, a motion that comes back left its tolerance at
-  /// nothing while the deformation it caused remained: an end turned by 360° is back at its reference, and the
-  /// tolerance fell to 1e-19 N there. clearPrescribedPath() returns to the current displacement alone.
+  /// Set by solveStatics for its load path λ in [from, to] and by DynamicsSolver for its run t in [0, duration]:
+  /// the prescribed motion is judged by its largest displacement over the path, as the loads are judged by their
+  /// value at λ = 1 (after setScales and setPrescribed). By the displacement at the current λ alone, a motion
+  /// that comes back left its tolerance at nothing while the deformation it caused remained: an end turned by 360°
+  /// is back at its reference, and the tolerance fell to 1e-19 N there. clearPrescribedPath() returns to the
+  /// current displacement alone.
   void setPrescribedPath(double from, double to);
   void clearPrescribedPath() { prescribedPathMotion_ = 0.0; }
 
