@@ -275,6 +275,14 @@ TEST_CASE("scene bounds: the SDF grids of a scene are bounded together, and a fi
   Json two = s;
   two["actors"][3]["file"] = "h.sdf";
   CHECK(sceneTotals(sceneFromJson(two, dir.string())).sdfSamples == 16);
+  // The run counts the grids it reads as well: a scene whose actors name other files than the reader counted (one
+  // built through the API, or files replaced since the scene was read) is bounded all the same.
+  Scene renamed = sceneFromJson(s, dir.string());
+  for (VolumeActorParams& v : renamed.volumes) v.sdfSamples = 0;  // as the API builds them: no counts
+  renamed.volumes[1].sdfFile = (dir / "h.sdf").string();
+  renamed.volumes[2].sdfFile = (dir / "i.sdf").string();
+  CHECK_THROWS_WITH(shellProblemFromScene(renamed, buildSceneModel(renamed)),
+                    Catch::Contains("i.sdf: samples of all SDF grids of the scene = 24: too large (at most 16)"));
   inputLimits() = restore.saved;
   const ShellProblem problem = shellProblemFromScene(scene, buildSceneModel(scene));
   REQUIRE(problem.volumes.size() == 3);

@@ -1,5 +1,7 @@
 #include "tools/scene/volume_colliders.h"
 
+#include "core/input_limits.h"
+#include "core/mesh.h"
 #include "energies/contact/sdf_grid.h"
 
 namespace jetshell {
@@ -8,9 +10,17 @@ namespace {
 
 VolumeShapePtr sdfShape(const std::string& file, SdfShapes* shapes) {
   if (shapes)
-    if (const auto found = shapes->find(file); found != shapes->end()) return found->second;
-  VolumeShapePtr shape = makeSdfGridShape(readSdfGrid(file));
-  if (shapes) shapes->emplace(file, shape);
+    if (const auto found = shapes->byFile.find(file); found != shapes->byFile.end()) return found->second;
+  SdfGrid grid = readSdfGrid(file);
+  if (shapes) {
+    shapes->samples += static_cast<std::int64_t>(grid.values.size());
+    const std::int64_t limit = inputLimits().maxSdfSamples;
+    if (shapes->samples > limit)
+      throw InputError(file + ": samples of all SDF grids of the scene = " + std::to_string(shapes->samples) +
+                       ": too large (at most " + std::to_string(limit) + ")");
+  }
+  VolumeShapePtr shape = makeSdfGridShape(std::move(grid));
+  if (shapes) shapes->byFile.emplace(file, shape);
   return shape;
 }
 
