@@ -36,15 +36,14 @@ constexpr std::array<Cell, 13> kForward = {{{0, 0, 1},
                                            {1, 0, -1}, {1, 0, 0}, {1, 0, 1},
                                            {1, 1, -1}, {1, 1, 0}, {1, 1, 1}}};
 
+/// A coordinate in cell units that a cell index can hold (finite, within 1e15 cells of the origin).
+bool inCellRange(double v) { return std::isfinite(v) && std::abs(v) < 1e15; }
+
 }  // namespace
 
 bool hashablePoint(const double* point, double radius) {
   const double inv = 1.0 / radius;
-  for (int c = 0; c < 3; ++c) {
-    const double v = point[c] * inv;
-    if (!(std::isfinite(v) && std::abs(v) < 1e15)) return false;
-  }
-  return true;
+  return inCellRange(point[0] * inv) && inCellRange(point[1] * inv) && inCellRange(point[2] * inv);
 }
 
 std::vector<PointPair> findClosePairs(const std::vector<double>& points, double radius, const PairFilter& filter) {
@@ -62,10 +61,10 @@ std::vector<PointPair> findClosePairs(const std::vector<double>& points, double 
 #pragma omp parallel for schedule(static) reduction(&& : finite) if (n >= 4096)
   for (int i = 0; i < n; ++i) {
     Cell& cell = cellOf[static_cast<std::size_t>(i)];
-    finite = finite && hashablePoint(points.data() + 3 * static_cast<std::size_t>(i), radius);
     for (int c = 0; c < 3; ++c) {
       const double v = points[3 * static_cast<std::size_t>(i) + c] * inv;
-      const bool inRange = std::isfinite(v) && std::abs(v) < 1e15;
+      const bool inRange = inCellRange(v);
+      finite = finite && inRange;
       cell[static_cast<std::size_t>(c)] = inRange ? static_cast<std::int64_t>(std::floor(v)) : 0;
     }
     bucketOf[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(cellHash(cell) & mask);

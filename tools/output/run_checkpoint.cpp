@@ -127,12 +127,6 @@ class Fields {
   std::string file_, path_;
 };
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
 SolverCheckpoint solverFrom(const Fields& f, const CheckpointScene& scene) {
   SolverCheckpoint s;
   const std::size_t n = 3 * static_cast<std::size_t>(scene.vertices);
@@ -143,10 +137,10 @@ SolverCheckpoint solverFrom(const Fields& f, const CheckpointScene& scene) {
   s.x = f.vector("x", n);
   s.v = f.vector("v", n);
   // The previous step's state matters only with a valid history; without one the solver may hold none.
-  for (const char* key : {"x_prev", "v_prev"}) {
+  for (const auto& [key, previous] : {std::pair{"x_prev", &s.xPrev}, std::pair{"v_prev", &s.vPrev}}) {
     const Json& v = f.at(key);
     const bool empty = v.is_array() && v.empty() && !s.historyValid;
-    (key[0] == 'x' ? s.xPrev : s.vPrev) = empty ? Eigen::VectorXd() : f.vector(key, n);
+    *previous = empty ? Eigen::VectorXd() : f.vector(key, n);
   }
   return s;
 }
@@ -158,8 +152,11 @@ SafeguardCounts safeguardsFrom(const Fields& f, const CheckpointScene& scene) {
     f.fail("cuts", "must be an object of at most " + std::to_string(scene.cutReasons.size()) + " counts by reason");
   const Fields byReason = f.object("cuts");
   for (const auto& item : cuts.items()) {
-    if (std::find(scene.cutReasons.begin(), scene.cutReasons.end(), item.key()) == scene.cutReasons.end())
-      f.fail("cuts", "a reason must be one of the reasons a step is cut for (" + joined(scene.cutReasons) + ")");
+    if (std::find(scene.cutReasons.begin(), scene.cutReasons.end(), item.key()) == scene.cutReasons.end()) {
+      std::string list;
+      for (const std::string& r : scene.cutReasons) list += (list.empty() ? "" : ", ") + r;
+      f.fail("cuts", "a reason must be one of the reasons a step is cut for (" + list + ")");
+    }
     s.cuts[item.key()] = byReason.count(item.key());
   }
   s.nonFiniteTrials = f.count("non_finite_trials");
@@ -220,10 +217,8 @@ OutputCheckpoint outputFrom(const Fields& f, const CheckpointScene& scene, int s
     f.fail("last_recorded_step", "must be the last row's step (-1 without rows)");
   o.flushedRows = static_cast<std::size_t>(f.integer("flushed_rows", 0, static_cast<std::int64_t>(rows.size())));
   o.flushedRowChanged = f.boolean("flushed_row_changed");
-  for (const char* key : {"pvd_bytes", "probes_bytes"}) {
-    if (f.at(key).is_null()) continue;
-    (key[1] == 'v' ? o.pvdBytes : o.probesBytes) = static_cast<std::uint64_t>(f.integer(key, 0, kMaxOutputBytes));
-  }
+  for (const auto& [key, bytes] : {std::pair{"pvd_bytes", &o.pvdBytes}, std::pair{"probes_bytes", &o.probesBytes}})
+    if (!f.at(key).is_null()) *bytes = static_cast<std::uint64_t>(f.integer(key, 0, kMaxOutputBytes));
   return o;
 }
 

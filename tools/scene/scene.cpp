@@ -86,7 +86,8 @@ void SceneTotals::add(const ShellActorParams& s) {
 
 void SceneTotals::add(const VolumeActorParams& v) {
   ++volumes;
-  if (v.kind == VolumeActorParams::Kind::SdfGrid && sdfFiles.insert(v.sdfFile).second) sdfSamples += v.sdfSamples;
+  if (v.kind == VolumeActorParams::Kind::SdfGrid && sdfFiles.emplace(v.sdfFile, v.sdfSamples).second)
+    sdfSamples += v.sdfSamples;
 }
 
 SceneTotals sceneTotals(const Scene& scene) {

@@ -9,8 +9,8 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <map>
 #include <optional>
-#include <set>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -174,7 +174,7 @@ struct SceneTotals {
   std::int64_t shells = 0, volumes = 0;
   std::int64_t vertices = 0, faces = 0;  // of all shell actors (stacked)
   std::int64_t sdfSamples = 0;           // of all SDF grid files, each counted once (a run holds each once)
-  std::set<std::string> sdfFiles;        // the files counted
+  std::map<std::string, std::int64_t> sdfFiles;  // the files counted: resolved path -> samples
   void add(const ShellActorParams& s);
   void add(const VolumeActorParams& v);
 };

@@ -16,7 +16,6 @@
 #include <limits>
 
 #include <filesystem>
-#include <map>
 #include <sstream>
 
 namespace jetshell {
@@ -402,10 +401,10 @@ void readShell(const Value& v, Scene& scene, const std::string& baseDirectory) {
   forEach(o, "probes", [&](const Value& e) { readProbe(e, actor, scene); });
 }
 
-/// gridsRead: the SDF grid files read so far for this scene (normalized path -> samples): a file named by several
-/// actors is read once, as the run holds it once (SdfShapes).
+/// totals: the scene's so far, whose SDF grid files (resolved path -> samples) are read once: a file named by
+/// several actors is read once, as the run holds it once (SdfShapes).
 void readVolume(const Value& v, const std::string& type, Scene& scene, const std::string& baseDirectory,
-                std::map<std::string, std::int64_t>& gridsRead) {
+                const SceneTotals& totals) {
   VolumeActorParams p;
   std::vector<std::string> keys = {"type", "name", "layer", "contact", "velocity", "angularVelocity"};
   if (type == "plane") keys.insert(keys.end(), {"point", "normal"});
@@ -446,13 +445,12 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
     const std::string file = o.string("file", "");
     if (file.empty()) throw InputError(o.member("file") + ": missing (the SDF grid file)");
     p.sdfFile = (std::filesystem::path(baseDirectory) / file).lexically_normal().string();
-    const auto read = gridsRead.find(p.sdfFile);
-    if (read != gridsRead.end()) {
+    const auto read = totals.sdfFiles.find(p.sdfFile);
+    if (read != totals.sdfFiles.end()) {
       p.sdfSamples = read->second;
     } else {
       const SdfGrid grid = at(o.member("file"), [&] { return readSdfGrid(p.sdfFile); });  // named errors now
       p.sdfSamples = static_cast<std::int64_t>(grid.values.size());
-      gridsRead.emplace(p.sdfFile, p.sdfSamples);
     }
   }
   p.velocity = o.vec3("velocity", Eigen::Vector3d::Zero());
@@ -604,7 +602,6 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
   // The totals are checked after each actor, so that no shape is generated or read past a scene-wide bound (a
   // 1 KB scene of many large generated shells would otherwise fill the memory before validate() below).
   SceneTotals totals;
-  std::map<std::string, std::int64_t> gridsRead;
   for (const Value& a : actors) {
     if (!a.isObject()) a.typeError("an object (an actor)");
     const std::string type =
@@ -615,7 +612,7 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
       readShell(a, scene, baseDirectory);
       totals.add(scene.shells.back());
     } else {
-      readVolume(a, type, scene, baseDirectory, gridsRead);
+      readVolume(a, type, scene, baseDirectory, totals);
       totals.add(scene.volumes.back());
     }
     checkSceneTotals(totals, a.pointer());
