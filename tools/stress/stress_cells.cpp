@@ -66,6 +66,21 @@ Json clothOnFloor(double g, double radius, int n, const Json& analysis) {
   return s;
 }
 
+/// A cloth (n × n quads, 1 m, 0.1 m above z = 0) falling under `g` onto `volume` with the volume's contact
+/// parameters; with `radius` > 0 it is a point cloud with self-contact, else it has no collider of its own.
+Json clothOver(const Json& volume, double g, int n, double radius, const Json& analysis) {
+  Json cloth = shell(rectangle(1.0, 1.0, n, n), plate(1e5, 0.25, 0.002), Json::array(), Json::array());
+  if (radius > 0.0) {
+    cloth["colliderType"] = "PointCloud";
+    cloth["pointCloudCollider"] = {{"radius", radius}, {"selfContact", true}};
+  }
+  cloth["worldFromLocalTransform"] = {{"translation", {-0.5, -0.5, 0.1}}};
+  cloth["probes"] = {{{"name", "P"}, {"select", {{"nearest", {0.5, 0.5, 0.1}}}}}};
+  Json s = scene(cloth, analysis, {0.0, 0.0, -g});
+  s["actors"].push_back(volume);
+  return s;
+}
+
 /// A cloth pinned at its two top corners.
 Json hangingCloth(const Json& shape, const Json& analysis, Json solver = Json::object()) {
   const Json pins = {{{"select", {{"nearest", {0.0, 1.0, 0.0}}}}}, {{"select", {{"nearest", {1.0, 1.0, 0.0}}}}}};
@@ -229,6 +244,67 @@ std::vector<StressCell> stressCells(bool q) {
                    {{"select", {{"group", "right"}}}, {"displacement", {0.0, 0.0, 1e3}}}},
                   Json::array()),
             staticSteps(4)));
+  // Contact at the edges of its parameters and colliders.
+  const Json sphere = {{"type", "sphere"}, {"name", "ball"}, {"center", {0.0, 0.0, -0.3}}, {"radius", 0.35}};
+  Json stiffBall = sphere;
+  stiffBall["contact"] = {{"penaltyStiffness", 1e13}};
+  add(c, q, false, "contact/penalty_1e13_sphere", "cloth falling onto a ball with a 1e13 Pa/m penalty, 60 Hz",
+      clothOver(stiffBall, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 12)));
+  Json softBall = sphere;
+  softBall["contact"] = {{"penaltyStiffness", 1.0}};
+  add(c, q, false, "contact/penalty_1_sphere", "cloth falling onto a ball with a 1 Pa/m penalty (sinks in), 60 Hz",
+      clothOver(softBall, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 12)));
+  const Json spinning = {{"type", "box"}, {"name", "spinner"}, {"center", {0.0, 0.0, -0.1}},
+                         {"halfExtents", {0.3, 0.3, 0.1}}, {"angularVelocity", {0.0, 0.0, 60.0}}};
+  add(c, q, false, "contact/spinning_box", "cloth falling onto a box spinning at 60 rad/s, friction 0.5, 60 Hz",
+      clothOver(spinning, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 12)));
+  const Json bullet = {{"type", "capsule"},          {"name", "bullet"},
+                       {"center", {0.0, 0.0, -0.2}}, {"radius", 0.05},
+                       {"halfLength", 0.1},          {"velocity", {0.0, 0.0, 30.0}}};
+  add(c, q, true, "contact/capsule_at_30m_s", "capsule rising at 30 m/s through a falling cloth, 60 Hz",
+      clothOver(bullet, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 6)));
+  Json faster = bullet;
+  faster["velocity"] = {0.0, 0.0, 300.0};
+  add(c, q, false, "contact/capsule_at_300m_s", "capsule rising at 300 m/s (5 m a step) through a cloth, 60 Hz",
+      clothOver(faster, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 6)));
+  Json incline = {{"type", "plane"}, {"name", "incline"}, {"point", {0.0, 0.0, 0.0}}, {"normal", {0.0, 0.5, 0.866}}};
+  for (double mu : {0.0, 100.0}) {
+    incline["contact"] = {{"frictionCoefficient", mu}};
+    Json s = clothOver(incline, 9.81, 6, 0.0, dynamic(1.0 / 60.0, 12));
+    s["actors"][0]["contact"] = {{"frictionCoefficient", mu}};
+    add(c, q, false, "contact/incline_friction_" + sci(mu), "cloth landing on a 30 deg incline, this friction, 60 Hz",
+        s);
+  }
+  {
+    Json s = clothOver({{"type", "plane"}, {"name", "floor"}}, 9.81, 8, 0.02, dynamic(1.0 / 60.0, 12, "bdf2"));
+    Json top = s["actors"][0];
+    top["name"] = "top";
+    top["worldFromLocalTransform"] = {{"translation", {-0.45, -0.5, 0.13}}};
+    top["probes"][0]["name"] = "Q";
+    s["actors"].push_back(top);
+    add(c, q, false, "contact/two_cloths_bdf2", "two point-cloud cloths 3 cm apart falling on a floor, BDF2, 60 Hz",
+        s);
+  }
+  // The other static solvers: relaxation and path following.
+  add(c, q, false, "relaxation/thin_h_L=1e-05", "cantilever of h/L 1e-5 under its weight by dynamic relaxation",
+      cantilever(plate(1e9, 0.3, 1e-5), 0.0,
+                 {{"type", "dynamicRelaxation"}, {"timeStep", 0.01}, {"massDamping", 5.0}, {"maxSteps", 2000}}));
+  add(c, q, false, "relaxation/no_supports", "dynamic relaxation of an unsupported sheet under its weight",
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01), Json::array(), Json::array()),
+            {{"type", "dynamicRelaxation"}, {"timeStep", 0.01}, {"massDamping", 5.0}, {"maxSteps", 200}}));
+  add(c, q, false, "path/arc_length_compressed", "sheet pushed to 20% of its length by arc length",
+      scene(shell(rectangle(1.0, 1.0, 6, 6), plate(1e6, 0.3, 0.01),
+                  {{{"select", {{"group", "left"}}}, {"clampRotation", true}},
+                   {{"select", {{"group", "right"}}}, {"displacement", {-0.8, 0.0, 0.0}}, {"clampRotation", true}}},
+                  Json::array()),
+            {{"type", "static"}, {"loadSteps", 8}, {"pathControl", {{"type", "arcLength"}, {"maxSteps", 300}}}}));
+  add(c, q, false, "path/displacement_past_length", "cantilever tip driven 3 m down (past its length) by its load",
+      cantilever(plate(1e6, 0.3, 0.01), -1.0,
+                 {{"type", "static"},
+                  {"loadSteps", 4},
+                  {"pathControl",
+                   {{"type", "displacement"}, {"probe", "P"}, {"component", "z"}, {"displacement", -3.0}}}},
+                 {0.0, 0.0, 0.0}));
   return c;
 }
 

@@ -1,7 +1,8 @@
 // The stress matrix of `jetshell stress` (STABILITY.md): small scenes at the edges of what the solvers take —
 // thickness-to-size ratio, Young's modulus, Poisson's ratio, time step, load stepping, sliver triangles, rest
-// meshes folded near 180°, crumpled states, unsupported and inverting loads — each run through the same path as
-// `jetshell run` and judged:
+// meshes folded near 180°, crumpled states, unsupported and inverting loads, contact (penalty stiffness, friction,
+// fast and spinning solids, two cloths), dynamic relaxation and path following — each run through the same path
+// as `jetshell run` and judged:
 //   ok              the run completed (converged, or every requested step done)
 //   failed_cleanly  the run stopped with a stated reason (not converged, refused input), no NaN anywhere
 // Anything else is a defect: NaN in an output file, an exception that is not an input error, a crash, a run over
