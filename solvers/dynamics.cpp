@@ -49,7 +49,7 @@ double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
     s << "dynamics: timeStep = " << o.timeStep << ": must be finite and > 0";
     throw InputError(s.str());
   }
-  if (o.maxCuts < 0) throw InputError("dynamics: maxCuts must be >= 0");
+  if (o.maxCuts < 0 || o.maxCuts > 30) throw InputError("dynamics: maxCuts must lie in [0, 30]");
   if (!(std::isfinite(o.updateTolerance) && o.updateTolerance >= 0.0))
     throw InputError("dynamics: updateTolerance must be finite and >= 0");
   if (!(std::isfinite(o.contactCorrectionFraction) && o.contactCorrectionFraction >= 0.0 &&
@@ -281,16 +281,19 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   return true;
 }
 
-bool DynamicsSolver::advance(double h, int depth, bool allowBdf2, StepReport& report) {
-  const bool bdf2 = allowBdf2 && options_.integrator == TimeIntegrator::BDF2 && historyValid_ &&
-                    std::abs(historyStep_ - h) <= 1e-12 * h;
-  if (attempt(h, bdf2, report)) return true;
-  if (depth >= options_.maxCuts) return false;
-  ++report.cuts;
+bool DynamicsSolver::advance(double h, int depth, int planned, bool allowBdf2, StepReport& report) {
+  if (depth >= planned) {
+    const bool bdf2 = allowBdf2 && options_.integrator == TimeIntegrator::BDF2 && historyValid_ &&
+                      std::abs(historyStep_ - h) <= 1e-12 * h;
+    if (attempt(h, bdf2, report)) return true;
+    if (depth - planned >= options_.maxCuts) return false;
+    ++report.cuts;
+  }
   const Eigen::VectorXd x0 = x_, v0 = v_;
   const double t0 = t_;
   const int substeps0 = report.substeps, movedOn0 = report.movedOn;
-  if (advance(0.5 * h, depth + 1, false, report) && advance(0.5 * h, depth + 1, false, report)) return true;
+  if (advance(0.5 * h, depth + 1, planned, false, report) && advance(0.5 * h, depth + 1, planned, false, report))
+    return true;
   x_ = x0;
   v_ = v0;
   t_ = t0;
@@ -299,12 +302,30 @@ bool DynamicsSolver::advance(double h, int depth, bool allowBdf2, StepReport& re
   return false;
 }
 
+int DynamicsSolver::plannedHalvings(double h, StepReport& report) const {
+  if (system_.contact.volume.empty()) return 0;
+  const ShellContact::SolidSweep sweep = system_.contact.solidSweep(x_, v_, t_, h);
+  int k = 0;
+  while (k <= options_.maxCuts && std::ldexp(1.0, k) < sweep.parts) ++k;
+  if (k <= options_.maxCuts) return k;
+  std::ostringstream s;
+  const int most = 1 << options_.maxCuts;
+  s << "time step at t = " << t_ << ": the solid '" << sweep.solid << "' moves " << sweep.travel
+    << " m near the shell within the step, more than " << most << " parts of it can follow (each may move "
+    << sweep.allowed << " m, a fraction of its thinnest half-width, or it may pass through the shell unseen: "
+    << "take a time step of at most " << h * most / sweep.parts << " s)";
+  report.message = s.str();
+  return -1;
+}
+
 StepReport DynamicsSolver::step() {
   StepReport report;
   const double h = options_.timeStep;
   report.timeStep = h;
   const Eigen::VectorXd x0 = x_, v0 = v_;
-  report.success = advance(h, 0, true, report);
+  const int planned = plannedHalvings(h, report);
+  report.parts = planned > 0 ? 1 << planned : 1;
+  report.success = planned >= 0 && advance(h, 0, planned, true, report);
   if (report.success) {
     // The state one full step back is the BDF2 history, whether or not the step was cut.
     xPrev_ = x0;
@@ -313,7 +334,7 @@ StepReport DynamicsSolver::step() {
     historyValid_ = true;
     ++steps_;
     report.message.clear();
-  } else {
+  } else if (planned >= 0) {
     std::ostringstream s;
     s << "time step at t = " << t_ << " failed after " << report.cuts << " cuts; last attempt: " << report.message;
     report.message = s.str();

@@ -13,7 +13,10 @@
 // A step whose Newton solve fails (see DynamicsOptions::acceptIterationCap) is cut: the state is restored and
 // the step is retried as two half steps (backward Euler), recursively up to maxCuts times. The state only ever
 // takes converged (or, with acceptIterationCap, "moved on") finite values; when every cut fails the step reports
-// failure and the state is unchanged.
+// failure and the state is unchanged. A step near a fast moving solid is divided up front into 2^k equal parts
+// (ShellContact::solidSweep: in each part no solid moves near the shell by more than half its thinnest
+// half-width, so none passes through it unseen), each part cut as above when it fails; a step that would need
+// more than 2^maxCuts parts fails, saying which solid and what time step would do.
 // Newton starts from the extrapolated trajectory when extrapolatedStart: the integrator's own step under the constant
 // acceleration a = (v_n − v_{n−1})/Δt_{n−1} of the last full step, x_n + Δt v_n + Δt² a for backward Euler
 // (v_{n+1} = v_n + Δt a) and x_n + Δt v_n + ½Δt² a for BDF2 (exact for a parabola); else from the inertial
@@ -149,6 +152,7 @@ struct StepReport {
   int movedOn = 0;           // of them, accepted at the iteration cap without convergence (acceptIterationCap)
   int stayRestarts = 0;      // solves done again from x_n, the first having ended above it or crushed (guardedEnd)
   int cuts = 0;              // halvings
+  int parts = 1;             // the equal parts the step was divided into up front for a moving solid (1: none)
   int newtonIterations = 0;  // over every attempt
   double assemblySeconds = 0.0, factorizationSeconds = 0.0, solveSeconds = 0.0, lineSearchSeconds = 0.0;
   std::vector<SolverSummary> solves;  // every attempt, failed ones included
@@ -203,7 +207,11 @@ class DynamicsSolver {
   ShellSystem& system() { return system_; }
 
  private:
-  bool advance(double h, int depth, bool allowBdf2, StepReport& report);
+  /// Advances h, first dividing it into halves down to depth planned, then cutting a failed part.
+  bool advance(double h, int depth, int planned, bool allowBdf2, StepReport& report);
+  /// The halvings a step of h needs up front for the moving solids (ShellContact::solidSweep); -1 when more
+  /// than maxCuts (report.message says why).
+  int plannedHalvings(double h, StepReport& report) const;
   bool attempt(double h, bool bdf2, StepReport& report);
 
   ShellSystem& system_;

@@ -16,10 +16,23 @@ std::vector<std::string> ShellContact::termNames() const {
   return names;
 }
 
+ShellContact::SolidSweep ShellContact::solidSweep(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t,
+                                                  double h) const {
+  SolidSweep sweep;
+  for (const VolumeContactTerms& term : volume) {
+    const double thinnest = term.state->collider->shape().thinnestHalfWidth();
+    if (!std::isfinite(thinnest)) continue;  // the half-space has no far side to jump to
+    const double travel = term.state->solidTravel(x, v, t, h), allowed = stepFraction * thinnest;
+    if (travel > sweep.parts * allowed) sweep = {travel / allowed, term.state->collider->name(), travel, allowed};
+  }
+  return sweep;
+}
+
 ShellContact addShellContact(Objective& objective, const std::vector<ShellContactActor>& actors,
                              const std::vector<VolumeColliderPart>& volumes, const Positions& rest, bool dynamic,
                              double stepFraction) {
   ShellContact c;
+  c.stepFraction = stepFraction;
   const int n = static_cast<int>(rest.rows());
   for (const ShellContactActor& a : actors) {
     if (!a.mesh) throw InputError("contact: actor '" + a.name + "' has no mesh");

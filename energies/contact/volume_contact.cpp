@@ -183,6 +183,32 @@ double VolumeContactState::minDistance(const Eigen::VectorXd& x) const {
   return m;
 }
 
+double VolumeContactState::solidTravel(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double tStart,
+                                       double h) const {
+  const RigidPath& path = collider->path();
+  if (path.isStatic() || !(h > 0.0)) return 0.0;
+  // Over the step a material point at p moves to c(t + h) + Rot(ω h) (p − c(t)) (volume_collider.h); a turn
+  // about an axis of the shape's symmetry leaves its surface in place and is left out.
+  const Eigen::Vector3d centre = path.originAt(tStart), shift = h * path.velocity;
+  const Eigen::Matrix3d R = path.rotationAt(tStart);
+  const Eigen::Vector3d omega = R * collider->shape().surfaceTurning(R.transpose() * path.angularVelocity);
+  const double angle = omega.norm() * h;
+  const Eigen::Matrix3d turn =
+      angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, omega.normalized()).toRotationMatrix() -
+                                    Eigen::Matrix3d::Identity())
+                  : Eigen::Matrix3d::Zero();
+  double largest = 0.0;
+  for (int e = 0; e < sampling.numElements(); ++e)
+    for (int q = 0; q < sampling.pointsPerElement; ++q) {
+      const Eigen::Vector3d p = point(x, e, q);
+      const double move = (shift + turn * (p - centre)).norm();
+      if (!(move > largest)) continue;
+      const double reach = move + h * point(v, e, q).norm() + params.activationDistance;
+      if (collider->query(p, tStart).distance <= reach) largest = move;
+    }
+  return largest;
+}
+
 VolumeContactTerms makeVolumeContactTerms(ContactSampling sampling, int numVertices, VolumeColliderPtr collider,
                                           const ContactParams& params, const std::string& suffix, int firstVertex) {
   if (firstVertex < 0) throw InputError("volume contact: firstVertex must not be negative");

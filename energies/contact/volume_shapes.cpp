@@ -48,6 +48,7 @@ class SphereShape : public VolumeShape {
     return roundDistance(p, Eigen::Vector3d::Zero(), r_);
   }
   double thinnestHalfWidth() const override { return r_; }
+  Eigen::Vector3d surfaceTurning(const Eigen::Vector3d&) const override { return Eigen::Vector3d::Zero(); }
 
  private:
   double r_;
@@ -97,6 +98,7 @@ class CapsuleShape : public VolumeShape {
     return roundDistance(p, Eigen::Vector3d(0.0, 0.0, z), r_, side ? 2 : -1);
   }
   double thinnestHalfWidth() const override { return r_; }
+  Eigen::Vector3d surfaceTurning(const Eigen::Vector3d& w) const override { return {w.x(), w.y(), 0.0}; }
 
  private:
   double r_, l_;

@@ -31,6 +31,9 @@ class VolumeShape {
   /// Half the width of the solid's thinnest part [m] (infinite for the half-space): a point that moves less than
   /// this from outside cannot come out on the far side, so contact's step bound allows at least a fraction of it.
   virtual double thinnestHalfWidth() const = 0;
+  /// The part of an angular velocity (local axes) that moves the solid's surface: none of a rotation about an
+  /// axis of symmetry through the origin (a ball's any axis, a capsule's own), which turns the solid in place.
+  virtual Eigen::Vector3d surfaceTurning(const Eigen::Vector3d& angularVelocity) const { return angularVelocity; }
 };
 
 using VolumeShapePtr = std::shared_ptr<const VolumeShape>;

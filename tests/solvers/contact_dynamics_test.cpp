@@ -1,6 +1,7 @@
 // Shells meeting rigid volume actors and each other, through the solver (ShellSystem + DynamicsSolver):
 // friction on an incline, a cloth draped on a sphere and sliding off a box, two cloths dropped on each other,
-// a problem without colliders that builds no contact at all, and the Newton correction test on contact steps.
+// a problem without colliders that builds no contact at all, the Newton correction test on contact steps, and
+// steps divided for a fast moving solid.
 // Small meshes, a few hundred steps at most.
 #include "core/mesh_generators.h"
 #include "solvers/dynamics.h"
@@ -172,6 +173,74 @@ TEST_CASE("contact dynamics: a cloth falling at 6 m/s does not pass through a sm
   const int centre = 4 * 9 + 4;
   CHECK(x[3 * centre + 1] > 0.02);  // held on top of the ball (its top at y = 0.03), not below it
   CHECK(system.contact.volume[0].state->minDistance(x) > -0.005);
+}
+
+/// A 0.3 m cloth (8 × 8 cells) at rest at height y = 0.05, and a capsule of radius 2 cm (axis along y, 2 cm
+/// half length) whose top starts 5 cm below the cloth and rises at `speed` m/s.
+ShellProblem clothOverRisingCapsule(double speed) {
+  ShellProblem p;
+  p.mesh = square(0.3, 8, {0.0, 0.05, 0.0});
+  p.material = cloth();
+  RigidPath path;
+  path.origin = {0.0, -0.04, 0.0};
+  path.rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY());
+  path.velocity = {0.0, speed, 0.0};
+  p.volumes = {{std::make_shared<VolumeCollider>("bullet", makeCapsuleShape(0.02, 0.02), path), ContactParams{}}};
+  return p;
+}
+
+TEST_CASE("contact dynamics: a solid rising at 12 m/s through a cloth carries it instead of passing through",
+          "[contact]") {
+  // At 60 Hz the capsule rises 20 cm a step, five times its height: seen only where each step ends, it would be
+  // below the cloth at one step's end and above it at the next. The step is divided so that it moves at most
+  // half its thinnest half-width (1 cm) per part: 32 parts.
+  ShellProblem p = clothOverRisingCapsule(12.0);
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsOptions o = options();
+  o.acceptIterationCap = true;
+  DynamicsSolver solver(system, o);
+  const ShellContact::SolidSweep sweep =
+      system.contact.solidSweep(solver.positions(), solver.velocities(), 0.0, o.timeStep);
+  CHECK(sweep.solid == "bullet");
+  CHECK(sweep.travel == Approx(0.2));
+  CHECK(sweep.allowed == Approx(0.01));
+  const int centre = 4 * 9 + 4;
+  double highest = -1.0;
+  for (int s = 0; s < 3; ++s) {
+    const StepReport r = solver.step();
+    REQUIRE(r.success);
+    CHECK(r.parts >= 16);
+    REQUIRE(solver.positions().allFinite());
+    highest = std::max(highest, solver.positions()[3 * centre + 1]);
+  }
+  // Three steps take the capsule's top from y = 0 to 0.6 m: the cloth's centre went up with it.
+  CHECK(highest > 0.3);
+}
+
+TEST_CASE("contact dynamics: a step a moving solid would need more than 2^maxCuts parts for fails, naming it",
+          "[contact]") {
+  ShellProblem p = clothOverRisingCapsule(300.0);  // 5 m a step against 1 cm a part
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsSolver solver(system, options());
+  const Eigen::VectorXd before = solver.positions();
+  const StepReport r = solver.step();
+  CHECK_FALSE(r.success);
+  CHECK(r.newtonIterations == 0);
+  CHECK(solver.positions() == before);
+  CHECK(solver.time() == 0.0);
+  CHECK_THAT(r.message, Catch::Contains("the solid 'bullet' moves 5 m near the shell") &&
+                            Catch::Contains("more than 64 parts") && Catch::Contains("take a time step of at most"));
+}
+
+TEST_CASE("contact dynamics: a static or distant solid divides no step", "[contact]") {
+  ShellProblem p = clothOverRisingCapsule(12.0);
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  const Eigen::VectorXd x = system.restPositions(), v = Eigen::VectorXd::Zero(x.size());
+  // 1 ms: the capsule rises 1.2 cm, and its top is 5 cm below the cloth.
+  CHECK(system.contact.solidSweep(x, v, 0.0, 1e-3).parts == 1.0);
+  ShellProblem still = clothOverRisingCapsule(0.0);
+  ShellSystem stillSystem(still, AnalysisKind::Dynamics);
+  CHECK(stillSystem.contact.solidSweep(x, v, 0.0, 1.0).parts == 1.0);
 }
 
 TEST_CASE("contact dynamics: a cloth dropped on the edge of a box slides off it", "[contact]") {

@@ -410,7 +410,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       std::ostringstream line;
       line << "step " << s.step << "  t = " << formatNumber("%.4f", d.time()) << " s  Newton " << s.newtonIterations
            << "  residual " << formatNumber("%.3e", residual) << " N  E_pot " << formatNumber("%.6e", potentialEnergy(d.positions()))
-           << " J  E_kin " << formatNumber("%.6e", d.kineticEnergy()) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "")
+           << " J  E_kin " << formatNumber("%.6e", d.kineticEnergy()) << " J"
+           << (s.parts > 1 ? "  (" + std::to_string(s.parts) + " parts: a moving solid)" : "")
+           << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "")
            << (s.stayRestarts ? "  (solved again from the previous positions)" : "");
       progress.log(line.str());
       progress.update(d.time() / duration, "t = " + formatNumber("%.3f", d.time()) + " s");

@@ -228,3 +228,43 @@ TEST_CASE("contact terms: the point-cloud candidate list survives a common trans
   }
   CHECK(t.state->rebuilds() > built);  // the relative motions did force rebuilds
 }
+
+TEST_CASE("contact terms: a moving solid's travel over a step counts at the samples it can reach", "[contact]") {
+  // Samples at (0, 0.05, 0) and (0.1, 0.05, −0.1), both 5 cm from a ball of radius 5 cm centred at (0, 0.05, −0.1)
+  // and from a cube of the same half width there.
+  const PlaneCase c = heights({0.0, -0.1});
+  const Eigen::VectorXd x = flatten(c.mesh.V), still = Eigen::VectorXd::Zero(x.size());
+  auto solid = [](VolumeShapePtr shape, const Eigen::Vector3d& velocity, const Eigen::Vector3d& angularVelocity) {
+    RigidPath path;
+    path.origin = {0.0, 0.05, -0.1};
+    path.velocity = velocity;
+    path.angularVelocity = angularVelocity;
+    return std::make_shared<VolumeCollider>("solid", shape, path);
+  };
+  auto ball = [&](const Eigen::Vector3d& velocity, const Eigen::Vector3d& angularVelocity) {
+    return solid(makeSphereShape(0.05), velocity, angularVelocity);
+  };
+  const VolumeContactState fixed(c.sampling, ball({0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}), c.params);
+  CHECK(fixed.solidTravel(x, still, 0.0, 1.0) == 0.0);
+  // Rising at 2 m/s: 2 cm in 10 ms cannot reach a sample 5 cm away (activation 5 mm), 10 cm in 50 ms can; nor
+  // can 2 cm, unless the sample comes 3 cm towards it.
+  const VolumeContactState rising(c.sampling, ball({0.0, 0.0, 2.0}, {0.0, 0.0, 0.0}), c.params);
+  CHECK(rising.solidTravel(x, still, 0.0, 0.01) == 0.0);
+  CHECK(rising.solidTravel(x, still, 0.0, 0.05) == Approx(0.1));
+  Eigen::VectorXd falling = still;
+  falling[2] = -3.0;
+  CHECK(rising.solidTravel(x, falling, 0.0, 0.01) == Approx(0.02));
+  // The cube turning at 10 rad/s about z for 0.1 s: the sample on the axis does not move, the other 10 cm off
+  // it moves by the chord 2 · 0.1 · sin(0.5). The ball turning so stays in place, and so does a capsule turning
+  // about its own axis (local z); about another axis it sweeps.
+  const VolumeContactState cube(c.sampling, solid(makeBoxShape({0.05, 0.05, 0.05}), {0, 0, 0}, {0, 0, 10.0}), c.params);
+  CHECK(cube.solidTravel(x, still, 0.0, 0.1) == Approx(0.2 * std::sin(0.5)));
+  const VolumeContactState spinningBall(c.sampling, ball({0.0, 0.0, 0.0}, {3.0, -4.0, 10.0}), c.params);
+  CHECK(spinningBall.solidTravel(x, still, 0.0, 0.1) == 0.0);
+  const VolumeContactState rolling(c.sampling, solid(makeCapsuleShape(0.05, 0.0), {0, 0, 0}, {0, 0, 10.0}), c.params);
+  CHECK(rolling.solidTravel(x, still, 0.0, 0.1) == 0.0);
+  const VolumeContactState tumbling(c.sampling, solid(makeCapsuleShape(0.05, 0.0), {0, 0, 0}, {0, 10.0, 0}), c.params);
+  CHECK(tumbling.solidTravel(x, still, 0.0, 0.1) == Approx(0.2 * std::sin(0.5)));
+  // Later the centre has moved with the path: 1 s at 2 m/s leaves the ball 2 m above both samples.
+  CHECK(rising.solidTravel(x, still, 1.0, 0.01) == 0.0);
+}
