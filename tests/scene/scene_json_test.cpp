@@ -390,3 +390,30 @@ TEST_CASE("scene: a moment load resolves to one chain of boundary edges, and a b
   CHECK_THROWS_WITH(ShellSystem(problem, AnalysisKind::Statics),
                     "/actors/0/loads/0: end moment: chain segment 0 is perpendicular to the axis");
 }
+
+TEST_CASE("scene: volume actors move in dynamics only, static and relaxation analyses hold them at t = 0") {
+  Json s = baseScene();
+  s["actors"].push_back(Json::parse(R"({"type": "sphere", "name": "ball", "center": [0.5, 0.5, -0.3],
+                                        "radius": 0.2, "velocity": [0, 0, 1], "angularVelocity": [0, 2, 0]})"));
+  const Json relaxation = {{"type", "dynamicRelaxation"}, {"timeStep", 0.01}, {"massDamping", 5.0}};
+  const Json dynamic = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.1}};
+  for (const Json& analysis : {s["analysis"], relaxation, dynamic}) {
+    s["analysis"] = analysis;
+    const Scene scene = sceneFromJson(s, tempDir());
+    const ShellProblem problem = shellProblemFromScene(scene, buildSceneModel(scene));
+    REQUIRE(problem.volumes.size() == 1);
+    const RigidPath& path = problem.volumes[0].collider->path();
+    const std::vector<std::string> notes = unsupportedFeatures(scene);
+    REQUIRE(notes.size() == 1);
+    if (scene.analysis.type == AnalysisType::Dynamic) {
+      CHECK(path.velocity == Eigen::Vector3d(0, 0, 1));
+      CHECK(path.angularVelocity == Eigen::Vector3d(0, 2, 0));
+      CHECK(notes[0] == "volume actor 'ball' moves: volumes.vtu shows it at t = 0 only");
+    } else {
+      CHECK(path.isStatic());
+      CHECK(path.origin == Eigen::Vector3d(0.5, 0.5, -0.3));
+      CHECK(notes[0] == std::string("volume actor 'ball' moves in dynamic analyses only: this ") +
+                            toString(scene.analysis.type) + " analysis holds it where it is at t = 0");
+    }
+  }
+}
