@@ -97,11 +97,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   if (scene.solver.threads > 0) omp_set_num_threads(scene.solver.threads);
   RunResult result;
   result.notes = unsupportedFeatures(scene);
+  result.warnings = model.warnings;
 
   std::ostringstream discard;
   std::ostream& logStream = options.log ? *options.log : discard;
   Progress progress(logStream, options.progressBar && options.log);
   for (const std::string& note : result.notes) progress.log("note: " + note);
+  for (const std::string& w : result.warnings) progress.log("warning: " + w);
 
   const AnalysisType type = scene.analysis.type;
   const AnalysisKind kind = type == AnalysisType::Static    ? AnalysisKind::Statics

@@ -1,5 +1,7 @@
 #include "tools/scene/scene_model.h"
 
+#include "tools/scene/contact_coverage.h"
+
 #include "core/input_limits.h"
 #include "core/topology.h"
 #include "tools/scene/shapes.h"
@@ -261,6 +263,7 @@ SceneModel buildSceneModel(const Scene& scene) {
     const int vertex = model.actors[static_cast<std::size_t>(p.actor)].firstVertex + ids[0];
     model.probes.push_back({p.name, p.actor, vertex, model.world.V.row(vertex).transpose()});
   }
+  for (std::string& w : contactCoverageWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
   return model;
 }
 

@@ -55,8 +55,9 @@ struct SceneModel {
   std::vector<EndMomentLoad> endMoments;  // the moment loads, each along its chain of boundary edges (stacked ids)
   std::vector<PrescribedCoordinate> prescribed;  // sorted by (vertex, component); later conditions win
   std::vector<ResolvedProbe> probes;
-  /// Selections that resolved but may not be what was meant (`run --check` prints them): a `nearest` point
-  /// farther than one mean edge length from the vertex it picked.
+  /// What resolved but may not be what was meant (`run --check` prints them, a run reports them with its
+  /// warnings): a `nearest` point farther than one mean edge length from the vertex it picked; contact samples
+  /// too sparse for the colliders they must catch (tools/scene/contact_coverage.h).
   std::vector<std::string> warnings;
 
   int numVertices() const { return world.numVertices(); }

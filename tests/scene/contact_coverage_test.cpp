@@ -1,0 +1,80 @@
+// Contact samples too sparse for what they must catch (tools/scene/contact_coverage.h): a point cloud whose
+// samples leave gaps another layer fits through, and a thin solid that fits between a shell's samples. The
+// 8 × 8 cloth below let a rod of radius 1 cm lying between two columns of vertices through untouched.
+#include "tools/scene/contact_coverage.h"
+#include "tools/scene/scene_json.h"
+#include "tools/scene/scene_model.h"
+
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+using namespace jetshell;
+using Json = nlohmann::json;
+
+namespace {
+
+/// A 1 m cloth of n × n quads (mean edge 1.13/n m) falling onto `volume`.
+Json clothOver(int n, const Json& volume) {
+  Json cloth = {{"type", "shell"},
+                {"name", "cloth"},
+                {"shape", {{"generator", "rectangle"}, {"width", 1.0}, {"height", 1.0}, {"nx", n}, {"ny", n}}},
+                {"material",
+                 {{"youngsModulus", 1e5}, {"poissonRatio", 0.25}, {"thickness", 0.002}, {"volumeDensity", 1000}}},
+                {"colliderType", "None"}};
+  return {{"actors", {cloth, volume}}, {"analysis", {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.1}}}};
+}
+
+const Json kRod = {{"type", "capsule"}, {"name", "rod"}, {"center", {0.5, 0.5, -0.1}}, {"radius", 0.01},
+                   {"halfLength", 0.6}, {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 90}}}};
+
+std::vector<std::string> warningsOf(const Json& j) {
+  const Scene scene = sceneFromJson(j, ".");
+  const SceneModel model = buildSceneModel(scene);
+  CHECK(contactCoverageWarnings(scene, model.actors) == model.warnings);
+  return model.warnings;
+}
+
+}  // namespace
+
+TEST_CASE("contact coverage: a thin solid between a coarse shell's samples is named, not a fine mesh or a thick solid",
+          "[contact]") {
+  // 8 × 8: mean edge 0.141 m, a face's middle 0.0814 m from its corners, beyond the rod's 1 cm + 5 mm.
+  const std::vector<std::string> coarse = warningsOf(clothOver(8, kRod));
+  REQUIRE(coarse.size() == 1);
+  CHECK(coarse[0] == "volume actor 'rod' (thinnest half-width 0.01 m) fits between the contact samples of shell "
+                     "actor 'cloth' (at its vertices or face centroids, about 0.0814 m from a face's middle, "
+                     "beyond its reach of 0.015 m): it can pass through the shell unfelt "
+                     "(\"contactElementType\": \"FaceThreePoint\" or a finer mesh closes the gap)");
+  Json threePoint = clothOver(8, kRod);
+  threePoint["actors"][0]["contactElementType"] = "FaceThreePoint";
+  const std::vector<std::string> three = warningsOf(threePoint);
+  REQUIRE(three.size() == 1);
+  CHECK_THAT(three[0], Catch::Contains("(three points a face, about 0.0407 m") &&
+                           Catch::EndsWith("(a finer mesh closes the gap)"));
+  // 64 × 64: a face's middle 0.0102 m from its corners, within reach. A ball of 10 cm under the coarse cloth, a
+  // floor, and an SDF grid are not thin.
+  CHECK(warningsOf(clothOver(64, kRod)).empty());
+  CHECK(warningsOf(clothOver(8, {{"type", "sphere"}, {"center", {0.5, 0.5, -0.2}}, {"radius", 0.1}})).empty());
+  CHECK(warningsOf(clothOver(8, {{"type", "plane"}})).empty());
+}
+
+TEST_CASE("contact coverage: point-cloud samples too small for their mesh leave gaps, and say what closes them",
+          "[contact]") {
+  Json j = clothOver(8, {{"type", "plane"}});
+  j["actors"][0]["colliderType"] = "PointCloud";
+  j["actors"][0]["pointCloudCollider"] = {{"radius", 0.02}, {"selfContact", true}};
+  const std::vector<std::string> w = warningsOf(j);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0] == "shell actor 'cloth': point-cloud samples of radius 0.02 m at vertices a mean edge of 0.141 m apart "
+                "leave a gap 0.0814 m from the corners in the middle of a face, which a sample of radius 0.02 m passes "
+                "through untouched (radii that add up to 0.0814 m, or a finer mesh, close it)");
+  // Radii of 5 cm close it; without self-contact a single cloud meets no other.
+  j["actors"][0]["pointCloudCollider"]["radius"] = 0.05;
+  CHECK(warningsOf(j).empty());
+  j["actors"][0]["pointCloudCollider"] = {{"radius", 0.02}, {"selfContact", false}};
+  CHECK(warningsOf(j).empty());
+}

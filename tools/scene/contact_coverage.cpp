@@ -1,0 +1,83 @@
+#include "tools/scene/contact_coverage.h"
+
+#include "core/format.h"
+#include "energies/contact/contact_params.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace jetshell {
+
+namespace {
+
+double meanEdgeLength(const ActorBlock& b) {
+  double sum = 0.0;
+  const int n = b.topology.numEdges();
+  for (int e = 0; e < n; ++e)
+    sum += (b.mesh.V.row(b.topology.edges(e, 0)) - b.mesh.V.row(b.topology.edges(e, 1))).norm();
+  return n > 0 ? sum / n : 0.0;
+}
+
+std::string metres(double x) { return formatNumber("%.3g", x) + " m"; }
+
+/// Half the width of the solid's thinnest part; infinite for what is not judged (planes, SDF grids).
+double thinnestHalfWidth(const VolumeActorParams& v) {
+  switch (v.kind) {
+    case VolumeActorParams::Kind::Sphere:
+    case VolumeActorParams::Kind::Capsule: return v.radius;
+    case VolumeActorParams::Kind::Box: return v.halfExtents.minCoeff();
+    case VolumeActorParams::Kind::Plane:
+    case VolumeActorParams::Kind::SdfGrid: break;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::vector<ActorBlock>& actors) {
+  std::vector<std::string> warnings;
+  const double toMiddle = 1.0 / std::sqrt(3.0);  // a face's middle from its corners, per edge length
+  // Point clouds interact when two actors have one, or one has self-contact.
+  int clouds = 0;
+  bool self = false;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const ShellActorParams& s : scene.shells)
+    if (s.colliderType == ColliderType::PointCloud) {
+      ++clouds;
+      self = self || s.pointCloudCollider.selfContact;
+      smallest = std::min(smallest, s.pointCloudCollider.radius);
+    }
+  const bool pointContact = clouds >= 2 || self;
+  for (std::size_t a = 0; a < scene.shells.size() && a < actors.size(); ++a) {
+    const ShellActorParams& s = scene.shells[a];
+    const double gap = toMiddle * meanEdgeLength(actors[a]);
+    if (!(gap > 0.0)) continue;
+    if (pointContact && s.colliderType == ColliderType::PointCloud) {
+      const double r = s.pointCloudCollider.radius;
+      if (gap > r + smallest)
+        warnings.push_back("shell actor '" + s.name + "': point-cloud samples of radius " + metres(r) +
+                           " at vertices a mean edge of " + metres(gap / toMiddle) + " apart leave a gap " +
+                           metres(gap) + " from the corners in the middle of a face, which a sample of radius " +
+                           metres(smallest) + " passes through untouched (radii that add up to " + metres(gap) +
+                           ", or a finer mesh, close it)");
+    }
+    const bool threePoint = s.contactElementType == ActorBoundaryElementType::FaceThreePoint;
+    const double sampleGap = threePoint ? 0.5 * gap : gap;
+    for (const VolumeActorParams& v : scene.volumes) {
+      const double w = thinnestHalfWidth(v);
+      const double reach = w + combine(s.contact, v.contact).activationDistance;
+      if (!(sampleGap > reach)) continue;
+      warnings.push_back("volume actor '" + v.name + "' (thinnest half-width " + metres(w) +
+                         ") fits between the contact samples of shell actor '" + s.name + "' (" +
+                         (threePoint ? "three points a face" : "at its vertices or face centroids") + ", about " +
+                         metres(sampleGap) + " from a face's middle, beyond its reach of " + metres(reach) +
+                         "): it can pass through the shell unfelt (" +
+                         (threePoint ? "a finer mesh" : "\"contactElementType\": \"FaceThreePoint\" or a finer mesh") +
+                         " closes the gap)");
+    }
+  }
+  return warnings;
+}
+
+}  // namespace jetshell
