@@ -2,6 +2,7 @@
 
 #include "core/format.h"
 #include "energies/contact/contact_params.h"
+#include "tools/scene/volume_shape.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,16 +22,11 @@ double meanEdgeLength(const ActorBlock& b) {
 
 std::string metres(double x) { return formatNumber("%.3g", x) + " m"; }
 
-/// Half the width of the solid's thinnest part; infinite for what is not judged (planes, SDF grids).
+/// Half the width of the solid's thinnest part, as its shape states it; infinite for what is not judged (the
+/// half-space; an SDF grid, whose file is not read here and whose spacing says little of its thickness).
 double thinnestHalfWidth(const VolumeActorParams& v) {
-  switch (v.kind) {
-    case VolumeActorParams::Kind::Sphere:
-    case VolumeActorParams::Kind::Capsule: return v.radius;
-    case VolumeActorParams::Kind::Box: return v.halfExtents.minCoeff();
-    case VolumeActorParams::Kind::Plane:
-    case VolumeActorParams::Kind::SdfGrid: break;
-  }
-  return std::numeric_limits<double>::infinity();
+  const VolumeShapePtr shape = analyticVolumeShape(v);
+  return shape ? shape->thinnestHalfWidth() : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace

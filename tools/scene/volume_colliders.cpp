@@ -3,6 +3,7 @@
 #include "core/input_limits.h"
 #include "core/mesh.h"
 #include "energies/contact/sdf_grid.h"
+#include "tools/scene/volume_shape.h"
 
 namespace jetshell {
 
@@ -27,14 +28,8 @@ VolumeShapePtr sdfShape(const std::string& file, SdfShapes* shapes) {
 }  // namespace
 
 VolumeColliderPtr makeVolumeCollider(const VolumeActorParams& v, SdfShapes* shapes) {
-  VolumeShapePtr shape;
-  switch (v.kind) {
-    case VolumeActorParams::Kind::Plane: shape = makePlaneShape(); break;
-    case VolumeActorParams::Kind::Box: shape = makeBoxShape(v.halfExtents); break;
-    case VolumeActorParams::Kind::Sphere: shape = makeSphereShape(v.radius); break;
-    case VolumeActorParams::Kind::Capsule: shape = makeCapsuleShape(v.radius, v.halfLength); break;
-    case VolumeActorParams::Kind::SdfGrid: shape = sdfShape(v.sdfFile, shapes); break;
-  }
+  const VolumeShapePtr shape =
+      v.kind == VolumeActorParams::Kind::SdfGrid ? sdfShape(v.sdfFile, shapes) : analyticVolumeShape(v);
   RigidPath path;
   path.origin = v.worldFromLocalTransform.translation;
   path.rotation = v.worldFromLocalTransform.rotation;
