@@ -274,7 +274,13 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     c.pointCloudCollider = actors[i].pointCloudCollider;
     contactActors.push_back(std::move(c));
   }
-  contact = addShellContact(objective_, contactActors, p.volumes, mesh_.V, dynamic);
+  // Volume actors move in dynamics only: a static path and a relaxation's pseudo-time hold each where it is at
+  // t = 0 (a relaxation chasing a moving solid has no equilibrium to reach).
+  std::vector<VolumeColliderPart> volumes = p.volumes;
+  if (kind != AnalysisKind::Dynamics)
+    for (VolumeColliderPart& v : volumes)
+      if (!v.collider->path().isStatic()) v.collider = v.collider->heldAtStart();
+  contact = addShellContact(objective_, contactActors, volumes, mesh_.V, dynamic);
 
   // Not finalized here: callers may still add terms (user energies) before the first evaluation.
   objective_.setPrescribed(p.prescribed);

@@ -37,4 +37,11 @@ Eigen::Vector3d VolumeCollider::velocityAt(const Eigen::Vector3d& p, double t) c
   return path_.velocity + path_.angularVelocity.cross(p - path_.originAt(t));
 }
 
+std::shared_ptr<const VolumeCollider> VolumeCollider::heldAtStart() const {
+  RigidPath held = path_;
+  held.velocity.setZero();
+  held.angularVelocity.setZero();
+  return std::make_shared<VolumeCollider>(name_, shape_, held);
+}
+
 }  // namespace jetshell

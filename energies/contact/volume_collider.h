@@ -38,6 +38,8 @@ class VolumeCollider {
   SdfSample query(const Eigen::Vector3d& p, double t) const;
   /// Velocity of the solid's material point at p, time t.
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& p, double t) const;
+  /// The same solid held still where it is at t = 0 (the same shape, no velocity, no angular velocity).
+  std::shared_ptr<const VolumeCollider> heldAtStart() const;
 
  private:
   std::string name_;

@@ -1,5 +1,6 @@
 #include "core/mesh_generators.h"
 #include "core/mesh_io.h"
+#include "solvers/shell_system.h"
 #include "tools/scene/json_reader.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
@@ -401,8 +402,12 @@ TEST_CASE("scene: volume actors move in dynamics only, static and relaxation ana
     s["analysis"] = analysis;
     const Scene scene = sceneFromJson(s, tempDir());
     const ShellProblem problem = shellProblemFromScene(scene, buildSceneModel(scene));
-    REQUIRE(problem.volumes.size() == 1);
-    const RigidPath& path = problem.volumes[0].collider->path();
+    const AnalysisKind kind = scene.analysis.type == AnalysisType::Static    ? AnalysisKind::Statics
+                              : scene.analysis.type == AnalysisType::Dynamic ? AnalysisKind::Dynamics
+                                                                             : AnalysisKind::DynamicRelaxation;
+    const ShellSystem system(problem, kind);
+    REQUIRE(system.contact.volume.size() == 1);
+    const RigidPath& path = system.contact.volume[0].state->collider->path();
     const std::vector<std::string> notes = unsupportedFeatures(scene);
     REQUIRE(notes.size() == 1);
     if (scene.analysis.type == AnalysisType::Dynamic) {

@@ -47,14 +47,7 @@ ShellProblem shellProblemFromScene(const Scene& scene, const SceneModel& model) 
     p.actors.push_back(std::move(part));
   }
   SdfShapes grids;  // one shape per grid file, however many actors name it
-  // Volume actors move in dynamics only: a static path and a relaxation's pseudo-time hold them where they are at
-  // t = 0 (a relaxation chasing a moving solid has no equilibrium to reach).
-  const bool dynamic = scene.analysis.type == AnalysisType::Dynamic;
-  for (const VolumeActorParams& v : scene.volumes) {
-    VolumeActorParams placed = v;
-    if (!dynamic) placed.velocity = placed.angularVelocity = Eigen::Vector3d::Zero();
-    p.volumes.push_back({makeVolumeCollider(placed, &grids), v.contact});
-  }
+  for (const VolumeActorParams& v : scene.volumes) p.volumes.push_back({makeVolumeCollider(v, &grids), v.contact});
   return p;
 }
 
