@@ -1,6 +1,7 @@
 // Contact samples too sparse for what they must catch (tools/scene/contact_coverage.h): a point cloud whose
 // samples leave gaps another layer fits through, and a thin solid that fits between a shell's samples. The
-// 8 × 8 cloth below let a rod of radius 1 cm lying between two columns of vertices through untouched.
+// 8 × 8 cloth below let a rod of radius 1 cm lying between two columns of vertices through untouched. At most 20
+// warnings are listed, the rest counted (a scene may hold 100,000 pairs).
 #include "tools/scene/contact_coverage.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
@@ -77,4 +78,17 @@ TEST_CASE("contact coverage: point-cloud samples too small for their mesh leave 
   CHECK(warningsOf(j).empty());
   j["actors"][0]["pointCloudCollider"] = {{"radius", 0.02}, {"selfContact", false}};
   CHECK(warningsOf(j).empty());
+}
+
+TEST_CASE("contact coverage: the warnings of many pairs are bounded, the rest counted", "[contact]") {
+  Json j = clothOver(8, kRod);
+  for (int k = 1; k < 30; ++k) {
+    Json rod = kRod;
+    rod["name"] = "rod" + std::to_string(k);
+    j["actors"].push_back(rod);
+  }
+  const std::vector<std::string> w = warningsOf(j);
+  REQUIRE(w.size() == 21);
+  CHECK_THAT(w[19], Catch::StartsWith("volume actor 'rod19' "));
+  CHECK(w[20] == "and 10 more contact pairs whose samples are as sparse");
 }

@@ -7,7 +7,7 @@
 //     distance ε fits between them unfelt: a rod under a coarse cloth pokes through it.
 // Planes and SDF grids are not judged (no thin part, or one the grid's spacing hides). Input: the scene and its
 // resolved model (each actor's own mesh). Output: one warning per actor or pair, naming both and the size that
-// would close the gap. Warnings only: the scene runs as written.
+// would close the gap; at most 20, then one line counting the rest (a scene may hold 100,000 pairs). Warnings only: the scene runs as written.
 #pragma once
 
 #include "tools/scene/scene.h"
