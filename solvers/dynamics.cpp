@@ -304,7 +304,7 @@ bool DynamicsSolver::advance(double h, int depth, int planned, bool allowBdf2, S
 
 int DynamicsSolver::plannedHalvings(double h, StepReport& report) const {
   if (system_.contact.volume.empty()) return 0;
-  const ShellContact::SolidSweep sweep = system_.contact.solidSweep(x_, v_, t_, h);
+  const ShellContact::SolidSweep sweep = system_.contact.solidSweep(x_, v_, t_, h, std::ldexp(1.0, options_.maxCuts));
   int k = 0;
   while (k <= options_.maxCuts && std::ldexp(1.0, k) < sweep.parts) ++k;
   if (k <= options_.maxCuts) return k;

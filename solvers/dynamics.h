@@ -15,7 +15,8 @@
 // takes converged (or, with acceptIterationCap, "moved on") finite values; when every cut fails the step reports
 // failure and the state is unchanged. A step near a fast moving solid is divided up front into 2^k equal parts
 // (ShellContact::solidSweep: in each part no solid moves near the shell by more than half its thinnest
-// half-width, so none passes through it unseen), each part cut as above when it fails; a step that would need
+// half-width, or its surface at the shell's reachable sample points does not, so none passes through it unseen),
+// each part cut as above when it fails; a step that would need
 // more than 2^maxCuts parts fails, saying which solid and what time step would do.
 // Newton starts from the extrapolated trajectory when extrapolatedStart: the integrator's own step under the constant
 // acceleration a = (v_n − v_{n−1})/Δt_{n−1} of the last full step, x_n + Δt v_n + Δt² a for backward Euler

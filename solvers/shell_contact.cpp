@@ -1,10 +1,18 @@
 #include "solvers/shell_contact.h"
 
+#include "energies/contact/surface_sweep.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace jetshell {
+namespace {
+
+/// The most sub-times a step's surface sweep samples (ShellContact::solidSweep).
+constexpr double kMaxSweepSubTimes = 4096.0;
+
+}  // namespace
 
 std::vector<std::string> ShellContact::termNames() const {
   std::vector<std::string> names;
@@ -17,13 +25,23 @@ std::vector<std::string> ShellContact::termNames() const {
 }
 
 ShellContact::SolidSweep ShellContact::solidSweep(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t,
-                                                  double h) const {
+                                                  double h, double maxParts) const {
   SolidSweep sweep;
+  const double maxSubTimes = std::min(4.0 * maxParts, kMaxSweepSubTimes);
   for (const VolumeContactTerms& term : volume) {
     const double thinnest = term.state->collider->shape().thinnestHalfWidth();
     if (!std::isfinite(thinnest)) continue;  // the half-space has no far side to jump to
     const double travel = term.state->solidTravel(x, v, t, h), allowed = stepFraction * thinnest;
-    if (travel > sweep.parts * allowed) sweep = {travel / allowed, term.state->collider->name(), travel, allowed};
+    double parts = travel / allowed;
+    bool bySurface = false;
+    if (parts > 1.0) {
+      const double surface = surfaceSweepParts(*term.state, x, v, t, h, allowed, maxSubTimes);
+      bySurface = surface < std::exp2(std::ceil(std::log2(parts)));
+      if (bySurface) parts = surface;
+    }
+    // The solid that needs the most parts; else the first whose material's move asked for some.
+    if (parts > sweep.parts || (sweep.solid.empty() && travel > allowed))
+      sweep = {std::max(parts, 1.0), term.state->collider->name(), travel, allowed, bySurface};
   }
   return sweep;
 }

@@ -58,15 +58,24 @@ struct ShellContact {
   /// parts: a Newton step sees the solid only where it is at the step's end, so a solid that moves, near the
   /// shell, by more than its thinnest half-width in one step can jump over a layer (measured: a capsule of
   /// radius 5 cm rising at 30 m/s went through a cloth at 60 Hz without touching it). In each part no solid of
-  /// finite thickness moves near the shell by more than stepFraction of its thinnest half-width.
+  /// finite thickness moves near the shell by more than stepFraction of its thinnest half-width. Where that
+  /// bound on its material's move asks for division, the solid's surface is looked at instead
+  /// (energies/contact/surface_sweep.h): a part in which the signed distance at every sample point the solid may
+  /// reach changes by at most as much is as safe, and a solid moving along its own surface (a box turning as a
+  /// turntable, or sliding as a tray, under a cloth on its top) then divides less or nothing. The fewer parts of
+  /// the two bounds are taken.
   struct SolidSweep {
     double parts = 1.0;        // the division needed (≥ 1; 1: none)
-    std::string solid;         // the solid that needs the most
+    std::string solid;         // the solid that needs the most (or, when none needs any, the first whose
+                               // material's move asked for some; empty: none did)
     double travel = 0.0;       // its move near the shell over the whole step [m]
     double allowed = 0.0;      // its move allowed in one part [m]
+    bool bySurface = false;    // parts came from the surface's sweep, fewer than its material's move asks for
   };
-  /// From positions and velocities x, v (3N) at time t, for a step of h.
-  SolidSweep solidSweep(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t, double h) const;
+  /// From positions and velocities x, v (3N) at time t, for a step of h that may be divided into at most maxParts
+  /// (the surface's sweep is sampled at up to 4 maxParts sub-times, at most 4096).
+  SolidSweep solidSweep(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t, double h,
+                        double maxParts = 64.0) const;
   /// Names of the contact terms (for timing splits).
   std::vector<std::string> termNames() const;
   /// Seconds spent in the point-cloud broad phase so far.

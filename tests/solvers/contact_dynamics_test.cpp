@@ -243,6 +243,46 @@ TEST_CASE("contact dynamics: a static or distant solid divides no step", "[conta
   CHECK(stillSystem.contact.solidSweep(x, v, 0.0, 1.0).parts == 1.0);
 }
 
+TEST_CASE("contact dynamics: a cloth on a turning tray is carried round in steps its surface does not divide",
+          "[contact]") {
+  // A 0.8 m square tray 2 cm thick (top at y = 0) turning at 3 rad/s about y, a 0.4 m cloth lying on its middle.
+  // Under the cloth's corners its material moves 1.4 cm a step, more than twice half its thinnest half-width
+  // (5 mm), so the bound on its material's move asks for 4 parts a step; the signed distance under the cloth does
+  // not change at all.
+  ShellProblem p;
+  p.mesh = square(0.4, 8, {0.0, 0.004, 0.0});
+  p.material = cloth();
+  RigidPath path;
+  path.origin = {0.0, -0.01, 0.0};
+  path.angularVelocity = {0.0, 3.0, 0.0};
+  ContactParams c;
+  c.frictionCoefficient = 0.5;
+  p.volumes = {{std::make_shared<VolumeCollider>("tray", makeBoxShape({0.4, 0.01, 0.4}), path), c}};
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsOptions o = options();
+  DynamicsSolver solver(system, o);
+  const ShellContact::SolidSweep sweep =
+      system.contact.solidSweep(solver.positions(), solver.velocities(), 0.0, o.timeStep);
+  CHECK(sweep.parts == 1.0);
+  CHECK(sweep.bySurface);
+  CHECK(sweep.travel > 2.0 * sweep.allowed);
+  const int corner = 0;
+  const Eigen::Vector3d start = solver.positions().segment<3>(3 * corner);
+  for (int s = 0; s < 30; ++s) {
+    const StepReport r = solver.step();
+    REQUIRE(r.success);
+    CHECK(r.parts == 1);
+    REQUIRE(solver.positions().allFinite());
+  }
+  // Friction carried the cloth round (the tray turned 1.5 rad in 0.5 s) and kept it on the tray's top.
+  const Eigen::Vector3d end = solver.positions().segment<3>(3 * corner);
+  const double turned =
+      std::atan2(start.z() * end.x() - start.x() * end.z(), start.x() * end.x() + start.z() * end.z());
+  CHECK(turned > 0.5);
+  CHECK(end.y() > 0.0);
+  CHECK(end.y() < 0.01);
+}
+
 TEST_CASE("contact dynamics: a cloth dropped on the edge of a box slides off it", "[contact]") {
   ShellProblem p;
   // Most of the cloth beyond the box's edge at x = 0: its weight pulls it over the edge.
