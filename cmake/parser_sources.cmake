@@ -6,6 +6,7 @@
 set(JETSHELL_PARSER_SOURCES
   core/input_file.cpp core/mesh_io.cpp core/topology.cpp core/mesh_generators.cpp core/garment_generator.cpp
   energies/shell/material.cpp energies/contact/sdf_grid.cpp energies/contact/volume_shapes.cpp
+  energies/contact/rigid_path.cpp
   tools/scene/json_reader.cpp tools/scene/scene_json.cpp tools/scene/scene.cpp tools/scene/scene_model.cpp
   tools/scene/contact_coverage.cpp tools/scene/volume_shape.cpp
   tools/scene/actor_params.cpp tools/scene/generated_shapes.cpp tools/scene/shapes.cpp tools/scene/selector.cpp

@@ -35,11 +35,16 @@ double surfaceSweepParts(const VolumeContactState& state, const Eigen::VectorXd&
   const VolumeCollider& collider = *state.collider;
   const RigidPath& path = collider.path();
   if (path.isStatic() || !(h > 0.0)) return 1.0;
-  // The surface's speed bound near p: translation plus the turn that moves the surface (solidTravel's ω').
+  // The surface's speed bound near p over the step: the fastest translation of its pieces, plus their fastest
+  // turn that moves the surface (solidTravel's ω') times p's farthest distance from the moving centre.
   const Eigen::Vector3d centre = path.originAt(tStart);
-  const Eigen::Matrix3d R = path.rotationAt(tStart);
-  const double speed = path.velocity.norm();
-  const double turn = (R * collider.shape().surfaceTurning(R.transpose() * path.angularVelocity)).norm();
+  double speed = 0.0, turn = 0.0, centreTravel = 0.0;
+  for (const RigidPath::Piece& piece : path.piecesOver(tStart, h)) {
+    const Eigen::Matrix3d R = path.rotationAt(piece.start);
+    speed = std::max(speed, piece.velocity.norm());
+    turn = std::max(turn, (R * collider.shape().surfaceTurning(R.transpose() * piece.angularVelocity)).norm());
+    centreTravel += piece.duration * piece.velocity.norm();
+  }
   struct Reached {
     Eigen::Vector3d p;
     double bound;  // L_p h: the most d(p, ·) can change over the step
@@ -50,7 +55,7 @@ double surfaceSweepParts(const VolumeContactState& state, const Eigen::VectorXd&
   for (int e = 0; e < state.sampling.numElements(); ++e)
     for (int q = 0; q < Q; ++q) {
       const Eigen::Vector3d p = state.point(x, e, q);
-      const double bound = h * (speed + turn * ((p - centre).norm() + speed * h));
+      const double bound = h * (speed + turn * ((p - centre).norm() + centreTravel));
       if (!(bound > 0.0)) continue;
       const double reach = bound + h * state.point(v, e, q).norm() + state.params.activationDistance;
       if (collider.query(p, tStart).distance > reach) continue;

@@ -11,7 +11,8 @@
 // Data flow: the sample points the solid may reach within the step (as for solidTravel: their distance at tStart
 // at most the solid's move there, their own move and the activation distance) are read from x and v at tStart;
 // d(p, ·) is sampled at F + 1 equal sub-times, F a power of two that keeps the surface's largest speed bound
-// L_p = |v| + |ω'| (|p − c(tStart)| + |v| h) (ω' the turn that moves the surface, VolumeShape::surfaceTurning)
+// L_p = |v| + |ω'| (|p − c(tStart)| + |v| h) (ω' the turn that moves the surface, VolumeShape::surfaceTurning;
+// across keyframes the largest |v| and |ω'| of the step's pieces, and the centre's path over them for |v| h)
 // times h / F within allowed / 4. Between two sub-times d(p, ·) changes by at most L_p h / F, so over a part made
 // of whole sub-intervals it changes by at most the spread of its samples plus L_p h / F. The parts are the fewest
 // (a power of two dividing F) for which that stays within `allowed` at every sample point; F parts always do.

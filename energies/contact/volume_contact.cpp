@@ -187,21 +187,35 @@ double VolumeContactState::solidTravel(const Eigen::VectorXd& x, const Eigen::Ve
                                        double h) const {
   const RigidPath& path = collider->path();
   if (path.isStatic() || !(h > 0.0)) return 0.0;
-  // Over the step a material point at p moves to c(t + h) + Rot(ω h) (p − c(t)) (volume_collider.h); a turn
-  // about an axis of the shape's symmetry leaves its surface in place and is left out.
-  const Eigen::Vector3d centre = path.originAt(tStart), shift = h * path.velocity;
-  const Eigen::Matrix3d R = path.rotationAt(tStart);
-  const Eigen::Vector3d omega = R * collider->shape().surfaceTurning(R.transpose() * path.angularVelocity);
-  const double angle = omega.norm() * h;
-  const Eigen::Matrix3d turn =
-      angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, omega.normalized()).toRotationMatrix() -
-                                    Eigen::Matrix3d::Identity())
-                  : Eigen::Matrix3d::Zero();
+  // Over a piece of constant velocities from t to t + Δ a material point at p moves to c(t) + Δ v + Rot(ω Δ)
+  // (p − c(t)) (rigid_path.h); a turn about an axis of the shape's symmetry leaves its surface in place and is left
+  // out. Over several pieces (keyframes) the point is followed through them and its moves added up.
+  struct Move {
+    Eigen::Vector3d centre, shift;
+    Eigen::Matrix3d turn;  // Rot(ω' Δ) − I
+  };
+  std::vector<Move> moves;
+  for (const RigidPath::Piece& piece : path.piecesOver(tStart, h)) {
+    const Eigen::Matrix3d R = path.rotationAt(piece.start);
+    const Eigen::Vector3d omega = R * collider->shape().surfaceTurning(R.transpose() * piece.angularVelocity);
+    const double angle = omega.norm() * piece.duration;
+    const Eigen::Matrix3d turn =
+        angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, omega.normalized()).toRotationMatrix() -
+                                      Eigen::Matrix3d::Identity())
+                    : Eigen::Matrix3d::Zero();
+    moves.push_back({path.originAt(piece.start), piece.duration * piece.velocity, turn});
+  }
   double largest = 0.0;
   for (int e = 0; e < sampling.numElements(); ++e)
     for (int q = 0; q < sampling.pointsPerElement; ++q) {
       const Eigen::Vector3d p = point(x, e, q);
-      const double move = (shift + turn * (p - centre)).norm();
+      double move = 0.0;
+      Eigen::Vector3d m = p;
+      for (const Move& piece : moves) {
+        const Eigen::Vector3d step = piece.shift + piece.turn * (m - piece.centre);
+        move += step.norm();
+        m += step;
+      }
       if (!(move > largest)) continue;
       const double reach = move + h * point(v, e, q).norm() + params.activationDistance;
       if (collider->query(p, tStart).distance <= reach) largest = move;

@@ -1,0 +1,123 @@
+#include "energies/contact/rigid_path.h"
+
+#include "core/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace jetshell {
+namespace {
+
+/// Keyframed motion between two poses: from (d0, q0) at `start` to the next keyframe at start + duration.
+struct Segment {
+  double start = 0.0, duration = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d d0 = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angularVelocity = Eigen::Vector3d::Zero();
+};
+
+/// The segment holding t: from the placement at 0 to the first keyframe, between two keyframes, or the last
+/// keyframe's pose held (and, before 0, the placement held).
+Segment segmentAt(const std::vector<RigidKeyframe>& keys, double t) {
+  Segment s;
+  if (t < 0.0) {  // the placement, until 0
+    s.start = t;
+    s.duration = -t;
+    return s;
+  }
+  const auto next = std::upper_bound(keys.begin(), keys.end(), t,
+                                     [](double time, const RigidKeyframe& k) { return time < k.time; });
+  if (next != keys.begin()) {
+    const RigidKeyframe& k = *(next - 1);
+    s.start = k.time;
+    s.d0 = k.translation;
+    s.q0 = k.turn.normalized();
+  }
+  if (next == keys.end()) return s;  // held at the last pose
+  s.duration = next->time - s.start;
+  s.velocity = (next->translation - s.d0) / s.duration;
+  Eigen::Quaterniond q = next->turn.normalized() * s.q0.conjugate();
+  if (q.w() < 0.0) q.coeffs() *= -1.0;  // the smaller angle
+  const double sine = q.vec().norm();
+  if (sine > 0.0) s.angularVelocity = (2.0 * std::atan2(sine, q.w()) / s.duration) * (q.vec() / sine);
+  return s;
+}
+
+Eigen::Matrix3d turnBy(const Eigen::Vector3d& angularVelocity, double time) {
+  const double w = angularVelocity.norm();
+  if (w == 0.0) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(w * time, angularVelocity / w).toRotationMatrix();
+}
+
+}  // namespace
+
+bool RigidPath::isStatic() const {
+  if (velocity.squaredNorm() != 0.0 || angularVelocity.squaredNorm() != 0.0) return false;
+  for (const RigidKeyframe& k : keyframes)
+    if (k.translation.squaredNorm() != 0.0 || k.turn.vec().squaredNorm() != 0.0) return false;
+  return true;
+}
+
+Eigen::Matrix3d RigidPath::rotationAt(double t) const {
+  const Eigen::Matrix3d r0 = rotation.normalized().toRotationMatrix();
+  if (keyframes.empty()) {
+    const double w = angularVelocity.norm();
+    if (w == 0.0) return r0;
+    return Eigen::AngleAxisd(w * t, angularVelocity / w).toRotationMatrix() * r0;
+  }
+  const Segment s = segmentAt(keyframes, t);
+  return turnBy(s.angularVelocity, t - s.start) * s.q0.toRotationMatrix() * r0;
+}
+
+Eigen::Vector3d RigidPath::originAt(double t) const {
+  if (keyframes.empty()) return origin + t * velocity;
+  const Segment s = segmentAt(keyframes, t);
+  return origin + s.d0 + (s.velocity.squaredNorm() > 0.0 ? Eigen::Vector3d((t - s.start) * s.velocity)
+                                                          : Eigen::Vector3d::Zero());
+}
+
+RigidPath::Piece RigidPath::pieceAt(double t) const {
+  if (keyframes.empty()) return {t, 0.0, velocity, angularVelocity};
+  const Segment s = segmentAt(keyframes, t);
+  return {t, 0.0, s.velocity, s.angularVelocity};
+}
+
+std::vector<RigidPath::Piece> RigidPath::piecesOver(double t, double h) const {
+  if (keyframes.empty()) return {{t, h, velocity, angularVelocity}};
+  std::vector<Piece> pieces;
+  const double end = t + h;
+  double start = t;
+  while (true) {
+    const Segment s = segmentAt(keyframes, start);
+    const double segmentEnd = s.start + s.duration;  // +∞ for the held pose
+    if (!(segmentEnd < end) || !(segmentEnd > start)) {
+      pieces.push_back({start, end - start, s.velocity, s.angularVelocity});
+      return pieces;
+    }
+    pieces.push_back({start, segmentEnd - start, s.velocity, s.angularVelocity});
+    start = segmentEnd;
+  }
+}
+
+void RigidPath::validate(const std::string& where) const {
+  if (!origin.allFinite() || !velocity.allFinite() || !angularVelocity.allFinite() ||
+      !rotation.coeffs().allFinite() || rotation.norm() == 0.0)
+    throw InputError(where + ": path must be finite with a non-zero rotation");
+  if (keyframes.empty()) return;
+  if (velocity.squaredNorm() != 0.0 || angularVelocity.squaredNorm() != 0.0)
+    throw InputError(where + ": keyframes cannot be combined with a constant velocity or angular velocity");
+  double previous = 0.0;
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    const RigidKeyframe& f = keyframes[k];
+    const std::string at = where + ": keyframe " + std::to_string(k);
+    if (!std::isfinite(f.time) || !(f.time > previous))
+      throw InputError(at + ": time = " + std::to_string(f.time) + " must be finite and after " +
+                       (k == 0 ? std::string("0 (the placement)") : "the previous keyframe's"));
+    if (!f.translation.allFinite() || !f.turn.coeffs().allFinite() || f.turn.norm() == 0.0)
+      throw InputError(at + ": translation and turn must be finite, the turn non-zero");
+    previous = f.time;
+  }
+}
+
+}  // namespace jetshell

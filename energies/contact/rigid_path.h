@@ -1,0 +1,59 @@
+// The prescribed motion of a rigid volume actor: where its frame is at time t, and how fast it moves.
+//
+// Input: the placement at t = 0 (origin c₀, rotation R₀) and either
+//  - constant velocities: origin c(t) = c₀ + v t, rotation R(t) = Rot(ω t) · R₀ (ω [rad/s] in world axes, about
+//    the actor's origin), or
+//  - keyframes: poses reached at given times t_k > 0, each the placement moved by a translation d_k and turned by
+//    Q_k (world axes, about the actor's origin): c(t) = c₀ + d(t), R(t) = Q(t) · R₀. From the placement at t = 0
+//    (d = 0, Q = I) through each keyframe in turn, d moves linearly and Q turns at a constant angular velocity by
+//    the smaller angle (at most 180°) between successive keyframes; after the last keyframe the pose is held.
+// Either way the motion is a sequence of pieces of constant velocity and angular velocity (one piece for constant
+// velocities), which contact's step division reads over a time step (piecesOver).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+namespace jetshell {
+
+/// A pose of a keyframed path: at `time` [s] the placement moved by `translation` [m] and turned by `turn`.
+struct RigidKeyframe {
+  double time = 0.0;
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond turn = Eigen::Quaterniond::Identity();
+};
+
+struct RigidPath {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();                // c₀ [m]
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();    // R₀
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();              // v [m/s] (constant velocities)
+  Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();       // ω [rad/s] (constant velocities)
+  /// Keyframed motion, times increasing and positive; empty: the constant velocities. With keyframes, velocity
+  /// and angularVelocity are zero (validate).
+  std::vector<RigidKeyframe> keyframes;
+
+  /// A stretch of time over which the motion has constant velocity and angular velocity.
+  struct Piece {
+    double start = 0.0, duration = 0.0;  // [s]
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angularVelocity = Eigen::Vector3d::Zero();
+  };
+
+  /// No velocity and no keyframe that moves or turns the actor.
+  bool isStatic() const;
+  Eigen::Matrix3d rotationAt(double t) const;
+  Eigen::Vector3d originAt(double t) const;
+  /// The velocities at t (the piece holding t; at a keyframe's time, the piece that starts there).
+  Piece pieceAt(double t) const;
+  /// The pieces covering [t, t + h], in order, their durations adding up to h (one piece of duration exactly h
+  /// for constant velocities).
+  std::vector<Piece> piecesOver(double t, double h) const;
+  /// Throws InputError, naming `where`, for a non-finite or zero rotation, non-finite velocities, keyframe times
+  /// that are not positive, finite and increasing, non-finite keyframe translations or turns, or keyframes
+  /// together with constant velocities.
+  void validate(const std::string& where) const;
+};
+
+}  // namespace jetshell
