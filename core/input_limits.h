@@ -36,6 +36,7 @@ struct InputLimits {
   std::int64_t maxActors = 100'000;              // shell and volume actors together
   std::int64_t maxContactPairs = 100'000;        // shell actors × volume actors
   std::int64_t maxVolumeActorVertices = 50'000'000;  // volume actors × the shell vertices
+  std::int64_t maxKeyframes = 1'000'000;     // keyframes of all volume actors of a scene together (56 bytes each)
   std::int64_t maxIterations = 1'000'000;    // Newton iterations per step
   int maxThreads = 256;                      // solver.threads
   std::int64_t maxObjBytes = 1LL << 30;      // OBJ file size (1 GiB)

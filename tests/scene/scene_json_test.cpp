@@ -1,4 +1,5 @@
 #include "core/mesh_generators.h"
+#include "core/input_limits.h"
 #include "core/mesh_io.h"
 #include "solvers/shell_system.h"
 #include "tools/scene/json_reader.h"
@@ -10,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 
 using namespace jetshell;
@@ -421,4 +423,51 @@ TEST_CASE("scene: volume actors move in dynamics only, static and relaxation ana
                             toString(scene.analysis.type) + " analysis holds it where it is at t = 0");
     }
   }
+}
+
+TEST_CASE("scene: a volume actor moves through its keyframes, and bad keyframes are named") {
+  Json s = baseScene();
+  s["analysis"] = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.1}};
+  s["actors"].push_back(Json::parse(R"({"type": "box", "name": "lift", "center": [0.5, 0.5, -0.3],
+      "halfExtents": [0.2, 0.2, 0.1], "keyframes": [
+        {"time": 0.5, "translation": [0, 0, 0.2]},
+        {"time": 1.5, "translation": [0, 0, 0.2], "rotation": {"axis": [0, 0, 1], "degrees": 90}}]})"));
+  const Scene scene = sceneFromJson(s, tempDir());
+  REQUIRE(scene.volumes.size() == 1);
+  REQUIRE(scene.volumes[0].keyframes.size() == 2);
+  CHECK(scene.volumes[0].keyframes[1].time == 1.5);
+  const ShellProblem problem = shellProblemFromScene(scene, buildSceneModel(scene));
+  const ShellSystem system(problem, AnalysisKind::Dynamics);
+  const RigidPath& path = system.contact.volume[0].state->collider->path();
+  CHECK((path.originAt(0.25) - Eigen::Vector3d(0.5, 0.5, -0.2)).norm() < 1e-15);
+  CHECK((path.originAt(9.0) - Eigen::Vector3d(0.5, 0.5, -0.1)).norm() < 1e-15);
+  CHECK(unsupportedFeatures(scene) == std::vector<std::string>{"volume actor 'lift' moves: volumes.vtu shows it at "
+                                                              "t = 0 only"});
+  auto errorWith = [&](const std::function<void(Json&)>& change) {
+    Json bad = s;
+    change(bad["actors"][1]);
+    return errorOf(bad);
+  };
+  CHECK(errorWith([](Json& a) { a["keyframes"][0]["time"] = 0.0; }) ==
+        "/actors/1/keyframes/0/time = 0: must be finite and > 0 (the actor is at its placement at t = 0)");
+  CHECK(errorWith([](Json& a) { a["keyframes"][1]["time"] = 0.5; }) ==
+        "/actors/1/keyframes/1/time = 0.5: must be finite and after the previous keyframe's time");
+  CHECK(errorWith([](Json& a) { a["keyframes"][1]["speed"] = 1.0; }).find("/actors/1/keyframes/1") == 0);
+  CHECK(errorWith([](Json& a) { a["keyframes"] = Json::array(); }) ==
+        "/actors/1/keyframes: no keyframe (leave \"keyframes\" out for a static actor)");
+  CHECK(errorWith([](Json& a) { a["keyframes"][0]["translation"] = {0, 0, 2e6}; }).find(
+            "/actors/1/keyframes/0/translation") == 0);
+  CHECK(errorWith([](Json& a) { a["velocity"] = {0, 0, 1}; }) ==
+        "/actors/1/keyframes: cannot be combined with \"velocity\" or \"angularVelocity\" (a keyframed actor moves "
+        "through its keyframes alone)");
+  // Bounded: all volume actors' keyframes together.
+  const std::int64_t saved = inputLimits().maxKeyframes;
+  inputLimits().maxKeyframes = 3;
+  Json two = s;
+  two["actors"].push_back(s["actors"][1]);
+  two["actors"][2]["name"] = "other";
+  const std::string tooMany = errorOf(two);
+  inputLimits().maxKeyframes = saved;
+  CHECK(tooMany == "/actors/2/keyframes: 2 keyframes: too many (at most 1 for all volume actors of a scene "
+                   "together)");
 }

@@ -59,6 +59,15 @@ void validate(const VolumeActorParams& p, const std::string& where) {
     throw InputError(where + ".sdfFile: missing (required for an SDF grid)");
   check::finite(p.velocity, where + ".velocity");
   check::finite(p.angularVelocity, where + ".angularVelocity");
+  check::atMost(static_cast<std::int64_t>(p.keyframes.size()), inputLimits().maxKeyframes, where + ".keyframes");
+  for (std::size_t k = 0; k < p.keyframes.size(); ++k)
+    check::normAtMost(p.keyframes[k].translation, inputLimits().maxDistance,
+                      where + ".keyframes[" + std::to_string(k) + "].translation");
+  RigidPath path;
+  path.velocity = p.velocity;
+  path.angularVelocity = p.angularVelocity;
+  path.keyframes = p.keyframes;
+  path.validate(where);
   validate(p.contact, where + ".contact");
 }
 

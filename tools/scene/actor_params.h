@@ -4,6 +4,7 @@
 #pragma once
 
 #include "energies/contact/contact_params.h"
+#include "energies/contact/rigid_path.h"
 #include "energies/shell/material.h"
 #include "tools/scene/shapes.h"
 
@@ -11,6 +12,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace jetshell {
 
@@ -59,9 +61,11 @@ struct VolumeActorParams {
   std::string sdfFile;        // SdfGrid: the grid file (energies/contact/sdf_grid.h), local coordinates
   std::int64_t sdfSamples = 0;  // SdfGrid: its sample count, as the scene reader found it (for the scene's bounds)
   /// Prescribed motion from the transform at t = 0: constant velocity [m/s] and angular velocity [rad/s]
-  /// (world axes, about the actor's origin). Zero: static.
+  /// (world axes, about the actor's origin), or keyframes (energies/contact/rigid_path.h: translations and turns
+  /// of the placement at increasing times > 0), not both. Zero and none: static.
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d angularVelocity = Eigen::Vector3d::Zero();
+  std::vector<RigidKeyframe> keyframes;
   ContactParams contact;
 };
 

@@ -86,6 +86,7 @@ void SceneTotals::add(const ShellActorParams& s) {
 
 void SceneTotals::add(const VolumeActorParams& v) {
   ++volumes;
+  keyframes += static_cast<std::int64_t>(v.keyframes.size());
   if (v.kind == VolumeActorParams::Kind::SdfGrid && sdfFiles.emplace(v.sdfFile, v.sdfSamples).second)
     sdfSamples += v.sdfSamples;
 }
@@ -112,6 +113,7 @@ void checkSceneTotals(const SceneTotals& t, const std::string& where) {
                      " shell vertices: each volume actor samples every shell vertex, so volume actors x vertices "
                      "must be at most " + std::to_string(limits.maxVolumeActorVertices) + " (use fewer volume actors)");
   check::atMost(t.sdfSamples, limits.maxSdfSamples, where + ": samples of all SDF grids");
+  check::atMost(t.keyframes, limits.maxKeyframes, where + ": keyframes of all volume actors");
 }
 
 void validate(const Scene& scene) {
@@ -244,7 +246,7 @@ void validate(const Scene& scene) {
 std::vector<std::string> unsupportedFeatures(const Scene& scene) {
   std::vector<std::string> notes;
   for (const VolumeActorParams& v : scene.volumes)
-    if (v.velocity.squaredNorm() > 0.0 || v.angularVelocity.squaredNorm() > 0.0)
+    if (v.velocity.squaredNorm() > 0.0 || v.angularVelocity.squaredNorm() > 0.0 || !v.keyframes.empty())
       notes.push_back(scene.analysis.type == AnalysisType::Dynamic
                           ? "volume actor '" + v.name + "' moves: volumes.vtu shows it at t = 0 only"
                           : "volume actor '" + v.name + "' moves in dynamic analyses only: this " +

@@ -174,14 +174,15 @@ struct SceneTotals {
   std::int64_t shells = 0, volumes = 0;
   std::int64_t vertices = 0, faces = 0;  // of all shell actors (stacked)
   std::int64_t sdfSamples = 0;           // of all SDF grid files, each counted once (a run holds each once)
+  std::int64_t keyframes = 0;            // of all volume actors
   std::map<std::string, std::int64_t> sdfFiles;  // the files counted: resolved path -> samples
   void add(const ShellActorParams& s);
   void add(const VolumeActorParams& v);
 };
 SceneTotals sceneTotals(const Scene& scene);
 /// Throws InputError, message starting with `where`, when the totals pass inputLimits(): vertices, faces,
-/// actors, shell x volume actor pairs, volume actors x vertices, SDF samples. The scene reader checks them after
-/// each actor (so that no actor is built past a bound) and validate() once more.
+/// actors, shell x volume actor pairs, volume actors x vertices, SDF samples, keyframes. The scene reader checks
+/// them after each actor (so that no actor is built past a bound) and validate() once more.
 void checkSceneTotals(const SceneTotals& totals, const std::string& where);
 
 /// Checks everything that can be checked without solving: every actor, condition (actor index in range,

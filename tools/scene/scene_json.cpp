@@ -401,12 +401,39 @@ void readShell(const Value& v, Scene& scene, const std::string& baseDirectory) {
   forEach(o, "probes", [&](const Value& e) { readProbe(e, actor, scene); });
 }
 
+/// A volume actor's keyframes: [{"time": t, "translation": [x, y, z], "rotation": {"axis", "degrees"}}, ...],
+/// times increasing from after 0, each pose the placement moved and turned (energies/contact/rigid_path.h). At most
+/// `room` of them (what the scene's bound leaves).
+std::vector<RigidKeyframe> readKeyframes(const Value& v, std::int64_t room) {
+  if (!v.isArray()) v.typeError("an array of keyframes");
+  if (static_cast<std::int64_t>(v.raw().size()) > room)
+    v.error(std::to_string(v.raw().size()) + " keyframes: too many (at most " + std::to_string(room) +
+            " for all volume actors of a scene together)");
+  if (v.raw().empty()) v.error("no keyframe (leave \"keyframes\" out for a static actor)");
+  std::vector<RigidKeyframe> keys;
+  for (const Value& e : v.array()) {
+    const Object o = e.object({"time", "translation", "rotation"}, "a keyframe");
+    RigidKeyframe k;
+    k.time = o.at("time").number();
+    const double previous = keys.empty() ? 0.0 : keys.back().time;
+    if (!std::isfinite(k.time) || !(k.time > previous))
+      check::fail(o.member("time"), k.time,
+                  keys.empty() ? "must be finite and > 0 (the actor is at its placement at t = 0)"
+                               : "must be finite and after the previous keyframe's time");
+    k.translation = o.vec3("translation", Eigen::Vector3d::Zero());
+    check::normAtMost(k.translation, inputLimits().maxDistance, o.member("translation"));
+    if (const auto r = o.find("rotation")) k.turn = readRotation(*r);
+    keys.push_back(k);
+  }
+  return keys;
+}
+
 /// totals: the scene's so far, whose SDF grid files (resolved path -> samples) are read once: a file named by
 /// several actors is read once, as the run holds it once (SdfShapes).
 void readVolume(const Value& v, const std::string& type, Scene& scene, const std::string& baseDirectory,
                 const SceneTotals& totals) {
   VolumeActorParams p;
-  std::vector<std::string> keys = {"type", "name", "layer", "contact", "velocity", "angularVelocity"};
+  std::vector<std::string> keys = {"type", "name", "layer", "contact", "velocity", "angularVelocity", "keyframes"};
   if (type == "plane") keys.insert(keys.end(), {"point", "normal"});
   if (type == "box") keys.insert(keys.end(), {"center", "halfExtents", "rotation"});
   if (type == "sphere") keys.insert(keys.end(), {"center", "radius"});
@@ -455,6 +482,12 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
   }
   p.velocity = o.vec3("velocity", Eigen::Vector3d::Zero());
   p.angularVelocity = o.vec3("angularVelocity", Eigen::Vector3d::Zero());
+  if (const auto k = o.find("keyframes")) {
+    if (o.has("velocity") || o.has("angularVelocity"))
+      throw InputError(o.member("keyframes") + ": cannot be combined with \"velocity\" or \"angularVelocity\" (a "
+                       "keyframed actor moves through its keyframes alone)");
+    p.keyframes = readKeyframes(*k, inputLimits().maxKeyframes - totals.keyframes);
+  }
   at(v.pointer(), [&] { scene.addVolumeActor(std::move(p)); });
 }
 

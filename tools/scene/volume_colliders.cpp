@@ -35,6 +35,7 @@ VolumeColliderPtr makeVolumeCollider(const VolumeActorParams& v, SdfShapes* shap
   path.rotation = v.worldFromLocalTransform.rotation;
   path.velocity = v.velocity;
   path.angularVelocity = v.angularVelocity;
+  path.keyframes = v.keyframes;
   return std::make_shared<VolumeCollider>(v.name, shape, path);
 }
 

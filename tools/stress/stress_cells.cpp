@@ -267,6 +267,15 @@ std::vector<StressCell> stressCells(bool q) {
   faster["velocity"] = {0.0, 0.0, 300.0};
   add(c, q, false, "contact/capsule_at_300m_s", "capsule rising at 300 m/s (5 m a step) through a cloth, 60 Hz",
       clothOver(faster, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 6)));
+  const Json jerk = {{"type", "box"},
+                     {"name", "jerk"},
+                     {"center", {0.0, 0.0, -0.02}},
+                     {"halfExtents", {0.3, 0.3, 0.02}},
+                     {"keyframes", {{{"time", 0.1}, {"translation", {0.0, 0.0, 0.5}}},
+                                    {{"time", 0.15}, {"translation", {0.3, 0.0, 0.2}},
+                                     {"rotation", {{"axis", {0.0, 0.0, 1.0}}, {"degrees", 170.0}}}}}}};
+  add(c, q, false, "contact/keyframed_jerk", "thin tray jerked up 0.5 m in 0.1 s, then aside and turned, under a cloth",
+      clothOver(jerk, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 30)));
   Json incline = {{"type", "plane"}, {"name", "incline"}, {"point", {0.0, 0.0, 0.0}}, {"normal", {0.0, 0.5, 0.866}}};
   for (double mu : {0.0, 100.0}) {
     incline["contact"] = {{"frictionCoefficient", mu}};
