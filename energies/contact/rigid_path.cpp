@@ -1,5 +1,6 @@
 #include "energies/contact/rigid_path.h"
 
+#include "core/math_constants.h"
 #include "core/mesh.h"
 
 #include <algorithm>
@@ -116,6 +117,10 @@ void RigidPath::validate(const std::string& where) const {
                        (k == 0 ? std::string("0 (the placement)") : "the previous keyframe's"));
     if (!f.translation.allFinite() || !f.turn.coeffs().allFinite() || f.turn.norm() == 0.0)
       throw InputError(at + ": translation and turn must be finite, the turn non-zero");
+    // The speed to it (the turn's rate is at most π over the same time).
+    const Eigen::Vector3d from = k == 0 ? Eigen::Vector3d::Zero() : keyframes[k - 1].translation;
+    if (!((f.translation - from) / (f.time - previous)).allFinite() || !std::isfinite(kPi / (f.time - previous)))
+      throw InputError(at + ": too close in time to the one before for its move (a speed past any finite number)");
     previous = f.time;
   }
 }

@@ -449,9 +449,12 @@ TEST_CASE("scene: a volume actor moves through its keyframes, and bad keyframes 
     return errorOf(bad);
   };
   CHECK(errorWith([](Json& a) { a["keyframes"][0]["time"] = 0.0; }) ==
-        "/actors/1/keyframes/0/time = 0: must be finite and > 0 (the actor is at its placement at t = 0)");
+        "/actors/1/keyframes/0/time = 0: must be finite and at least 1e-9 s (the actor is at its placement at t = 0)");
   CHECK(errorWith([](Json& a) { a["keyframes"][1]["time"] = 0.5; }) ==
-        "/actors/1/keyframes/1/time = 0.5: must be finite and after the previous keyframe's time");
+        "/actors/1/keyframes/1/time = 0.5: must be finite and at least 1e-9 s after the previous keyframe's time");
+  // Closer than that, a move of up to 1e6 m could take the actor past any finite speed.
+  CHECK(errorWith([](Json& a) { a["keyframes"][1]["time"] = 0.5 + 1e-12; }).find(
+            "at least 1e-9 s after the previous keyframe's time") != std::string::npos);
   CHECK(errorWith([](Json& a) { a["keyframes"][1]["speed"] = 1.0; }).find("/actors/1/keyframes/1") == 0);
   CHECK(errorWith([](Json& a) { a["keyframes"] = Json::array(); }) ==
         "/actors/1/keyframes: no keyframe (leave \"keyframes\" out for a static actor)");

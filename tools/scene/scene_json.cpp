@@ -416,10 +416,10 @@ std::vector<RigidKeyframe> readKeyframes(const Value& v, std::int64_t room) {
     RigidKeyframe k;
     k.time = o.at("time").number();
     const double previous = keys.empty() ? 0.0 : keys.back().time;
-    if (!std::isfinite(k.time) || !(k.time > previous))
+    if (!std::isfinite(k.time) || !(k.time >= previous + inputLimits().minTimeStep))
       check::fail(o.member("time"), k.time,
-                  keys.empty() ? "must be finite and > 0 (the actor is at its placement at t = 0)"
-                               : "must be finite and after the previous keyframe's time");
+                  keys.empty() ? "must be finite and at least 1e-9 s (the actor is at its placement at t = 0)"
+                               : "must be finite and at least 1e-9 s after the previous keyframe's time");
     k.translation = o.vec3("translation", Eigen::Vector3d::Zero());
     check::normAtMost(k.translation, inputLimits().maxDistance, o.member("translation"));
     if (const auto r = o.find("rotation")) k.turn = readRotation(*r);

@@ -109,6 +109,12 @@ TEST_CASE("rigid path: constant velocities are one piece, and bad keyframes are 
   p.keyframes[0].turn = Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0);
   refused(p, "the turn non-zero");
   p = liftThenTurn();
+  p.keyframes[1].time = 1.0 + 1e-300;  // as good as 1: the time between them rounds to 0
+  refused(p, "keyframe 1");
+  p = liftThenTurn();
+  p.keyframes[0] = {1e-310, {1e6, 0.0, 0.0}, Eigen::Quaterniond::Identity()};  // 1e316 m/s
+  refused(p, "keyframe 0: too close in time to the one before for its move");
+  p = liftThenTurn();
   p.velocity.z() = 1.0;
   refused(p, "keyframes cannot be combined with a constant velocity");
 }
