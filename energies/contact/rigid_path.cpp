@@ -10,9 +10,9 @@
 namespace jetshell {
 namespace {
 
-/// Keyframed motion between two poses: from (d0, q0) at `start` to the next keyframe at start + duration.
+/// Keyframed motion between two poses: from (d0, q0) at `start` to the next keyframe's at `end` (its time).
 struct Segment {
-  double start = 0.0, duration = std::numeric_limits<double>::infinity();
+  double start = 0.0, end = std::numeric_limits<double>::infinity();
   Eigen::Vector3d d0 = Eigen::Vector3d::Zero();
   Eigen::Quaterniond q0 = Eigen::Quaterniond::Identity();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angularVelocity = Eigen::Vector3d::Zero();
@@ -24,7 +24,7 @@ Segment segmentAt(const std::vector<RigidKeyframe>& keys, double t) {
   Segment s;
   if (t < 0.0) {  // the placement, until 0
     s.start = t;
-    s.duration = -t;
+    s.end = 0.0;
     return s;
   }
   const auto next = std::upper_bound(keys.begin(), keys.end(), t,
@@ -36,12 +36,13 @@ Segment segmentAt(const std::vector<RigidKeyframe>& keys, double t) {
     s.q0 = k.turn.normalized();
   }
   if (next == keys.end()) return s;  // held at the last pose
-  s.duration = next->time - s.start;
-  s.velocity = (next->translation - s.d0) / s.duration;
+  s.end = next->time;
+  const double duration = s.end - s.start;
+  s.velocity = (next->translation - s.d0) / duration;
   Eigen::Quaterniond q = next->turn.normalized() * s.q0.conjugate();
   if (q.w() < 0.0) q.coeffs() *= -1.0;  // the smaller angle
   const double sine = q.vec().norm();
-  if (sine > 0.0) s.angularVelocity = (2.0 * std::atan2(sine, q.w()) / s.duration) * (q.vec() / sine);
+  if (sine > 0.0) s.angularVelocity = (2.0 * std::atan2(sine, q.w()) / duration) * (q.vec() / sine);
   return s;
 }
 
@@ -90,14 +91,14 @@ std::vector<RigidPath::Piece> RigidPath::piecesOver(double t, double h) const {
   const double end = t + h;
   double start = t;
   while (true) {
+    // The next keyframe's own time ends the piece (+∞ for the held pose), so the next piece starts exactly there.
     const Segment s = segmentAt(keyframes, start);
-    const double segmentEnd = s.start + s.duration;  // +∞ for the held pose
-    if (!(segmentEnd < end) || !(segmentEnd > start)) {
+    if (!(s.end < end)) {
       pieces.push_back({start, end - start, s.velocity, s.angularVelocity});
       return pieces;
     }
-    pieces.push_back({start, segmentEnd - start, s.velocity, s.angularVelocity});
-    start = segmentEnd;
+    pieces.push_back({start, s.end - start, s.velocity, s.angularVelocity});
+    start = s.end;
   }
 }
 

@@ -69,6 +69,20 @@ TEST_CASE("rigid path: keyframes are reached exactly, and the motion between the
   CHECK(pieces[2].duration == Approx(0.5));
   CHECK(pieces[2].velocity.norm() == 0.0);
   CHECK(path.piecesOver(1.2, 0.1).size() == 1);
+  // Pieces start exactly at the keyframes' times, whatever the rounding of the times between them.
+  RigidPath many;
+  for (double t : {0.1, 0.3, 0.7, 0.7000000000000001, 1.1})
+    many.keyframes.push_back({t, {t, 0.0, 0.0}, Eigen::Quaterniond::Identity()});
+  const std::vector<RigidPath::Piece> split = many.piecesOver(0.05, 1.0);
+  REQUIRE(split.size() == 5);
+  double total = 0.0;
+  for (std::size_t k = 1; k < split.size(); ++k) CHECK(split[k].start == many.keyframes[k - 1].time);
+  for (const RigidPath::Piece& piece : split) {
+    CHECK(piece.duration > 0.0);
+    CHECK((piece.velocity - Eigen::Vector3d::UnitX()).norm() < 1e-6);
+    total += piece.duration;
+  }
+  CHECK(total == Approx(1.0));
 }
 
 TEST_CASE("rigid path: a turn between keyframes takes the smaller angle", "[contact]") {
