@@ -32,12 +32,14 @@ ShellContact::SolidSweep ShellContact::solidSweep(const Eigen::VectorXd& x, cons
     const double thinnest = term.state->collider->shape().thinnestHalfWidth();
     if (!std::isfinite(thinnest)) continue;  // the half-space has no far side to jump to
     const double travel = term.state->solidTravel(x, v, t, h), allowed = stepFraction * thinnest;
+    // The fewer of the two bounds: the surface's parts are a power of two, so where they are fewer than the
+    // material's ratio they are also fewer than the power of two that ratio asks for.
     double parts = travel / allowed;
     bool bySurface = false;
     if (parts > 1.0) {
       const double surface = surfaceSweepParts(*term.state, x, v, t, h, allowed, maxSubTimes);
-      bySurface = surface < std::exp2(std::ceil(std::log2(parts)));
-      if (bySurface) parts = surface;
+      bySurface = surface < parts;
+      parts = std::min(parts, surface);
     }
     // The solid that needs the most parts; else the first whose material's move asked for some.
     if (parts > sweep.parts || (sweep.solid.empty() && travel > allowed))

@@ -61,28 +61,32 @@ bool RigidPath::isStatic() const {
   return true;
 }
 
-Eigen::Matrix3d RigidPath::rotationAt(double t) const {
+RigidPath::State RigidPath::stateAt(double t) const {
+  State state;
   const Eigen::Matrix3d r0 = rotation.normalized().toRotationMatrix();
   if (keyframes.empty()) {
-    const double w = angularVelocity.norm();
-    if (w == 0.0) return r0;
-    return Eigen::AngleAxisd(w * t, angularVelocity / w).toRotationMatrix() * r0;
+    state.rotation = turnBy(angularVelocity, t) * r0;
+    state.origin = origin + t * velocity;
+    state.velocity = velocity;
+    state.angularVelocity = angularVelocity;
+    return state;
   }
   const Segment s = segmentAt(keyframes, t);
-  return turnBy(s.angularVelocity, t - s.start) * s.q0.toRotationMatrix() * r0;
+  state.rotation = turnBy(s.angularVelocity, t - s.start) * s.q0.toRotationMatrix() * r0;
+  state.origin = origin + s.d0;
+  if (s.velocity.squaredNorm() > 0.0) state.origin += (t - s.start) * s.velocity;
+  state.velocity = s.velocity;
+  state.angularVelocity = s.angularVelocity;
+  return state;
 }
 
-Eigen::Vector3d RigidPath::originAt(double t) const {
-  if (keyframes.empty()) return origin + t * velocity;
-  const Segment s = segmentAt(keyframes, t);
-  return origin + s.d0 + (s.velocity.squaredNorm() > 0.0 ? Eigen::Vector3d((t - s.start) * s.velocity)
-                                                          : Eigen::Vector3d::Zero());
-}
+Eigen::Matrix3d RigidPath::rotationAt(double t) const { return stateAt(t).rotation; }
+
+Eigen::Vector3d RigidPath::originAt(double t) const { return stateAt(t).origin; }
 
 RigidPath::Piece RigidPath::pieceAt(double t) const {
-  if (keyframes.empty()) return {t, 0.0, velocity, angularVelocity};
-  const Segment s = segmentAt(keyframes, t);
-  return {t, 0.0, s.velocity, s.angularVelocity};
+  const State state = stateAt(t);
+  return {t, 0.0, state.velocity, state.angularVelocity};
 }
 
 std::vector<RigidPath::Piece> RigidPath::piecesOver(double t, double h) const {

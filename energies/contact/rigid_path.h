@@ -41,11 +41,20 @@ struct RigidPath {
     Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angularVelocity = Eigen::Vector3d::Zero();
   };
 
+  /// Where the frame is at t and how it moves then (at a keyframe's time, as the piece that starts there).
+  struct State {
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // R(t)
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();        // c(t)
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angularVelocity = Eigen::Vector3d::Zero();
+  };
+
   /// No velocity and no keyframe that moves or turns the actor.
   bool isStatic() const;
+  /// The whole state at t from one look-up of the keyframes (what a collider's query needs); the next three are
+  /// its parts.
+  State stateAt(double t) const;
   Eigen::Matrix3d rotationAt(double t) const;
   Eigen::Vector3d originAt(double t) const;
-  /// The velocities at t (the piece holding t; at a keyframe's time, the piece that starts there).
   Piece pieceAt(double t) const;
   /// The pieces covering [t, t + h], in order, their durations adding up to h (one piece of duration exactly h
   /// for constant velocities).

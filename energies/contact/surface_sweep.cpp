@@ -40,9 +40,8 @@ double surfaceSweepParts(const VolumeContactState& state, const Eigen::VectorXd&
   const Eigen::Vector3d centre = path.originAt(tStart);
   double speed = 0.0, turn = 0.0, centreTravel = 0.0;
   for (const RigidPath::Piece& piece : path.piecesOver(tStart, h)) {
-    const Eigen::Matrix3d R = path.rotationAt(piece.start);
     speed = std::max(speed, piece.velocity.norm());
-    turn = std::max(turn, (R * collider.shape().surfaceTurning(R.transpose() * piece.angularVelocity)).norm());
+    turn = std::max(turn, collider.surfaceTurning(piece).norm());
     centreTravel += piece.duration * piece.velocity.norm();
   }
   struct Reached {

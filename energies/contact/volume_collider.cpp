@@ -13,8 +13,12 @@ VolumeCollider::VolumeCollider(std::string name, VolumeShapePtr shape, RigidPath
 }
 
 SdfSample VolumeCollider::query(const Eigen::Vector3d& p, double t) const {
-  const Eigen::Matrix3d R = moving_ ? path_.rotationAt(t) : r0_;
-  const Eigen::Vector3d c = moving_ ? path_.originAt(t) : path_.origin;
+  if (!moving_) return placed(p, r0_, path_.origin);
+  const RigidPath::State state = path_.stateAt(t);
+  return placed(p, state.rotation, state.origin);
+}
+
+SdfSample VolumeCollider::placed(const Eigen::Vector3d& p, const Eigen::Matrix3d& R, const Eigen::Vector3d& c) const {
   SdfSample s = shape_->signedDistance(R.transpose() * (p - c));
   s.gradient = R * s.gradient;
   s.hessian = R * s.hessian * R.transpose();
@@ -23,8 +27,13 @@ SdfSample VolumeCollider::query(const Eigen::Vector3d& p, double t) const {
 
 Eigen::Vector3d VolumeCollider::velocityAt(const Eigen::Vector3d& p, double t) const {
   if (!moving_) return Eigen::Vector3d::Zero();
-  const RigidPath::Piece piece = path_.pieceAt(t);
-  return piece.velocity + piece.angularVelocity.cross(p - path_.originAt(t));
+  const RigidPath::State state = path_.stateAt(t);
+  return state.velocity + state.angularVelocity.cross(p - state.origin);
+}
+
+Eigen::Vector3d VolumeCollider::surfaceTurning(const RigidPath::Piece& piece) const {
+  const Eigen::Matrix3d R = path_.rotationAt(piece.start);
+  return R * shape_->surfaceTurning(R.transpose() * piece.angularVelocity);
 }
 
 std::shared_ptr<const VolumeCollider> VolumeCollider::heldAtStart() const {

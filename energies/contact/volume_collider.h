@@ -27,10 +27,16 @@ class VolumeCollider {
   SdfSample query(const Eigen::Vector3d& p, double t) const;
   /// Velocity of the solid's material point at p, time t.
   Eigen::Vector3d velocityAt(const Eigen::Vector3d& p, double t) const;
+  /// The part of a piece's angular velocity that moves the solid's surface (world axes; the shape's symmetry,
+  /// VolumeShape::surfaceTurning, judged where the piece starts): what bounds the surface's sweep.
+  Eigen::Vector3d surfaceTurning(const RigidPath::Piece& piece) const;
   /// The same solid held still where it is at t = 0 (the same shape, no velocity, no keyframes).
   std::shared_ptr<const VolumeCollider> heldAtStart() const;
 
  private:
+  /// The signed distance at p of the shape placed with rotation R at origin c.
+  SdfSample placed(const Eigen::Vector3d& p, const Eigen::Matrix3d& R, const Eigen::Vector3d& c) const;
+
   std::string name_;
   VolumeShapePtr shape_;
   RigidPath path_;

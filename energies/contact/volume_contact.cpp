@@ -196,8 +196,7 @@ double VolumeContactState::solidTravel(const Eigen::VectorXd& x, const Eigen::Ve
   };
   std::vector<Move> moves;
   for (const RigidPath::Piece& piece : path.piecesOver(tStart, h)) {
-    const Eigen::Matrix3d R = path.rotationAt(piece.start);
-    const Eigen::Vector3d omega = R * collider->shape().surfaceTurning(R.transpose() * piece.angularVelocity);
+    const Eigen::Vector3d omega = collider->surfaceTurning(piece);
     const double angle = omega.norm() * piece.duration;
     const Eigen::Matrix3d turn =
         angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, omega.normalized()).toRotationMatrix() -
