@@ -25,10 +25,10 @@ SdfSample VolumeCollider::placed(const Eigen::Vector3d& p, const Eigen::Matrix3d
   return s;
 }
 
-Eigen::Vector3d VolumeCollider::velocityAt(const Eigen::Vector3d& p, double t) const {
+Eigen::Vector3d VolumeCollider::materialMove(const Eigen::Vector3d& p, double t, double h) const {
   if (!moving_) return Eigen::Vector3d::Zero();
-  const RigidPath::State state = path_.stateAt(t);
-  return state.velocity + state.angularVelocity.cross(p - state.origin);
+  const RigidPath::State from = path_.stateAt(t), to = path_.stateAt(t + h);
+  return to.origin - p + to.rotation * (from.rotation.transpose() * (p - from.origin));
 }
 
 Eigen::Vector3d VolumeCollider::surfaceTurning(const RigidPath::Piece& piece) const {

@@ -2,8 +2,9 @@
 // prescribed path (energies/contact/rigid_path.h), static, moving at constant velocities or through keyframes.
 //
 // Input: a world point p and a time t. Output: the world signed distance sample (d, ∇d, ∇²d) of the shape in its
-// frame at t (rotation R(t), origin c(t)), and the velocity of the solid's material at p (v(t) + ω(t) × (p − c(t)),
-// the velocities of the path's piece at t), which friction uses as the collider's own slip.
+// frame at t (rotation R(t), origin c(t)), and the move over a step [t, t + h] of the solid's material at p (from
+// the poses at both ends, exact whatever pieces of the path lie between), which friction uses as the collider's own
+// slip.
 #pragma once
 
 #include "energies/contact/rigid_path.h"
@@ -25,8 +26,10 @@ class VolumeCollider {
 
   /// World signed distance at p and time t. Thread-safe.
   SdfSample query(const Eigen::Vector3d& p, double t) const;
-  /// Velocity of the solid's material point at p, time t.
-  Eigen::Vector3d velocityAt(const Eigen::Vector3d& p, double t) const;
+  /// Where the solid's material point at p at time t has moved by t + h, less p: c(t+h) + R(t+h) R(t)ᵀ (p − c(t))
+  /// − p. The chord of a turn, and a keyframed stop or corner within the step, are exact (h times the material's
+  /// velocity at t is not).
+  Eigen::Vector3d materialMove(const Eigen::Vector3d& p, double t, double h) const;
   /// The part of a piece's angular velocity that moves the solid's surface (world axes; the shape's symmetry,
   /// VolumeShape::surfaceTurning, judged where the piece starts): what bounds the surface's sweep.
   Eigen::Vector3d surfaceTurning(const RigidPath::Piece& piece) const;

@@ -153,7 +153,7 @@ void VolumeContactState::beginStep(const Eigen::VectorXd& xStart, double tStart,
       const double gn = d.gradient.norm();
       normal[i] = gn > 0.0 ? Eigen::Vector3d(d.gradient / gn) : Eigen::Vector3d::UnitZ();
       start[i] = p;
-      colliderShift[i] = h * collider->velocityAt(p, tStart);
+      colliderShift[i] = collider->materialMove(p, tStart, h);
     }
   }
   time = tStart + h;

@@ -7,7 +7,8 @@
 // with p_q = ε − d(x_q, t) the penetration of sample point x_q into the activation band of the collider at the
 // end-of-step time t, R, G the C²-smoothed ramp and its moment (energies/contact/contact_ramp.h), and lagged
 // at the start of the step (beginStep): a_q = p(x_q^n, t_n), λ_q = A_q k r(a_q) (the normal force),
-// P_q = I − n nᵀ (n = ∇d there), u_q = x_q − x_q^n − Δt·v_collider(x_q^n) (the slip relative to the solid),
+// P_q = I − n nᵀ (n = ∇d there), u_q = x_q − x_q^n − m_q (the slip relative to the solid, m_q the move over the
+// step of the solid's material at x_q^n: VolumeCollider::materialMove),
 // f₀ with ε_v = V_f Δt. ∂/∂p of the damping potential is A_q k r(p) · c (p − a_q)/Δt: the Hunt–Crossley force
 // k r(p) c ṗ. Both transient terms are zero until a step begins (statics).
 // Damping and friction energies, differentiated, are forces of the step, not potential energies of the state.

@@ -268,3 +268,44 @@ TEST_CASE("contact terms: a moving solid's travel over a step counts at the samp
   // Later the centre has moved with the path: 1 s at 2 m/s leaves the ball 2 m above both samples.
   CHECK(rising.solidTravel(x, still, 1.0, 0.01) == 0.0);
 }
+
+TEST_CASE("contact terms: friction slips against the solid's own move over the step, a turn's chord and a stop",
+          "[contact]") {
+  // Samples 1 mm into the activation band of a floor that moves along its own surface. A sample carried exactly as
+  // the floor's material moves over the step feels no friction; one left behind by more than ε_v feels all of it.
+  PlaneCase c = heights({0.004, 0.004, 0.004, 0.004});
+  const Eigen::VectorXd start = flatten(c.mesh.V);
+  const double h = 0.01;
+  const double lambda = c.sampling.area[3] * c.params.penaltyStiffness * 0.5 * 1e-3;  // p = δ: r = δ/2
+  auto friction = [&](const RigidPath& path, const Eigen::VectorXd& x) {
+    VolumeContactTerms t = makeVolumeContactTerms(c.sampling, c.mesh.numVertices(),
+                                                  std::make_shared<VolumeCollider>("floor", makePlaneShape(), path),
+                                                  c.params);
+    t.state->beginStep(start, 0.0, h);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+    t.friction->evaluate(x, {&g, nullptr, -1}, {});
+    return g;
+  };
+  // A turntable at 30 rad/s: 0.3 rad a step, so the chord and the tangent h·v part by 4.5% of the radius (1.3 cm
+  // at the last sample, 0.3 m out), a hundred times ε_v = 0.1 mm.
+  RigidPath turntable;
+  turntable.angularVelocity = {0.0, 0.0, 30.0};
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Eigen::VectorXd carried = start, tangent = start;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d p = start.segment<3>(3 * i);
+    carried.segment<3>(3 * i) = turn * p;
+    tangent.segment<3>(3 * i) = p + h * Eigen::Vector3d(0.0, 0.0, 30.0).cross(p);
+  }
+  CHECK(friction(turntable, carried).norm() < 1e-9 * lambda);
+  CHECK(friction(turntable, tangent).segment<3>(9).norm() == Approx(c.params.frictionCoefficient * lambda));
+  // A conveyor keyframed to move 1 mm along x by t = h/2 and stop: the floor moves 1 mm over the step, not the
+  // 2 mm its velocity at the step's start would give.
+  RigidPath conveyor;
+  conveyor.keyframes = {{0.5 * h, {0.001, 0.0, 0.0}, Eigen::Quaterniond::Identity()}};
+  Eigen::VectorXd moved = start;
+  for (int i = 0; i < 4; ++i) moved[3 * i] += 0.001;
+  CHECK(friction(conveyor, moved).norm() < 1e-9 * lambda);
+  for (int i = 0; i < 4; ++i) moved[3 * i] += 0.001;
+  CHECK(friction(conveyor, moved).segment<3>(9).norm() == Approx(c.params.frictionCoefficient * lambda));
+}

@@ -138,8 +138,13 @@ TEST_CASE("volume collider: a keyframed solid is where its path puts it, and hel
   // The ball's centre rises with the path: 0.1 m above at t = 0.5, its surface 5 cm from (1, 0, 0.15).
   CHECK(lift.query({1.0, 0.0, 0.15}, 0.0).distance == Approx(0.05));
   CHECK(lift.query({1.0, 0.0, 0.15}, 0.5).distance == Approx(-0.05));
-  CHECK((lift.velocityAt({1.0, 0.0, 0.0}, 0.5) - Eigen::Vector3d(0.0, 0.0, 0.2)).norm() < 1e-15);
-  CHECK(lift.velocityAt({1.0, 0.0, 0.0}, 5.0).norm() == 0.0);
+  // The material moves with the path over a step: rising 0.2 m/s, over 0.1 s by 2 cm; over a step that passes
+  // the last keyframe (t = 3) only up to it, as the pose is held after; not at all once held.
+  CHECK((lift.materialMove({1.0, 0.0, 0.0}, 0.5, 0.1) - Eigen::Vector3d(0.0, 0.0, 0.02)).norm() < 1e-15);
+  const Eigen::Vector3d p(1.2, 0.3, 0.2), toEnd = lift.materialMove(p, 2.9, 0.1);
+  CHECK(toEnd.norm() > 0.01);
+  CHECK((lift.materialMove(p, 2.9, 0.5) - toEnd).norm() < 1e-15);
+  CHECK(lift.materialMove(p, 5.0, 0.1).norm() == 0.0);
   const auto held = lift.heldAtStart();
   CHECK(held->path().isStatic());
   CHECK(held->query({1.0, 0.0, 0.15}, 0.5).distance == Approx(0.05));

@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -56,14 +57,21 @@ TEST_CASE("volume shapes: distances, normals and curvature of plane, sphere, box
   }
 }
 
-TEST_CASE("volume shapes: a collider moves on its path, with the material velocity friction needs", "[contact]") {
+TEST_CASE("volume shapes: a collider moves on its path, with the material move friction needs", "[contact]") {
   RigidPath path;
   path.velocity = Eigen::Vector3d(0, 0, 1);
   path.angularVelocity = Eigen::Vector3d(0, 0, 2);
   const VolumeCollider sphere("s", makeSphereShape(0.5), path);
   CHECK(sphere.query(Eigen::Vector3d(0, 0, 2), 1.0).distance == Approx(0.5));
-  const Eigen::Vector3d v = sphere.velocityAt(Eigen::Vector3d(1, 0, 1), 1.0);
-  CHECK(v.x() == Approx(0.0).margin(1e-12));
+  // The material at (1, 0, 1) at t = 1 is 1 m off the axis through the centre (0, 0, 1): over 0.25 s it rises
+  // 0.25 m and turns by 0.5 rad along the circle (the chord, not the tangent); over a short step the move is the
+  // material's velocity (0, 2, 1) times the step.
+  const Eigen::Vector3d m = sphere.materialMove(Eigen::Vector3d(1, 0, 1), 1.0, 0.25);
+  CHECK(m.x() == Approx(std::cos(0.5) - 1.0));
+  CHECK(m.y() == Approx(std::sin(0.5)));
+  CHECK(m.z() == Approx(0.25));
+  const Eigen::Vector3d v = sphere.materialMove(Eigen::Vector3d(1, 0, 1), 1.0, 1e-6) / 1e-6;
+  CHECK(v.x() == Approx(0.0).margin(1e-5));
   CHECK(v.y() == Approx(2.0));
   CHECK(v.z() == Approx(1.0));
   checkSample(sphere, Eigen::Vector3d(0.3, 0.4, 1.9), 1.0);
