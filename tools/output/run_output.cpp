@@ -18,6 +18,9 @@ std::string frameName(int index, const char* extension) {
   return buffer;
 }
 
+/// The moving volume actors' file of a frame, in frames/.
+std::string movingVolumesName(int frame) { return "volumes_" + frameName(frame, "vtu").substr(6); }
+
 void createDirectory(const std::filesystem::path& p) {
   std::error_code ec;
   std::filesystem::create_directories(p, ec);
@@ -43,6 +46,32 @@ std::string csvField(const std::string& text) {
 
 }  // namespace
 
+/// The volume actors' surfaces placed where their paths put them at time t (x = c(t) + R(t) R₀ᵀ (x₀ − c₀)), one
+/// mesh, its `volume` cell array the actor's index among the scene's volume actors.
+VtuFrame RunOutput::volumesFrame(const std::vector<VolumePart>& parts, double t) {
+  VtuFrame frame;
+  Eigen::Index nv = 0, nf = 0;
+  for (const VolumePart& p : parts) nv += p.surface.V.rows(), nf += p.surface.F.rows();
+  frame.points.resize(nv, 3);
+  frame.triangles.resize(nf, 3);
+  VtuFrame::Array& id = frame.cellData["volume"];
+  nv = nf = 0;
+  for (const VolumePart& p : parts) {
+    Positions V = p.surface.V;
+    if (!p.path.isStatic()) {
+      const RigidPath::State at = p.path.stateAt(t);
+      const Eigen::Matrix3d turn = at.rotation * p.path.rotation.normalized().toRotationMatrix().transpose();
+      V = ((V.rowwise() - p.path.origin.transpose()) * turn.transpose()).rowwise() + at.origin.transpose();
+    }
+    frame.points.middleRows(nv, V.rows()) = V;
+    frame.triangles.middleRows(nf, p.surface.F.rows()) = p.surface.F.array() + static_cast<int>(nv);
+    id.values.insert(id.values.end(), static_cast<std::size_t>(p.surface.F.rows()), static_cast<double>(p.index));
+    nv += V.rows();
+    nf += p.surface.F.rows();
+  }
+  return frame;
+}
+
 RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel& model, std::string scenePath)
     : directory_(std::move(directory)), scenePath_(std::move(scenePath)), scene_(scene), model_(model) {
   namespace fs = std::filesystem;
@@ -52,25 +81,19 @@ RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel
   if (!scene.volumes.empty()) {
     const Eigen::Vector3d lo = model.world.V.colwise().minCoeff(), hi = model.world.V.colwise().maxCoeff();
     const double size = std::max(1e-3, 0.8 * (hi - lo).maxCoeff());  // a plane is drawn as a square this half-size
-    VtuFrame frame;
-    std::vector<Eigen::Index> firstVertex;
-    std::vector<TriMesh> parts;
-    for (const VolumeActorParams& v : scene.volumes) parts.push_back(volumeSurface(v, size, 0.5 * (lo + hi)));
-    Eigen::Index nv = 0, nf = 0;
-    for (const TriMesh& p : parts) nv += p.V.rows(), nf += p.F.rows();
-    frame.points.resize(nv, 3);
-    frame.triangles.resize(nf, 3);
-    VtuFrame::Array& id = frame.cellData["volume"];
-    nv = nf = 0;
-    for (std::size_t k = 0; k < parts.size(); ++k) {
-      frame.points.middleRows(nv, parts[k].V.rows()) = parts[k].V;
-      frame.triangles.middleRows(nf, parts[k].F.rows()) = parts[k].F.array() + static_cast<int>(nv);
-      id.values.insert(id.values.end(), static_cast<std::size_t>(parts[k].F.rows()), static_cast<double>(k));
-      nv += parts[k].V.rows();
-      nf += parts[k].F.rows();
+    std::vector<VolumePart> still;
+    for (std::size_t k = 0; k < scene.volumes.size(); ++k) {
+      VolumePart part{volumeSurface(scene.volumes[k], size, 0.5 * (lo + hi)), static_cast<int>(k),
+                      rigidPath(scene.volumes[k])};
+      // Volume actors move in dynamics only (elsewhere contact holds them where they are at t = 0), and only
+      // into frames that frames/ holds.
+      const bool moves = scene.analysis.type == AnalysisType::Dynamic && scene.outputs.vtu && !part.path.isStatic();
+      (moves ? movingVolumes_ : still).push_back(std::move(part));
     }
-    volumesFile_ = (fs::path(directory_) / "volumes.vtu").string();
-    writeFileAtomically(volumesFile_, [&](std::ostream& out) { writeVtu(out, frame); });
+    if (!still.empty()) {
+      staticVolumesFile_ = (fs::path(directory_) / "volumes.vtu").string();
+      writeFileAtomically(staticVolumesFile_, [&](std::ostream& out) { writeVtu(out, volumesFrame(still, 0.0)); });
+    }
   }
 }
 
@@ -146,8 +169,11 @@ void RunOutput::writeFrame(const StepState& s) {
       writeFileAtomically(lastFrame_.back(), [&](std::ostream& out) { writeVtu(out, frame); });
       entries += PvdSeries::entry(s.time, "frames/" + name, static_cast<int>(a), perActor ? scene_.shells[a].name : "");
     }
-    if (!volumesFile_.empty())
-      entries += PvdSeries::entry(s.time, "volumes.vtu", perActor ? static_cast<int>(numActors) : 1, perActor ? "volumes" : "");
+    int part = perActor ? static_cast<int>(numActors) : 1;
+    if (!staticVolumesFile_.empty())
+      entries += PvdSeries::entry(s.time, "volumes.vtu", part++, perActor ? "volumes" : "");
+    if (!movingVolumes_.empty())
+      entries += PvdSeries::entry(s.time, writeMovingVolumes(s.time), part, perActor ? "moving volumes" : "");
     if (!pvd_.isOpen()) pvd_.create((fs::path(directory_) / "frames.pvd").string(), PvdSeries::head(), PvdSeries::tail());
     pvd_.append(entries);
   }
@@ -156,6 +182,20 @@ void RunOutput::writeFrame(const StepState& s) {
     writeFileAtomically(path, [&](std::ostream& out) { writeObj(out, X, model_.world.F); });
   }
   ++frames_;
+}
+
+std::string RunOutput::writeMovingVolumes(double t) {
+  const std::string name = "frames/" + movingVolumesName(frames_);
+  movingVolumesFile_ = (std::filesystem::path(directory_) / name).string();
+  writeFileAtomically(movingVolumesFile_, [&](std::ostream& out) { writeVtu(out, volumesFrame(movingVolumes_, t)); });
+  return name;
+}
+
+std::vector<std::string> RunOutput::volumeFiles() const {
+  std::vector<std::string> files;
+  for (const std::string* f : {&staticVolumesFile_, &movingVolumesFile_})
+    if (!f->empty()) files.push_back(*f);
+  return files;
 }
 
 std::string RunOutput::probeRows(std::size_t from) const {
@@ -217,6 +257,9 @@ void RunOutput::restore(const OutputCheckpoint& o) {
   rows_ = o.rows;
   flushedRows_ = o.flushedRows;
   flushedRowChanged_ = o.flushedRowChanged;
+  movingVolumesFile_.clear();
+  if (!movingVolumes_.empty() && frames_ > 0)
+    movingVolumesFile_ = (fs::path(directory_) / "frames" / movingVolumesName(frames_ - 1)).string();
   if (o.pvdBytes) pvd_.reopen((fs::path(directory_) / "frames.pvd").string(), *o.pvdBytes, PvdSeries::tail());
   if (o.probesBytes) probesCsv_.reopen((fs::path(directory_) / "probes.csv").string(), *o.probesBytes, "");
 }

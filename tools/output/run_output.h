@@ -4,7 +4,10 @@
 //                                         actors one file per actor and frame, frames/frame_NNNNN_aK.vtu (K the
 //                                         actor's index), each a part of the series named after its actor, so
 //                                         ParaView shows one block per actor
-//   volumes.vtu                           the rigid volume actors (the series' last part), when the scene has any
+//   volumes.vtu                           the rigid volume actors that stay where they are (a part of the series),
+//                                         when the scene has any
+//   frames/volumes_NNNNN.vtu              in dynamics, the volume actors that move, where they are at each frame
+//                                         (the series' last part)
 //   obj/frame_NNNNN.obj                   optional OBJ per frame
 //   probes.csv                            probe displacements per step
 //   summary.json                          the run's outcome (see RunSummary), with one entry per shell actor
@@ -64,8 +67,9 @@ class RunOutput {
   const std::string& directory() const { return directory_; }
   /// The most recent frame's files (one per shell actor with several actors), or none when none was written.
   const std::vector<std::string>& lastFrame() const { return lastFrame_; }
-  /// The volume actors' file, or "" when the scene has none.
-  const std::string& volumesFile() const { return volumesFile_; }
+  /// The volume actors' files as the last frame shows them: volumes.vtu with those that stay where they are, the
+  /// frame's volumes file with those that move; none when the scene has no volume actor.
+  std::vector<std::string> volumeFiles() const;
   int framesWritten() const { return frames_; }
   /// The .vtu files of one frame: one per shell actor with 2 to kMaxFramePartActors actors, else one.
   int filesPerFrame() const;
@@ -81,6 +85,9 @@ class RunOutput {
 
  private:
   void writeFrame(const StepState& state);
+  /// The moving volume actors placed where their paths put them at time t, written as frames/volumes_NNNNN.vtu
+  /// for the current frame; returns the file's name in the output directory.
+  std::string writeMovingVolumes(double t);
   void writeProbes();
   std::string probeRows(std::size_t from) const;
   /// One entry per shell actor: name, layer, vertex and face counts, and from the last recorded state the
@@ -95,7 +102,16 @@ class RunOutput {
   std::size_t flushedRows_ = 0;      // rows_ already in probes.csv
   bool flushedRowChanged_ = false;  // the last flushed row was recorded again with other values
   std::vector<std::string> lastFrame_;
-  std::string volumesFile_;
+  /// A volume actor's surface as placed at t = 0, its index among the scene's volume actors and its path.
+  struct VolumePart {
+    TriMesh surface;
+    int index = 0;
+    RigidPath path;
+  };
+  /// The parts placed where their paths put them at time t, as one mesh (its `volume` cell array the index).
+  static VtuFrame volumesFrame(const std::vector<VolumePart>& parts, double t);
+  std::vector<VolumePart> movingVolumes_;
+  std::string staticVolumesFile_, movingVolumesFile_;  // "" when there are none (or no frame yet)
   int frames_ = 0;
   int lastRecordedStep_ = -1;
   int lastFrameStep_ = -1;

@@ -63,12 +63,18 @@ void validate(const VolumeActorParams& p, const std::string& where) {
   for (std::size_t k = 0; k < p.keyframes.size(); ++k)
     check::normAtMost(p.keyframes[k].translation, inputLimits().maxDistance,
                       where + ".keyframes[" + std::to_string(k) + "].translation");
+  rigidPath(p).validate(where);
+  validate(p.contact, where + ".contact");
+}
+
+RigidPath rigidPath(const VolumeActorParams& p) {
   RigidPath path;
+  path.origin = p.worldFromLocalTransform.translation;
+  path.rotation = p.worldFromLocalTransform.rotation;
   path.velocity = p.velocity;
   path.angularVelocity = p.angularVelocity;
   path.keyframes = p.keyframes;
-  path.validate(where);
-  validate(p.contact, where + ".contact");
+  return path;
 }
 
 const char* toString(ColliderType t) { return t == ColliderType::PointCloud ? "PointCloud" : "None"; }

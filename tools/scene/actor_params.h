@@ -76,6 +76,9 @@ void validate(const ShellActorParams& p, const std::string& where);
 void validate(const VolumeActorParams& p, const std::string& where);
 void validate(const ContactParams& p, const std::string& where);
 
+/// The actor's prescribed path (energies/contact/rigid_path.h): its placement, velocities and keyframes.
+RigidPath rigidPath(const VolumeActorParams& p);
+
 const char* toString(ColliderType t);
 const char* toString(ActorBoundaryElementType t);
 const char* toString(VolumeActorParams::Kind k);

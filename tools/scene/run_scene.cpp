@@ -532,7 +532,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       RenderOptions r;
       r.up = upAxis(scene);
       std::vector<std::string> files = result.lastFrame;
-      if (!output.volumesFile().empty()) files.push_back(output.volumesFile());
+      for (const std::string& f : output.volumeFiles()) files.push_back(f);
       result.finalPng = (fs::path(options.outputDirectory) / "final.png").string();
       renderVtuFiles(files, "displacement", r, result.finalPng);
     } catch (const InputError& e) {

@@ -245,12 +245,11 @@ void validate(const Scene& scene) {
 
 std::vector<std::string> unsupportedFeatures(const Scene& scene) {
   std::vector<std::string> notes;
+  if (scene.analysis.type == AnalysisType::Dynamic) return notes;
   for (const VolumeActorParams& v : scene.volumes)
-    if (v.velocity.squaredNorm() > 0.0 || v.angularVelocity.squaredNorm() > 0.0 || !v.keyframes.empty())
-      notes.push_back(scene.analysis.type == AnalysisType::Dynamic
-                          ? "volume actor '" + v.name + "' moves: volumes.vtu shows it at t = 0 only"
-                          : "volume actor '" + v.name + "' moves in dynamic analyses only: this " +
-                                toString(scene.analysis.type) + " analysis holds it where it is at t = 0");
+    if (!rigidPath(v).isStatic())
+      notes.push_back("volume actor '" + v.name + "' moves in dynamic analyses only: this " +
+                      toString(scene.analysis.type) + " analysis holds it where it is at t = 0");
   return notes;
 }
 

@@ -190,7 +190,8 @@ void checkSceneTotals(const SceneTotals& totals, const std::string& where);
 /// option names. Throws InputError naming the field.
 void validate(const Scene& scene);
 
-/// What the scene asks for that this build does only in part (moving volumes are drawn at t = 0), one line each.
+/// What the scene asks for that its analysis does only in part (volume actors move in dynamics only), one line
+/// each.
 std::vector<std::string> unsupportedFeatures(const Scene& scene);
 
 const char* toString(AnalysisType t);

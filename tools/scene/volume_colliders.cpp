@@ -30,13 +30,7 @@ VolumeShapePtr sdfShape(const std::string& file, SdfShapes* shapes) {
 VolumeColliderPtr makeVolumeCollider(const VolumeActorParams& v, SdfShapes* shapes) {
   const VolumeShapePtr shape =
       v.kind == VolumeActorParams::Kind::SdfGrid ? sdfShape(v.sdfFile, shapes) : analyticVolumeShape(v);
-  RigidPath path;
-  path.origin = v.worldFromLocalTransform.translation;
-  path.rotation = v.worldFromLocalTransform.rotation;
-  path.velocity = v.velocity;
-  path.angularVelocity = v.angularVelocity;
-  path.keyframes = v.keyframes;
-  return std::make_shared<VolumeCollider>(v.name, shape, path);
+  return std::make_shared<VolumeCollider>(v.name, shape, rigidPath(v));
 }
 
 }  // namespace jetshell
