@@ -163,4 +163,8 @@ VolumeShapePtr makeSdfGridShape(SdfGrid grid) {
   return std::make_shared<GridShape>(std::move(grid));
 }
 
+Eigen::AlignedBox3d sdfGridBox(const SdfGrid& grid) {
+  return {grid.origin, grid.origin + grid.spacing * Eigen::Vector3d(grid.nx - 1, grid.ny - 1, grid.nz - 1)};
+}
+
 }  // namespace jetshell

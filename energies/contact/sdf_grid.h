@@ -12,6 +12,8 @@
 
 #include "energies/contact/volume_shapes.h"
 
+#include <Eigen/Geometry>
+
 #include <istream>
 #include <string>
 #include <vector>
@@ -32,5 +34,7 @@ SdfGrid readSdfGrid(const std::string& path);
 SdfGrid parseSdfGrid(std::istream& in, const std::string& name);
 /// The grid as a shape (validated: sizes and finite values).
 VolumeShapePtr makeSdfGridShape(SdfGrid grid);
+/// The box the grid's samples span, in its local coordinates.
+Eigen::AlignedBox3d sdfGridBox(const SdfGrid& grid);
 
 }  // namespace jetshell

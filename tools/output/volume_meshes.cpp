@@ -77,11 +77,11 @@ TriMesh volumeSurface(const VolumeActorParams& volume, double planeHalfSize, con
       break;
     }
     case VolumeActorParams::Kind::SdfGrid: {  // the grid's bounding box
-      const SdfGrid g = readSdfGrid(volume.sdfFile);
-      const Eigen::Vector3d half = 0.5 * g.spacing * Eigen::Vector3d(g.nx - 1, g.ny - 1, g.nz - 1);
+      const Eigen::AlignedBox3d b = volume.sdfShape ? volume.sdfBox : sdfGridBox(readSdfGrid(volume.sdfFile));
+      const Eigen::Vector3d half = 0.5 * b.sizes();
       m = box();
       for (Eigen::Index v = 0; v < m.V.rows(); ++v)
-        m.V.row(v) = (g.origin + half + m.V.row(v).transpose().cwiseProduct(half)).transpose();
+        m.V.row(v) = (b.center() + m.V.row(v).transpose().cwiseProduct(half)).transpose();
       break;
     }
   }

@@ -5,6 +5,7 @@
 
 #include "energies/contact/contact_params.h"
 #include "energies/contact/rigid_path.h"
+#include "energies/contact/volume_shapes.h"
 #include "energies/shell/material.h"
 #include "tools/scene/shapes.h"
 
@@ -60,6 +61,11 @@ struct VolumeActorParams {
   double halfLength = 0.5;    // capsule: half length of its axis segment along local z, m
   std::string sdfFile;        // SdfGrid: the grid file (energies/contact/sdf_grid.h), local coordinates
   std::int64_t sdfSamples = 0;  // SdfGrid: its sample count, as the scene reader found it (for the scene's bounds)
+  /// SdfGrid: the shape the scene reader made of the file, shared by every actor that names it, and the box its
+  /// samples span (local coordinates), so that a run reads the file once. Null for actors built otherwise, whose
+  /// file is read when a run needs it.
+  VolumeShapePtr sdfShape;
+  Eigen::AlignedBox3d sdfBox;
   /// Prescribed motion from the transform at t = 0: constant velocity [m/s] and angular velocity [rad/s]
   /// (world axes, about the actor's origin), or keyframes (energies/contact/rigid_path.h: translations and turns
   /// of the placement at increasing times > 0), not both. Zero and none: static.

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 
 #include <filesystem>
 #include <sstream>
@@ -428,10 +429,13 @@ std::vector<RigidKeyframe> readKeyframes(const Value& v, std::int64_t room) {
   return keys;
 }
 
-/// totals: the scene's so far, whose SDF grid files (resolved path -> samples) are read once: a file named by
-/// several actors is read once, as the run holds it once (SdfShapes).
+/// The SDF grid files read so far, by resolved path: the first actor that named each (index in scene.volumes).
+/// A file named by several actors is read once, and they share its shape, as the run holds it once.
+using SdfFilesRead = std::map<std::string, std::size_t>;
+
+/// totals: the scene's so far.
 void readVolume(const Value& v, const std::string& type, Scene& scene, const std::string& baseDirectory,
-                const SceneTotals& totals) {
+                const SceneTotals& totals, SdfFilesRead& sdfFiles) {
   VolumeActorParams p;
   std::vector<std::string> keys = {"type", "name", "layer", "contact", "velocity", "angularVelocity", "keyframes"};
   if (type == "plane") keys.insert(keys.end(), {"point", "normal"});
@@ -472,12 +476,20 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
     const std::string file = o.string("file", "");
     if (file.empty()) throw InputError(o.member("file") + ": missing (the SDF grid file)");
     p.sdfFile = (std::filesystem::path(baseDirectory) / file).lexically_normal().string();
-    const auto read = totals.sdfFiles.find(p.sdfFile);
-    if (read != totals.sdfFiles.end()) {
-      p.sdfSamples = read->second;
+    const auto read = sdfFiles.find(p.sdfFile);
+    if (read != sdfFiles.end()) {
+      const VolumeActorParams& first = scene.volumes[read->second];
+      p.sdfSamples = first.sdfSamples;
+      p.sdfShape = first.sdfShape;
+      p.sdfBox = first.sdfBox;
     } else {
-      const SdfGrid grid = at(o.member("file"), [&] { return readSdfGrid(p.sdfFile); });  // named errors now
-      p.sdfSamples = static_cast<std::int64_t>(grid.values.size());
+      at(o.member("file"), [&] {  // named errors now
+        SdfGrid grid = readSdfGrid(p.sdfFile);
+        p.sdfSamples = static_cast<std::int64_t>(grid.values.size());
+        p.sdfBox = sdfGridBox(grid);
+        p.sdfShape = makeSdfGridShape(std::move(grid));
+      });
+      sdfFiles.emplace(p.sdfFile, scene.volumes.size());
     }
   }
   p.velocity = o.vec3("velocity", Eigen::Vector3d::Zero());
@@ -635,6 +647,7 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
   // The totals are checked after each actor, so that no shape is generated or read past a scene-wide bound (a
   // 1 KB scene of many large generated shells would otherwise fill the memory before validate() below).
   SceneTotals totals;
+  SdfFilesRead sdfFiles;
   for (const Value& a : actors) {
     if (!a.isObject()) a.typeError("an object (an actor)");
     const std::string type =
@@ -645,7 +658,7 @@ Scene sceneFromJson(const nlohmann::json& document, const std::string& baseDirec
       readShell(a, scene, baseDirectory);
       totals.add(scene.shells.back());
     } else {
-      readVolume(a, type, scene, baseDirectory, totals);
+      readVolume(a, type, scene, baseDirectory, totals, sdfFiles);
       totals.add(scene.volumes.back());
     }
     checkSceneTotals(totals, a.pointer());

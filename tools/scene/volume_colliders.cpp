@@ -9,19 +9,26 @@ namespace jetshell {
 
 namespace {
 
-VolumeShapePtr sdfShape(const std::string& file, SdfShapes* shapes) {
+/// The actor's grid as a shape: the scene reader's, or read from its file (actors built otherwise).
+VolumeShapePtr sdfShape(const VolumeActorParams& v, SdfShapes* shapes) {
   if (shapes)
-    if (const auto found = shapes->byFile.find(file); found != shapes->byFile.end()) return found->second;
-  SdfGrid grid = readSdfGrid(file);
+    if (const auto found = shapes->byFile.find(v.sdfFile); found != shapes->byFile.end()) return found->second;
+  VolumeShapePtr shape = v.sdfShape;
+  std::int64_t samples = v.sdfSamples;
+  SdfGrid grid;
+  if (!shape) {
+    grid = readSdfGrid(v.sdfFile);
+    samples = static_cast<std::int64_t>(grid.values.size());
+  }
   if (shapes) {
-    shapes->samples += static_cast<std::int64_t>(grid.values.size());
+    shapes->samples += samples;
     const std::int64_t limit = inputLimits().maxSdfSamples;
     if (shapes->samples > limit)
-      throw InputError(file + ": samples of all SDF grids of the scene = " + std::to_string(shapes->samples) +
+      throw InputError(v.sdfFile + ": samples of all SDF grids of the scene = " + std::to_string(shapes->samples) +
                        ": too large (at most " + std::to_string(limit) + ")");
   }
-  VolumeShapePtr shape = makeSdfGridShape(std::move(grid));
-  if (shapes) shapes->byFile.emplace(file, shape);
+  if (!shape) shape = makeSdfGridShape(std::move(grid));
+  if (shapes) shapes->byFile.emplace(v.sdfFile, shape);
   return shape;
 }
 
@@ -29,7 +36,7 @@ VolumeShapePtr sdfShape(const std::string& file, SdfShapes* shapes) {
 
 VolumeColliderPtr makeVolumeCollider(const VolumeActorParams& v, SdfShapes* shapes) {
   const VolumeShapePtr shape =
-      v.kind == VolumeActorParams::Kind::SdfGrid ? sdfShape(v.sdfFile, shapes) : analyticVolumeShape(v);
+      v.kind == VolumeActorParams::Kind::SdfGrid ? sdfShape(v, shapes) : analyticVolumeShape(v);
   return std::make_shared<VolumeCollider>(v.name, shape, rigidPath(v));
 }
 
