@@ -52,6 +52,8 @@ std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::
       smallest = std::min(smallest, s.pointCloudCollider.radius);
     }
   const bool pointContact = clouds >= 2 || self;
+  std::vector<double> thinnest;  // per volume actor, its shape made once (not once per shell actor)
+  for (const VolumeActorParams& v : scene.volumes) thinnest.push_back(thinnestHalfWidth(v));
   for (std::size_t a = 0; a < scene.shells.size() && a < actors.size(); ++a) {
     const ShellActorParams& s = scene.shells[a];
     const double gap = toMiddle * meanEdgeLength(actors[a]);
@@ -66,8 +68,9 @@ std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::
     }
     const bool threePoint = s.contactElementType == ActorBoundaryElementType::FaceThreePoint;
     const double sampleGap = threePoint ? 0.5 * gap : gap;
-    for (const VolumeActorParams& v : scene.volumes) {
-      const double w = thinnestHalfWidth(v);
+    for (std::size_t k = 0; k < scene.volumes.size(); ++k) {
+      const VolumeActorParams& v = scene.volumes[k];
+      const double w = thinnest[k];
       const double reach = w + combine(s.contact, v.contact).activationDistance;
       if (!(sampleGap > reach)) continue;
       add("volume actor '" + v.name + "' (thinnest half-width " + metres(w) +
