@@ -12,11 +12,11 @@
 
 namespace jetshell {
 
-/// The shapes made from SDF grid files so far, by resolved path: actors that name one file share its shape (a
-/// shape is immutable; each collider places it on its own path), so the grid is read and held once. The grids'
-/// samples are counted as they are read and bounded together by InputLimits::maxSdfSamples, here as well as in
-/// the scene reader: a scene built through the API was not counted, and a file replaced after the scene was read
-/// is counted as it is.
+/// The shapes of SDF grid files so far, by resolved path: actors that name one file share its shape (a shape is
+/// immutable; each collider places it on its own path), so the grid is held once. An actor from the scene reader
+/// brings the reader's shape (VolumeActorParams::sdfShape), so the file is read once a run; one built through the
+/// API is read here. The grids' samples are counted (the reader's counts, or as read here) and bounded together by
+/// InputLimits::maxSdfSamples, here as well as in the scene reader: a scene built through the API was not counted.
 struct SdfShapes {
   std::map<std::string, VolumeShapePtr> byFile;
   std::int64_t samples = 0;
