@@ -14,9 +14,9 @@ mkdir -p "$out"
 echo "== T-shirt on a plane (the page's example: 5.4k vertices, point-cloud self-contact, 60 Hz) =="
 $js run examples/tshirt_on_plane.json --out "$out/tshirt_on_plane"
 # A strip of frames: t = 0, 1/6, 1/3 and 2/3 s (final.png, the last frame at 1 s, is drawn by the run).
-for frame in 00000 00002 00004 00008; do  # frameStride 5: frame k is step 5k
-  $js render "$out/tshirt_on_plane/frames/frame_$frame.vtu" "$out/tshirt_on_plane/volumes.vtu" --up y \
-    --png "$out/tshirt_on_plane/strip_$frame.png" --width 480 --height 360
+for frame in 0 2 4 8; do  # frameStride 5: frame k is step 5k
+  $js render "$out/tshirt_on_plane" --frame "$frame" --up y \
+    --png "$out/tshirt_on_plane/strip_0000$frame.png" --width 480 --height 360
 done
 echo
 echo "== Slit annular ring (the page's example, 325 vertices, dynamic relaxation) =="

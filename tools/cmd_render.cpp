@@ -1,5 +1,6 @@
-// `jetshell render`: a shaded PNG of an output frame (.vtu), of the last frame of a series (.pvd), or of a run's
-// output directory.
+// `jetshell render`: a shaded PNG of an output frame (.vtu), of the last frame (or frame K) of a series (.pvd), or
+// of a run's output directory.
+#include "core/input_limits.h"
 #include "core/mesh.h"
 #include "tools/output/vtu.h"
 #include "tools/render/render_frames.h"
@@ -11,17 +12,23 @@
 namespace jetshell::cli {
 namespace {
 
-std::vector<std::string> resolveInputs(const std::vector<std::string>& inputs) {
+/// The .vtu files to draw: each series (a .pvd, or a run's output directory) gives the files of its frame
+/// `frame` (kLastFrame: its last), each .vtu itself. A frame asked of inputs that hold no series is refused.
+std::vector<std::string> resolveInputs(const std::vector<std::string>& inputs, long frame) {
   std::vector<std::string> files;
+  bool series = false;
   for (const std::string& input : inputs) {
     std::string path = input;
     if (std::filesystem::is_directory(path)) path = (std::filesystem::path(path) / "frames.pvd").string();
     if (std::filesystem::path(path).extension() == ".pvd") {
-      for (const std::string& f : readPvdLastStep(path)) files.push_back(f);
+      series = true;
+      for (const std::string& f : readPvdFrame(path, frame)) files.push_back(f);
     } else {
       files.push_back(path);
     }
   }
+  if (frame != kLastFrame && !series)
+    throw CLI::ValidationError("--frame", "applies to a series (.pvd) or a run's output directory; none was given");
   return files;
 }
 
@@ -40,15 +47,20 @@ const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCod
     std::string up = "z";
     std::string edges = "auto";
     std::vector<double> range;
+    long frame = kLastFrame;
     RenderOptions options;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("render", "Draw an output frame as a shaded PNG (software rasterizer)");
   cmd->add_option("frames", args->inputs,
-                  "A frame (.vtu), a series (.pvd: its last step) or a run's output directory; more .vtu files "
-                  "(e.g. volumes.vtu) are drawn in grey")
+                  "A frame (.vtu), a series (.pvd: its last step, or --frame) or a run's output directory; more .vtu "
+                  "files (e.g. volumes.vtu) are drawn in grey")
       ->required();
   cmd->add_option("--png", args->png, "Output PNG file")->required()->check(outputFile());
+  cmd->add_option("--frame", args->frame,
+                  "With a series (.pvd) or a run's output directory: draw its frame K (0 = the first, numbered as "
+                  "frames/frame_K.vtu) with the moving volumes of that frame, instead of the last")
+      ->check(CLI::Range(0L, static_cast<long>(inputLimits().maxSteps)));
   cmd->add_option("--width", args->options.width, "Image width in pixels")
       ->check(CLI::Range(kMinImageSize, kMaxImageSize))
       ->capture_default_str();
@@ -84,7 +96,7 @@ const RegisterSubcommand registerRender("render", [](CLI::App& app, int& exitCod
                                                   std::to_string(args->range[1]) + ")");
       o.scalarMin = args->range[0], o.scalarMax = args->range[1];
     }
-    const std::vector<std::string> files = resolveInputs(args->inputs);
+    const std::vector<std::string> files = resolveInputs(args->inputs, args->frame);
     const std::string note = renderVtuFiles(files, args->color, o, args->png);
     std::cout << "wrote " << args->png << " (" << o.width << "x" << o.height << ", " << files.size() << " file"
               << (files.size() > 1 ? "s" : "") << ")\n";

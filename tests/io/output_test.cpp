@@ -157,7 +157,7 @@ TEST_CASE("output: the .pvd series lists every frame with its time") {
   CHECK(text.str().find("type=\"Collection\"") != std::string::npos);
   // Read back: the last time step's files, joined to the collection's directory.
   const fs::path directory = fs::path(path).parent_path();
-  CHECK(readPvdLastStep(path) == std::vector<std::string>{(directory / "frames/frame_00001.vtu").string(),
+  CHECK(readPvdFrame(path) == std::vector<std::string>{(directory / "frames/frame_00001.vtu").string(),
                                                           (directory / "volumes.vtu").string()});
 }
 
@@ -165,16 +165,29 @@ TEST_CASE("output: a .pvd's last step is read with its names decoded, and an emp
   std::ostringstream text;
   text << PvdSeries::head() << PvdSeries::entry(0.0, "a&b.vtu") << PvdSeries::entry(1.0, "c\"d<.vtu", 0, "x & y")
        << PvdSeries::tail();
-  CHECK(pvdLastStep(text.str(), "s.pvd") == std::vector<std::string>{"c\"d<.vtu"});
-  CHECK_THROWS_WITH(pvdLastStep(PvdSeries::head() + PvdSeries::tail(), "s.pvd"), "s.pvd: no <DataSet> entries");
-  CHECK_THROWS_WITH(pvdLastStep("<DataSet timestep=\"0\" file=\"\"/>", "s.pvd"),
+  CHECK(pvdFrame(text.str(), "s.pvd") == std::vector<std::string>{"c\"d<.vtu"});
+  CHECK_THROWS_WITH(pvdFrame(PvdSeries::head() + PvdSeries::tail(), "s.pvd"), "s.pvd: no <DataSet> entries");
+  CHECK_THROWS_WITH(pvdFrame("<DataSet timestep=\"0\" file=\"\"/>", "s.pvd"),
                     "s.pvd: a <DataSet> of the last time step names no file");
   // Entries without '>' were each copied to the end of the file: 200,000 of them took 24 s.
   const std::string entry = "<DataSet timestep=\"0\" file=\"x.vtu\"";
   std::string open;
   for (int k = 0; k < 200000; ++k) open += entry;
-  CHECK_THROWS_WITH(pvdLastStep(open, "s.pvd"),
+  CHECK_THROWS_WITH(pvdFrame(open, "s.pvd"),
                     "s.pvd: the tag at byte " + std::to_string(open.size() - entry.size()) + " has no closing '>'");
+}
+
+TEST_CASE("output: a .pvd's frame k is its k-th time step, and a frame it does not have is refused") {
+  std::ostringstream text;
+  text << PvdSeries::head() << PvdSeries::entry(0.0, "f0.vtu") << PvdSeries::entry(0.0, "v0.vtu", 1)
+       << PvdSeries::entry(0.5, "f1.vtu") << PvdSeries::entry(0.5, "v1.vtu", 1) << PvdSeries::entry(1.0, "f2.vtu")
+       << PvdSeries::tail();
+  CHECK(pvdFrame(text.str(), "s.pvd", 0) == std::vector<std::string>{"f0.vtu", "v0.vtu"});
+  CHECK(pvdFrame(text.str(), "s.pvd", 1) == std::vector<std::string>{"f1.vtu", "v1.vtu"});
+  CHECK(pvdFrame(text.str(), "s.pvd", 2) == pvdFrame(text.str(), "s.pvd"));
+  CHECK_THROWS_WITH(pvdFrame(text.str(), "s.pvd", 3), "s.pvd: no frame 3: the series has 3 frames (0 to 2)");
+  CHECK_THROWS_WITH(pvdFrame("<DataSet timestep=\"0\" file=\"a.vtu\"/><DataSet timestep=\"1\" file=\"\"/>", "s.pvd", 1),
+                    "s.pvd: a <DataSet> of the time step of frame 1 names no file");
 }
 
 TEST_CASE("output: a .vtu of many arrays is refused by count, and read in one pass") {

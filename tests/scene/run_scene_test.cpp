@@ -385,6 +385,10 @@ TEST_CASE("run: a moving volume actor is drawn where its path puts it at every f
   const std::string pvd = fileBytes(dir / "frames.pvd");
   CHECK(pvd.find("part=\"1\" file=\"volumes.vtu\"") != std::string::npos);
   CHECK(pvd.find("part=\"2\" file=\"frames/volumes_00002.vtu\"") != std::string::npos);
+  // `jetshell render DIR --frame 1` draws frame 1 with the slab where it was then.
+  CHECK(readPvdFrame((dir / "frames.pvd").string(), 1) ==
+        std::vector<std::string>{(dir / "frames/frame_00001.vtu").string(), (dir / "volumes.vtu").string(),
+                                 (dir / "frames/volumes_00001.vtu").string()});
   CHECK(fs::exists(dir / "final.png"));
   // A run resumed from its checkpoint draws the same frames.
   resumedBitForBit(scene, "moving_volume", 10);

@@ -103,6 +103,9 @@ expect 2 "--residual-tolerance: -nan: must be a finite number > 0" -- "$js" vali
 expect 2 "--azimuth: nan: must be a finite number in [-360, 360]" -- \
   "$js" render "$dir" --png "$dir/a.png" --azimuth nan
 expect 2 "--range: MIN must be below MAX" -- "$js" render "$dir" --png "$dir/r.png" --range 1 0
+expect 2 "--frame: Value -1 not in range 0 to 10000000" -- "$js" render "$dir" --png "$dir/f.png" --frame -1
+expect 2 "--frame: applies to a series (.pvd) or a run's output directory" -- \
+  "$js" render "$dir/x.vtu" --png "$dir/f.png" --frame 1
 expect 2 "--tol-fd: nan: must be a finite number > 0" -- "$js" check-derivatives --term membrane --tol-fd nan
 expect 2 "--fd-initial-step: 1e308: must be a finite number > 0 and at most 1" -- \
   "$js" check-derivatives --term membrane --fd-initial-step 1e308

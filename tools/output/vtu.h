@@ -40,11 +40,13 @@ VtuFrame readVtu(const std::string& path);
 /// The same from the file's text; `path` names it in messages.
 VtuFrame parseVtu(const std::string& xml, const std::string& path);
 
-/// The files of the last time step of a .pvd collection's text, as written in it (relative to its directory).
-/// InputError naming `path` when it has no <DataSet> or one of them no file.
-std::vector<std::string> pvdLastStep(const std::string& xml, const std::string& path);
+/// The files of one time step of a .pvd collection's text, as written in it (relative to its directory): frame
+/// k ≥ 0 is the k-th time step in the file's order (a run's frame k, frames/frame_k.vtu), kLastFrame the last.
+/// InputError naming `path` when it has no <DataSet>, a <DataSet> of that step names no file, or it has no frame k.
+constexpr long kLastFrame = -1;
+std::vector<std::string> pvdFrame(const std::string& xml, const std::string& path, long frame = kLastFrame);
 /// The same, read from the file at `path`, as paths (joined to its directory).
-std::vector<std::string> readPvdLastStep(const std::string& path);
+std::vector<std::string> readPvdFrame(const std::string& path, long frame = kLastFrame);
 
 /// A .pvd collection: one entry per (time, part, file). File names are relative to the .pvd's directory.
 class PvdSeries {

@@ -197,29 +197,45 @@ VtuFrame readVtu(const std::string& path) {
   return parseVtu(readInputFile(path, inputLimits().maxObjBytes, "frame file"), path);
 }
 
-std::vector<std::string> pvdLastStep(const std::string& xml, const std::string& path) {
-  // The last entry's time step first, then one pass that keeps only that step's files: a collection of
-  // millions of entries is read without holding them.
+std::vector<std::string> pvdFrame(const std::string& xml, const std::string& path, long frame) {
+  // The last step: its time first, then one pass that keeps only that step's files (a collection of millions of
+  // entries is read without holding them). Frame k: the k-th run of equal times, in one pass that stops after it.
   const std::size_t last = xml.rfind("<DataSet");
   if (last == std::string::npos) throw InputError(path + ": no <DataSet> entries");
-  const std::string lastTime = attribute(tagAt(xml, last, path), "timestep");
+  const bool lastFrame = frame < 0;
+  const std::string lastTime = lastFrame ? attribute(tagAt(xml, last, path), "timestep") : std::string();
   std::vector<std::string> files;
+  std::string time;
+  long index = -1;
   for (std::size_t at = xml.find("<DataSet"); at != std::string::npos; at = xml.find("<DataSet", at + 1)) {
     const std::string tag = tagAt(xml, at, path);
-    if (attribute(tag, "timestep") != lastTime) continue;
+    const std::string t = attribute(tag, "timestep");
+    if (lastFrame) {
+      if (t != lastTime) continue;
+    } else {
+      if (index < 0 || t != time) ++index, time = t;
+      if (index > frame) break;
+      if (index < frame) continue;
+    }
     const std::string file = attribute(tag, "file");
-    if (file.empty()) throw InputError(path + ": a <DataSet> of the last time step names no file");
+    if (file.empty())
+      throw InputError(path + ": a <DataSet> of the " + (lastFrame ? std::string("last time step") :
+                                                         "time step of frame " + std::to_string(frame)) +
+                       " names no file");
     if (files.size() == kMaxPvdFiles)
-      throw InputError(path + ": more than " + std::to_string(kMaxPvdFiles) + " files in the last time step");
+      throw InputError(path + ": more than " + std::to_string(kMaxPvdFiles) + " files in one time step");
     files.push_back(file);
   }
+  if (files.empty())
+    throw InputError(path + ": no frame " + std::to_string(frame) + ": the series has " + std::to_string(index + 1) +
+                     " frame" + (index == 0 ? "" : "s") + " (0 to " + std::to_string(index) + ")");
   return files;
 }
 
-std::vector<std::string> readPvdLastStep(const std::string& path) {
+std::vector<std::string> readPvdFrame(const std::string& path, long frame) {
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   std::vector<std::string> files =
-      pvdLastStep(readInputFile(path, inputLimits().maxJsonBytes, "frame collection"), path);
+      pvdFrame(readInputFile(path, inputLimits().maxJsonBytes, "frame collection"), path, frame);
   for (std::string& file : files) file = (base / file).string();
   return files;
 }
