@@ -1,3 +1,4 @@
+#include "core/mesh_io.h"
 #include "tools/output/atomic_file.h"
 #include "tools/output/checkpoint.h"
 #include "tools/output/interrupt.h"
@@ -355,7 +356,7 @@ TEST_CASE("run: a moving volume actor is drawn where its path puts it at every f
                {"type": "plane", "name": "floor", "point": [0, 0, -1], "normal": [0, 0, 1]}],
     "analysis": {"type": "dynamic", "timeStep": 0.02, "duration": 0.2},
     "solver": {"threads": 1},
-    "outputs": {"frameStride": 5}})"),
+    "outputs": {"frameStride": 5, "obj": true}})"),
                                     ".");
   CHECK(unsupportedFeatures(scene).empty());
   RunOptions o;
@@ -382,6 +383,11 @@ TEST_CASE("run: a moving volume actor is drawn where its path puts it at every f
   const auto [lo2, hi2] = box(2);
   CHECK((lo2 - Eigen::Vector3d(0.2, -0.1, 0.05)).norm() < 1e-12);
   CHECK((hi2 - Eigen::Vector3d(0.8, 1.1, 0.15)).norm() < 1e-12);
+  // The OBJ frames have them beside them too: the floor once, the slab at each frame.
+  CHECK(readObj((dir / "obj/volumes.obj").string()).V.rows() == still.points.rows());
+  const TriMesh slab = readObj((dir / "obj/volumes_00002.obj").string());
+  CHECK((slab.V.colwise().minCoeff().transpose() - lo2).norm() < 1e-12);
+  CHECK((slab.V.colwise().maxCoeff().transpose() - hi2).norm() < 1e-12);
   const std::string pvd = fileBytes(dir / "frames.pvd");
   CHECK(pvd.find("part=\"1\" file=\"volumes.vtu\"") != std::string::npos);
   CHECK(pvd.find("part=\"2\" file=\"frames/volumes_00002.vtu\"") != std::string::npos);

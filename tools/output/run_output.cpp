@@ -18,8 +18,10 @@ std::string frameName(int index, const char* extension) {
   return buffer;
 }
 
-/// The moving volume actors' file of a frame, in frames/.
-std::string movingVolumesName(int frame) { return "volumes_" + frameName(frame, "vtu").substr(6); }
+/// The moving volume actors' file of a frame, in frames/ (.vtu) or obj/ (.obj).
+std::string movingVolumesName(int frame, const char* extension) {
+  return "volumes_" + frameName(frame, extension).substr(6);
+}
 
 void createDirectory(const std::filesystem::path& p) {
   std::error_code ec;
@@ -86,13 +88,18 @@ RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel
       VolumePart part{volumeSurface(scene.volumes[k], size, 0.5 * (lo + hi)), static_cast<int>(k),
                       rigidPath(scene.volumes[k])};
       // Volume actors move in dynamics only (elsewhere contact holds them where they are at t = 0), and only
-      // into frames that frames/ holds.
-      const bool moves = scene.analysis.type == AnalysisType::Dynamic && scene.outputs.vtu && !part.path.isStatic();
+      // into frames that are written.
+      const bool moves = scene.analysis.type == AnalysisType::Dynamic && (scene.outputs.vtu || scene.outputs.obj) &&
+                         !part.path.isStatic();
       (moves ? movingVolumes_ : still).push_back(std::move(part));
     }
     if (!still.empty()) {
+      const VtuFrame frame = volumesFrame(still, 0.0);
       staticVolumesFile_ = (fs::path(directory_) / "volumes.vtu").string();
-      writeFileAtomically(staticVolumesFile_, [&](std::ostream& out) { writeVtu(out, volumesFrame(still, 0.0)); });
+      writeFileAtomically(staticVolumesFile_, [&](std::ostream& out) { writeVtu(out, frame); });
+      if (scene.outputs.obj)
+        writeFileAtomically((fs::path(directory_) / "obj" / "volumes.obj").string(),
+                            [&](std::ostream& out) { writeObj(out, frame.points, frame.triangles); });
     }
   }
 }
@@ -130,6 +137,7 @@ void RunOutput::writeFrame(const StepState& s) {
   namespace fs = std::filesystem;
   const Eigen::VectorXd& x = *s.x;
   const Positions X = unflatten(x);
+  const VtuFrame moving = movingVolumes_.empty() ? VtuFrame() : volumesFrame(movingVolumes_, s.time);
   if (scene_.outputs.vtu) {
     // One file for a single actor; with several, one per actor (a block each in ParaView), up to
     // kMaxFramePartActors; beyond, one file a frame again, its `actor` cell array telling the actors apart, so
@@ -173,21 +181,24 @@ void RunOutput::writeFrame(const StepState& s) {
     if (!staticVolumesFile_.empty())
       entries += PvdSeries::entry(s.time, "volumes.vtu", part++, perActor ? "volumes" : "");
     if (!movingVolumes_.empty())
-      entries += PvdSeries::entry(s.time, writeMovingVolumes(s.time), part, perActor ? "moving volumes" : "");
+      entries += PvdSeries::entry(s.time, writeMovingVolumes(moving), part, perActor ? "moving volumes" : "");
     if (!pvd_.isOpen()) pvd_.create((fs::path(directory_) / "frames.pvd").string(), PvdSeries::head(), PvdSeries::tail());
     pvd_.append(entries);
   }
   if (scene_.outputs.obj) {
     const std::string path = (fs::path(directory_) / "obj" / frameName(frames_, "obj")).string();
     writeFileAtomically(path, [&](std::ostream& out) { writeObj(out, X, model_.world.F); });
+    if (!movingVolumes_.empty())
+      writeFileAtomically((fs::path(directory_) / "obj" / movingVolumesName(frames_, "obj")).string(),
+                          [&](std::ostream& out) { writeObj(out, moving.points, moving.triangles); });
   }
   ++frames_;
 }
 
-std::string RunOutput::writeMovingVolumes(double t) {
-  const std::string name = "frames/" + movingVolumesName(frames_);
+std::string RunOutput::writeMovingVolumes(const VtuFrame& placed) {
+  const std::string name = "frames/" + movingVolumesName(frames_, "vtu");
   movingVolumesFile_ = (std::filesystem::path(directory_) / name).string();
-  writeFileAtomically(movingVolumesFile_, [&](std::ostream& out) { writeVtu(out, volumesFrame(movingVolumes_, t)); });
+  writeFileAtomically(movingVolumesFile_, [&](std::ostream& out) { writeVtu(out, placed); });
   return name;
 }
 
@@ -258,8 +269,8 @@ void RunOutput::restore(const OutputCheckpoint& o) {
   flushedRows_ = o.flushedRows;
   flushedRowChanged_ = o.flushedRowChanged;
   movingVolumesFile_.clear();
-  if (!movingVolumes_.empty() && frames_ > 0)
-    movingVolumesFile_ = (fs::path(directory_) / "frames" / movingVolumesName(frames_ - 1)).string();
+  if (scene_.outputs.vtu && !movingVolumes_.empty() && frames_ > 0)
+    movingVolumesFile_ = (fs::path(directory_) / "frames" / movingVolumesName(frames_ - 1, "vtu")).string();
   if (o.pvdBytes) pvd_.reopen((fs::path(directory_) / "frames.pvd").string(), *o.pvdBytes, PvdSeries::tail());
   if (o.probesBytes) probesCsv_.reopen((fs::path(directory_) / "probes.csv").string(), *o.probesBytes, "");
 }

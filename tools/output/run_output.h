@@ -8,7 +8,8 @@
 //                                         when the scene has any
 //   frames/volumes_NNNNN.vtu              in dynamics, the volume actors that move, where they are at each frame
 //                                         (the series' last part)
-//   obj/frame_NNNNN.obj                   optional OBJ per frame
+//   obj/frame_NNNNN.obj                   optional OBJ per frame, with the volume actors beside it:
+//                                         obj/volumes.obj (those that stay), obj/volumes_NNNNN.obj (those that move)
 //   probes.csv                            probe displacements per step
 //   summary.json                          the run's outcome (see RunSummary), with one entry per shell actor
 //                                         (name, layer, size, largest displacement and speed, bounding box)
@@ -85,9 +86,9 @@ class RunOutput {
 
  private:
   void writeFrame(const StepState& state);
-  /// The moving volume actors placed where their paths put them at time t, written as frames/volumes_NNNNN.vtu
-  /// for the current frame; returns the file's name in the output directory.
-  std::string writeMovingVolumes(double t);
+  /// The moving volume actors as placed for the current frame (volumesFrame), written as
+  /// frames/volumes_NNNNN.vtu; returns the file's name in the output directory.
+  std::string writeMovingVolumes(const VtuFrame& placed);
   void writeProbes();
   std::string probeRows(std::size_t from) const;
   /// One entry per shell actor: name, layer, vertex and face counts, and from the last recorded state the
