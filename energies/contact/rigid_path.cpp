@@ -89,6 +89,12 @@ RigidPath::Piece RigidPath::pieceAt(double t) const {
   return {t, 0.0, state.velocity, state.angularVelocity};
 }
 
+RigidPath::Motion RigidPath::motion(double from, double to) const {
+  if (from == to) return {};
+  const State a = stateAt(from), b = stateAt(to);
+  return {b.rotation * a.rotation.transpose(), a.origin, b.origin};
+}
+
 std::vector<RigidPath::Piece> RigidPath::piecesOver(double t, double h) const {
   if (keyframes.empty()) return {{t, h, velocity, angularVelocity}};
   std::vector<Piece> pieces;

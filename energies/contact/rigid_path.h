@@ -48,6 +48,14 @@ struct RigidPath {
     Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angularVelocity = Eigen::Vector3d::Zero();
   };
 
+  /// How the solid's material moves from one time to another: the point at p then is at
+  /// c(to) + R(to) R(from)ᵀ (p − c(from)) later.
+  struct Motion {
+    Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();  // R(to) R(from)ᵀ
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();  // c(from), c(to)
+    Eigen::Vector3d operator()(const Eigen::Vector3d& p) const { return to + turn * (p - from); }
+  };
+
   /// No velocity and no keyframe that moves or turns the actor.
   bool isStatic() const;
   /// The whole state at t from one look-up of the keyframes (what a collider's query needs); the next three are
@@ -56,6 +64,8 @@ struct RigidPath {
   Eigen::Matrix3d rotationAt(double t) const;
   Eigen::Vector3d originAt(double t) const;
   Piece pieceAt(double t) const;
+  /// The motion from the pose at `from` to the pose at `to` (exact whatever pieces lie between; none when equal).
+  Motion motion(double from, double to) const;
   /// The pieces covering [t, t + h], in order, their durations adding up to h (one piece of duration exactly h
   /// for constant velocities).
   std::vector<Piece> piecesOver(double t, double h) const;

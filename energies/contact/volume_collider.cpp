@@ -27,8 +27,7 @@ SdfSample VolumeCollider::placed(const Eigen::Vector3d& p, const Eigen::Matrix3d
 
 Eigen::Vector3d VolumeCollider::materialMove(const Eigen::Vector3d& p, double t, double h) const {
   if (!moving_) return Eigen::Vector3d::Zero();
-  const RigidPath::State from = path_.stateAt(t), to = path_.stateAt(t + h);
-  return to.origin - p + to.rotation * (from.rotation.transpose() * (p - from.origin));
+  return path_.motion(t, t + h)(p) - p;
 }
 
 Eigen::Vector3d VolumeCollider::surfaceTurning(const RigidPath::Piece& piece) const {

@@ -26,9 +26,9 @@ class VolumeCollider {
 
   /// World signed distance at p and time t. Thread-safe.
   SdfSample query(const Eigen::Vector3d& p, double t) const;
-  /// Where the solid's material point at p at time t has moved by t + h, less p: c(t+h) + R(t+h) R(t)ᵀ (p − c(t))
-  /// − p. The chord of a turn, and a keyframed stop or corner within the step, are exact (h times the material's
-  /// velocity at t is not).
+  /// Where the solid's material point at p at time t has moved by t + h, less p (RigidPath::motion). The chord of
+  /// a turn, and a keyframed stop or corner within the step, are exact (h times the material's velocity at t is
+  /// not).
   Eigen::Vector3d materialMove(const Eigen::Vector3d& p, double t, double h) const;
   /// The part of a piece's angular velocity that moves the solid's surface (world axes; the shape's symmetry,
   /// VolumeShape::surfaceTurning, judged where the piece starts): what bounds the surface's sweep.

@@ -48,8 +48,8 @@ std::string csvField(const std::string& text) {
 
 }  // namespace
 
-/// The volume actors' surfaces placed where their paths put them at time t (x = c(t) + R(t) R₀ᵀ (x₀ − c₀)), one
-/// mesh, its `volume` cell array the actor's index among the scene's volume actors.
+/// The volume actors' surfaces (as placed at t = 0) moved where their paths put them at time t
+/// (RigidPath::motion), one mesh, its `volume` cell array the actor's index among the scene's volume actors.
 VtuFrame RunOutput::volumesFrame(const std::vector<VolumePart>& parts, double t) {
   VtuFrame frame;
   Eigen::Index nv = 0, nf = 0;
@@ -59,16 +59,12 @@ VtuFrame RunOutput::volumesFrame(const std::vector<VolumePart>& parts, double t)
   VtuFrame::Array& id = frame.cellData["volume"];
   nv = nf = 0;
   for (const VolumePart& p : parts) {
-    Positions V = p.surface.V;
-    if (!p.path.isStatic()) {
-      const RigidPath::State at = p.path.stateAt(t);
-      const Eigen::Matrix3d turn = at.rotation * p.path.rotation.normalized().toRotationMatrix().transpose();
-      V = ((V.rowwise() - p.path.origin.transpose()) * turn.transpose()).rowwise() + at.origin.transpose();
-    }
-    frame.points.middleRows(nv, V.rows()) = V;
+    const RigidPath::Motion move = p.path.motion(0.0, t);
+    for (Eigen::Index v = 0; v < p.surface.V.rows(); ++v)
+      frame.points.row(nv + v) = move(p.surface.V.row(v).transpose()).transpose();
     frame.triangles.middleRows(nf, p.surface.F.rows()) = p.surface.F.array() + static_cast<int>(nv);
     id.values.insert(id.values.end(), static_cast<std::size_t>(p.surface.F.rows()), static_cast<double>(p.index));
-    nv += V.rows();
+    nv += p.surface.V.rows();
     nf += p.surface.F.rows();
   }
   return frame;
