@@ -172,9 +172,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   auto potentialEnergy = [&](const Eigen::VectorXd& positions) {
     const double atX = objective.evaluate(positions, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
     double atRest = objective.evaluate(rest, nullptr, false, EvalOptions{}, TermSelection::PotentialOnly);
+    // Only the loads' work is measured from the rest positions: an end moment's energy is its work already, and
+    // contact's is that of the state (at rest a moving solid may sit deep in the shell's rest positions).
+    std::vector<std::string> absolute = system.contact.termNames();
+    for (const std::shared_ptr<EndMomentTerm>& m : system.endMoments) absolute.push_back(m->name());
     const std::vector<std::string> names = objective.activeTermNames();
-    for (const std::shared_ptr<EndMomentTerm>& m : system.endMoments) {
-      const auto it = std::find(names.begin(), names.end(), m->name());
+    for (const std::string& name : absolute) {
+      const auto it = std::find(names.begin(), names.end(), name);
       if (it != names.end()) atRest -= objective.termEnergies()[static_cast<std::size_t>(it - names.begin())];
     }
     return atX - atRest;
