@@ -17,6 +17,15 @@ const char* toString(AnalysisKind k) {
   return "?";
 }
 
+PathClock pathClock(AnalysisKind k) {
+  switch (k) {
+    case AnalysisKind::Statics: return PathClock::LoadFactor;
+    case AnalysisKind::Dynamics: return PathClock::Time;
+    case AnalysisKind::DynamicRelaxation: return PathClock::Held;
+  }
+  return PathClock::Held;
+}
+
 std::vector<char> momentLoadedVertices(const ShellProblem& problem) {
   std::vector<char> loaded;
   for (const EndMomentLoad& m : problem.endMoments)
@@ -274,12 +283,12 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
     c.pointCloudCollider = actors[i].pointCloudCollider;
     contactActors.push_back(std::move(c));
   }
-  // Volume actors move in dynamics only: a static path and a relaxation's pseudo-time hold each where it is at
-  // t = 0 (a relaxation chasing a moving solid has no equilibrium to reach).
+  // Each volume actor on its path as this kind of analysis reads it: a static path moves it along its keyframes
+  // with the load factor (loadFactorHooks in solvers/statics.h sets the contact's time to λ), a relaxation holds it.
   std::vector<VolumeColliderPart> volumes = p.volumes;
   if (kind != AnalysisKind::Dynamics)
     for (VolumeColliderPart& v : volumes)
-      if (!v.collider->path().isStatic()) v.collider = v.collider->heldAtStart();
+      if (!v.collider->path().isStatic()) v.collider = v.collider->readBy(pathClock(kind));
   contact = addShellContact(objective_, contactActors, volumes, mesh_.V, dynamic);
 
   // Not finalized here: callers may still add terms (user energies) before the first evaluation.

@@ -87,6 +87,9 @@ std::vector<char> momentLoadedVertices(const ShellProblem& problem);
 
 enum class AnalysisKind { Statics, Dynamics, DynamicRelaxation };
 const char* toString(AnalysisKind k);
+/// What runs a volume actor's path in each kind (RigidPath::readBy says which motions each follows): dynamics
+/// time, a static path its load factor, a relaxation nothing.
+PathClock pathClock(AnalysisKind k);
 
 /// The built system. Not copyable or movable: solvers keep references to its objective.
 class ShellSystem {

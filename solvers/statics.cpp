@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -309,15 +310,63 @@ LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFacto
   for (const std::shared_ptr<EndMomentTerm>& m : system.endMoments)
     hooks.others.push_back(
         {[m](double lambda) { m->setLoadFactor(lambda); }, [m](const Eigen::VectorXd& x) { m->advance(x); }});
+  // A moving solid is where its path puts it at time λ (a statics system reads its keyframes only).
+  for (const VolumeContactTerms& v : system.contact.volume)
+    if (!v.state->collider->path().isStatic()) {
+      const std::shared_ptr<VolumeContactState> state = v.state;
+      hooks.others.push_back({[state](double lambda) { state->time = lambda; }, {}});
+    }
   hooks.others.insert(hooks.others.end(), extra.begin(), extra.end());
   return hooks;
+}
+
+std::vector<std::string> movingSolids(const ShellSystem& system) {
+  std::vector<std::string> names;
+  for (const VolumeContactTerms& v : system.contact.volume)
+    if (!v.state->collider->path().isStatic()) {
+      const std::string& name = v.state->collider->name();
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    }
+  return names;
+}
+
+double movingSolidIncrement(const ShellSystem& system, const Eigen::VectorXd& x, double start, double target) {
+  const double span = target - start;
+  if (movingSolids(system).empty() || !(span > 0.0)) return std::numeric_limits<double>::infinity();
+  const ShellContact::SolidSweep sweep =
+      system.contact.solidSweep(x, Eigen::VectorXd::Zero(x.size()), start, span, kMaxMovingSolidIncrements);
+  if (!(sweep.parts > 1.0)) return std::numeric_limits<double>::infinity();
+  const double increments = std::ceil(sweep.parts - 1e-9);
+  if (increments > kMaxMovingSolidIncrements) {
+    std::ostringstream s;
+    s << "static path: the solid '" << sweep.solid << "' moves " << sweep.travel << " m near the shell between "
+      << "lambda = " << start << " and " << target << ", more than " << kMaxMovingSolidIncrements
+      << " load increments can follow (each may move it " << sweep.allowed << " m, a fraction of its thinnest "
+      << "half-width, or it may pass through the shell unseen): move it less, or make it thicker";
+    throw InputError(s.str());
+  }
+  return span / increments;
 }
 
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
                            const LoadStepCallback& callback, const std::vector<LoadFactorHooks::Hook>& extra) {
   if (system.kind() != AnalysisKind::Statics)
     throw InputError(std::string("solveStatics: the system was built for ") + toString(system.kind()));
-  return solveStatics(system.objective(), loadFactorHooks(system, extra), x, options, callback);
+  LoadSteppingOptions o = options;
+  const std::vector<std::string> solids = movingSolids(system);
+  if (!solids.empty()) {
+    if (o.path.control != PathControl::Load)
+      throw InputError(std::string("static path: the volume actor '") + solids.front() +
+                       "' moves with the load factor, which " + toString(o.path.control) +
+                       " control solves for; a moving solid needs load control");
+    if (x.size() == system.objective().numDofs()) {
+      const double most = movingSolidIncrement(system, x, o.startLoadFactor, o.targetLoadFactor);
+      o.maxIncrement = std::min(o.maxIncrement, most);
+      o.initialIncrement = std::min(o.initialIncrement, most);
+      o.minIncrement = std::min(o.minIncrement, o.initialIncrement);
+    }
+  }
+  return solveStatics(system.objective(), loadFactorHooks(system, extra), x, o, callback);
 }
 
 }  // namespace jetshell

@@ -1,8 +1,9 @@
 // Static equilibrium along a load path: the one statics path of jetshell (`jetshell run` and `jetshell validate`).
 //
 // Inputs: an Objective, the load factor's targets (LoadFactorHooks: the nodal forces, the weight, and any other
-// term whose load scales with λ, such as an end moment; the path starts from the unloaded rest state; prescribed positions are evaluated at "time" λ, so a prescribed
-// motion ramps with the loads), the start x (3N), and the options. Output: every accepted equilibrium (λ, x,
+// term whose load scales with λ, such as an end moment; the path starts from the unloaded rest state; prescribed
+// positions are evaluated at "time" λ, so a prescribed motion ramps with the loads, and so are a moving solid's
+// keyframes: movingSolids, below), the start x (3N), and the options. Output: every accepted equilibrium (λ, x,
 // the Newton summary), flagged when it sits on a requested level.
 //
 // Load control: λ rises from startLoadFactor to targetLoadFactor and lands exactly on every requested level.
@@ -149,9 +150,26 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
 /// The load-carrying terms of a system (its nodal forces, its weight and its end moments; any may be absent),
 /// plus `extra`.
 LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFactorHooks::Hook>& extra = {});
-/// The same on a ShellSystem built for AnalysisKind::Statics (its loadFactorHooks plus `extra` hooks).
+/// The same on a ShellSystem built for AnalysisKind::Statics (its loadFactorHooks plus `extra` hooks). With a
+/// moving solid (movingSolids) the path must be load-controlled (else InputError naming the solid: its λ is the
+/// solid's time, which arc length and displacement control solve for), and the increments are at most
+/// movingSolidIncrement.
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
                            const LoadStepCallback& callback = {}, const std::vector<LoadFactorHooks::Hook>& extra = {});
+
+/// The volume actors of a statics system that move along the load path (their keyframes, read at time λ), each
+/// named once.
+std::vector<std::string> movingSolids(const ShellSystem& system);
+
+/// The most load increments a static path takes to follow a moving solid (movingSolidIncrement).
+constexpr double kMaxMovingSolidIncrements = 1024.0;
+
+/// The largest load-factor increment from `start` to `target` in which no moving solid moves near the shell (at x)
+/// by more than ShellContact::stepFraction of its thinnest half-width (ShellContact::solidSweep over the whole
+/// span, in equal parts): a Newton solve sees a solid only where it is at the step's λ, so one that moves farther
+/// between two solves could pass through the shell unseen. Infinity when none needs a bound. Throws InputError
+/// naming the solid when more than kMaxMovingSolidIncrements increments would be needed.
+double movingSolidIncrement(const ShellSystem& system, const Eigen::VectorXd& x, double start, double target);
 
 /// The stops of a path in path order, ending with the target: the levels (validated: each must lie after
 /// start and not beyond target), sorted, without repeats. Throws InputError naming the bad level.

@@ -61,6 +61,15 @@ bool RigidPath::isStatic() const {
   return true;
 }
 
+RigidPath RigidPath::readBy(PathClock clock) const {
+  RigidPath read = *this;
+  if (clock == PathClock::Time) return read;
+  read.velocity.setZero();
+  read.angularVelocity.setZero();
+  if (clock == PathClock::Held) read.keyframes.clear();  // they start from the placement
+  return read;
+}
+
 RigidPath::State RigidPath::stateAt(double t) const {
   State state;
   const Eigen::Matrix3d r0 = rotation.normalized().toRotationMatrix();

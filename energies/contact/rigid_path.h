@@ -19,6 +19,13 @@
 
 namespace jetshell {
 
+/// What runs a volume actor's path in an analysis (RigidPath::readBy).
+enum class PathClock {
+  Time,        // dynamics: the whole path, in seconds
+  LoadFactor,  // a static path: the keyframes, their times read as load factors λ
+  Held         // dynamic relaxation: none (the placement)
+};
+
 /// A pose of a keyframed path: at `time` [s] the placement moved by `translation` [m] and turned by `turn`.
 struct RigidKeyframe {
   double time = 0.0;
@@ -58,6 +65,12 @@ struct RigidPath {
 
   /// No velocity and no keyframe that moves or turns the actor.
   bool isStatic() const;
+  /// The path as an analysis run by `clock` reads it, the one place that says which motions each analysis
+  /// follows. Time: all of it. LoadFactor: the keyframes, with the load factor λ as their time, as prescribed
+  /// positions are evaluated at λ; constant velocities are a motion in time and stay at the placement, as a
+  /// fixed condition's velocity does in statics. Held: the placement (a relaxation's pseudo-time chasing a moving
+  /// solid would have no equilibrium to reach).
+  RigidPath readBy(PathClock clock) const;
   /// The whole state at t from one look-up of the keyframes (what a collider's query needs); the next three are
   /// its parts.
   State stateAt(double t) const;

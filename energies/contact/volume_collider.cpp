@@ -35,12 +35,8 @@ Eigen::Vector3d VolumeCollider::surfaceTurning(const RigidPath::Piece& piece) co
   return R * shape_->surfaceTurning(R.transpose() * piece.angularVelocity);
 }
 
-std::shared_ptr<const VolumeCollider> VolumeCollider::heldAtStart() const {
-  RigidPath held = path_;
-  held.velocity.setZero();
-  held.angularVelocity.setZero();
-  held.keyframes.clear();  // they start from the placement
-  return std::make_shared<VolumeCollider>(name_, shape_, held);
+std::shared_ptr<const VolumeCollider> VolumeCollider::readBy(PathClock clock) const {
+  return std::make_shared<VolumeCollider>(name_, shape_, path_.readBy(clock));
 }
 
 }  // namespace jetshell

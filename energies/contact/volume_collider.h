@@ -33,8 +33,8 @@ class VolumeCollider {
   /// The part of a piece's angular velocity that moves the solid's surface (world axes; the shape's symmetry,
   /// VolumeShape::surfaceTurning, judged where the piece starts): what bounds the surface's sweep.
   Eigen::Vector3d surfaceTurning(const RigidPath::Piece& piece) const;
-  /// The same solid held still where it is at t = 0 (the same shape, no velocity, no keyframes).
-  std::shared_ptr<const VolumeCollider> heldAtStart() const;
+  /// The same solid on its path as an analysis run by `clock` reads it (RigidPath::readBy).
+  std::shared_ptr<const VolumeCollider> readBy(PathClock clock) const;
 
  private:
   /// The signed distance at p of the shape placed with rotation R at origin c.

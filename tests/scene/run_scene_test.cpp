@@ -400,6 +400,47 @@ TEST_CASE("run: a moving volume actor is drawn where its path puts it at every f
   resumedBitForBit(scene, "moving_volume", 10);
 }
 
+TEST_CASE("run: a static path presses a keyframed ball into a plate, drawn where it is at each level",
+          "[contact][statics]") {
+  // The ball (r = 2 cm) starts 1 cm above the plate and goes 4 cm down by λ = 1: half its 2 cm half-width per
+  // increment allows 1 cm, so the two levels are reached in four increments; frames at λ = 0, 0.5, 1.
+  const Scene scene = sceneFromJson(nlohmann::json::parse(R"({
+    "gravity": [0, 0, 0],
+    "actors": [{"type": "shell", "name": "plate",
+                "shape": {"generator": "rectangle", "width": 0.2, "height": 0.2, "nx": 12, "ny": 12},
+                "material": {"youngsModulus": 1e7, "poissonRatio": 0.3, "thickness": 0.001, "volumeDensity": 1000},
+                "hasGravity": false, "colliderType": "None",
+                "fixed": [{"select": [{"group": "left"}, {"group": "right"}, {"group": "bottom"}, {"group": "top"}]}],
+                "probes": [{"name": "centre", "select": {"nearest": [0.1, 0.1, 0]}}]},
+               {"type": "sphere", "name": "ball", "center": [0.1, 0.1, 0.03], "radius": 0.02,
+                "keyframes": [{"time": 1, "translation": [0, 0, -0.04]}]}],
+    "analysis": {"type": "static", "loadSteps": 2},
+    "solver": {"threads": 1}})"),
+                                    ".");
+  CHECK(unsupportedFeatures(scene).empty());
+  RunOptions o;
+  o.outputDirectory = freshDirectory("static_press").string();
+  std::ostringstream log;
+  o.log = &log;
+  const RunResult r = runScene(scene, o);
+  REQUIRE(r.summary.converged);
+  const fs::path dir(o.outputDirectory);
+  const nlohmann::json summary = readJson(dir / "summary.json");
+  CHECK(summary.at("moving_solid_increment").get<double>() == 0.25);
+  CHECK(summary.at("load_steps_solved").get<int>() >= 4);
+  CHECK(log.str().find("a moving solid: load increments of at most 0.25") != std::string::npos);
+  // The ball in each frame's volumes file, its centre where the keyframes put it at that level's λ.
+  for (int frame = 0; frame <= 2; ++frame) {
+    const VtuFrame f = readVtu((dir / "frames" / ("volumes_0000" + std::to_string(frame) + ".vtu")).string());
+    const Eigen::Vector3d centre = 0.5 * (f.points.colwise().minCoeff() + f.points.colwise().maxCoeff()).transpose();
+    CHECK((centre - Eigen::Vector3d(0.1, 0.1, 0.03 - 0.02 * frame)).norm() < 1e-12);
+  }
+  // Pressed to the edge of the contact band (5 mm) below the ball's lowest point, 3 cm under the rest plane.
+  const double w = summary.at("probes").at("centre").at(2).get<double>();
+  CHECK(w < -0.03);
+  CHECK(w > -0.0351);
+}
+
 TEST_CASE("run: a checkpoint file is read only if it is a bounded regular file of shallow CBOR", "[checkpoint]") {
   const fs::path dir = freshDirectory("hostile_checkpoint");
   fs::create_directories(dir);

@@ -394,10 +394,12 @@ TEST_CASE("scene: a moment load resolves to one chain of boundary edges, and a b
                     "/actors/0/loads/0: end moment: chain segment 0 is perpendicular to the axis");
 }
 
-TEST_CASE("scene: volume actors move in dynamics only, static and relaxation analyses hold them at t = 0") {
+TEST_CASE("scene: constant velocities move a volume actor in dynamics only, keyframes in static paths too") {
   Json s = baseScene();
   s["actors"].push_back(Json::parse(R"({"type": "sphere", "name": "ball", "center": [0.5, 0.5, -0.3],
                                         "radius": 0.2, "velocity": [0, 0, 1], "angularVelocity": [0, 2, 0]})"));
+  s["actors"].push_back(Json::parse(R"({"type": "sphere", "name": "punch", "center": [0.5, 0.5, 0.4],
+                                        "radius": 0.2, "keyframes": [{"time": 2, "translation": [0, 0, -0.2]}]})"));
   const Json relaxation = {{"type", "dynamicRelaxation"}, {"timeStep", 0.01}, {"massDamping", 5.0}};
   const Json dynamic = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.1}};
   for (const Json& analysis : {s["analysis"], relaxation, dynamic}) {
@@ -407,22 +409,46 @@ TEST_CASE("scene: volume actors move in dynamics only, static and relaxation ana
     const AnalysisKind kind = scene.analysis.type == AnalysisType::Static    ? AnalysisKind::Statics
                               : scene.analysis.type == AnalysisType::Dynamic ? AnalysisKind::Dynamics
                                                                              : AnalysisKind::DynamicRelaxation;
+    CHECK(pathClock(kind) == pathClock(scene.analysis.type));
     const ShellSystem system(problem, kind);
-    REQUIRE(system.contact.volume.size() == 1);
-    const RigidPath& path = system.contact.volume[0].state->collider->path();
+    REQUIRE(system.contact.volume.size() == 2);
+    const RigidPath& ball = system.contact.volume[0].state->collider->path();
+    const RigidPath& punch = system.contact.volume[1].state->collider->path();
+    CHECK(ball.origin == Eigen::Vector3d(0.5, 0.5, -0.3));
     const std::vector<std::string> notes = unsupportedFeatures(scene);
     if (scene.analysis.type == AnalysisType::Dynamic) {
-      CHECK(path.velocity == Eigen::Vector3d(0, 0, 1));
-      CHECK(path.angularVelocity == Eigen::Vector3d(0, 2, 0));
+      CHECK(ball.velocity == Eigen::Vector3d(0, 0, 1));
+      CHECK(ball.angularVelocity == Eigen::Vector3d(0, 2, 0));
+      CHECK_FALSE(punch.isStatic());
       CHECK(notes.empty());
+    } else if (scene.analysis.type == AnalysisType::Static) {
+      // The keyframes run on the load factor, which ends at 1: the punch goes half its way down.
+      CHECK(ball.isStatic());
+      REQUIRE_FALSE(punch.isStatic());
+      CHECK((punch.originAt(1.0) - Eigen::Vector3d(0.5, 0.5, 0.3)).norm() < 1e-15);
+      REQUIRE(notes.size() == 2);
+      CHECK(notes[0] == "volume actor 'ball' moves by constant velocities in dynamic analyses only: this static "
+                        "analysis holds it where it is at t = 0 (a static path moves a solid along its keyframes, "
+                        "their times read as load factors)");
+      CHECK(notes[1] == "volume actor 'punch': a static path reads its keyframes' times as load factors, which end "
+                        "at 1, so it goes only as far as its path takes it by t = 1");
     } else {
-      REQUIRE(notes.size() == 1);
-      CHECK(path.isStatic());
-      CHECK(path.origin == Eigen::Vector3d(0.5, 0.5, -0.3));
-      CHECK(notes[0] == std::string("volume actor 'ball' moves in dynamic analyses only: this ") +
-                            toString(scene.analysis.type) + " analysis holds it where it is at t = 0");
+      CHECK(ball.isStatic());
+      CHECK(punch.isStatic());
+      REQUIRE(notes.size() == 2);
+      CHECK(notes[0] == "volume actor 'ball' does not move in a dynamicRelaxation analysis: it is held where it "
+                        "is at t = 0");
+      CHECK(notes[1] == "volume actor 'punch' does not move in a dynamicRelaxation analysis: it is held where it "
+                        "is at t = 0");
     }
   }
+  // Arc length and displacement control solve for λ, the moving solid's time: refused, naming the solid.
+  Json statics = s;
+  statics["analysis"] = {{"type", "static"}, {"pathControl", {{"type", "arcLength"}}}};
+  CHECK_THROWS_WITH(sceneFromJson(statics, tempDir()),
+                    Catch::Contains("/analysis/pathControl/type = \"arcLength\": the volume actor 'punch' moves"));
+  statics["actors"].erase(2);  // without the punch, the ball's velocities are held: nothing moves
+  CHECK_NOTHROW(sceneFromJson(statics, tempDir()));
 }
 
 TEST_CASE("scene: a volume actor moves through its keyframes, and bad keyframes are named") {

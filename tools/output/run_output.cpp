@@ -81,12 +81,11 @@ RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel
     const double size = std::max(1e-3, 0.8 * (hi - lo).maxCoeff());  // a plane is drawn as a square this half-size
     std::vector<VolumePart> still;
     for (std::size_t k = 0; k < scene.volumes.size(); ++k) {
+      // Each on its path as the analysis reads it (a static frame's time is its load factor); those that move
+      // go into the frames when frames are written.
       VolumePart part{volumeSurface(scene.volumes[k], size, 0.5 * (lo + hi)), static_cast<int>(k),
-                      rigidPath(scene.volumes[k])};
-      // Volume actors move in dynamics only (elsewhere contact holds them where they are at t = 0), and only
-      // into frames that are written.
-      const bool moves = scene.analysis.type == AnalysisType::Dynamic && (scene.outputs.vtu || scene.outputs.obj) &&
-                         !part.path.isStatic();
+                      rigidPath(scene.volumes[k], scene.analysis.type)};
+      const bool moves = (scene.outputs.vtu || scene.outputs.obj) && !part.path.isStatic();
       (moves ? movingVolumes_ : still).push_back(std::move(part));
     }
     if (!still.empty()) {

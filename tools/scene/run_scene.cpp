@@ -209,6 +209,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations, true);
     setPathControl(scene.analysis.pathControl, model, system, o.path);
     o.branchSwitching = scene.analysis.branchSwitching;
+    // A moving solid bounds the increments (solveStatics applies it; the log and summary.json say so).
+    const double solidIncrement = movingSolidIncrement(system, x, o.startLoadFactor, o.targetLoadFactor);
+    if (solidIncrement < o.maxIncrement) {
+      summary.extra["moving_solid_increment"] = solidIncrement;
+      progress.log("a moving solid: load increments of at most " + formatNumber("%.4g", solidIncrement) +
+                   ", so that no solid passes through the shell unseen between two solves");
+    }
     int level = 0;  // output frames: the requested levels; steps between them (after cuts) are logged only
     const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
       const int step = s.step + 1;

@@ -189,6 +189,13 @@ void validate(const Scene& scene) {
       if (!std::isfinite(c.displacement) || c.displacement == 0.0)
         check::fail("/analysis/pathControl/displacement", c.displacement, "must be finite and non-zero");
     }
+    // A moving solid's time is the load factor, which arc length and displacement control solve for.
+    if (c.type != "load")
+      for (const VolumeActorParams& v : scene.volumes)
+        if (!rigidPath(v, AnalysisType::Static).isStatic())
+          throw InputError("/analysis/pathControl/type = \"" + c.type + "\": the volume actor '" + v.name +
+                           "' moves along its keyframes with the load factor, which this control solves for; a "
+                           "static path with a moving solid needs \"load\" control");
   }
   if (a.type != AnalysisType::Static) {
     check::positive(a.timeStep, "/analysis/timeStep");
@@ -245,13 +252,35 @@ void validate(const Scene& scene) {
 
 std::vector<std::string> unsupportedFeatures(const Scene& scene) {
   std::vector<std::string> notes;
-  if (scene.analysis.type == AnalysisType::Dynamic) return notes;
-  for (const VolumeActorParams& v : scene.volumes)
-    if (!rigidPath(v).isStatic())
-      notes.push_back("volume actor '" + v.name + "' moves in dynamic analyses only: this " +
-                      toString(scene.analysis.type) + " analysis holds it where it is at t = 0");
+  const AnalysisType type = scene.analysis.type;
+  if (type == AnalysisType::Dynamic) return notes;
+  for (const VolumeActorParams& v : scene.volumes) {
+    if (rigidPath(v).isStatic()) continue;
+    if (type == AnalysisType::DynamicRelaxation) {
+      notes.push_back("volume actor '" + v.name + "' does not move in a " + toString(type) +
+                      " analysis: it is held where it is at t = 0");
+    } else if (v.keyframes.empty()) {
+      notes.push_back("volume actor '" + v.name + "' moves by constant velocities in dynamic analyses only: this "
+                      "static analysis holds it where it is at t = 0 (a static path moves a solid along its "
+                      "keyframes, their times read as load factors)");
+    } else if (v.keyframes.back().time > 1.0) {
+      notes.push_back("volume actor '" + v.name + "': a static path reads its keyframes' times as load factors, "
+                      "which end at 1, so it goes only as far as its path takes it by t = 1");
+    }
+  }
   return notes;
 }
+
+PathClock pathClock(AnalysisType t) {
+  switch (t) {
+    case AnalysisType::Static: return PathClock::LoadFactor;
+    case AnalysisType::Dynamic: return PathClock::Time;
+    case AnalysisType::DynamicRelaxation: return PathClock::Held;
+  }
+  return PathClock::Held;
+}
+
+RigidPath rigidPath(const VolumeActorParams& p, AnalysisType t) { return rigidPath(p).readBy(pathClock(t)); }
 
 const char* toString(AnalysisType t) {
   switch (t) {

@@ -190,9 +190,14 @@ void checkSceneTotals(const SceneTotals& totals, const std::string& where);
 /// option names. Throws InputError naming the field.
 void validate(const Scene& scene);
 
-/// What the scene asks for that its analysis does only in part (volume actors move in dynamics only), one line
-/// each.
+/// What the scene asks for that its analysis does only in part (a volume actor's constant velocities outside
+/// dynamics, every motion in a relaxation, keyframes a static path does not reach), one line each.
 std::vector<std::string> unsupportedFeatures(const Scene& scene);
+
+/// What runs a volume actor's path in each analysis (RigidPath::readBy; as solvers/shell_system.h's pathClock).
+PathClock pathClock(AnalysisType t);
+/// A volume actor's path as the scene's analysis reads it.
+RigidPath rigidPath(const VolumeActorParams& p, AnalysisType t);
 
 const char* toString(AnalysisType t);
 const char* toString(Integrator i);

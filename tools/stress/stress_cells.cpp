@@ -276,6 +276,21 @@ std::vector<StressCell> stressCells(bool q) {
                                      {"rotation", {{"axis", {0.0, 0.0, 1.0}}, {"degrees", 170.0}}}}}}};
   add(c, q, false, "contact/keyframed_jerk", "thin tray jerked up 0.5 m in 0.1 s, then aside and turned, under a cloth",
       clothOver(jerk, 9.81, 8, 0.0, dynamic(1.0 / 60.0, 30)));
+  // A solid pressed into a sheet along a static path (its keyframes read with the load factor as time): a thin
+  // ball driven 10 cm through the sheet's plane in one load step, which must be divided so that it cannot pass
+  // through unseen; and one too thin for the bound to follow, refused by name.
+  for (const double radius : {0.01, 1e-5}) {
+    Json s = scene(shell(rectangle(0.4, 0.4, 32, 32), plate(1e7, 0.3, 0.001), {{{"select", {{"boundary", true}}}}},
+                         Json::array()),
+                   staticSteps(1), {0.0, 0.0, 0.0});
+    s["actors"][0]["probes"][0]["select"] = {{"nearest", {0.2, 0.2, 0.0}}};
+    s["actors"].push_back({{"type", "sphere"}, {"name", "punch"}, {"center", {0.2, 0.2, 0.01 + radius}},
+                           {"radius", radius}, {"keyframes", {{{"time", 1.0}, {"translation", {0.0, 0.0, -0.1}}}}}});
+    add(c, q, false, radius > 1e-3 ? "contact/static_press_thin_ball" : "contact/static_press_needle",
+        radius > 1e-3 ? "ball of radius 1 cm pressed 9 cm into a fixed sheet in one static load step"
+                      : "ball of radius 10 um pressed 9 cm into a fixed sheet in one static load step",
+        s);
+  }
   Json incline = {{"type", "plane"}, {"name", "incline"}, {"point", {0.0, 0.0, 0.0}}, {"normal", {0.0, 0.5, 0.866}}};
   for (double mu : {0.0, 100.0}) {
     incline["contact"] = {{"frictionCoefficient", mu}};

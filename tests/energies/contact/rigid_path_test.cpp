@@ -145,7 +145,27 @@ TEST_CASE("volume collider: a keyframed solid is where its path puts it, and hel
   CHECK(toEnd.norm() > 0.01);
   CHECK((lift.materialMove(p, 2.9, 0.5) - toEnd).norm() < 1e-15);
   CHECK(lift.materialMove(p, 5.0, 0.1).norm() == 0.0);
-  const auto held = lift.heldAtStart();
+  const auto held = lift.readBy(PathClock::Held);
   CHECK(held->path().isStatic());
   CHECK(held->query({1.0, 0.0, 0.15}, 0.5).distance == Approx(0.05));
+  // A static path reads the keyframes at time λ, as they are; dynamics all of it.
+  const auto byLoad = lift.readBy(PathClock::LoadFactor);
+  CHECK(byLoad->query({1.0, 0.0, 0.15}, 0.5).distance == Approx(-0.05));
+  CHECK(lift.readBy(PathClock::Time)->query({1.0, 0.0, 0.15}, 0.5).distance == Approx(-0.05));
+}
+
+TEST_CASE("rigid path: each analysis reads the motions it follows", "[contact]") {
+  RigidPath steady;
+  steady.velocity = {0.0, 0.0, 2.0};
+  steady.angularVelocity = {0.0, 0.0, 3.0};
+  CHECK(steady.readBy(PathClock::Time).velocity == steady.velocity);
+  CHECK(steady.readBy(PathClock::Time).angularVelocity == steady.angularVelocity);
+  // Constant velocities are a motion in time: a static path holds them at the placement, as a relaxation does.
+  CHECK(steady.readBy(PathClock::LoadFactor).isStatic());
+  CHECK(steady.readBy(PathClock::Held).isStatic());
+  const RigidPath keyed = liftThenTurn();
+  REQUIRE_FALSE(keyed.keyframes.empty());
+  CHECK(keyed.readBy(PathClock::LoadFactor).keyframes.size() == keyed.keyframes.size());
+  CHECK((keyed.readBy(PathClock::LoadFactor).originAt(0.7) - keyed.originAt(0.7)).norm() == 0.0);
+  CHECK(keyed.readBy(PathClock::Held).isStatic());
 }
