@@ -24,6 +24,18 @@ std::vector<std::string> ShellContact::termNames() const {
   return names;
 }
 
+std::vector<std::pair<std::string, Eigen::Vector3d>> ShellContact::solidForces(const Eigen::VectorXd& x,
+                                                                               double t) const {
+  std::vector<std::pair<std::string, Eigen::Vector3d>> forces;
+  for (const VolumeContactTerms& v : volume) {
+    const std::string& name = v.state->collider->name();
+    auto it = std::find_if(forces.begin(), forces.end(), [&](const auto& f) { return f.first == name; });
+    if (it == forces.end()) it = forces.insert(forces.end(), {name, Eigen::Vector3d::Zero()});
+    it->second += v.state->forceOnSolid(x, t);
+  }
+  return forces;
+}
+
 ShellContact::SolidSweep ShellContact::solidSweep(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double t,
                                                   double h, double maxParts) const {
   SolidSweep sweep;

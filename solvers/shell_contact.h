@@ -24,6 +24,7 @@
 #include "solvers/objective.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace jetshell {
@@ -78,6 +79,9 @@ struct ShellContact {
                         double maxParts = 64.0) const;
   /// Names of the contact terms (for timing splits).
   std::vector<std::string> termNames() const;
+  /// The contact force on each volume actor from all shells at x (3N), the solids where they are at time t
+  /// (VolumeContactState::forceOnSolid summed over the shells), each solid once, in the order of the volumes.
+  std::vector<std::pair<std::string, Eigen::Vector3d>> solidForces(const Eigen::VectorXd& x, double t) const;
   /// Seconds spent in the point-cloud broad phase so far.
   double broadPhaseSeconds() const { return pointCloud.state ? pointCloud.state->broadPhaseSeconds() : 0.0; }
 };

@@ -352,21 +352,23 @@ StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSt
                            const LoadStepCallback& callback, const std::vector<LoadFactorHooks::Hook>& extra) {
   if (system.kind() != AnalysisKind::Statics)
     throw InputError(std::string("solveStatics: the system was built for ") + toString(system.kind()));
-  LoadSteppingOptions o = options;
-  const std::vector<std::string> solids = movingSolids(system);
-  if (!solids.empty()) {
-    if (o.path.control != PathControl::Load)
-      throw InputError(std::string("static path: the volume actor '") + solids.front() +
-                       "' moves with the load factor, which " + toString(o.path.control) +
-                       " control solves for; a moving solid needs load control");
-    if (x.size() == system.objective().numDofs()) {
-      const double most = movingSolidIncrement(system, x, o.startLoadFactor, o.targetLoadFactor);
-      o.maxIncrement = std::min(o.maxIncrement, most);
-      o.initialIncrement = std::min(o.initialIncrement, most);
-      o.minIncrement = std::min(o.minIncrement, o.initialIncrement);
-    }
-  }
+  const LoadSteppingOptions o =
+      x.size() == system.objective().numDofs() ? forMovingSolids(system, x, options) : options;
   return solveStatics(system.objective(), loadFactorHooks(system, extra), x, o, callback);
+}
+
+LoadSteppingOptions forMovingSolids(const ShellSystem& system, const Eigen::VectorXd& x, LoadSteppingOptions o) {
+  const std::vector<std::string> solids = movingSolids(system);
+  if (solids.empty()) return o;
+  if (o.path.control != PathControl::Load)
+    throw InputError(std::string("static path: the volume actor '") + solids.front() +
+                     "' moves with the load factor, which " + toString(o.path.control) +
+                     " control solves for; a moving solid needs load control");
+  const double most = movingSolidIncrement(system, x, o.startLoadFactor, o.targetLoadFactor);
+  o.maxIncrement = std::min(o.maxIncrement, most);
+  o.initialIncrement = std::min(o.initialIncrement, most);
+  o.minIncrement = std::min(o.minIncrement, o.initialIncrement);
+  return o;
 }
 
 }  // namespace jetshell

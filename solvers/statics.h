@@ -150,12 +150,15 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
 /// The load-carrying terms of a system (its nodal forces, its weight and its end moments; any may be absent),
 /// plus `extra`.
 LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFactorHooks::Hook>& extra = {});
-/// The same on a ShellSystem built for AnalysisKind::Statics (its loadFactorHooks plus `extra` hooks). With a
-/// moving solid (movingSolids) the path must be load-controlled (else InputError naming the solid: its λ is the
-/// solid's time, which arc length and displacement control solve for), and the increments are at most
-/// movingSolidIncrement.
+/// The same on a ShellSystem built for AnalysisKind::Statics (its loadFactorHooks plus `extra` hooks), with the
+/// options forMovingSolids.
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,
                            const LoadStepCallback& callback = {}, const std::vector<LoadFactorHooks::Hook>& extra = {});
+
+/// The options of a path from x on a statics system with moving solids (movingSolids): the path must be
+/// load-controlled (else InputError naming the solid: λ is the solid's time, which arc length and displacement
+/// control solve for), and the increments are at most movingSolidIncrement. Unchanged without a moving solid.
+LoadSteppingOptions forMovingSolids(const ShellSystem& system, const Eigen::VectorXd& x, LoadSteppingOptions o);
 
 /// The volume actors of a statics system that move along the load path (their keyframes, read at time λ), each
 /// named once.

@@ -176,6 +176,21 @@ double VolumeContactState::stepBound(const Eigen::VectorXd& x, const Eigen::Vect
   return alpha;
 }
 
+Eigen::Vector3d VolumeContactState::forceOnSolid(const Eigen::VectorXd& x, double t) const {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  const int Q = sampling.pointsPerElement;
+  for (int e = 0; e < sampling.numElements(); ++e)
+    for (int q = 0; q < Q; ++q) {
+      const SdfSample d = collider->query(point(x, e, q), t);
+      if (d.distance >= params.activationDistance) continue;
+      const double area = sampling.area[static_cast<std::size_t>(e) * static_cast<std::size_t>(Q) +
+                                        static_cast<std::size_t>(q)];
+      force -= area * params.penaltyStiffness *
+               contactRampForce(params.activationDistance - d.distance, params.smoothingDistance) * d.gradient;
+    }
+  return force;
+}
+
 double VolumeContactState::minDistance(const Eigen::VectorXd& x) const {
   double m = std::numeric_limits<double>::infinity();
   for (int e = 0; e < sampling.numElements(); ++e)

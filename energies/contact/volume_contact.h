@@ -51,6 +51,10 @@ struct VolumeContactState {
   double stepBound(const Eigen::VectorXd& x, const Eigen::VectorXd& d, double fraction) const;
   /// Min over sample points of the signed distance (m): how deep the shell is in the collider.
   double minDistance(const Eigen::VectorXd& x) const;
+  /// The force the shell's contact penalty exerts on the solid at x (3N), the solid where it is at time t [N]: the
+  /// sum over the sample points of −A_q k r(p_q) ∇d, the reaction to the penalty's push on the shell (friction
+  /// and damping, forces of a step, are not counted).
+  Eigen::Vector3d forceOnSolid(const Eigen::VectorXd& x, double t) const;
   /// The farthest the solid's material moves over [tStart, tStart + h] at a sample point it may reach in that
   /// time: one whose distance at tStart is at most that move, the sample's own move (|velocity| h) and the
   /// activation distance [m]. 0 for a static solid; a turn that leaves its surface in place (a ball about its

@@ -429,6 +429,11 @@ TEST_CASE("run: a static path presses a keyframed ball into a plate, drawn where
   CHECK(summary.at("moving_solid_increment").get<double>() == 0.25);
   CHECK(summary.at("load_steps_solved").get<int>() >= 4);
   CHECK(log.str().find("a moving solid: load increments of at most 0.25") != std::string::npos);
+  CHECK(log.str().find("force on 'ball' (") != std::string::npos);
+  // The plate pushes the ball back up, and not sideways (its press is central).
+  const nlohmann::json& force = summary.at("contact_forces").at("ball");
+  CHECK(force.at(2).get<double>() > 0.0);
+  CHECK(std::abs(force.at(0).get<double>()) < 1e-6 * force.at(2).get<double>());
   // The ball in each frame's volumes file, its centre where the keyframes put it at that level's λ.
   for (int frame = 0; frame <= 2; ++frame) {
     const VtuFrame f = readVtu((dir / "frames" / ("volumes_0000" + std::to_string(frame) + ".vtu")).string());

@@ -86,6 +86,27 @@ TEST_CASE("static contact: a ball pressed into a plate by its keyframes is follo
     CHECK(contact.minDistance(s.x) > 0.0);
   }
   CHECK(landed == 8);
+  // The force on the ball is the reaction to the penalty's push on the plate: the sum of the penalty term's
+  // gradient (the framework's derivative) over the vertices, upward.
+  VolumeContactState& contact = *system.contact.volume[0].state;
+  contact.time = 1.0;
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+  EvalRequest request;
+  request.gradient = &g;
+  system.contact.volume[0].penalty->evaluate(x, request, EvalOptions{});
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (Eigen::Index v = 0; v < x.size() / 3; ++v) sum += g.segment<3>(3 * v);
+  const Eigen::Vector3d force = contact.forceOnSolid(x, 1.0);
+  CAPTURE(force.transpose(), sum.transpose());
+  CHECK(force.z() > 1.0);
+  CHECK((force - sum).norm() < 1e-9 * force.norm());
+  CHECK(std::abs(force.x()) < 1e-6 * force.z());
+  const auto forces = system.contact.solidForces(x, 1.0);
+  REQUIRE(forces.size() == 1);
+  CHECK(forces[0].first == "punch");
+  CHECK((forces[0].second - force).norm() == 0.0);
+  // Before the ball reaches the plate, no force.
+  CHECK(contact.forceOnSolid(x, 0.0).norm() == 0.0);
   // Frictionless and elastic, the end state does not depend on the path's steps: two levels land on the same one.
   ShellSystem coarse(pressedPlate(r, gap, press), AnalysisKind::Statics);
   Eigen::VectorXd y;

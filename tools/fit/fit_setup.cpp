@@ -94,6 +94,8 @@ FitSetup::FitSetup(const FitFile& file) : file_(file), model_(buildSceneModel(fi
   steps.maxIncrement = 1.0 / file_.scene.analysis.loadSteps;
   steps.initialIncrement = 0.25 * steps.maxIncrement;
   steps.newton = newtonOptionsFor(file_.scene.solver, steps.newton.maxIterations, /*statics=*/true);
+  // A solid moving along its keyframes bounds the increments, as on `jetshell run`'s path.
+  steps = forMovingSolids(*system_, system_->restPositions(), steps);
   problem_ = std::make_unique<StaticFitProblem>(system_->objective(), loadFactorHooks(*system_), system_->restPositions(),
                                                 std::move(mapping), levels, std::move(observed), steps);
 }

@@ -228,6 +228,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
            << "  residual " << formatNumber("%.3e", s.summary.finalResidual) << " N  E_pot "
            << formatNumber("%.6e", potentialEnergy(s.x)) << " J" << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "");
       if (s.negativePivots > 0) line << "  (unstable: " << s.negativePivots << " negative eigenvalue(s))";
+      for (const auto& [solid, f] : system.contact.solidForces(s.x, s.loadFactor))
+        line << "  force on '" << solid << "' (" << formatNumber("%.4g", f.x()) << ", " << formatNumber("%.4g", f.y())
+             << ", " << formatNumber("%.4g", f.z()) << ") N";
       progress.log(line.str());
       progress.update(s.loadFactor, "λ = " + formatNumber("%.3f", s.loadFactor));
       return !shouldStop(level);
@@ -516,6 +519,14 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
+  // The contact force on each volume actor in the last state, where the solids are then (a static path's time is
+  // its load factor; a relaxation holds them).
+  if (!system.contact.volume.empty()) {
+    nlohmann::json forces = nlohmann::json::object();
+    for (const auto& [solid, f] : system.contact.solidForces(x, history.abscissa.back()))
+      forces[solid] = {f.x(), f.y(), f.z()};
+    summary.extra["contact_forces"] = forces;
+  }
   {
     std::vector<int> inverted;
     for (const ActorBlock& b : model.actors)
