@@ -221,8 +221,8 @@ double Objective::energyMagnitude() const {
   return m;
 }
 
-void Objective::setPrescribedPath(double from, double to) {
-  prescribedPathMotion_ = 0.0;
+void Objective::setPrescribedPath(double from, double to, double solidMotion) {
+  prescribedPathMotion_ = std::isfinite(solidMotion) ? std::max(0.0, solidMotion) : 0.0;
   if (!std::isfinite(from) || !std::isfinite(to) || scales_.reference.size() != numDofs()) return;
   // Samples of the path: from 0 to 1, an end turned by 720° peaks at λ = 1/4 and 3/4, both samples.
   constexpr int kSamples = 64;

@@ -130,7 +130,11 @@ class Objective {
   /// that comes back left its tolerance at nothing while the deformation it caused remained: an end turned by 360°
   /// is back at its reference, and the tolerance fell to 1e-19 N there. clearPrescribedPath() returns to the
   /// current displacement alone.
-  void setPrescribedPath(double from, double to);
+  /// `solidMotion` [m]: how far a solid the path moves travels near the shell over it (a static path's keyframed
+  /// volume actors, solvers/statics.h), judged as prescribed motion is: it drives the shell as a prescribed
+  /// motion would, and the loads alone (a light sheet's weight) would hold its residual to a tolerance far below
+  /// the contact forces it makes.
+  void setPrescribedPath(double from, double to, double solidMotion = 0.0);
   void clearPrescribedPath() { prescribedPathMotion_ = 0.0; }
 
   using StepStartHook = std::function<void(const Eigen::VectorXd& xStart, double tStart, double timeStep)>;

@@ -117,7 +117,8 @@ StaticsResult solveStatics(Objective& objective, const LoadFactorHooks& loads, E
     Objective& objective;
     ~PrescribedPathScope() { objective.clearPrescribedPath(); }
   } scope{objective};
-  objective.setPrescribedPath(o.startLoadFactor, o.targetLoadFactor);
+  objective.setPrescribedPath(o.startLoadFactor, o.targetLoadFactor,
+                              loads.solidMotion ? loads.solidMotion(o.startLoadFactor, o.targetLoadFactor) : 0.0);
   if (o.path.control != PathControl::Load) return followPath(objective, loads, x, o, callback);
   const double start = o.startLoadFactor, target = o.targetLoadFactor;
   const double direction = target >= start ? 1.0 : -1.0;
@@ -310,12 +311,19 @@ LoadFactorHooks loadFactorHooks(ShellSystem& system, const std::vector<LoadFacto
   for (const std::shared_ptr<EndMomentTerm>& m : system.endMoments)
     hooks.others.push_back(
         {[m](double lambda) { m->setLoadFactor(lambda); }, [m](const Eigen::VectorXd& x) { m->advance(x); }});
-  // A moving solid is where its path puts it at time λ (a statics system reads its keyframes only).
+  // A moving solid is where its path puts it at time λ (a statics system reads its keyframes only), and its
+  // travel from the rest positions counts in the force scale.
   for (const VolumeContactTerms& v : system.contact.volume)
     if (!v.state->collider->path().isStatic()) {
       const std::shared_ptr<VolumeContactState> state = v.state;
       hooks.others.push_back({[state](double lambda) { state->time = lambda; }, {}});
     }
+  if (!movingSolids(system).empty()) {
+    const ShellSystem* s = &system;
+    hooks.solidMotion = [s](double from, double to) {
+      return movingSolidTravel(*s, s->restPositions(), std::min(from, to), std::max(from, to));
+    };
+  }
   hooks.others.insert(hooks.others.end(), extra.begin(), extra.end());
   return hooks;
 }
@@ -328,6 +336,15 @@ std::vector<std::string> movingSolids(const ShellSystem& system) {
       if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
   return names;
+}
+
+double movingSolidTravel(const ShellSystem& system, const Eigen::VectorXd& x, double from, double to) {
+  double travel = 0.0;
+  if (!(to > from)) return travel;
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(x.size());
+  for (const VolumeContactTerms& v : system.contact.volume)
+    travel = std::max(travel, v.state->solidTravel(x, still, from, to - from));
+  return travel;
 }
 
 double movingSolidIncrement(const ShellSystem& system, const Eigen::VectorXd& x, double start, double target) {

@@ -45,6 +45,10 @@ struct LoadFactorHooks {
     std::function<void(const Eigen::VectorXd&)> accept;
   };
   std::vector<Hook> others;
+  /// How far the solids λ moves travel near the shell between two load factors [m] (solvers/statics.h:
+  /// movingSolidTravel); empty: none moves. The force scale judges it as prescribed motion
+  /// (Objective::setPrescribedPath).
+  std::function<double(double from, double to)> solidMotion;
 
   void set(double lambda) const;
   void accept(const Eigen::VectorXd& x) const;
@@ -163,6 +167,10 @@ LoadSteppingOptions forMovingSolids(const ShellSystem& system, const Eigen::Vect
 /// The volume actors of a statics system that move along the load path (their keyframes, read at time λ), each
 /// named once.
 std::vector<std::string> movingSolids(const ShellSystem& system);
+
+/// The farthest any moving solid's material near the shell (at x) moves between load factors `from` and `to`
+/// [m] (VolumeContactState::solidTravel); 0 when none moves.
+double movingSolidTravel(const ShellSystem& system, const Eigen::VectorXd& x, double from, double to);
 
 /// The most load increments a static path takes to follow a moving solid (movingSolidIncrement).
 constexpr double kMaxMovingSolidIncrements = 1024.0;

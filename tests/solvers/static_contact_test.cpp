@@ -115,6 +115,23 @@ TEST_CASE("static contact: a ball pressed into a plate by its keyframes is follo
   CHECK(x[3 * kCentre + 2] < -0.025);
 }
 
+TEST_CASE("static contact: a moving solid drives the force scale as a prescribed motion would", "[contact][statics]") {
+  // The plate's own weight (5e-6 N a vertex) would hold the residual to 5e-12 N while the ball pushes with newtons:
+  // the ball's travel near the plate (4 cm) counts as prescribed motion, stiffness × 4 cm.
+  ShellProblem p = pressedPlate(0.05, 0.01, 0.04);
+  p.hasGravity = true;
+  p.gravity = {0.0, 0.0, -9.81};
+  ShellSystem system(p, AnalysisKind::Statics);
+  CHECK(movingSolidTravel(system, system.restPositions(), 0.0, 1.0) == Approx(0.04));
+  CHECK(movingSolidTravel(system, system.restPositions(), 0.0, 0.5) == Approx(0.02));
+  Eigen::VectorXd x;
+  const StaticsResult result = pressIn(system, 4, x);
+  REQUIRE(result.completed);
+  const SolverSummary& last = result.steps.back().summary;
+  CHECK(last.forceScaleSource == "prescribed_motion");
+  CHECK(last.forceScale == Approx(system.objective().scales().stiffness * 0.04));
+}
+
 TEST_CASE("static contact: a thin solid's increments are bounded so that it cannot pass through the plate",
           "[contact][statics]") {
   // A ball of radius 1 cm pressed 4 cm down from 1 cm above: at most half its 1 cm half-width per increment, so

@@ -72,13 +72,13 @@ struct SpringFit {
     std::vector<ObservedCoordinate> observed;
     for (int level = 0; level < 2; ++level)
       for (int v : interior) observed.push_back({level, 3 * v + 2, 0.0, weight, 0});
-    problem = std::make_unique<StaticFitProblem>(*objective, LoadFactorHooks{loads.get(), nullptr, {}},
+    problem = std::make_unique<StaticFitProblem>(*objective, LoadFactorHooks{loads.get(), nullptr, {}, {}},
                                                  flatten(mesh.V), mapping, std::vector<double>{0.5, 1.0}, observed,
                                                  o);
     const FitEvaluation e = problem->evaluate(truth, FitDerivatives::None);
     REQUIRE(e.ok);
     for (ObservedCoordinate& c : observed) c.target = e.equilibria[static_cast<std::size_t>(c.level)][c.dof];
-    problem = std::make_unique<StaticFitProblem>(*objective, LoadFactorHooks{loads.get(), nullptr, {}},
+    problem = std::make_unique<StaticFitProblem>(*objective, LoadFactorHooks{loads.get(), nullptr, {}, {}},
                                                  flatten(mesh.V), mapping, std::vector<double>{0.5, 1.0}, observed,
                                                  o);
   }
@@ -157,7 +157,7 @@ TEST_CASE("fit problem: one load path lands on every observed level, level 0 inc
   auto solve = [&](const std::vector<double>& levels) {
     std::vector<ObservedCoordinate> observed;
     for (int k = 0; k < static_cast<int>(levels.size()); ++k) observed.push_back({k, dof, 0.0, 1.0, 0});
-    StaticFitProblem p(*fit.objective, LoadFactorHooks{fit.loads.get(), nullptr, {}}, flatten(fit.mesh.V), mapping,
+    StaticFitProblem p(*fit.objective, LoadFactorHooks{fit.loads.get(), nullptr, {}, {}}, flatten(fit.mesh.V), mapping,
                        levels, observed, o);
     const FitEvaluation e = p.evaluate(q, FitDerivatives::Gradient);
     INFO(e.message);
