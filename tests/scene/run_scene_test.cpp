@@ -107,6 +107,33 @@ TEST_CASE("run: Ctrl-C stops after the current step with everything written") {
     CHECK(f.path().string().find(".tmp") == std::string::npos);  // no half-written file left behind
 }
 
+TEST_CASE("run: a static path stopped between two levels ends on a frame of its own load factor") {
+  // The first increment is a quarter of a level (λ = 0.025 of 10 levels): Ctrl-C stops the path there, and the
+  // final frame and probe row say λ = 0.025, not the previous level's 0 (they had: row 0 then carried the
+  // displacement at 0.025).
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
+  REQUIRE(scene.analysis.loadSteps == 10);
+  RunOptions o;
+  o.outputDirectory = freshDirectory("static_interrupted").string();
+  o.pictures = false;
+  installInterruptHandler();
+  requestInterrupt();
+  const RunResult r = runScene(scene, o);
+  removeInterruptHandler();
+  CHECK(r.interrupted);
+  CHECK(r.summary.steps == 0);
+  const nlohmann::json s = readJson(fs::path(o.outputDirectory) / "summary.json");
+  CHECK(s.at("final_load_factor").get<double>() == 0.025);
+  CHECK(s.at("final_load_factor_reached").get<double>() == 0.025);
+  std::istringstream rows(fileBytes(fs::path(o.outputDirectory) / "probes.csv"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(rows, line);) lines.push_back(line);
+  REQUIRE(lines.size() == 3);  // the header, λ = 0 and λ = 0.025
+  CHECK(lines[1].rfind("0,0,0,0,0,0", 0) == 0);
+  CHECK(lines[2].rfind("1,0.025,0.025,", 0) == 0);
+  CHECK(fs::exists(fs::path(o.outputDirectory) / "frames" / "frame_00001.vtu"));
+}
+
 TEST_CASE("run: actors with different materials each get their own elastic terms") {
   const std::string text = R"({
     "gravity": [0, 0, 0],

@@ -199,6 +199,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       safeguards.add(solve, solve.converged() || (moveOn && solve.reason == TerminationReason::IterationCap));
   };
   Eigen::VectorXd lastVelocity;  // dynamics: the final frame carries it like the others
+  int lastStep = 0;               // the final frame's step: the last one recorded, or one after it (below)
   if (type == AnalysisType::Static) {
     LoadSteppingOptions o;
     // Levels k / loadSteps; the first solve from rest takes a quarter of a level (from the flat state the linear
@@ -236,6 +237,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       return !shouldStop(level);
     });
     summary.steps = level;
+    lastStep = level;
+    // A path stopped between two levels (by a failure or Ctrl-C) ends on an equilibrium of its own λ: it is the
+    // final frame, after the last level's, so that no row is labelled with another level's λ.
+    if (!r.steps.empty() && !r.steps.back().atLevel) {
+      remember(r.steps.back().loadFactor, r.steps.back().x);
+      lastStep = level + 1;
+    }
     summary.newtonIterations = r.newtonIterations;
     summary.extra["load_steps_solved"] = static_cast<int>(r.steps.size());
     summary.extra["newton_iterations_per_load_step"] =
@@ -515,7 +523,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   summary.converged = converged;
   summary.termination = termination;
   // The last state always has a frame, whatever the stride.
-  const int lastStep = summary.steps;
+  if (type != AnalysisType::Static) lastStep = summary.steps;
   output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
