@@ -44,6 +44,17 @@ std::string fileBytes(const fs::path& p) {
   return text.str();
 }
 
+/// Runs the scene into a fresh directory `name` with Ctrl-C already pressed: it stops after its first step.
+RunResult runInterrupted(const Scene& scene, const std::string& name, RunOptions& o) {
+  o.outputDirectory = freshDirectory(name).string();
+  o.pictures = false;
+  installInterruptHandler();
+  requestInterrupt();
+  const RunResult r = runScene(scene, o);
+  removeInterruptHandler();
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("run: every example runs its first steps and writes its outputs") {
@@ -90,12 +101,7 @@ TEST_CASE("run: Ctrl-C stops after the current step with everything written") {
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/hanging_cloth.json");
   scene.outputs.frameStride = 100;  // the interrupted step's frame is still written
   RunOptions o;
-  o.outputDirectory = freshDirectory("interrupted").string();
-  o.pictures = false;
-  installInterruptHandler();
-  requestInterrupt();
-  const RunResult r = runScene(scene, o);
-  removeInterruptHandler();
+  const RunResult r = runInterrupted(scene, "interrupted", o);
   CHECK(r.interrupted);
   CHECK(r.summary.steps == 1);
   CHECK(r.summary.termination == "interrupted");
@@ -114,12 +120,7 @@ TEST_CASE("run: a static path stopped between two levels ends on a frame of its 
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
   REQUIRE(scene.analysis.loadSteps == 10);
   RunOptions o;
-  o.outputDirectory = freshDirectory("static_interrupted").string();
-  o.pictures = false;
-  installInterruptHandler();
-  requestInterrupt();
-  const RunResult r = runScene(scene, o);
-  removeInterruptHandler();
+  const RunResult r = runInterrupted(scene, "static_interrupted", o);
   CHECK(r.interrupted);
   CHECK(r.summary.steps == 0);
   const nlohmann::json s = readJson(fs::path(o.outputDirectory) / "summary.json");
