@@ -32,6 +32,15 @@ std::vector<std::pair<std::string, Eigen::Vector3d>> ShellContact::solidForces(c
     auto it = std::find_if(forces.begin(), forces.end(), [&](const auto& f) { return f.first == name; });
     if (it == forces.end()) it = forces.insert(forces.end(), {name, Eigen::Vector3d::Zero()});
     it->second += v.state->forceOnSolid(x, t);
+    if (!(v.state->timeStep > 0.0)) continue;  // the transient terms are zero until a step begins
+    for (const EnergyTermPtr& term : {v.damping, v.friction}) {
+      if (!term) continue;
+      Eigen::VectorXd gradient = Eigen::VectorXd::Zero(x.size());
+      EvalRequest request;
+      request.gradient = &gradient;
+      term->evaluate(x, request, EvalOptions{});
+      for (Eigen::Index i = 0; i < x.size() / 3; ++i) it->second += gradient.segment<3>(3 * i);
+    }
   }
   return forces;
 }

@@ -79,8 +79,10 @@ struct ShellContact {
                         double maxParts = 64.0) const;
   /// Names of the contact terms (for timing splits).
   std::vector<std::string> termNames() const;
-  /// The contact force on each volume actor from all shells at x (3N), the solids where they are at time t
-  /// (VolumeContactState::forceOnSolid summed over the shells), each solid once, in the order of the volumes.
+  /// The contact force on each volume actor from all shells at x (3N), each solid once, in the order of the
+  /// volumes: the penalty's push with the solids where they are at time t (VolumeContactState::forceOnSolid), and,
+  /// once a time step has begun, the Hunt–Crossley damping and friction of that step (the sums over the shell's
+  /// vertices of those terms' gradients: what they push the shell with, the solid takes back).
   std::vector<std::pair<std::string, Eigen::Vector3d>> solidForces(const Eigen::VectorXd& x, double t) const;
   /// Seconds spent in the point-cloud broad phase so far.
   double broadPhaseSeconds() const { return pointCloud.state ? pointCloud.state->broadPhaseSeconds() : 0.0; }

@@ -140,14 +140,25 @@ TEST_CASE("contact dynamics: on an incline a shell sticks when tan θ < μ and s
       speed.push_back(meanOf(solver.velocities()).dot(down));
     }
     INFO("tan θ = " << tanTheta);
+    // The force the patch puts on the incline over the last step: its penalty's push and friction's drag.
+    const auto forces = system.contact.solidForces(solver.positions(), solver.time());
+    REQUIRE(forces.size() == 1);
+    const Eigen::Vector3d force = forces[0].second;
+    const double weight = 2.0 * 0.01 * g;  // 2 kg/m² over 0.1 m × 0.1 m
+    CAPTURE(force.transpose());
+    CHECK(-force.dot(n) == Approx(weight * std::cos(theta)).epsilon(0.03));
     if (tanTheta < mu) {
       // Regularized Coulomb friction creeps below the slip velocity V_f = 0.01 m/s, never slides.
       CHECK(std::abs(speed.back()) < 0.01);
       CHECK((meanOf(solver.positions()) - meanOf(system.restPositions())).dot(down) < 0.005);
+      // Resting, it weighs on the incline with its whole weight: friction holds what the normal force does not.
+      CHECK((force - Eigen::Vector3d(0.0, -weight, 0.0)).norm() < 0.03 * weight);
     } else {
       const double expected = g * (std::sin(theta) - mu * std::cos(theta));
       const double measured = (speed[35] - speed[11]) / (24.0 / 60.0);  // after the landing transient
       CHECK(measured == Approx(expected).epsilon(0.02));
+      // Sliding, friction drags the incline down the slope with μ times the normal force.
+      CHECK(force.dot(down) == Approx(mu * weight * std::cos(theta)).epsilon(0.03));
     }
     CHECK(solver.positions().allFinite());
   }
