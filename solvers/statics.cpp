@@ -350,19 +350,51 @@ double movingSolidTravel(const ShellSystem& system, const Eigen::VectorXd& x, do
 double movingSolidIncrement(const ShellSystem& system, const Eigen::VectorXd& x, double start, double target) {
   const double span = target - start;
   if (movingSolids(system).empty() || !(span > 0.0)) return std::numeric_limits<double>::infinity();
-  const ShellContact::SolidSweep sweep =
-      system.contact.solidSweep(x, Eigen::VectorXd::Zero(x.size()), start, span, kMaxMovingSolidIncrements);
-  if (!(sweep.parts > 1.0)) return std::numeric_limits<double>::infinity();
-  const double increments = std::ceil(sweep.parts - 1e-9);
-  if (increments > kMaxMovingSolidIncrements) {
+  // The solids move at constant rates between their keyframes, not evenly over the path: each stretch between two
+  // keyframe times (of any solid) is divided on its own, and the increment is the smallest any stretch needs.
+  std::vector<double> times = {start, target};
+  for (const VolumeContactTerms& v : system.contact.volume) {
+    if (v.state->collider->path().isStatic()) continue;
+    for (const RigidPath::Piece& piece : v.state->collider->path().piecesOver(start, span)) {
+      times.push_back(piece.start);
+      if (times.size() > static_cast<std::size_t>(kMaxMovingSolidIncrements) + 2)
+        throw InputError("static path: the volume actor '" + v.state->collider->name() + "' has more than " +
+                         std::to_string(static_cast<int>(kMaxMovingSolidIncrements)) +
+                         " keyframes between lambda = " + std::to_string(start) + " and " + std::to_string(target) +
+                         ", more than the load increments a static path takes");
+    }
+  }
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(x.size());
+  double most = std::numeric_limits<double>::infinity();
+  ShellContact::SolidSweep worst;
+  double worstFrom = start, worstTo = target;
+  for (std::size_t k = 0; k + 1 < times.size(); ++k) {
+    const double from = std::max(start, times[k]), to = std::min(target, times[k + 1]);
+    if (!(to > from)) continue;
+    const ShellContact::SolidSweep sweep =
+        system.contact.solidSweep(x, still, from, to - from, kMaxMovingSolidIncrements);
+    if (!(sweep.parts > 1.0)) continue;
+    const double increment = (to - from) / std::ceil(sweep.parts - 1e-9);
+    if (increment < most) {
+      most = increment;
+      worst = sweep;
+      worstFrom = from;
+      worstTo = to;
+    }
+  }
+  if (!std::isfinite(most)) return most;
+  if (span / most > kMaxMovingSolidIncrements * (1.0 + 1e-9)) {
     std::ostringstream s;
-    s << "static path: the solid '" << sweep.solid << "' moves " << sweep.travel << " m near the shell between "
-      << "lambda = " << start << " and " << target << ", more than " << kMaxMovingSolidIncrements
-      << " load increments can follow (each may move it " << sweep.allowed << " m, a fraction of its thinnest "
-      << "half-width, or it may pass through the shell unseen): move it less, or make it thicker";
+    s << "static path: the solid '" << worst.solid << "' moves " << worst.travel << " m near the shell between "
+      << "lambda = " << worstFrom << " and " << worstTo << ", which needs load increments of at most "
+      << most << ", more than " << kMaxMovingSolidIncrements << " of them over the path (each may move it "
+      << worst.allowed << " m, a fraction of its thinnest half-width, or it may pass through the shell unseen): "
+      << "move it less or over more of the path, or make it thicker";
     throw InputError(s.str());
   }
-  return span / increments;
+  return most;
 }
 
 StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSteppingOptions& options,

@@ -176,10 +176,11 @@ double movingSolidTravel(const ShellSystem& system, const Eigen::VectorXd& x, do
 constexpr double kMaxMovingSolidIncrements = 1024.0;
 
 /// The largest load-factor increment from `start` to `target` in which no moving solid moves near the shell (at x)
-/// by more than ShellContact::stepFraction of its thinnest half-width (ShellContact::solidSweep over the whole
-/// span, in equal parts): a Newton solve sees a solid only where it is at the step's λ, so one that moves farther
-/// between two solves could pass through the shell unseen. Infinity when none needs a bound. Throws InputError
-/// naming the solid when more than kMaxMovingSolidIncrements increments would be needed.
+/// by more than ShellContact::stepFraction of its thinnest half-width (ShellContact::solidSweep over each stretch
+/// between two keyframe times, in equal parts; the smallest part of any stretch): a Newton solve sees a solid only
+/// where it is at the step's λ, so one that moves farther between two solves could pass through the shell unseen.
+/// Infinity when none needs a bound. Throws InputError naming the solid and the stretch when the path would need
+/// more than kMaxMovingSolidIncrements such increments, or when a solid has more keyframes than that on it.
 double movingSolidIncrement(const ShellSystem& system, const Eigen::VectorXd& x, double start, double target);
 
 /// The stops of a path in path order, ending with the target: the levels (validated: each must lie after

@@ -17,8 +17,8 @@ namespace {
 
 /// A 0.4 m square plate (E = 10 MPa, h = 1 mm, 16 × 16 cells) in the plane z = 0, its boundary fixed, no gravity,
 /// and a ball of radius r whose lowest point starts `gap` above the plate's centre and is pressed down by `press`
-/// at λ = 1 (one keyframe at time 1). Frictionless (statics has no friction).
-ShellProblem pressedPlate(double r, double gap, double press) {
+/// at λ = keyTime (one keyframe), then held. Frictionless (statics has no friction).
+ShellProblem pressedPlate(double r, double gap, double press, double keyTime = 1.0) {
   constexpr int n = 16;
   ShellProblem p;
   p.mesh = makeRectangleGrid(0.4, 0.4, n, n);
@@ -30,7 +30,7 @@ ShellProblem pressedPlate(double r, double gap, double press) {
   }
   RigidPath path;
   path.origin = {0.2, 0.2, gap + r};
-  path.keyframes = {{1.0, {0.0, 0.0, -press}, Eigen::Quaterniond::Identity()}};
+  path.keyframes = {{keyTime, {0.0, 0.0, -press}, Eigen::Quaterniond::Identity()}};
   ContactParams c;
   c.frictionCoefficient = 0.0;
   p.volumes = {{std::make_shared<VolumeCollider>("punch", makeSphereShape(r), path), c}};
@@ -151,7 +151,15 @@ TEST_CASE("static contact: a thin solid's increments are bounded so that it cann
   // A solid that would need more than kMaxMovingSolidIncrements increments is refused, by name.
   ShellSystem far(pressedPlate(1e-4, 0.01, 0.5), AnalysisKind::Statics);
   CHECK_THROWS_WITH(movingSolidIncrement(far, far.restPositions(), 0.0, 1.0),
-                    Catch::Contains("the solid 'punch' moves") && Catch::Contains("more than 1024 load increments"));
+                    Catch::Contains("the solid 'punch' moves") && Catch::Contains("more than 1024 of them"));
+  // The solids move between their keyframes, not evenly over the path: a ball that makes its whole 4 cm move by
+  // λ = 0.1 is bounded by that stretch (two halves of 0.05), not by the whole path (two of 0.5).
+  ShellSystem early(pressedPlate(0.05, 0.01, 0.04, 0.1), AnalysisKind::Statics);
+  CHECK(movingSolidIncrement(early, early.restPositions(), 0.0, 1.0) == Approx(0.05));
+  // Its whole move within λ ∈ [0, 1e-9] would need 2e9 increments: refused, naming the stretch.
+  ShellSystem jerk(pressedPlate(0.05, 0.01, 0.04, 1e-9), AnalysisKind::Statics);
+  CHECK_THROWS_WITH(movingSolidIncrement(jerk, jerk.restPositions(), 0.0, 1.0),
+                    Catch::Contains("between lambda = 0 and 1e-09"));
 }
 
 TEST_CASE("static contact: a moving solid needs load control, and only a static path moves it", "[contact][statics]") {
