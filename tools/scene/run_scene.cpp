@@ -210,15 +210,17 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     o.newton = newtonOptionsFor(scene.solver, o.newton.maxIterations, true);
     setPathControl(scene.analysis.pathControl, model, system, o.path);
     o.branchSwitching = scene.analysis.branchSwitching;
-    // A moving solid bounds the increments (solveStatics applies it; the log and summary.json say so).
-    const double solidIncrement = movingSolidIncrement(system, x, o.startLoadFactor, o.targetLoadFactor);
-    if (solidIncrement < o.maxIncrement) {
-      summary.extra["moving_solid_increment"] = solidIncrement;
-      progress.log("a moving solid: load increments of at most " + formatNumber("%.4g", solidIncrement) +
+    // A moving solid bounds the increments, judged once here (the log and summary.json say so when it binds); the
+    // path then runs on the system's own load hooks, as solveStatics(ShellSystem&) would run it.
+    const double levelIncrement = o.maxIncrement;
+    o = forMovingSolids(system, x, o);
+    if (o.maxIncrement < levelIncrement) {
+      summary.extra["moving_solid_increment"] = o.maxIncrement;
+      progress.log("a moving solid: load increments of at most " + formatNumber("%.4g", o.maxIncrement) +
                    ", so that no solid passes through the shell unseen between two solves");
     }
     int level = 0;  // output frames: the requested levels; steps between them (after cuts) are logged only
-    const StaticsResult r = solveStatics(system, x, o, [&](const LoadStepResult& s) {
+    const StaticsResult r = solveStatics(objective, loadFactorHooks(system), x, o, [&](const LoadStepResult& s) {
       const int step = s.step + 1;
       if (s.atLevel) {
         output.record({++level, s.loadFactor, s.loadFactor, &s.x, nullptr});
