@@ -24,6 +24,14 @@ std::vector<std::string> ShellContact::termNames() const {
   return names;
 }
 
+std::vector<std::string> ShellContact::solidNames() const {
+  std::vector<std::string> names;
+  for (const VolumeContactTerms& v : volume)
+    if (std::find(names.begin(), names.end(), v.state->collider->name()) == names.end())
+      names.push_back(v.state->collider->name());
+  return names;
+}
+
 std::vector<std::pair<std::string, Eigen::Vector3d>> ShellContact::solidForces(const Eigen::VectorXd& x,
                                                                                double t) const {
   std::vector<std::pair<std::string, Eigen::Vector3d>> forces;

@@ -84,6 +84,8 @@ struct ShellContact {
   /// once a time step has begun, the Hunt–Crossley damping and friction of that step (the sums over the shell's
   /// vertices of those terms' gradients: what they push the shell with, the solid takes back).
   std::vector<std::pair<std::string, Eigen::Vector3d>> solidForces(const Eigen::VectorXd& x, double t) const;
+  /// The volume actors solidForces names, in its order.
+  std::vector<std::string> solidNames() const;
   /// Seconds spent in the point-cloud broad phase so far.
   double broadPhaseSeconds() const { return pointCloud.state ? pointCloud.state->broadPhaseSeconds() : 0.0; }
 };

@@ -109,6 +109,7 @@ const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
     std::cout << "\n";
     if (!r.finalPng.empty()) std::cout << "picture: " << r.finalPng << "\n";
     if (!r.probesPng.empty()) std::cout << "plot: " << r.probesPng << "\n";
+    if (!r.contactForcesPng.empty()) std::cout << "plot: " << r.contactForcesPng << "\n";
     exitCode = r.interrupted ? kInterrupted : (s.converged || movedOn || r.stepLimitReached) ? kOk : kFailed;
   });
 });

@@ -39,7 +39,8 @@ RunCheckpoint afterFiveSteps() {
   c.safeguards.largestShift = 1e-6;
   c.history.abscissa = {0.0, 0.01, 0.02, 0.03, 0.04, 0.05};
   c.history.u.assign(3, std::vector<double>(6, -0.5));
-  for (int step = 0; step <= 5; ++step) c.output.rows.push_back({step, 0.01 * step, 1.0, {0.0, 0.0, -0.1 * step}});
+  for (int step = 0; step <= 5; ++step)
+    c.output.rows.push_back({step, 0.01 * step, 1.0, {0.0, 0.0, -0.1 * step}, {}});
   c.output.frames = 6;
   c.output.lastRecordedStep = 5;
   c.output.lastFrameStep = 5;
@@ -91,6 +92,35 @@ TEST_CASE("run checkpoint: every field is written and read back exactly") {
   const RunCheckpoint s = runCheckpointFromJson(toJson(c, scene), scene, "c.cbor");
   CHECK(s.solver.xPrev.size() == 0);
   CHECK(!s.output.pvdBytes);
+}
+
+TEST_CASE("run checkpoint: the rows' contact forces are read back, three per measured solid") {
+  CheckpointScene scene = fourVertices();
+  scene.contactSolids = 2;
+  RunCheckpoint c = afterFiveSteps();
+  for (ProbeRow& row : c.output.rows) row.force = {0.0, 0.0, 0.5 * row.step, -1.0, 0.0, 0.25};
+  const Json saved = toJson(c, scene);
+  const RunCheckpoint r = runCheckpointFromJson(Json::from_cbor(Json::to_cbor(saved)), scene, "c.cbor");
+  REQUIRE(r.output.rows.size() == 6);
+  for (std::size_t k = 0; k < 6; ++k) CHECK(r.output.rows[k].force == c.output.rows[k].force);
+  const auto refused = [&](const std::function<void(Json&)>& edit, const std::string& message) {
+    Json j = saved;
+    edit(j);
+    INFO(message);
+    CHECK_THROWS_WITH(runCheckpointFromJson(j, scene, "c.cbor"), "c.cbor: " + message);
+  };
+  refused([](Json& j) { j["output"]["rows"][2].erase("force"); },
+          "output/rows/2/force: missing (an incomplete checkpoint)");
+  refused([](Json& j) { j["output"]["rows"][0]["force"] = std::vector<double>(3, 1.0); },
+          "output/rows/0/force: must be a list of 6 numbers");
+  refused([](Json& j) { j["output"]["rows"][1]["force"][4] = std::numeric_limits<double>::infinity(); },
+          "output/rows/1/force: holds a value that is not a finite number");
+  // A scene without measured solids reads rows without forces (the fuzz seeds), and refuses rows with some.
+  scene.contactSolids = 0;
+  refused([](Json&) {}, "output/rows/0/force: must be a list of 0 numbers");
+  Json without = saved;
+  for (Json& row : without["output"]["rows"]) row.erase("force");
+  CHECK(runCheckpointFromJson(without, scene, "c.cbor").output.rows[5].force.empty());
 }
 
 TEST_CASE("run checkpoint: a field edited by hand is refused with its name") {

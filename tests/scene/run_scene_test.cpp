@@ -44,6 +44,21 @@ std::string fileBytes(const fs::path& p) {
   return text.str();
 }
 
+std::vector<std::string> fileLines(const fs::path& p) {
+  std::istringstream in(fileBytes(p));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+/// A probes.csv row's fields, as numbers.
+std::vector<double> csvNumbers(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<double> values;
+  for (std::string field; std::getline(in, field, ',');) values.push_back(std::stod(field));
+  return values;
+}
+
 /// Runs the scene into a fresh directory `name` with Ctrl-C already pressed: it stops after its first step.
 RunResult runInterrupted(const Scene& scene, const std::string& name, RunOptions& o) {
   o.outputDirectory = freshDirectory(name).string();
@@ -472,6 +487,50 @@ TEST_CASE("run: a static path presses a keyframed ball into a plate, drawn where
   const double w = summary.at("probes").at("centre").at(2).get<double>();
   CHECK(w < -0.03);
   CHECK(w > -0.0351);
+  // probes.csv: the force–indentation curve, one row per level. At λ = 0 the ball is 1 cm above the plate, out of
+  // the contact band; the force then grows with the press, and the last row is summary.json's.
+  const std::vector<std::string> lines = fileLines(dir / "probes.csv");
+  REQUIRE(lines.size() == 4);  // the header, λ = 0, 0.5, 1
+  CHECK(lines[0] == "step,time,load_factor,centre_ux,centre_uy,centre_uz,ball_Fx,ball_Fy,ball_Fz");
+  std::vector<double> fz;
+  for (std::size_t k = 1; k < lines.size(); ++k) fz.push_back(csvNumbers(lines[k]).back());
+  CHECK(fz[0] == 0.0);
+  CHECK(fz[1] > 0.0);
+  CHECK(fz[2] > fz[1]);
+  const std::vector<double> last = csvNumbers(lines.back());
+  for (int c = 0; c < 3; ++c) CHECK(last[6 + static_cast<std::size_t>(c)] == force.at(c).get<double>());
+}
+
+TEST_CASE("run: probes.csv records the force a floor bears at every step, at rest the sheet's weight",
+          "[contact][checkpoint]") {
+  // A free 0.2 m square sheet (h = 1 mm, ρ = 1000: 0.392 N) laid 6 mm above a floor, just outside the 5 mm
+  // contact band, falls onto it and settles under its weight; damped by its mass, it is at rest within the run.
+  const Scene scene = sceneFromJson(nlohmann::json::parse(R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [{"type": "shell", "name": "sheet",
+                "shape": {"generator": "rectangle", "width": 0.2, "height": 0.2, "nx": 4, "ny": 4},
+                "worldFromLocalTransform": {"translation": [0, 0, 0.006]},
+                "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.001, "volumeDensity": 1000,
+                             "massDampingCoefficient": 20},
+                "colliderType": "None"},
+               {"type": "plane", "name": "floor", "point": [0, 0, 0], "normal": [0, 0, 1]}],
+    "analysis": {"type": "dynamic", "timeStep": 0.02, "duration": 0.4},
+    "solver": {"threads": 1}})"),
+                                    ".");
+  const RunOptions o = resumedBitForBit(scene, "resting", 20);
+  const fs::path dir(o.outputDirectory);
+  const std::vector<std::string> lines = fileLines(dir / "probes.csv");
+  REQUIRE(lines.size() == 22);  // the header, t = 0 and 20 steps
+  CHECK(lines[0] == "step,time,load_factor,floor_Fx,floor_Fy,floor_Fz");
+  const double weight = 0.2 * 0.2 * 0.001 * 1000 * 9.81;
+  CHECK(csvNumbers(lines[1]) == std::vector<double>{0, 0, 1, 0, 0, 0});  // out of the band at t = 0
+  const std::vector<double> last = csvNumbers(lines.back());
+  REQUIRE(last.size() == 6);
+  CHECK(last[5] == Approx(-weight).epsilon(1e-4));  // the floor is pushed down by the sheet's weight
+  CHECK(std::abs(last[3]) < 1e-9 * weight);
+  CHECK(std::abs(last[4]) < 1e-9 * weight);
+  const nlohmann::json summary = readJson(dir / "summary.json");
+  CHECK(summary.at("contact_forces").at("floor").at(2).get<double>() == last[5]);
 }
 
 TEST_CASE("run: a checkpoint file is read only if it is a bounded regular file of shallow CBOR", "[checkpoint]") {

@@ -208,6 +208,9 @@ OutputCheckpoint outputFrom(const Fields& f, const CheckpointScene& scene, int s
     r.loadFactor = row.number("load_factor", -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
                               "must be finite");
     r.u = row.finiteList(row.at("u"), "u", 3 * static_cast<std::size_t>(scene.probes));
+    // Written by every build that records contact forces; a scene without volume actors reads none.
+    if (scene.contactSolids > 0 || row.has("force"))
+      r.force = row.finiteList(row.at("force"), "force", 3 * static_cast<std::size_t>(scene.contactSolids));
     if (k > 0 && r.step <= o.rows.back().step)
       f.fail("rows/" + std::to_string(k) + "/step", "must increase row by row");
     o.rows.push_back(std::move(r));
@@ -247,7 +250,8 @@ Json toJson(const RunCheckpoint& c, const CheckpointScene& scene) {
   const OutputCheckpoint& o = c.output;
   Json rows = Json::array();
   for (const ProbeRow& r : o.rows)
-    rows.push_back({{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}});
+    rows.push_back(
+        {{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}, {"force", r.force}});
   const auto bytes = [](const std::optional<std::uint64_t>& n) { return n ? Json(*n) : Json(nullptr); };
   return {{"scene_fingerprint", scene.fingerprint},
           {"vertices", scene.vertices},

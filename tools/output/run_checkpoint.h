@@ -28,6 +28,7 @@ struct CheckpointScene {
   double timeStep = 0.0;  // s
   double duration = 0.0;  // s
   int probes = 0;
+  int contactSolids = 0;                // volume actors whose contact force probes.csv records (RunOutput)
   int frameFiles = 1;                   // .vtu files a frame (one per shell actor when several: RunOutput)
   int maxSteps = 0;                     // InputLimits::maxSteps
   std::vector<std::string> cutReasons;  // the reasons a step can be cut for (SafeguardReport::cutReasons)
@@ -53,7 +54,8 @@ struct SafeguardCounts {
 struct ProbeRow {
   int step = 0;
   double time = 0.0, loadFactor = 0.0;
-  std::vector<double> u;  // 3 per probe
+  std::vector<double> u;      // 3 per probe
+  std::vector<double> force;  // 3 per volume actor whose contact force is recorded [N]
 };
 
 /// RunOutput's state: what it needs to continue the output files exactly.

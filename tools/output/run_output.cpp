@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace jetshell {
 namespace {
@@ -101,12 +102,19 @@ RunOutput::RunOutput(std::string directory, const Scene& scene, const SceneModel
 
 void RunOutput::record(const StepState& s, bool forceFrame) {
   const Eigen::VectorXd& x = *s.x;
-  ProbeRow row{s.step, s.time, s.loadFactor, {}};
+  ProbeRow row{s.step, s.time, s.loadFactor, {}, {}};
   for (const ResolvedProbe& p : model_.probes)
     for (int c = 0; c < 3; ++c) row.u.push_back(x[3 * p.vertex + c] - model_.world.V(p.vertex, c));
+  if (contactForces_) {
+    const std::vector<Eigen::Vector3d> forces = contactForces_(x, s.time);
+    if (forces.size() != contactSolids_.size())
+      throw std::logic_error("RunOutput: the contact force gauge measured " + std::to_string(forces.size()) +
+                             " solids, not " + std::to_string(contactSolids_.size()));
+    for (const Eigen::Vector3d& f : forces) row.force.insert(row.force.end(), {f.x(), f.y(), f.z()});
+  }
   if (s.step == lastRecordedStep_ && !rows_.empty()) {
     if (rows_.size() == flushedRows_ && (row.time != rows_.back().time || row.loadFactor != rows_.back().loadFactor ||
-                                         row.u != rows_.back().u))
+                                         row.u != rows_.back().u || row.force != rows_.back().force))
       flushedRowChanged_ = true;
     rows_.back() = row;
   } else {
@@ -119,8 +127,19 @@ void RunOutput::record(const StepState& s, bool forceFrame) {
   if ((forceFrame || s.step % stride == 0) && s.step != lastFrameStep_) {
     writeFrame(s);
     lastFrameStep_ = s.step;
-    if (scene_.outputs.probesCsv && !model_.probes.empty()) writeProbes();
+    if (writesProbes()) writeProbes();
   }
+}
+
+void RunOutput::measureContactForces(std::vector<std::string> solids, ContactForceGauge gauge) {
+  if (lastRecordedStep_ >= 0 || !rows_.empty())
+    throw std::logic_error("RunOutput::measureContactForces: called after the first record()");
+  contactSolids_ = std::move(solids);
+  contactForces_ = contactSolids_.empty() ? ContactForceGauge() : std::move(gauge);
+}
+
+bool RunOutput::writesProbes() const {
+  return scene_.outputs.probesCsv && (!model_.probes.empty() || !contactSolids_.empty());
 }
 
 int RunOutput::filesPerFrame() const {
@@ -210,6 +229,7 @@ std::string RunOutput::probeRows(std::size_t from) const {
     const ProbeRow& r = rows_[k];
     out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
     for (double u : r.u) out << ',' << formatDouble(u);
+    for (double f : r.force) out << ',' << formatDouble(f);
     out << '\n';
   }
   return out.str();
@@ -221,6 +241,8 @@ void RunOutput::writeProbes() {
     header << "step,time,load_factor";
     for (const ResolvedProbe& p : model_.probes)
       for (const char* axis : {"_ux", "_uy", "_uz"}) header << ',' << csvField(p.name + axis);
+    for (const std::string& solid : contactSolids_)
+      for (const char* axis : {"_Fx", "_Fy", "_Fz"}) header << ',' << csvField(solid + axis);
     header << '\n';
     probesCsv_.create((std::filesystem::path(directory_) / "probes.csv").string(), header.str(), "");
     flushedRows_ = 0;
@@ -297,7 +319,7 @@ nlohmann::json RunOutput::actorSummaries() const {
 
 void RunOutput::finish(const RunSummary& summary) {
   namespace fs = std::filesystem;
-  if (scene_.outputs.probesCsv && !model_.probes.empty()) writeProbes();
+  if (writesProbes()) writeProbes();
   nlohmann::json j;
   j["scene"] = scenePath_;
   j["description"] = scene_.description;
@@ -325,6 +347,13 @@ void RunOutput::finish(const RunSummary& summary) {
     j["final_load_factor"] = rows_.back().loadFactor;
   }
   j["frames"] = frames_;
+  if (!contactSolids_.empty() && !rows_.empty()) {  // the force on each volume actor in the last state
+    nlohmann::json forces = nlohmann::json::object();
+    const std::vector<double>& f = rows_.back().force;
+    for (std::size_t k = 0; k < contactSolids_.size(); ++k)
+      forces[contactSolids_[k]] = {f[3 * k], f[3 * k + 1], f[3 * k + 2]};
+    j["contact_forces"] = forces;
+  }
   j["unsupported"] = unsupportedFeatures(scene_);
   for (const auto& item : summary.extra.items()) j[item.key()] = item.value();
   writeFileAtomically((fs::path(directory_) / "summary.json").string(), j.dump(2) + "\n");

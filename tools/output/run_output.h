@@ -10,7 +10,8 @@
 //                                         (the series' last part)
 //   obj/frame_NNNNN.obj                   optional OBJ per frame, with the volume actors beside it:
 //                                         obj/volumes.obj (those that stay), obj/volumes_NNNNN.obj (those that move)
-//   probes.csv                            probe displacements per step
+//   probes.csv                            per step: the probes' displacements and the contact force each volume
+//                                         actor takes from the shells
 //   summary.json                          the run's outcome (see RunSummary), with one entry per shell actor
 //                                         (name, layer, size, largest displacement and speed, bounding box)
 #pragma once
@@ -24,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -54,6 +56,10 @@ struct RunSummary {
   nlohmann::json extra = nlohmann::json::object();  // merged into summary.json
 };
 
+/// The contact force each of the measured volume actors takes from the shells at positions x (3N) and time t (the
+/// time the solids' paths are read at: λ on a static path), in the order they were named [N].
+using ContactForceGauge = std::function<std::vector<Eigen::Vector3d>(const Eigen::VectorXd& x, double t)>;
+
 class RunOutput {
  public:
   /// Creates `directory` (and frames/, obj/ as needed). Throws InputError when it cannot.
@@ -62,6 +68,14 @@ class RunOutput {
   /// Records the probes of this state and, every `frameStride` steps or when `forceFrame`, writes a frame
   /// (and appends to frames.pvd and probes.csv, so both are complete after every frame).
   void record(const StepState& state, bool forceFrame = false);
+  /// Records, in every row from now on, the contact force on each of `solids` (volume actors), read by `gauge` at
+  /// the state's positions and time: three columns per solid in probes.csv, NAME_Fx, NAME_Fy, NAME_Fz. Called
+  /// before the first record(); throws std::logic_error after it.
+  void measureContactForces(std::vector<std::string> solids, ContactForceGauge gauge);
+  /// The volume actors whose contact forces the rows hold (three values each, in this order).
+  const std::vector<std::string>& contactSolids() const { return contactSolids_; }
+  /// The rows recorded so far (probes.csv's, the initial state's first).
+  const std::vector<ProbeRow>& rows() const { return rows_; }
   /// Writes summary.json (with the probes' last displacements) and the final probes.csv.
   void finish(const RunSummary& summary);
 
@@ -89,6 +103,8 @@ class RunOutput {
   /// The moving volume actors as placed for the current frame (volumesFrame), written as
   /// frames/volumes_NNNNN.vtu; returns the file's name in the output directory.
   std::string writeMovingVolumes(const VtuFrame& placed);
+  /// Whether probes.csv is written: the scene asks for it and it has columns beyond step, time and load factor.
+  bool writesProbes() const;
   void writeProbes();
   std::string probeRows(std::size_t from) const;
   /// One entry per shell actor: name, layer, vertex and face counts, and from the last recorded state the
@@ -117,6 +133,8 @@ class RunOutput {
   int lastRecordedStep_ = -1;
   int lastFrameStep_ = -1;
   std::vector<ProbeRow> rows_;
+  std::vector<std::string> contactSolids_;
+  ContactForceGauge contactForces_;
   Eigen::VectorXd lastPositions_, lastVelocities_;  // the last recorded state, for the per-actor summary
 };
 

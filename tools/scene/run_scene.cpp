@@ -1,5 +1,7 @@
 #include "tools/scene/run_scene.h"
 
+#include "tools/scene/run_plots.h"
+
 #include "core/format.h"
 #include "core/input_limits.h"
 #include "solvers/dynamic_relaxation.h"
@@ -13,6 +15,7 @@
 #include "tools/output/run_checkpoint.h"
 #include "tools/render/plot.h"
 #include "tools/render/render_frames.h"
+#include "tools/scene/run_plots.h"
 #include "tools/scene/safeguard_report.h"
 #include "tools/scene/scene_model.h"
 #include "tools/scene/scene_edge_rules.h"
@@ -115,6 +118,14 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   addSceneEdgeRules(scene, problem, system);
   Objective& objective = system.objective();
   RunOutput output(options.outputDirectory, scene, model, options.scenePath);
+  // Every row of probes.csv holds the contact force on each volume actor, with the solids where the analysis's
+  // clock puts them at the row's time (a static path's is its load factor; a relaxation holds them).
+  if (!system.contact.volume.empty())
+    output.measureContactForces(system.contact.solidNames(), [&system](const Eigen::VectorXd& positions, double t) {
+      std::vector<Eigen::Vector3d> forces;
+      for (const auto& named : system.contact.solidForces(positions, t)) forces.push_back(named.second);
+      return forces;
+    });
   RunSummary& summary = result.summary;
   summary.activeTerms = objective.activeTermNames();
   {
@@ -137,6 +148,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   checkpointScene.timeStep = scene.analysis.timeStep;
   checkpointScene.duration = scene.analysis.duration;
   checkpointScene.probes = static_cast<int>(model.probes.size());
+  checkpointScene.contactSolids = static_cast<int>(output.contactSolids().size());
   checkpointScene.frameFiles = output.filesPerFrame();
   checkpointScene.maxSteps = static_cast<int>(inputLimits().maxSteps);
   checkpointScene.cutReasons = SafeguardReport::cutReasons();
@@ -529,14 +541,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
-  // The contact force on each volume actor in the last state, where the solids are then (a static path's time is
-  // its load factor; a relaxation holds them).
-  if (!system.contact.volume.empty()) {
-    nlohmann::json forces = nlohmann::json::object();
-    for (const auto& [solid, f] : system.contact.solidForces(x, history.abscissa.back()))
-      forces[solid] = {f.x(), f.y(), f.z()};
-    summary.extra["contact_forces"] = forces;
-  }
   {
     std::vector<int> inverted;
     for (const ActorBlock& b : model.actors)
@@ -572,37 +576,39 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       result.finalPng.clear();
     }
   }
-  if (options.pictures && scene.outputs.plots && !model.probes.empty() && history.abscissa.size() > 1) {
-    PlotSpec plot;
-    plot.title = scene.description.empty() ? "probe displacements" : scene.description;
-    plot.xLabel = type == AnalysisType::Static ? "load factor λ" : "time t [s]";
-    plot.yLabel = "displacement [m]";
-    double largest = 0;
-    for (const auto& series : history.u)
-      for (double u : series) largest = std::max(largest, std::abs(u));
-    for (std::size_t p = 0; p < model.probes.size(); ++p)
-      for (int c = 0; c < 3; ++c) {
-        const std::vector<double>& u = history.u[3 * p + static_cast<std::size_t>(c)];
-        double peak = 0;
-        for (double v : u) peak = std::max(peak, std::abs(v));
-        if (peak <= 1e-3 * largest) continue;  // components that stay at zero only clutter the plot
-        // Colour by component (x red, y green, z blue), dash pattern by probe.
-        static const char* colors[3] = {"#d62728", "#2ca02c", "#1f77b4"};
-        plot.series.push_back({model.probes[p].name + " u" + std::string(1, static_cast<char>('x' + c)),
-                               history.abscissa, u, "lines", colors[c], 1 + static_cast<int>(p % 5)});
-      }
-    if (!plot.series.empty()) {
+  if (options.pictures && scene.outputs.plots) {
+    const std::string title = scene.description;
+    const std::string xLabel = type == AnalysisType::Static ? "load factor λ" : "time t [s]";
+    // Draws one plot into the output directory; a plot that cannot be drawn is a note, not a failed run.
+    auto draw = [&](std::vector<PlotSeries> curves, const std::string& what, const std::string& yLabel,
+                    const std::string& file) {
+      if (curves.empty()) return std::string();
+      PlotSpec plot;
+      plot.title = title.empty() ? what : title;
+      plot.xLabel = xLabel;
+      plot.yLabel = yLabel;
+      plot.series = std::move(curves);
+      const std::string path = (fs::path(options.outputDirectory) / file).string();
       try {
-        result.probesPng = (fs::path(options.outputDirectory) / "probes.png").string();
-        plotPng(plot, result.probesPng);
+        plotPng(plot, path);
+        return path;
       } catch (const InputError& e) {
-        result.notes.push_back(std::string("probes.png not drawn: ") + e.what());
-        result.probesPng.clear();
+        result.notes.push_back(file + " not drawn: " + e.what());
+        return std::string();
       }
-    }
+    };
+    std::vector<std::string> probeNames;
+    for (const ResolvedProbe& p : model.probes) probeNames.push_back(p.name);
+    if (history.abscissa.size() > 1)
+      result.probesPng = draw(componentCurves(probeNames, "u", history.abscissa, history.u), "probe displacements",
+                              "displacement [m]", "probes.png");
+    if (output.rows().size() > 1)
+      result.contactForcesPng = draw(contactForceCurves(output.contactSolids(), output.rows()), "contact forces",
+                                     "force on the solid [N]", "contact_forces.png");
   }
   summary.extra["pictures"] = {{"final_png", result.finalPng.empty() ? "" : "final.png"},
-                               {"probes_png", result.probesPng.empty() ? "" : "probes.png"}};
+                               {"probes_png", result.probesPng.empty() ? "" : "probes.png"},
+                               {"contact_forces_png", result.contactForcesPng.empty() ? "" : "contact_forces.png"}};
   output.finish(summary);
   return result;
 }

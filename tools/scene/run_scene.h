@@ -36,6 +36,7 @@ struct RunResult {
   std::vector<std::string> lastFrame;  // the last frame's .vtu files (one per shell actor when several), or none
   std::string finalPng;    // or "" when not drawn
   std::string probesPng;   // or ""
+  std::string contactForcesPng;  // or ""
   std::vector<std::string> notes;     // unsupported features, picture problems
   std::vector<std::string> warnings;  // doubts about the result (inverted faces); also in summary.json
 };

@@ -1,0 +1,39 @@
+#include "tools/scene/run_plots.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jetshell {
+
+std::vector<PlotSeries> componentCurves(const std::vector<std::string>& names, const std::string& symbol,
+                                        const std::vector<double>& abscissa,
+                                        const std::vector<std::vector<double>>& values) {
+  static const char* colors[3] = {"#d62728", "#2ca02c", "#1f77b4"};
+  double largest = 0.0;
+  for (const std::vector<double>& series : values)
+    for (double v : series) largest = std::max(largest, std::abs(v));
+  std::vector<PlotSeries> curves;
+  for (std::size_t k = 0; k < names.size() && 3 * k + 2 < values.size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::vector<double>& series = values[3 * k + c];
+      double peak = 0.0;
+      for (double v : series) peak = std::max(peak, std::abs(v));
+      if (peak <= 1e-3 * largest) continue;  // components that stay at zero only clutter the plot
+      curves.emplace_back(names[k] + " " + symbol + std::string(1, static_cast<char>('x' + c)), abscissa, series,
+                          "lines", colors[c], 1 + static_cast<int>(k % 5));
+    }
+  return curves;
+}
+
+std::vector<PlotSeries> contactForceCurves(const std::vector<std::string>& solids, const std::vector<ProbeRow>& rows) {
+  std::vector<double> abscissa;
+  std::vector<std::vector<double>> values(3 * solids.size());
+  for (const ProbeRow& row : rows) {
+    if (row.force.size() != values.size()) continue;
+    abscissa.push_back(row.time);
+    for (std::size_t i = 0; i < values.size(); ++i) values[i].push_back(row.force[i]);
+  }
+  return componentCurves(solids, "F", abscissa, values);
+}
+
+}  // namespace jetshell
