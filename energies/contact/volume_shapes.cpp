@@ -56,25 +56,26 @@ class SphereShape : public VolumeShape {
 
 class BoxShape : public VolumeShape {
  public:
-  explicit BoxShape(const Eigen::Vector3d& h) : h_(h) {}
+  BoxShape(const Eigen::Vector3d& h, double r) : h_(h), r_(r), core_(h - Eigen::Vector3d::Constant(r)) {}
   std::string kind() const override { return "box"; }
+  /// The distance to the core box (half-extents h − r) less r: a sharp box when r = 0.
   SdfSample signedDistance(const Eigen::Vector3d& p) const override {
     SdfSample s;
     Eigen::Vector3d q, sign;
     for (int i = 0; i < 3; ++i) {
-      q[i] = std::abs(p[i]) - h_[i];
+      q[i] = std::abs(p[i]) - core_[i];
       sign[i] = p[i] < 0.0 ? -1.0 : 1.0;
     }
-    if (q.maxCoeff() <= 0.0) {  // inside: distance to the nearest face
+    if (q.maxCoeff() <= 0.0) {  // inside the core: distance to its nearest face
       int m = 0;
-      s.distance = q.maxCoeff(&m);
+      s.distance = q.maxCoeff(&m) - r_;
       s.gradient = Eigen::Vector3d::Zero();
       s.gradient[m] = sign[m];
       return s;
     }
-    const Eigen::Vector3d w = q.cwiseMax(0.0);  // outside: distance to the nearest face, edge or corner
+    const Eigen::Vector3d w = q.cwiseMax(0.0);  // outside the core: distance to its nearest face, edge or corner
     const double d = w.norm();
-    s.distance = d;
+    s.distance = d - r_;
     s.gradient = sign.cwiseProduct(w) / d;
     s.hessian.setZero();
     for (int i = 0; i < 3; ++i)
@@ -86,6 +87,8 @@ class BoxShape : public VolumeShape {
 
  private:
   Eigen::Vector3d h_;
+  double r_;
+  Eigen::Vector3d core_;
 };
 
 class CapsuleShape : public VolumeShape {
@@ -115,9 +118,11 @@ VolumeShapePtr makeSphereShape(double radius) {
   requirePositive(radius, "sphere radius");
   return std::make_shared<SphereShape>(radius);
 }
-VolumeShapePtr makeBoxShape(const Eigen::Vector3d& halfExtents) {
+VolumeShapePtr makeBoxShape(const Eigen::Vector3d& halfExtents, double edgeRadius) {
   for (int i = 0; i < 3; ++i) requirePositive(halfExtents[i], "box half extent");
-  return std::make_shared<BoxShape>(halfExtents);
+  if (!(edgeRadius >= 0.0 && edgeRadius <= halfExtents.minCoeff()))
+    throw InputError("box edgeRadius: must lie in [0, the smallest half extent]");
+  return std::make_shared<BoxShape>(halfExtents, edgeRadius);
 }
 VolumeShapePtr makeCapsuleShape(double radius, double halfLength) {
   requirePositive(radius, "capsule radius");

@@ -4,7 +4,8 @@
 // solid), its gradient ∇d (the outward unit normal where d is smooth) and its Hessian ∇²d (3×3), exact at p.
 // The contact energies feed these into a second-order model of d around p (energies/contact/sdf_model.h),
 // so their Jet derivatives are exact wherever d is twice differentiable.
-// Shapes: plane (the half-space z < 0, normal +z), sphere (centre at the origin), box (centred, half-extents),
+// Shapes: plane (the half-space z < 0, normal +z), sphere (centre at the origin), box (centred, half-extents; its
+// edges and corners optionally rounded: the points within a radius r of the box of half-extents h − r),
 // capsule (the points within `radius` of the segment from (0,0,−halfLength) to (0,0,+halfLength)), and a
 // sampled grid read from a file (energies/contact/sdf_grid.h).
 #pragma once
@@ -42,8 +43,11 @@ using VolumeShapePtr = std::shared_ptr<const VolumeShape>;
 VolumeShapePtr makePlaneShape();
 /// A ball of the given radius (> 0) at the origin.
 VolumeShapePtr makeSphereShape(double radius);
-/// An axis-aligned box with the given half-extents (> 0) centred at the origin.
-VolumeShapePtr makeBoxShape(const Eigen::Vector3d& halfExtents);
+/// An axis-aligned box with the given half-extents (> 0) centred at the origin, its edges and corners rounded with
+/// edgeRadius (0: sharp; at most the smallest half-extent, where the box becomes a capsule, a ball or a slab with
+/// rounded rims). A rounded edge has the curvature 1/edgeRadius that a sharp one lacks, so a shell folded over it
+/// has a smooth distance to settle on.
+VolumeShapePtr makeBoxShape(const Eigen::Vector3d& halfExtents, double edgeRadius = 0.0);
 /// A capsule along local z: radius > 0, half length of its axis segment >= 0.
 VolumeShapePtr makeCapsuleShape(double radius, double halfLength);
 

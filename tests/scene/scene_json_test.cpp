@@ -473,6 +473,20 @@ TEST_CASE("scene: a volume actor moves through its keyframes, and bad keyframes 
     change(bad["actors"][1]);
     return errorOf(bad);
   };
+  // A box with rounded edges: its radius at most its smallest half-extent, and in the shape contact reads.
+  CHECK(errorWith([](Json& a) { a["edgeRadius"] = 0.2; }) ==
+        "/actors/1/edgeRadius = 0.2: must be at most the smallest half extent (0.1)");
+  CHECK(errorWith([](Json& a) { a["edgeRadius"] = -1; }) == "/actors/1/edgeRadius = -1: must be finite and >= 0");
+  {
+    Json rounded = s;
+    rounded["actors"][1]["edgeRadius"] = 0.05;
+    const Scene r = sceneFromJson(rounded, tempDir());
+    CHECK(r.volumes[0].edgeRadius == 0.05);
+    const ShellSystem rs(shellProblemFromScene(r, buildSceneModel(r)), AnalysisKind::Dynamics);
+    // 0.1 m beyond the top face's edge at x = 0.7, z = -0.2, diagonally: 0.1 from the core's edge, less 0.05.
+    const Eigen::Vector3d p(0.65 + 0.1 / std::sqrt(2.0), 0.5, -0.25 + 0.1 / std::sqrt(2.0));
+    CHECK(rs.contact.volume[0].state->collider->query(p, 0.0).distance == Approx(0.05));
+  }
   CHECK(errorWith([](Json& a) { a["keyframes"][0]["time"] = 0.0; }) ==
         "/actors/1/keyframes/0/time = 0: must be finite and at least 1e-9 s (the actor is at its placement at t = 0)");
   CHECK(errorWith([](Json& a) { a["keyframes"][1]["time"] = 0.5; }) ==

@@ -3,7 +3,9 @@
 #include "core/mesh_generators.h"
 #include "energies/contact/sdf_grid.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace jetshell {
 namespace {
@@ -19,6 +21,51 @@ TriMesh box() {
       2, 6, 7, 2, 7, 3,     // +y
       0, 4, 6, 0, 6, 2,     // -x
       1, 3, 7, 1, 7, 5;     // +x
+  return m;
+}
+
+/// A box of half-extents h with edges and corners rounded by r: each face a grid whose lines crowd into the
+/// rounded bands, each grid point moved from the sharp box onto the rounded one (towards the nearest point of the
+/// core box, of half-extents h − r, to the distance r). Faces meet where their edge points land on the same arc.
+TriMesh roundedBox(const Eigen::Vector3d& h, double r) {
+  constexpr int kBand = 4;  // grid intervals across each rounded band of a face (half a quarter circle)
+  const Eigen::Vector3d core = h - Eigen::Vector3d::Constant(r);
+  auto coordinates = [&](int axis) {
+    std::vector<double> c;
+    for (int k = kBand; k >= 0; --k) c.push_back(-core[axis] - r * k / kBand);
+    for (int k = 1; k <= 4; ++k) c.push_back(-core[axis] + 2.0 * core[axis] * k / 4);
+    for (int k = 1; k <= kBand; ++k) c.push_back(core[axis] + r * k / kBand);
+    c.erase(std::unique(c.begin(), c.end()), c.end());  // a band or the core of no width
+    return c;
+  };
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> triangles;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side : {-1, 1}) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // (u, v, axis) right-handed: the face's normal is +axis
+      const std::vector<double> cu = coordinates(u), cv = coordinates(v);
+      const int first = static_cast<int>(points.size()), nu = static_cast<int>(cu.size());
+      for (double b : cv)
+        for (double a : cu) {
+          Eigen::Vector3d p;
+          p[axis] = side * h[axis];
+          p[u] = a;
+          p[v] = b;
+          const Eigen::Vector3d nearest = p.cwiseMax(-core).cwiseMin(core);
+          points.push_back(nearest + r * (p - nearest).normalized());
+        }
+      for (int j = 0; j + 1 < static_cast<int>(cv.size()); ++j)
+        for (int i = 0; i + 1 < nu; ++i) {
+          const int a = first + j * nu + i, b = a + 1, c = a + nu, d = c + 1;
+          if (side > 0) triangles.insert(triangles.end(), {{a, b, d}, {a, d, c}});
+          else triangles.insert(triangles.end(), {{a, d, b}, {a, c, d}});
+        }
+    }
+  TriMesh m;
+  m.V.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t k = 0; k < points.size(); ++k) m.V.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
+  m.F.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t k = 0; k < triangles.size(); ++k) m.F.row(static_cast<Eigen::Index>(k)) = triangles[k].transpose();
   return m;
 }
 
@@ -53,6 +100,10 @@ TriMesh volumeSurface(const VolumeActorParams& volume, double planeHalfSize, con
       break;
     }
     case VolumeActorParams::Kind::Box:
+      if (volume.edgeRadius > 0.0) {
+        m = roundedBox(volume.halfExtents, volume.edgeRadius);
+        break;
+      }
       m = box();
       for (Eigen::Index v = 0; v < m.V.rows(); ++v) m.V.row(v) = m.V.row(v).cwiseProduct(volume.halfExtents.transpose());
       break;

@@ -1,5 +1,6 @@
 #include "tools/scene/actor_params.h"
 
+#include "core/format.h"
 #include "core/input_limits.h"
 #include "tools/scene/checks.h"
 
@@ -48,10 +49,19 @@ void validate(const ShellActorParams& p, const std::string& where) {
                      where + ".pointCloudCollider.selfContactExclusionRatio");
 }
 
+void checkEdgeRadius(double edgeRadius, const Eigen::Vector3d& halfExtents, const std::string& field) {
+  check::nonNegative(edgeRadius, field);
+  if (edgeRadius > halfExtents.minCoeff())
+    check::fail(field, edgeRadius,
+                "must be at most the smallest half extent (" + formatNumber("%g", halfExtents.minCoeff()) + ")");
+}
+
 void validate(const VolumeActorParams& p, const std::string& where) {
   validate(p.worldFromLocalTransform, where + ".worldFromLocalTransform");
-  if (p.kind == VolumeActorParams::Kind::Box)
+  if (p.kind == VolumeActorParams::Kind::Box) {
     for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], where + ".halfExtents[" + std::to_string(c) + "]");
+    checkEdgeRadius(p.edgeRadius, p.halfExtents, where + ".edgeRadius");
+  }
   if (p.kind == VolumeActorParams::Kind::Sphere || p.kind == VolumeActorParams::Kind::Capsule)
     check::positive(p.radius, where + ".radius");
   if (p.kind == VolumeActorParams::Kind::Capsule) check::nonNegative(p.halfLength, where + ".halfLength");

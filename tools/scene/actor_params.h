@@ -57,6 +57,7 @@ struct VolumeActorParams {
   /// Sphere: centred at the local origin.
   RigidTransform worldFromLocalTransform;
   Eigen::Vector3d halfExtents = Eigen::Vector3d::Constant(0.5);  // box, m
+  double edgeRadius = 0.0;  // box: its edges and corners rounded with this radius, m (0: sharp)
   double radius = 0.5;                                            // sphere and capsule, m
   double halfLength = 0.5;    // capsule: half length of its axis segment along local z, m
   std::string sdfFile;        // SdfGrid: the grid file (energies/contact/sdf_grid.h), local coordinates
@@ -80,6 +81,8 @@ struct VolumeActorParams {
 /// contact or collider values.
 void validate(const ShellActorParams& p, const std::string& where);
 void validate(const VolumeActorParams& p, const std::string& where);
+/// A box's edge radius: finite, >= 0 and at most its smallest half-extent (InputError naming `field`).
+void checkEdgeRadius(double edgeRadius, const Eigen::Vector3d& halfExtents, const std::string& field);
 void validate(const ContactParams& p, const std::string& where);
 
 /// The actor's prescribed path (energies/contact/rigid_path.h): its placement, velocities and keyframes.

@@ -439,7 +439,7 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
   VolumeActorParams p;
   std::vector<std::string> keys = {"type", "name", "layer", "contact", "velocity", "angularVelocity", "keyframes"};
   if (type == "plane") keys.insert(keys.end(), {"point", "normal"});
-  if (type == "box") keys.insert(keys.end(), {"center", "halfExtents", "rotation"});
+  if (type == "box") keys.insert(keys.end(), {"center", "halfExtents", "edgeRadius", "rotation"});
   if (type == "sphere") keys.insert(keys.end(), {"center", "radius"});
   if (type == "capsule") keys.insert(keys.end(), {"center", "radius", "halfLength", "rotation"});
   if (type == "sdfGrid") keys.insert(keys.end(), {"file", "center", "rotation"});
@@ -458,6 +458,8 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
     if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
     p.halfExtents = o.at("halfExtents").vec3();
     for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], o.member("halfExtents") + "/" + std::to_string(c));
+    p.edgeRadius = o.number("edgeRadius", 0.0);
+    checkEdgeRadius(p.edgeRadius, p.halfExtents, o.member("edgeRadius"));
   } else if (type == "sphere") {
     p.kind = VolumeActorParams::Kind::Sphere;
     p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());

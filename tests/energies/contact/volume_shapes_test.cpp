@@ -57,6 +57,35 @@ TEST_CASE("volume shapes: distances, normals and curvature of plane, sphere, box
   }
 }
 
+TEST_CASE("volume shapes: a box with rounded edges is the points within r of its core box", "[contact]") {
+  const VolumeCollider rounded("r", makeBoxShape({0.3, 0.2, 0.1}, 0.05), RigidPath{}),
+      sharp("s", makeBoxShape({0.3, 0.2, 0.1}), RigidPath{});
+  // On a face's middle and inside, the same as the sharp box.
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.1, 0.05, 0.4), Eigen::Vector3d(0.0, 0.0, 0.02),
+                                  Eigen::Vector3d(0.29, 0.0, 0.0)})
+    CHECK(rounded.query(p, 0).distance == Approx(sharp.query(p, 0).distance));
+  // Beyond an edge (x, z) the distance is to the rounded edge of radius 0.05 about the core's edge (0.25, ·, 0.05).
+  const Eigen::Vector3d edge(0.25, 0.0, 0.05), out(0.33, 0.1, 0.11);
+  const double beyond = std::hypot(out.x() - edge.x(), out.z() - edge.z());
+  CHECK(rounded.query(out, 0).distance == Approx(beyond - 0.05));
+  CHECK(sharp.query(out, 0).distance == Approx(std::hypot(0.03, 0.01)));
+  // The curvature a rounded edge has and a sharp one lacks near its surface: 1/r across the edge.
+  const Eigen::Vector3d onEdge = edge + 0.051 * Eigen::Vector3d(1, 0, 1).normalized();
+  const SdfSample s = rounded.query(onEdge, 0);
+  CHECK(s.distance == Approx(0.001));
+  const Eigen::Vector3d across = Eigen::Vector3d(1, 0, -1).normalized();
+  CHECK(across.dot(s.hessian * across) == Approx(1.0 / 0.051));
+  // A corner's rounding: the distance to the core's corner less r.
+  const Eigen::Vector3d corner(0.25, 0.15, 0.05), far(0.4, 0.3, 0.3);
+  CHECK(rounded.query(far, 0).distance == Approx((far - corner).norm() - 0.05));
+  for (const Eigen::Vector3d& p : {out, onEdge, far, Eigen::Vector3d(0.0, 0.0, 0.02)}) checkSample(rounded, p);
+  // As rounded as it can be: the thinnest half-extent.
+  CHECK(makeBoxShape({0.3, 0.2, 0.1}, 0.1)->signedDistance(Eigen::Vector3d(0.0, 0.0, 0.3)).distance == Approx(0.2));
+  CHECK_THROWS_WITH(makeBoxShape({0.3, 0.2, 0.1}, 0.11), "box edgeRadius: must lie in [0, the smallest half extent]");
+  CHECK_THROWS_WITH(makeBoxShape({0.3, 0.2, 0.1}, -0.01), "box edgeRadius: must lie in [0, the smallest half extent]");
+  CHECK_THROWS(makeBoxShape({0.3, 0.2, 0.1}, std::nan("")));
+}
+
 TEST_CASE("volume shapes: a collider moves on its path, with the material move friction needs", "[contact]") {
   RigidPath path;
   path.velocity = Eigen::Vector3d(0, 0, 1);
