@@ -5,7 +5,11 @@
 #include <catch2/catch.hpp>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <omp.h>
+#include <sstream>
+#include <string>
+#include <vector>
 
 using namespace jetshell;
 
@@ -167,6 +171,20 @@ TEST_CASE("linear solver: an indefinite matrix is shifted, retried and reported"
     // Without retries the same matrix is reported, not solved.
     const LinearSolveReport none = solver->solve(H, 1, b, x, &sys.assembler().fixedDof(), 0);
     CHECK_FALSE(none.success);
+    // With too few, each reason is reported once with the shifts it was met at (it was repeated per try).
+    const LinearSolveReport few = solver->solve(H, 1, b, x, &sys.assembler().fixedDof(), 2);
+    INFO(few.message);
+    REQUIRE_FALSE(few.success);
+    REQUIRE(few.message.rfind("linear solve failed: ", 0) == 0);
+    std::vector<std::string> reasons;
+    std::istringstream parts(few.message.substr(21));
+    for (std::string part; std::getline(parts, part, ';');) {
+      const std::size_t from = part.find_first_not_of(' ');
+      const std::string reason = part.substr(from, part.find(" (") - from);
+      CHECK(std::find(reasons.begin(), reasons.end(), reason) == reasons.end());
+      reasons.push_back(reason);
+    }
+    if (reasons.size() == 1) CHECK(few.message.find("(3 tries: no shift, then shift ") != std::string::npos);
   }
 }
 
