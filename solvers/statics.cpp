@@ -413,6 +413,10 @@ LoadSteppingOptions forMovingSolids(const ShellSystem& system, const Eigen::Vect
     throw InputError(std::string("static path: the volume actor '") + solids.front() +
                      "' moves with the load factor, which " + toString(o.path.control) +
                      " control solves for; a moving solid needs load control");
+  // A branch switch corrects onto the new branch by arc length and follows it so, both solving for λ: the solid
+  // would move inside a correction, as under arc-length control (measured: a bar turned in a sheet tried it at a
+  // saddle and every correction diverged, the residual 685 N -> 3e9 N). Load control keeps to its branch.
+  o.branchSwitching = false;
   const double most = movingSolidIncrement(system, x, o.startLoadFactor, o.targetLoadFactor);
   o.maxIncrement = std::min(o.maxIncrement, most);
   o.initialIncrement = std::min(o.initialIncrement, most);

@@ -161,7 +161,8 @@ StaticsResult solveStatics(ShellSystem& system, Eigen::VectorXd& x, const LoadSt
 
 /// The options of a path from x on a statics system with moving solids (movingSolids): the path must be
 /// load-controlled (else InputError naming the solid: λ is the solid's time, which arc length and displacement
-/// control solve for), and the increments are at most movingSolidIncrement. Unchanged without a moving solid.
+/// control solve for), branch switching is off (it corrects and continues by arc length), and the increments are
+/// at most movingSolidIncrement. Unchanged without a moving solid.
 LoadSteppingOptions forMovingSolids(const ShellSystem& system, const Eigen::VectorXd& x, LoadSteppingOptions o);
 
 /// The volume actors of a statics system that move along the load path (their keyframes, read at time λ), each

@@ -177,4 +177,13 @@ TEST_CASE("static contact: a moving solid needs load control, and only a static 
   const ShellSystem dynamics(pressedPlate(0.05, 0.01, 0.04), AnalysisKind::Dynamics);
   CHECK_FALSE(dynamics.contact.volume[0].state->collider->path().isStatic());
   CHECK(movingSolids(system).size() == 1);
+  // Branch switching solves for λ too (its correction and the branch it follows are by arc length): off.
+  o.path.control = PathControl::Load;
+  REQUIRE(o.branchSwitching);
+  CHECK_FALSE(forMovingSolids(system, x, o).branchSwitching);
+  ShellProblem withoutPunch = pressedPlate(0.05, 0.01, 0.04);
+  withoutPunch.volumes.clear();
+  const ShellSystem still(withoutPunch, AnalysisKind::Statics);
+  REQUIRE(movingSolids(still).empty());
+  CHECK(forMovingSolids(still, x, o).branchSwitching);
 }

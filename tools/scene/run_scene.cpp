@@ -378,6 +378,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
                             "or a straight column in compression) keeps to its unstable branch" +
                             (!scene.analysis.branchSwitching
                                  ? std::string(" unless \"branchSwitching\" is true (it is false in this scene)")
+                             : !o.branchSwitching
+                                 ? std::string(" (branch switching is off while a solid moves with the load factor: "
+                                               "it corrects and goes on by arc length, which would move the solid)")
                              : r.branchSwitchFailure.empty()
                                  ? std::string(" (branch switching starts from an equilibrium known to be stable, "
                                                "and neither the load step before this saddle nor the start was one)")
