@@ -291,6 +291,25 @@ std::vector<StressCell> stressCells(bool q) {
                       : "ball of radius 10 um pressed 9 cm into a fixed sheet in one static load step",
         s);
   }
+  // A bar pressed 8 cm into a sheet held at two edges and turned 90° in it along a static path: with sharp edges
+  // (the distance has no curvature across them to settle the sheet on) and rounded by 1 cm.
+  for (const double edgeRadius : {0.0, 0.01}) {
+    const Json edges = Json::array({Json{{"group", "left"}}, Json{{"group", "right"}}});
+    Json s = scene(shell(rectangle(0.4, 0.4, 12, 12), plate(1e6, 0.3, 0.001), Json::array({Json{{"select", edges}}}),
+                         Json::array()),
+                   staticSteps(10));
+    s["actors"][0]["probes"][0]["select"] = {{"nearest", {0.2, 0.2, 0.0}}};
+    s["actors"].push_back(
+        {{"type", "box"}, {"name", "bar"}, {"center", {0.2, 0.2, 0.03}}, {"halfExtents", {0.15, 0.02, 0.02}},
+         {"edgeRadius", edgeRadius},
+         {"keyframes", {{{"time", 0.5}, {"translation", {0.0, 0.0, -0.08}}},
+                        {{"time", 1.0}, {"translation", {0.0, 0.0, -0.08}},
+                         {"rotation", {{"axis", {0.0, 0.0, 1.0}}, {"degrees", 90.0}}}}}}});
+    add(c, q, false, edgeRadius > 0.0 ? "contact/static_turned_bar_rounded" : "contact/static_turned_bar_sharp",
+        edgeRadius > 0.0 ? "bar with 1 cm rounded edges pressed 8 cm into a sheet and turned 90 deg, static path"
+                         : "bar with sharp edges pressed 8 cm into a sheet and turned 90 deg, static path",
+        s);
+  }
   Json incline = {{"type", "plane"}, {"name", "incline"}, {"point", {0.0, 0.0, 0.0}}, {"normal", {0.0, 0.5, 0.866}}};
   for (double mu : {0.0, 100.0}) {
     incline["contact"] = {{"frictionCoefficient", mu}};
