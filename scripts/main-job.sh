@@ -26,6 +26,7 @@ echo "== Validation against Sze et al. (2004) =="
 $js validate --all --json "$out/validation.json" --plots "$out/validation" || true
 echo
 echo "Outputs:"
-echo "  $out/tshirt_on_plane/     final.png (last frame), strip_*.png (frames at 0, 1/6, 1/3, 2/3 s), summary.json"
+echo "  $out/tshirt_on_plane/     final.png (last frame), strip_*.png (frames at 0, 1/6, 1/3, 2/3 s), summary.json,"
+echo "                            contact_forces.png (the force the floor bears at every step, as in probes.csv)"
 echo "  $out/slit_annular_ring/   frames (.vtu + .pvd for ParaView), probes.csv, summary.json, final.png"
 echo "  $out/validation.json      validation tables; plots in $out/validation/"
