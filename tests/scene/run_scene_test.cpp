@@ -141,9 +141,7 @@ TEST_CASE("run: a static path stopped between two levels ends on a frame of its 
   const nlohmann::json s = readJson(fs::path(o.outputDirectory) / "summary.json");
   CHECK(s.at("final_load_factor").get<double>() == 0.025);
   CHECK(s.at("final_load_factor_reached").get<double>() == 0.025);
-  std::istringstream rows(fileBytes(fs::path(o.outputDirectory) / "probes.csv"));
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(rows, line);) lines.push_back(line);
+  const std::vector<std::string> lines = fileLines(fs::path(o.outputDirectory) / "probes.csv");
   REQUIRE(lines.size() == 3);  // the header, λ = 0 and λ = 0.025
   CHECK(lines[1].rfind("0,0,0,0,0,0", 0) == 0);
   CHECK(lines[2].rfind("1,0.025,0.025,", 0) == 0);
@@ -505,21 +503,13 @@ TEST_CASE("run: a bar with rounded edges is pressed into a sheet and turned in i
           "[contact][statics]") {
   // examples/bar_turned_in_sheet.json on a coarser sheet. With sharp edges this path ends with 20 faces pushed
   // through (4 jumps) and fails at lambda = 0.978; rounded by 1 cm it is followed level by level.
-  const Scene scene = sceneFromJson(nlohmann::json::parse(R"({
-    "gravity": [0, 0, -9.81],
-    "actors": [{"type": "shell", "name": "sheet",
-                "shape": {"generator": "rectangle", "width": 0.4, "height": 0.4, "nx": 12, "ny": 12},
-                "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.001, "volumeDensity": 1000},
-                "colliderType": "None", "fixed": [{"select": [{"group": "left"}, {"group": "right"}]}],
-                "probes": [{"name": "centre", "select": {"nearest": [0.2, 0.2, 0]}}]},
-               {"type": "box", "name": "bar", "center": [0.2, 0.2, 0.03], "halfExtents": [0.15, 0.02, 0.02],
-                "edgeRadius": 0.01,
-                "keyframes": [{"time": 0.5, "translation": [0, 0, -0.08]},
-                              {"time": 1, "translation": [0, 0, -0.08],
-                               "rotation": {"axis": [0, 0, 1], "degrees": 90}}]}],
-    "analysis": {"type": "static", "loadSteps": 10},
-    "solver": {"threads": 1}})"),
-                                    ".");
+  const fs::path example = fs::path(JETSHELL_SOURCE_DIR) / "examples" / "bar_turned_in_sheet.json";
+  nlohmann::json j = nlohmann::json::parse(fileBytes(example), nullptr, true, true);
+  REQUIRE(j["actors"][1]["edgeRadius"] == 0.01);
+  j["actors"][0]["shape"]["nx"] = 12;
+  j["actors"][0]["shape"]["ny"] = 12;
+  j["solver"] = {{"threads", 1}};
+  const Scene scene = sceneFromJson(j, ".");
   RunOptions o;
   o.outputDirectory = freshDirectory("bar_turned").string();
   o.pictures = false;
