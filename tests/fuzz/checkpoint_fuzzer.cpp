@@ -17,7 +17,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const RunCheckpoint c = runCheckpointFromJson(
         parseCheckpoint(std::string(reinterpret_cast<const char*>(data), size), "fuzz.cbor"), scene, "fuzz.cbor");
     // What the run then relies on.
-    if (c.solver.x.size() != 12 || c.output.flushedRows > c.output.rows.size() || c.history.u.size() != 3)
+    const OutputCheckpoint& o = c.output;
+    if (c.solver.x.size() != 12 || !o.plotRows.consistent() || !o.lastRow || o.lastRow->u.size() != 3 ||
+        (o.probesBytes ? o.lastRowOffset > *o.probesBytes : o.lastRowOffset != 0))
       __builtin_trap();
   } catch (const InputError&) {
   }

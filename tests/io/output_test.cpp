@@ -350,7 +350,7 @@ TEST_CASE("output: an append-only file is complete after every append and cut ba
   CHECK_THROWS_WITH(wrong.reopen(fifo.string(), afterOne, "</a>\n"), Catch::Contains("not a regular file"));
 }
 
-TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete after every frame", "[append]") {
+TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete after every step", "[append]") {
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/hanging_cloth.json");
   scene.outputs.frameStride = 2;
   const SceneModel model = buildSceneModel(scene);
@@ -371,8 +371,20 @@ TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete a
     for (std::size_t at = series.find("<DataSet"); at != std::string::npos; at = series.find("<DataSet", at + 1)) ++entries;
     CHECK(entries == static_cast<std::size_t>(out.framesWritten()));
     CHECK(probes.back() == '\n');
-    CHECK(std::count(probes.begin(), probes.end(), '\n') == 1 + 1 + 2 * (step / 2));  // header + rows up to the frame
+    CHECK(std::count(probes.begin(), probes.end(), '\n') == 1 + 1 + step);  // the header and a row a step
   }
+  // A step recorded again with other values (a run's final state) is written over its row.
+  const std::string before = readText(dir / "probes.csv");
+  x[2] += 0.5;
+  out.record({6, 0.6, 1.0, &x, nullptr}, true);
+  const std::string after = readText(dir / "probes.csv");
+  CHECK(std::count(after.begin(), after.end(), '\n') == 1 + 1 + 6);
+  const std::size_t lastRow = before.rfind('\n', before.size() - 2) + 1;
+  CHECK(after.compare(0, lastRow, before, 0, lastRow) == 0);
+  CHECK(after.substr(lastRow) != before.substr(lastRow));
+  CHECK(after.substr(lastRow, 6) == "6,0.6,");
+  REQUIRE(out.lastRow());
+  CHECK(out.plotRows().back().u == out.lastRow()->u);
   CHECK(inode(dir / "frames.pvd") == pvd);
   CHECK(inode(dir / "probes.csv") == csv);
   // frames/ as a link out of the output directory is refused: the frames would have gone where it points.
@@ -384,4 +396,32 @@ TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete a
   fs::create_directory_symlink(elsewhere, linked / "frames");
   CHECK_THROWS_WITH(RunOutput(linked.string(), scene, model), Catch::Contains("frames: a symbolic link"));
   CHECK(fs::is_empty(elsewhere));
+}
+
+TEST_CASE("output: a long run keeps a bounded number of rows, and probes.csv every one", "[append]") {
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/hanging_cloth.json");
+  scene.outputs.frameStride = 1'000'000;
+  const SceneModel model = buildSceneModel(scene);
+  const fs::path dir = scratch("long_run");
+  fs::remove_all(dir);
+  RunOutput out(dir.string(), scene, model);
+  Eigen::VectorXd x = flatten(model.world.V);
+  const int steps = 5000;
+  for (int step = 0; step <= steps; ++step) {
+    x[2] = -1e-4 * step;
+    out.record({step, 0.01 * step, 1.0, &x, nullptr}, step == 0);
+  }
+  const std::string probes = readText(dir / "probes.csv");
+  CHECK(std::count(probes.begin(), probes.end(), '\n') == 1 + steps + 1);
+  // In memory and in a checkpoint: every 4th row (5,001 rows need a stride of 4 to fit 2,048), and the last.
+  const OutputCheckpoint state = out.state();
+  CHECK(state.plotRows.stride == 4);
+  CHECK(state.plotRows.rows.size() == 1251);
+  CHECK(state.plotRows.consistent());
+  const std::vector<ProbeRow> rows = out.plotRows();
+  REQUIRE(rows.size() == 1251);
+  CHECK(rows.front().step == 0);
+  CHECK(rows.back().step == steps);
+  for (std::size_t k = 1; k < rows.size(); ++k) CHECK(rows[k].step - rows[k - 1].step == 4);
+  CHECK(out.lastRow()->step == steps);
 }

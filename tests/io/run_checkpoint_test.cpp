@@ -37,17 +37,16 @@ RunCheckpoint afterFiveSteps() {
   c.worstResidualOverTolerance = 3.5;
   c.safeguards.cuts = {{"iteration_cap", 1}};
   c.safeguards.largestShift = 1e-6;
-  c.history.abscissa = {0.0, 0.01, 0.02, 0.03, 0.04, 0.05};
-  c.history.u.assign(3, std::vector<double>(6, -0.5));
-  for (int step = 0; step <= 5; ++step)
-    c.output.rows.push_back({step, 0.01 * step, 1.0, {0.0, 0.0, -0.1 * step}, {}});
+  for (int step = 0; step <= 5; ++step) {
+    c.output.lastRow = ProbeRow{step, 0.01 * step, 1.0, {0.0, 0.0, -0.1 * step}, {}};
+    c.output.plotRows.add(*c.output.lastRow);
+  }
   c.output.frames = 6;
-  c.output.lastRecordedStep = 5;
   c.output.lastFrameStep = 5;
   c.output.lastFrame = {"frames/frame_00005.vtu"};
-  c.output.flushedRows = 6;
   c.output.pvdBytes = 603;
   c.output.probesBytes = 224;
+  c.output.lastRowOffset = 200;
   return c;
 }
 
@@ -75,11 +74,15 @@ TEST_CASE("run checkpoint: every field is written and read back exactly") {
   CHECK(r.worstResidualOverTolerance == 3.5);
   CHECK(r.safeguards.cuts == c.safeguards.cuts);
   CHECK(r.safeguards.largestShift == 1e-6);
-  CHECK(r.history.abscissa == c.history.abscissa);
-  CHECK(r.history.u == c.history.u);
-  REQUIRE(r.output.rows.size() == 6);
-  CHECK(r.output.rows[3].u == c.output.rows[3].u);
-  CHECK(r.output.rows[3].time == c.output.rows[3].time);
+  REQUIRE(r.output.lastRow);
+  CHECK(r.output.lastRow->u == c.output.lastRow->u);
+  CHECK(r.output.lastRow->step == 5);
+  REQUIRE(r.output.plotRows.rows.size() == 6);
+  CHECK(r.output.plotRows.rows[3].u == c.output.plotRows.rows[3].u);
+  CHECK(r.output.plotRows.rows[3].time == c.output.plotRows.rows[3].time);
+  CHECK(r.output.plotRows.recorded == 6);
+  CHECK(r.output.plotRows.stride == 1);
+  CHECK(r.output.lastRowOffset == 200);
   CHECK(r.output.lastFrame == c.output.lastFrame);
   CHECK(r.output.frames == 6);
   CHECK(r.output.pvdBytes == c.output.pvdBytes);
@@ -98,29 +101,28 @@ TEST_CASE("run checkpoint: the rows' contact forces are read back, three per mea
   CheckpointScene scene = fourVertices();
   scene.contactSolids = 2;
   RunCheckpoint c = afterFiveSteps();
-  for (ProbeRow& row : c.output.rows) row.force = {0.0, 0.0, 0.5 * row.step, -1.0, 0.0, 0.25};
+  for (ProbeRow& row : c.output.plotRows.rows) row.force = {0.0, 0.0, 0.5 * row.step, -1.0, 0.0, 0.25};
+  c.output.lastRow = c.output.plotRows.rows.back();
   const Json saved = toJson(c, scene);
   const RunCheckpoint r = runCheckpointFromJson(Json::from_cbor(Json::to_cbor(saved)), scene, "c.cbor");
-  REQUIRE(r.output.rows.size() == 6);
-  for (std::size_t k = 0; k < 6; ++k) CHECK(r.output.rows[k].force == c.output.rows[k].force);
+  REQUIRE(r.output.plotRows.rows.size() == 6);
+  for (std::size_t k = 0; k < 6; ++k) CHECK(r.output.plotRows.rows[k].force == c.output.plotRows.rows[k].force);
+  CHECK(r.output.lastRow->force == c.output.lastRow->force);
   const auto refused = [&](const std::function<void(Json&)>& edit, const std::string& message) {
     Json j = saved;
     edit(j);
     INFO(message);
     CHECK_THROWS_WITH(runCheckpointFromJson(j, scene, "c.cbor"), "c.cbor: " + message);
   };
-  refused([](Json& j) { j["output"]["rows"][2].erase("force"); },
-          "output/rows/2/force: missing (an incomplete checkpoint)");
-  refused([](Json& j) { j["output"]["rows"][0]["force"] = std::vector<double>(3, 1.0); },
-          "output/rows/0/force: must be a list of 6 numbers");
-  refused([](Json& j) { j["output"]["rows"][1]["force"][4] = std::numeric_limits<double>::infinity(); },
-          "output/rows/1/force: holds a value that is not a finite number");
-  // A scene without measured solids reads rows without forces (the fuzz seeds), and refuses rows with some.
+  refused([](Json& j) { j["output"]["plot_rows"][2].erase("force"); },
+          "output/plot_rows/2/force: missing (an incomplete checkpoint)");
+  refused([](Json& j) { j["output"]["plot_rows"][0]["force"] = std::vector<double>(3, 1.0); },
+          "output/plot_rows/0/force: must be a list of 6 numbers");
+  refused([](Json& j) { j["output"]["last_row"]["force"][4] = std::numeric_limits<double>::infinity(); },
+          "output/last_row/force: holds a value that is not a finite number");
+  // A scene without measured solids refuses rows with forces.
   scene.contactSolids = 0;
-  refused([](Json&) {}, "output/rows/0/force: must be a list of 0 numbers");
-  Json without = saved;
-  for (Json& row : without["output"]["rows"]) row.erase("force");
-  CHECK(runCheckpointFromJson(without, scene, "c.cbor").output.rows[5].force.empty());
+  refused([](Json&) {}, "output/last_row/force: must be a list of 0 numbers");
 }
 
 TEST_CASE("run checkpoint: a field edited by hand is refused with its name") {
@@ -145,18 +147,43 @@ TEST_CASE("run checkpoint: a field edited by hand is refused with its name") {
       },
       "output/last_frame: holds 2 entries (at most 1)");
   // Probe rows become probes.csv and summary.json: one value per probe and axis, steps in order.
-  refused([](Json& j) { j["output"]["rows"][0]["u"] = Json::array(); }, "output/rows/0/u: must be a list of 3 numbers");
-  refused([](Json& j) { j["output"]["rows"][2]["u"] = std::vector<double>(30000, 1e300); },
-          "output/rows/2/u: must be a list of 3 numbers");
-  refused([](Json& j) { j["output"]["rows"][4]["step"] = 1; }, "output/rows/4/step: must increase row by row");
-  refused([&](Json& j) { j["output"]["rows"][1]["time"] = nan; }, "output/rows/1/time: must lie in [0, duration]");
-  refused([](Json& j) { j["output"]["rows"] = Json::array({Json::object()}); },
-          "output/rows/0/step: missing (an incomplete checkpoint)");
-  refused([](Json& j) { j["output"]["last_recorded_step"] = 4; },
-          "output/last_recorded_step: must be the last row's step (-1 without rows)");
+  refused([](Json& j) { j["output"]["plot_rows"][0]["u"] = Json::array(); },
+          "output/plot_rows/0/u: must be a list of 3 numbers");
+  refused([](Json& j) { j["output"]["last_row"]["u"] = std::vector<double>(30000, 1e300); },
+          "output/last_row/u: must be a list of 3 numbers");
+  refused([](Json& j) { j["output"]["plot_rows"][4]["step"] = 1; },
+          "output/plot_rows/4/step: must increase row by row up to the last row's");
+  refused([](Json& j) { j["output"]["last_row"]["step"] = 4; },
+          "output/last_frame_step: must be a whole number in [-1, 4]");
+  refused(
+      [](Json& j) {
+        j["output"]["last_row"]["step"] = 4;
+        j["output"]["last_frame_step"] = 4;
+      },
+      "output/plot_rows/5/step: must increase row by row up to the last row's");
+  refused([&](Json& j) { j["output"]["plot_rows"][1]["time"] = nan; },
+          "output/plot_rows/1/time: must lie in [0, duration]");
+  refused([](Json& j) { j["output"]["last_row"] = Json::object(); },
+          "output/last_row/step: missing (an incomplete checkpoint)");
+  const std::string plotRule = "output/plot_rows: do not match plot_stride and recorded_rows (every stride-th of the "
+                               "recorded rows, at most 2048, the stride a power of two, the last row recorded)";
+  refused([](Json& j) { j["output"]["plot_rows"].erase(2); }, plotRule);
+  refused([](Json& j) { j["output"]["plot_stride"] = 3; }, plotRule);
+  refused([](Json& j) { j["output"]["recorded_rows"] = 5; }, plotRule);
+  refused([](Json& j) { j["output"]["last_row"] = nullptr; }, "output/last_row: must be an object");
+  refused(
+      [](Json& j) {
+        j["output"]["plot_rows"] = Json::array();
+        j["output"]["recorded_rows"] = 0;
+      },
+      plotRule);
+  refused([](Json& j) { j["output"]["recorded_rows"] = 1000000000; },
+          "output/recorded_rows: must be a whole number in [0, 6]");
+  refused([](Json& j) { j["output"]["plot_rows"] = std::vector<Json>(2049, Json::object()); },
+          "output/plot_rows: holds 2049 entries (at most 2048)");
+  refused([](Json& j) { j["output"]["last_row_offset"] = 225; },
+          "output/last_row_offset: must be a whole number in [0, 224]");
   refused([](Json& j) { j["output"]["frames"] = -7; }, "output/frames: must be a whole number in [0, 6]");
-  refused([](Json& j) { j["output"]["flushed_rows"] = 1000000000; },
-          "output/flushed_rows: must be a whole number in [0, 6]");
   refused([](Json& j) { j["output"]["pvd_bytes"] = -1; },
           "output/pvd_bytes: must be a whole number in [0, 1125899906842624]");
   // Counts: whole numbers in range (a float or an unsigned beyond int was cut or wrapped when converted).
@@ -186,9 +213,6 @@ TEST_CASE("run checkpoint: a field edited by hand is refused with its name") {
   refused([](Json& j) { j["solver"]["history_valid"] = true; }, "solver/x_prev: must be a list of 12 numbers");
   refused([](Json& j) { j["solver"]["history_valid"] = 1; }, "solver/history_valid: must be true or false");
   refused([](Json& j) { j["solver"]["t"] = 1e308; }, "solver/t: must lie in [0, duration]");
-  refused([](Json& j) { j["history"]["u"][1].erase(0); }, "history: expected 3 finite series as long as the abscissa");
-  refused([](Json& j) { j["history"]["abscissa"] = std::vector<double>(7, 0.0); },
-          "history/abscissa: holds 7 entries (at most 6)");
   refused([](Json& j) { j.erase("output"); }, "output: missing (an incomplete checkpoint)");
   refused([](Json& j) { j["safeguards"] = 3; }, "safeguards: must be an object");
   // Another scene (or the scene file changed).
@@ -205,11 +229,12 @@ TEST_CASE("run checkpoint: bytes that are not a checkpoint of this version are r
     const std::vector<std::uint8_t> b = Json::to_cbor(j);
     return std::string(b.begin(), b.end());
   };
-  CHECK_THROWS_WITH(parseCheckpoint(cbor({{kCheckpointVersionKey, 2}}), "c.cbor"),
-                    "c.cbor: checkpoint version 2 (this build reads 1)");
+  // Version 1 held every probe row, twice (the rows and a plot history).
+  CHECK_THROWS_WITH(parseCheckpoint(cbor({{kCheckpointVersionKey, 1}}), "c.cbor"),
+                    "c.cbor: checkpoint version 1 (this build reads 2)");
   CHECK_THROWS_WITH(parseCheckpoint(cbor({{kCheckpointVersionKey, std::string(100000, 'x')}}), "c.cbor"),
-                    "c.cbor: checkpoint version (not a number) (this build reads 1)");
-  CHECK(parseCheckpoint(cbor({{kCheckpointVersionKey, 1}, {"a", 2}}), "c.cbor").at("a") == 2);
+                    "c.cbor: checkpoint version (not a number) (this build reads 2)");
+  CHECK(parseCheckpoint(cbor({{kCheckpointVersionKey, 2}, {"a", 2}}), "c.cbor").at("a") == 2);
 }
 
 TEST_CASE("run checkpoint: the fuzz harness's seeds are checkpoints of its scene") {

@@ -338,8 +338,8 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
     writeCheckpoint(o.outputDirectory, c);
     return runScene(scene, o);
   };
-  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["history"]["u"] = nlohmann::json::array(); }),
-                    Catch::Contains("history: expected 3 finite series as long as the abscissa"));
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["output"]["plot_rows"] = nlohmann::json::array(); }),
+                    Catch::Contains("output/plot_rows: do not match plot_stride and recorded_rows"));
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["solver"]["steps"] = 2147483647; }),
                     Catch::Contains("solver/steps: must be a whole number in [0, 10000000]"));
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["solver"]["t"] = 1e308; }),
@@ -353,8 +353,8 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["output"]["last_frame"] = {"/etc/hostname"}; }),
                     Catch::Contains("output/last_frame: must name files frames/NAME.vtu"));
   // Probe rows without their values wrote probes.csv rows short of columns.
-  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["output"]["rows"][0]["u"] = nlohmann::json::array(); }),
-                    Catch::Contains("output/rows/0/u: must be a list of 3 numbers"));
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["output"]["last_row"]["u"] = nlohmann::json::array(); }),
+                    Catch::Contains("output/last_row/u: must be a list of 3 numbers"));
   writeCheckpoint(o.outputDirectory, saved);
   // A different scene is refused.
   o.sceneFingerprint = "another";

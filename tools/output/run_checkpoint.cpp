@@ -185,12 +185,24 @@ bool isFrameFileName(const std::string& name) {
   return true;
 }
 
+ProbeRow rowFrom(const Fields& row, const CheckpointScene& scene, int steps) {
+  ProbeRow r;
+  r.step = static_cast<int>(row.integer("step", 0, steps));
+  r.time = row.number("time", 0.0, scene.duration * (1.0 + 1e-9), "must lie in [0, duration]");
+  r.loadFactor = row.number("load_factor", -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                            "must be finite");
+  r.u = row.finiteList(row.at("u"), "u", 3 * static_cast<std::size_t>(scene.probes));
+  r.force = row.finiteList(row.at("force"), "force", 3 * static_cast<std::size_t>(scene.contactSolids));
+  return r;
+}
+
 OutputCheckpoint outputFrom(const Fields& f, const CheckpointScene& scene, int steps) {
   OutputCheckpoint o;
-  const std::size_t maxRows = static_cast<std::size_t>(steps) + 1;  // the initial state and one per step
   o.frames = f.count("frames", steps + 1);
-  o.lastRecordedStep = static_cast<int>(f.integer("last_recorded_step", -1, steps));
-  o.lastFrameStep = static_cast<int>(f.integer("last_frame_step", -1, steps));
+  // Written after a step: the initial state's row at least.
+  o.lastRow = rowFrom(f.object("last_row"), scene, steps);
+  const int lastStep = o.lastRow->step;
+  o.lastFrameStep = static_cast<int>(f.integer("last_frame_step", -1, lastStep));
   const Json& last = f.array("last_frame", static_cast<std::size_t>(scene.frameFiles));
   if (!last.empty() && last.size() != static_cast<std::size_t>(scene.frameFiles))
     f.fail("last_frame", "must name " + std::to_string(scene.frameFiles) + " frame file(s), or none");
@@ -199,45 +211,25 @@ OutputCheckpoint outputFrom(const Fields& f, const CheckpointScene& scene, int s
       f.fail("last_frame", "must name files frames/NAME.vtu (letters, digits and _) inside the output directory");
     o.lastFrame.push_back(name.get<std::string>());
   }
-  const Json& rows = f.array("rows", maxRows);
+  PlotRows& plot = o.plotRows;
+  plot.capacity = PlotRows::capacityFor(3 + 3 * static_cast<std::size_t>(scene.probes) +
+                                        3 * static_cast<std::size_t>(scene.contactSolids));
+  const Json& rows = f.array("plot_rows", plot.capacity);
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    const Fields row = f.element(rows[k], "rows/" + std::to_string(k));
-    ProbeRow r;
-    r.step = static_cast<int>(row.integer("step", 0, steps));
-    r.time = row.number("time", 0.0, scene.duration * (1.0 + 1e-9), "must lie in [0, duration]");
-    r.loadFactor = row.number("load_factor", -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-                              "must be finite");
-    r.u = row.finiteList(row.at("u"), "u", 3 * static_cast<std::size_t>(scene.probes));
-    // Written by every build that records contact forces; a scene without volume actors reads none.
-    if (scene.contactSolids > 0 || row.has("force"))
-      r.force = row.finiteList(row.at("force"), "force", 3 * static_cast<std::size_t>(scene.contactSolids));
-    if (k > 0 && r.step <= o.rows.back().step)
-      f.fail("rows/" + std::to_string(k) + "/step", "must increase row by row");
-    o.rows.push_back(std::move(r));
+    plot.rows.push_back(rowFrom(f.element(rows[k], "plot_rows/" + std::to_string(k)), scene, steps));
+    if (plot.rows.back().step > lastStep || (k > 0 && plot.rows.back().step <= plot.rows[k - 1].step))
+      f.fail("plot_rows/" + std::to_string(k) + "/step", "must increase row by row up to the last row's");
   }
-  // record() replaces the last row when a step is recorded again: it must be the last recorded step's.
-  if (o.lastRecordedStep != (o.rows.empty() ? -1 : o.rows.back().step))
-    f.fail("last_recorded_step", "must be the last row's step (-1 without rows)");
-  o.flushedRows = static_cast<std::size_t>(f.integer("flushed_rows", 0, static_cast<std::int64_t>(rows.size())));
-  o.flushedRowChanged = f.boolean("flushed_row_changed");
+  plot.stride = f.integer("plot_stride", 1, std::int64_t{1} << 40);
+  plot.recorded = f.integer("recorded_rows", 0, static_cast<std::int64_t>(steps) + 1);
+  if (!plot.consistent() || plot.recorded == 0)
+    f.fail("plot_rows", "do not match plot_stride and recorded_rows (every stride-th of the recorded rows, at most " +
+                            std::to_string(plot.capacity) + ", the stride a power of two, the last row recorded)");
   for (const auto& [key, bytes] : {std::pair{"pvd_bytes", &o.pvdBytes}, std::pair{"probes_bytes", &o.probesBytes}})
     if (!f.at(key).is_null()) *bytes = static_cast<std::uint64_t>(f.integer(key, 0, kMaxOutputBytes));
+  o.lastRowOffset = static_cast<std::uint64_t>(
+      f.integer("last_row_offset", 0, o.probesBytes ? static_cast<std::int64_t>(*o.probesBytes) : 0));
   return o;
-}
-
-ProbeHistory historyFrom(const Fields& f, const CheckpointScene& scene, int steps) {
-  ProbeHistory h;
-  const std::string rule = "expected " + std::to_string(3 * scene.probes) + " finite series as long as the abscissa";
-  const Json& abscissa = f.array("abscissa", static_cast<std::size_t>(steps) + 1);
-  if (abscissa.empty()) f.fail("abscissa", "must hold the initial state at least");
-  h.abscissa = f.finiteList(abscissa, "abscissa", abscissa.size());
-  const Json& u = f.at("u");
-  if (!u.is_array() || u.size() != 3 * static_cast<std::size_t>(scene.probes)) f.fail("", rule);
-  for (const Json& series : u) {
-    if (!series.is_array() || series.size() != abscissa.size()) f.fail("", rule);
-    h.u.push_back(f.finiteList(series, "u", abscissa.size()));
-  }
-  return h;
 }
 
 Json vectorJson(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
@@ -248,10 +240,11 @@ Json toJson(const RunCheckpoint& c, const CheckpointScene& scene) {
   const SolverCheckpoint& s = c.solver;
   const SafeguardCounts& g = c.safeguards;
   const OutputCheckpoint& o = c.output;
-  Json rows = Json::array();
-  for (const ProbeRow& r : o.rows)
-    rows.push_back(
-        {{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}, {"force", r.force}});
+  const auto rowJson = [](const ProbeRow& r) {
+    return Json{{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}, {"force", r.force}};
+  };
+  Json plotRows = Json::array();
+  for (const ProbeRow& r : o.plotRows.rows) plotRows.push_back(rowJson(r));
   const auto bytes = [](const std::optional<std::uint64_t>& n) { return n ? Json(*n) : Json(nullptr); };
   return {{"scene_fingerprint", scene.fingerprint},
           {"vertices", scene.vertices},
@@ -279,17 +272,17 @@ Json toJson(const RunCheckpoint& c, const CheckpointScene& scene) {
             {"largest_shift", g.largestShift},
             {"solved_again", g.solvedAgain},
             {"direct_fallbacks", g.directFallbacks}}},
-          {"history", {{"abscissa", c.history.abscissa}, {"u", c.history.u}}},
           {"output",
            {{"frames", o.frames},
-            {"last_recorded_step", o.lastRecordedStep},
             {"last_frame_step", o.lastFrameStep},
             {"last_frame", o.lastFrame},
-            {"rows", rows},
-            {"flushed_rows", o.flushedRows},
-            {"flushed_row_changed", o.flushedRowChanged},
+            {"last_row", o.lastRow ? rowJson(*o.lastRow) : Json(nullptr)},
+            {"plot_rows", plotRows},
+            {"plot_stride", o.plotRows.stride},
+            {"recorded_rows", o.plotRows.recorded},
             {"pvd_bytes", bytes(o.pvdBytes)},
-            {"probes_bytes", bytes(o.probesBytes)}}}};
+            {"probes_bytes", bytes(o.probesBytes)},
+            {"last_row_offset", o.lastRowOffset}}}};
 }
 
 RunCheckpoint runCheckpointFromJson(const Json& j, const CheckpointScene& scene, const std::string& file) {
@@ -307,7 +300,6 @@ RunCheckpoint runCheckpointFromJson(const Json& j, const CheckpointScene& scene,
   c.worstResidualOverTolerance =
       f.number("worst_residual_over_tolerance", 0.0, std::numeric_limits<double>::max(), "must be finite and >= 0");
   c.safeguards = safeguardsFrom(f.object("safeguards"), scene);
-  c.history = historyFrom(f.object("history"), scene, steps);
   c.output = outputFrom(f.object("output"), scene, steps);
   return c;
 }

@@ -1,7 +1,7 @@
 // What a dynamic run's checkpoint holds (tools/output/checkpoint.h writes and reads the file), as typed data, and
 // the one place that knows its fields. `run --resume` continues from a checkpoint read back through
 // runCheckpointFromJson, which checks every field against the scene it is resumed with: each vector's length and
-// finiteness, each count's range, the probe rows and history against the probes, and the last frame's files
+// finiteness, each count's range, the probe rows against the probes, and the last frame's files
 // (inside the output directory's frames/). A checkpoint edited by hand or damaged is refused with the field's
 // name; nothing of it reaches the solver or the outputs unchecked.
 //
@@ -18,6 +18,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "tools/output/plot_rows.h"
 
 namespace jetshell {
 
@@ -50,28 +52,15 @@ struct SafeguardCounts {
   double largestShift = 0.0;
 };
 
-/// One row of probes.csv.
-struct ProbeRow {
-  int step = 0;
-  double time = 0.0, loadFactor = 0.0;
-  std::vector<double> u;      // 3 per probe
-  std::vector<double> force;  // 3 per volume actor whose contact force is recorded [N]
-};
-
-/// RunOutput's state: what it needs to continue the output files exactly.
+/// RunOutput's state: what it needs to continue the output files exactly. probes.csv holds every row already; the
+/// checkpoint holds the last one and the plots' (tools/output/plot_rows.h), so its size does not grow with the run.
 struct OutputCheckpoint {
-  int frames = 0, lastRecordedStep = -1, lastFrameStep = -1;
+  int frames = 0, lastFrameStep = -1;
   std::vector<std::string> lastFrame;  // relative to the output directory: frames/NAME.vtu
-  std::vector<ProbeRow> rows;
-  std::size_t flushedRows = 0;
-  bool flushedRowChanged = false;
+  std::optional<ProbeRow> lastRow;     // the last recorded row; none before the first
+  PlotRows plotRows;
   std::optional<std::uint64_t> pvdBytes, probesBytes;  // the files' sizes, when they were open
-};
-
-/// The probes' displacement series for probes.png.
-struct ProbeHistory {
-  std::vector<double> abscissa;
-  std::vector<std::vector<double>> u;  // per probe × component: 3 series each, as long as the abscissa
+  std::uint64_t lastRowOffset = 0;  // where the last row starts in probes.csv (when it is open)
 };
 
 struct RunCheckpoint {
@@ -79,7 +68,6 @@ struct RunCheckpoint {
   int newtonIterations = 0, cuts = 0, stepsAtIterationCap = 0;
   double worstResidualOverTolerance = 0.0;
   SafeguardCounts safeguards;
-  ProbeHistory history;
   OutputCheckpoint output;
 };
 
@@ -95,6 +83,6 @@ nlohmann::json parseCheckpoint(const std::string& bytes, const std::string& file
 
 /// The version key written into every checkpoint.
 constexpr const char* kCheckpointVersionKey = "jetshell_checkpoint";
-constexpr int kCheckpointVersion = 1;
+constexpr int kCheckpointVersion = 2;  // 2: the probe rows in probes.csv only (1: all rows, twice)
 
 }  // namespace jetshell

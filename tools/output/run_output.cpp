@@ -112,27 +112,28 @@ void RunOutput::record(const StepState& s, bool forceFrame) {
                              " solids, not " + std::to_string(contactSolids_.size()));
     for (const Eigen::Vector3d& f : forces) row.force.insert(row.force.end(), {f.x(), f.y(), f.z()});
   }
-  if (s.step == lastRecordedStep_ && !rows_.empty()) {
-    if (rows_.size() == flushedRows_ && (row.time != rows_.back().time || row.loadFactor != rows_.back().loadFactor ||
-                                         row.u != rows_.back().u || row.force != rows_.back().force))
-      flushedRowChanged_ = true;
-    rows_.back() = row;
+  if (lastRow_ && lastRow_->step == s.step) {
+    const bool changed = row.time != lastRow_->time || row.loadFactor != lastRow_->loadFactor ||
+                         row.u != lastRow_->u || row.force != lastRow_->force;
+    if (changed && writesProbes()) appendProbeRow(row, true);
+    plotRows_.replaceLast(row);
   } else {
-    rows_.push_back(std::move(row));
+    if (writesProbes()) appendProbeRow(row, false);
+    if (!lastRow_) plotRows_.capacity = PlotRows::capacityFor(3 + row.u.size() + row.force.size());
+    plotRows_.add(row);
   }
-  lastRecordedStep_ = s.step;
+  lastRow_ = std::move(row);
   lastPositions_ = x;
   if (s.velocity) lastVelocities_ = *s.velocity;
   const int stride = scene_.outputs.frameStride;
   if ((forceFrame || s.step % stride == 0) && s.step != lastFrameStep_) {
     writeFrame(s);
     lastFrameStep_ = s.step;
-    if (writesProbes()) writeProbes();
   }
 }
 
 void RunOutput::measureContactForces(std::vector<std::string> solids, ContactForceGauge gauge) {
-  if (lastRecordedStep_ >= 0 || !rows_.empty())
+  if (lastRow_)
     throw std::logic_error("RunOutput::measureContactForces: called after the first record()");
   contactSolids_ = std::move(solids);
   contactForces_ = contactSolids_.empty() ? ContactForceGauge() : std::move(gauge);
@@ -223,20 +224,9 @@ std::vector<std::string> RunOutput::volumeFiles() const {
   return files;
 }
 
-std::string RunOutput::probeRows(std::size_t from) const {
-  std::ostringstream out;
-  for (std::size_t k = from; k < rows_.size(); ++k) {
-    const ProbeRow& r = rows_[k];
-    out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
-    for (double u : r.u) out << ',' << formatDouble(u);
-    for (double f : r.force) out << ',' << formatDouble(f);
-    out << '\n';
-  }
-  return out.str();
-}
-
-void RunOutput::writeProbes() {
-  if (!probesCsv_.isOpen() || flushedRowChanged_) {
+void RunOutput::appendProbeRow(const ProbeRow& r, bool overLastRow) {
+  const std::string path = (std::filesystem::path(directory_) / "probes.csv").string();
+  if (!probesCsv_.isOpen()) {
     std::ostringstream header;
     header << "step,time,load_factor";
     for (const ResolvedProbe& p : model_.probes)
@@ -244,47 +234,59 @@ void RunOutput::writeProbes() {
     for (const std::string& solid : contactSolids_)
       for (const char* axis : {"_Fx", "_Fy", "_Fz"}) header << ',' << csvField(solid + axis);
     header << '\n';
-    probesCsv_.create((std::filesystem::path(directory_) / "probes.csv").string(), header.str(), "");
-    flushedRows_ = 0;
-    flushedRowChanged_ = false;
+    probesCsv_.create(path, header.str(), "");
+  } else if (overLastRow) {
+    probesCsv_.reopen(path, lastRowOffset_, "");
   }
-  probesCsv_.append(probeRows(flushedRows_));
-  flushedRows_ = rows_.size();
+  std::ostringstream out;
+  out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
+  for (double u : r.u) out << ',' << formatDouble(u);
+  for (double f : r.force) out << ',' << formatDouble(f);
+  out << '\n';
+  lastRowOffset_ = probesCsv_.size();
+  probesCsv_.append(out.str());
+}
+
+std::vector<ProbeRow> RunOutput::plotRows() const {
+  std::vector<ProbeRow> rows = plotRows_.rows;
+  if (lastRow_ && (rows.empty() || rows.back().step != lastRow_->step)) rows.push_back(*lastRow_);
+  return rows;
 }
 
 std::map<std::string, Eigen::Vector3d> RunOutput::probeDisplacements() const {
   std::map<std::string, Eigen::Vector3d> out;
-  if (rows_.empty()) return out;
+  if (!lastRow_) return out;
+  const std::vector<double>& u = lastRow_->u;
   for (std::size_t k = 0; k < model_.probes.size(); ++k)
-    out[model_.probes[k].name] = Eigen::Vector3d(rows_.back().u[3 * k], rows_.back().u[3 * k + 1], rows_.back().u[3 * k + 2]);
+    out[model_.probes[k].name] = Eigen::Vector3d(u[3 * k], u[3 * k + 1], u[3 * k + 2]);
   return out;
 }
 
 OutputCheckpoint RunOutput::state() const {
   OutputCheckpoint o;
   o.frames = frames_;
-  o.lastRecordedStep = lastRecordedStep_;
   o.lastFrameStep = lastFrameStep_;
   for (const std::string& f : lastFrame_)
     o.lastFrame.push_back(std::filesystem::relative(f, directory_).generic_string());
-  o.rows = rows_;
-  o.flushedRows = flushedRows_;
-  o.flushedRowChanged = flushedRowChanged_;
+  o.lastRow = lastRow_;
+  o.plotRows = plotRows_;
   if (pvd_.isOpen()) o.pvdBytes = pvd_.size();
-  if (probesCsv_.isOpen()) o.probesBytes = probesCsv_.size();
+  if (probesCsv_.isOpen()) {
+    o.probesBytes = probesCsv_.size();
+    o.lastRowOffset = lastRowOffset_;
+  }
   return o;
 }
 
 void RunOutput::restore(const OutputCheckpoint& o) {
   namespace fs = std::filesystem;
   frames_ = o.frames;
-  lastRecordedStep_ = o.lastRecordedStep;
   lastFrameStep_ = o.lastFrameStep;
   lastFrame_.clear();
   for (const std::string& f : o.lastFrame) lastFrame_.push_back((fs::path(directory_) / f).string());
-  rows_ = o.rows;
-  flushedRows_ = o.flushedRows;
-  flushedRowChanged_ = o.flushedRowChanged;
+  lastRow_ = o.lastRow;
+  plotRows_ = o.plotRows;
+  lastRowOffset_ = o.lastRowOffset;
   movingVolumesFile_.clear();
   if (scene_.outputs.vtu && !movingVolumes_.empty() && frames_ > 0)
     movingVolumesFile_ = (fs::path(directory_) / "frames" / movingVolumesName(frames_ - 1, "vtu")).string();
@@ -319,7 +321,6 @@ nlohmann::json RunOutput::actorSummaries() const {
 
 void RunOutput::finish(const RunSummary& summary) {
   namespace fs = std::filesystem;
-  if (writesProbes()) writeProbes();
   nlohmann::json j;
   j["scene"] = scenePath_;
   j["description"] = scene_.description;
@@ -342,14 +343,14 @@ void RunOutput::finish(const RunSummary& summary) {
                       {"reference_position", {p.reference.x(), p.reference.y(), p.reference.z()}}};
   j["probe_vertices"] = picked;
   j["actors"] = actorSummaries();
-  if (!rows_.empty()) {
-    j["final_time"] = rows_.back().time;
-    j["final_load_factor"] = rows_.back().loadFactor;
+  if (lastRow_) {
+    j["final_time"] = lastRow_->time;
+    j["final_load_factor"] = lastRow_->loadFactor;
   }
   j["frames"] = frames_;
-  if (!contactSolids_.empty() && !rows_.empty()) {  // the force on each volume actor in the last state
+  if (!contactSolids_.empty() && lastRow_) {  // the force on each volume actor in the last state
     nlohmann::json forces = nlohmann::json::object();
-    const std::vector<double>& f = rows_.back().force;
+    const std::vector<double>& f = lastRow_->force;
     for (std::size_t k = 0; k < contactSolids_.size(); ++k)
       forces[contactSolids_[k]] = {f[3 * k], f[3 * k + 1], f[3 * k + 2]};
     j["contact_forces"] = forces;

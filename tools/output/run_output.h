@@ -11,7 +11,8 @@
 //   obj/frame_NNNNN.obj                   optional OBJ per frame, with the volume actors beside it:
 //                                         obj/volumes.obj (those that stay), obj/volumes_NNNNN.obj (those that move)
 //   probes.csv                            per step: the probes' displacements and the contact force each volume
-//                                         actor takes from the shells
+//                                         actor takes from the shells; each row appended as it is recorded (the
+//                                         run keeps only the last and the plots' rows: tools/output/plot_rows.h)
 //   summary.json                          the run's outcome (see RunSummary), with one entry per shell actor
 //                                         (name, layer, size, largest displacement and speed, bounding box)
 #pragma once
@@ -27,6 +28,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,8 +67,8 @@ class RunOutput {
   /// Creates `directory` (and frames/, obj/ as needed). Throws InputError when it cannot.
   RunOutput(std::string directory, const Scene& scene, const SceneModel& model, std::string scenePath = "");
 
-  /// Records the probes of this state and, every `frameStride` steps or when `forceFrame`, writes a frame
-  /// (and appends to frames.pvd and probes.csv, so both are complete after every frame).
+  /// Records the probes of this state (a row appended to probes.csv) and, every `frameStride` steps or when
+  /// `forceFrame`, writes a frame (and appends it to frames.pvd). A step recorded again replaces its row.
   void record(const StepState& state, bool forceFrame = false);
   /// Records, in every row from now on, the contact force on each of `solids` (volume actors), read by `gauge` at
   /// the state's positions and time: three columns per solid in probes.csv, NAME_Fx, NAME_Fy, NAME_Fz. Called
@@ -74,9 +76,11 @@ class RunOutput {
   void measureContactForces(std::vector<std::string> solids, ContactForceGauge gauge);
   /// The volume actors whose contact forces the rows hold (three values each, in this order).
   const std::vector<std::string>& contactSolids() const { return contactSolids_; }
-  /// The rows recorded so far (probes.csv's, the initial state's first).
-  const std::vector<ProbeRow>& rows() const { return rows_; }
-  /// Writes summary.json (with the probes' last displacements) and the final probes.csv.
+  /// The rows the plots draw: evenly thinned (PlotRows), the initial state's first and the last recorded one last.
+  std::vector<ProbeRow> plotRows() const;
+  /// The last recorded row, or none before the first record().
+  const std::optional<ProbeRow>& lastRow() const { return lastRow_; }
+  /// Writes summary.json (with the probes' last displacements).
   void finish(const RunSummary& summary);
 
   const std::string& directory() const { return directory_; }
@@ -91,7 +95,8 @@ class RunOutput {
   /// The last recorded displacement of each probe.
   std::map<std::string, Eigen::Vector3d> probeDisplacements() const;
 
-  /// What a checkpoint needs to continue the outputs exactly (frame count, probe rows, file sizes).
+  /// What a checkpoint needs to continue the outputs exactly (frame count, the last and the plots' rows, file
+  /// sizes).
   OutputCheckpoint state() const;
   /// Continues the outputs of an earlier run of the same scene from its state() (as runCheckpointFromJson checks
   /// it): frames.pvd and probes.csv are cut back to their sizes at that point. Throws InputError when the files
@@ -105,8 +110,8 @@ class RunOutput {
   std::string writeMovingVolumes(const VtuFrame& placed);
   /// Whether probes.csv is written: the scene asks for it and it has columns beyond step, time and load factor.
   bool writesProbes() const;
-  void writeProbes();
-  std::string probeRows(std::size_t from) const;
+  /// Appends `row` to probes.csv (created with its header by the first), or writes it over the last row.
+  void appendProbeRow(const ProbeRow& row, bool overLastRow);
   /// One entry per shell actor: name, layer, vertex and face counts, and from the last recorded state the
   /// largest displacement from the reference, the largest speed (dynamics) and the bounding box.
   nlohmann::json actorSummaries() const;
@@ -116,8 +121,7 @@ class RunOutput {
   const Scene& scene_;
   const SceneModel& model_;
   AppendOnlyFile pvd_, probesCsv_;
-  std::size_t flushedRows_ = 0;      // rows_ already in probes.csv
-  bool flushedRowChanged_ = false;  // the last flushed row was recorded again with other values
+  std::uint64_t lastRowOffset_ = 0;  // where the last row starts in probes.csv
   std::vector<std::string> lastFrame_;
   /// A volume actor's surface as placed at t = 0, its index among the scene's volume actors and its path.
   struct VolumePart {
@@ -130,9 +134,9 @@ class RunOutput {
   std::vector<VolumePart> movingVolumes_;
   std::string staticVolumesFile_, movingVolumesFile_;  // "" when there are none (or no frame yet)
   int frames_ = 0;
-  int lastRecordedStep_ = -1;
   int lastFrameStep_ = -1;
-  std::vector<ProbeRow> rows_;
+  std::optional<ProbeRow> lastRow_;
+  PlotRows plotRows_;
   std::vector<std::string> contactSolids_;
   ContactForceGauge contactForces_;
   Eigen::VectorXd lastPositions_, lastVelocities_;  // the last recorded state, for the per-actor summary

@@ -4,7 +4,10 @@
 #include <cmath>
 
 namespace jetshell {
+namespace {
 
+/// One curve per component of each named vector series: `values[3 k + c]` is component c of `names[k]` at each
+/// abscissa.
 std::vector<PlotSeries> componentCurves(const std::vector<std::string>& names, const std::string& symbol,
                                         const std::vector<double>& abscissa,
                                         const std::vector<std::vector<double>>& values) {
@@ -25,15 +28,19 @@ std::vector<PlotSeries> componentCurves(const std::vector<std::string>& names, c
   return curves;
 }
 
-std::vector<PlotSeries> contactForceCurves(const std::vector<std::string>& solids, const std::vector<ProbeRow>& rows) {
+}  // namespace
+
+std::vector<PlotSeries> rowCurves(const std::vector<std::string>& names, const std::string& symbol,
+                                  const std::vector<ProbeRow>& rows, std::vector<double> ProbeRow::*field) {
   std::vector<double> abscissa;
-  std::vector<std::vector<double>> values(3 * solids.size());
+  std::vector<std::vector<double>> values(3 * names.size());
   for (const ProbeRow& row : rows) {
-    if (row.force.size() != values.size()) continue;
+    const std::vector<double>& v = row.*field;
+    if (v.size() != values.size()) continue;
     abscissa.push_back(row.time);
-    for (std::size_t i = 0; i < values.size(); ++i) values[i].push_back(row.force[i]);
+    for (std::size_t i = 0; i < values.size(); ++i) values[i].push_back(v[i]);
   }
-  return componentCurves(solids, "F", abscissa, values);
+  return componentCurves(names, symbol, abscissa, values);
 }
 
 }  // namespace jetshell

@@ -3,7 +3,7 @@
 // y green, z blue) and dashed by probe or solid; components that stay at zero are left out.
 #pragma once
 
-#include "tools/output/run_checkpoint.h"
+#include "tools/output/plot_rows.h"
 #include "tools/render/plot.h"
 
 #include <string>
@@ -11,14 +11,11 @@
 
 namespace jetshell {
 
-/// One curve per component of each named vector series: `values[3 k + c]` is component c of `names[k]` at each
-/// abscissa; `symbol` names the quantity in the legend ("u" gives "B ux"). Components whose largest magnitude
-/// is at most 1e-3 of the largest of all are left out.
-std::vector<PlotSeries> componentCurves(const std::vector<std::string>& names, const std::string& symbol,
-                                        const std::vector<double>& abscissa,
-                                        const std::vector<std::vector<double>>& values);
-
-/// contact_forces.png's curves from probes.csv's rows: three values per solid in each row's `force`.
-std::vector<PlotSeries> contactForceCurves(const std::vector<std::string>& solids, const std::vector<ProbeRow>& rows);
+/// The curves of one field of probes.csv's rows against their time: three values per name in each row's `field`
+/// (ProbeRow::u, one name per probe; ProbeRow::force, one per solid). Rows of another length are skipped.
+/// `symbol` names the quantity in the legend ("u" gives "B ux"). Components whose largest magnitude is at most
+/// 1e-3 of the largest of all are left out.
+std::vector<PlotSeries> rowCurves(const std::vector<std::string>& names, const std::string& symbol,
+                                  const std::vector<ProbeRow>& rows, std::vector<double> ProbeRow::*field);
 
 }  // namespace jetshell

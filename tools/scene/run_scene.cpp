@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
@@ -159,22 +160,10 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
 
   Eigen::VectorXd x = system.restPositions();
   objective.applyPrescribed(0.0, x);
-  ProbeHistory history;
-  history.u.resize(3 * model.probes.size());
-  auto remember = [&](double abscissa, const Eigen::VectorXd& positions) {
-    history.abscissa.push_back(abscissa);
-    for (std::size_t p = 0; p < model.probes.size(); ++p)
-      for (int c = 0; c < 3; ++c)
-        history.u[3 * p + static_cast<std::size_t>(c)].push_back(positions[3 * model.probes[p].vertex + c] -
-                                                                 model.world.V(model.probes[p].vertex, c));
-  };
-  if (options.resume) {
+  if (options.resume)
     output.restore(checkpoint.output);
-    history = checkpoint.history;
-  } else {
+  else
     output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
-    remember(0.0, x);
-  }
   // The logged potential energy: elastic energy minus the loads' work on the displacements (F·u), i.e. the
   // potential at x minus the potential at the reference positions under the same loads (the load terms are
   // −F·x; their value at rest, −F·X, would swamp the digits that matter). An end moment's −λMθ is 0 at rest by
@@ -212,6 +201,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   };
   Eigen::VectorXd lastVelocity;  // dynamics: the final frame carries it like the others
   int lastStep = 0;               // the final frame's step: the last one recorded, or one after it (below)
+  std::optional<double> finalLoadFactor;  // a static path's, when it stopped between two levels
   if (type == AnalysisType::Static) {
     LoadSteppingOptions o;
     // Levels k / loadSteps; the first solve from rest takes a quarter of a level (from the flat state the linear
@@ -236,7 +226,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       const int step = s.step + 1;
       if (s.atLevel) {
         output.record({++level, s.loadFactor, s.loadFactor, &s.x, nullptr});
-        remember(s.loadFactor, s.x);
       }
       std::ostringstream line;
       line << "load step " << step << "  λ = " << formatNumber("%.4f", s.loadFactor) << "  Newton " << s.summary.iterations
@@ -255,7 +244,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     // A path stopped between two levels (by a failure or Ctrl-C) ends on an equilibrium of its own λ: it is the
     // final frame, after the last level's, so that no row is labelled with another level's λ.
     if (!r.steps.empty() && !r.steps.back().atLevel) {
-      remember(r.steps.back().loadFactor, r.steps.back().x);
+      finalLoadFactor = r.steps.back().loadFactor;
       lastStep = level + 1;
     }
     summary.newtonIterations = r.newtonIterations;
@@ -424,7 +413,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       c.stepsAtIterationCap = unconvergedSteps;
       c.worstResidualOverTolerance = worstRatio;
       c.safeguards = safeguards.state();
-      c.history = history;
       c.output = output.state();
       writeCheckpoint(options.outputDirectory, toJson(c, checkpointScene));
     };
@@ -444,7 +432,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       const double lambda = model.loadFactorAtTime(d.time());
       output.record({s.step, d.time(), lambda, &d.positions(), &d.velocities()});
       lastVelocity = d.velocities();
-      remember(d.time(), d.positions());
       // The next step's loads: λ at its end time.
       if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(d.time() + o.timeStep));
       const double residual = s.solves.empty() ? 0.0 : s.solves.back().finalResidual;
@@ -487,7 +474,6 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     const RelaxationResult r = relaxToStatic(system, x, o, [&](const StepReport& s, double staticResidual) {
       addSolves(s);
       output.record({s.step, s.time, 1.0, &x, nullptr});
-      remember(s.time, x);
       if (firstResidual < 0) firstResidual = staticResidual;
       std::ostringstream line;
       line << "step " << s.step << "  t = " << formatNumber("%.4f", s.time) << " s  Newton " << s.newtonIterations
@@ -541,7 +527,9 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   summary.termination = termination;
   // The last state always has a frame, whatever the stride.
   if (type != AnalysisType::Static) lastStep = summary.steps;
-  output.record({lastStep, history.abscissa.back(), type == AnalysisType::Static ? history.abscissa.back() : 1.0, &x,
+  // Its time is the last row's (the state the solvers left x in), except on a static path stopped between levels.
+  const double finalTime = finalLoadFactor ? *finalLoadFactor : output.lastRow() ? output.lastRow()->time : 0.0;
+  output.record({lastStep, finalTime, type == AnalysisType::Static ? finalTime : 1.0, &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
   {
@@ -602,12 +590,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     };
     std::vector<std::string> probeNames;
     for (const ResolvedProbe& p : model.probes) probeNames.push_back(p.name);
-    if (history.abscissa.size() > 1)
-      result.probesPng = draw(componentCurves(probeNames, "u", history.abscissa, history.u), "probe displacements",
+    const std::vector<ProbeRow> rows = output.plotRows();
+    if (rows.size() > 1) {
+      result.probesPng = draw(rowCurves(probeNames, "u", rows, &ProbeRow::u), "probe displacements",
                               "displacement [m]", "probes.png");
-    if (output.rows().size() > 1)
-      result.contactForcesPng = draw(contactForceCurves(output.contactSolids(), output.rows()), "contact forces",
-                                     "force on the solid [N]", "contact_forces.png");
+      result.contactForcesPng = draw(rowCurves(output.contactSolids(), "F", rows, &ProbeRow::force),
+                                     "contact forces", "force on the solid [N]", "contact_forces.png");
+    }
   }
   summary.extra["pictures"] = {{"final_png", result.finalPng.empty() ? "" : "final.png"},
                                {"probes_png", result.probesPng.empty() ? "" : "probes.png"},
