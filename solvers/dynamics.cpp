@@ -113,11 +113,12 @@ void DynamicsSolver::setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v
   v_ = v;
   t_ = t;
   historyValid_ = false;
-  forgetSolverHistory();
+  newton_.linearSolver().forgetPreparationHistory();
 }
 
 void DynamicsSolver::restore(const Snapshot& s) {
   setState(s.x, s.v, s.t);
+  forgetSolverHistory();
   if (s.historyValid) {
     if (s.xPrev.size() != s.x.size() || s.vPrev.size() != s.x.size() || !s.xPrev.allFinite() || !s.vPrev.allFinite())
       throw InputError("dynamics: the BDF2 history of the snapshot does not match the state");

@@ -198,9 +198,10 @@ class DynamicsSolver {
 
   const DynamicsOptions& options() const { return options_; }
   NewtonSolver& newton() { return newton_; }
-  /// Forgets what the Newton solver carries from step to step (NewtonOptions::overlapPreconditioner): the next
-  /// step is solved as a new solver would solve it. Call it where a run may be resumed from (a checkpoint), so
-  /// the resumed run repeats the uninterrupted one bit for bit. setState() and restore() call it.
+  /// Forgets what the Newton solver carries from step to step (NewtonSolver::forgetHistory): the next step is
+  /// solved as a new solver would solve it. Call it where a run may be resumed from (a checkpoint), so the
+  /// resumed run repeats the uninterrupted one bit for bit. restore() calls it; setState() forgets only the
+  /// factor prepared for the old state, and keeps how recent starts went (the next start's cost depends on it).
   void forgetSolverHistory() { newton_.forgetHistory(); }
   /// Called after every accepted solve (SubstepView); empty: none. A step that fails after an accepted part
   /// restores the state and reports failure (the observer has then seen parts of a step that did not happen).

@@ -172,9 +172,14 @@ class NewtonSolver {
   void setOptions(const NewtonOptions& options);
   LinearSolver& linearSolver() { return *linear_; }
   /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
-  /// Forgets what earlier solves left to later ones (NewtonOptions::overlapPreconditioner): the next solve runs as
-  /// a new solver's would. A time integrator calls it where a run can be resumed from.
-  void forgetHistory() { linear_->forgetPreparationHistory(); }
+  /// Forgets what earlier solves left to later ones (NewtonOptions::overlapPreconditioner's prepared factor,
+  /// gradientFirstStart's memory of starts that passed, reuseFactor's factor): the next solve runs as a new
+  /// solver's would. A time integrator calls it where a run can be resumed from.
+  void forgetHistory() {
+    linear_->forgetPreparationHistory();
+    solvesSinceStartPass_ = kStartPassMemory;
+    factorReusable_ = false;
+  }
   void setIterateTest(IterateTest test) { iterateTest_ = std::move(test); }
   Objective& objective() { return objective_; }
 

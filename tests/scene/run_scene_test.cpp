@@ -283,10 +283,11 @@ std::map<std::string, std::string> outputFiles(const fs::path& dir) {
 /// Runs `scene` (dynamic, `steps` steps) whole, and again stopped after step 8 with checkpoints every 5 steps,
 /// then resumed from step 5: both end converged with the same Newton iterations and the same bytes in every
 /// output file. Returns the resumed run's options (resume set).
-RunOptions resumedBitForBit(const Scene& scene, const std::string& name, int steps) {
+RunOptions resumedBitForBit(const Scene& scene, const std::string& name, int steps, int checkpointEvery = 5,
+                             int stopAfter = 8) {
   RunOptions o;
   o.pictures = false;
-  o.checkpointEvery = 5;
+  o.checkpointEvery = checkpointEvery;
   o.sceneFingerprint = name;
   // Uninterrupted.
   const fs::path wholeDirectory = freshDirectory(name + "_whole");
@@ -294,9 +295,9 @@ RunOptions resumedBitForBit(const Scene& scene, const std::string& name, int ste
   const RunResult whole = runScene(scene, o);
   REQUIRE(whole.summary.converged);
   REQUIRE(whole.summary.steps == steps);
-  // Stopped after step 8 (the last checkpoint is step 5), then resumed.
+  // Stopped after step stopAfter (8: the last checkpoint is step 5), then resumed.
   o.outputDirectory = freshDirectory(name + "_resumed").string();
-  o.stepLimit = 8;
+  o.stepLimit = stopAfter;
   const RunResult stopped = runScene(scene, o);
   REQUIRE(stopped.stepLimitReached);
   o.stepLimit = 0;
@@ -363,6 +364,25 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
   Scene statics = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
   o.resume = false;
   CHECK_THROWS_WITH(runScene(statics, o), Catch::Contains("only dynamic analyses have checkpoints"));
+}
+
+TEST_CASE("run: a settled run resumed from its checkpoint ends bit for bit, its Newton memory forgotten at the "
+          "checkpoint", "[checkpoint]") {
+  // A heavily damped cloth that has come to rest: some steps end at their start (no Newton iteration), which the
+  // solver remembered for the next solves (how it assembles a start). The checkpointing run kept that memory
+  // across the checkpoint and the resumed one started without it; from step 342 on the two differed.
+  const Scene scene = sceneFromJson(nlohmann::json::parse(R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [{"type": "shell", "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 4, "ny": 4},
+                "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.0005, "volumeDensity": 300,
+                             "massDampingCoefficient": 100},
+                "colliderType": "None", "fixed": [{"select": [{"nearest": [0, 1, 0]}, {"nearest": [1, 1, 0]}]}],
+                "probes": [{"name": "corner", "select": {"nearest": [1, 0, 0]}}]}],
+    "analysis": {"type": "dynamic", "timeStep": 0.016666666666666666, "duration": 6, "integrator": "backwardEuler"},
+    "solver": {"threads": 2},
+    "outputs": {"frameStride": 2000}})"),
+                                    ".");
+  resumedBitForBit(scene, "settled_cloth", 360, 20, 350);
 }
 
 TEST_CASE("run: a run whose grip turns by full turns resumes bit for bit", "[checkpoint]") {
