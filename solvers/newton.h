@@ -171,7 +171,6 @@ class NewtonSolver {
   /// Changes the options; the linear solver (and its analysis) is kept unless its options changed.
   void setOptions(const NewtonOptions& options);
   LinearSolver& linearSolver() { return *linear_; }
-  /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
   /// Forgets what earlier solves left to later ones (NewtonOptions::overlapPreconditioner's prepared factor,
   /// gradientFirstStart's memory of starts that passed, reuseFactor's factor): the next solve runs as a new
   /// solver's would. A time integrator calls it where a run can be resumed from.
@@ -180,6 +179,7 @@ class NewtonSolver {
     solvesSinceStartPass_ = kStartPassMemory;
     factorReusable_ = false;
   }
+  /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
   void setIterateTest(IterateTest test) { iterateTest_ = std::move(test); }
   Objective& objective() { return objective_; }
 

@@ -6,7 +6,7 @@
 // they would hold over kMaxPlotValues numbers). When one more would not fit, every other kept row is dropped and
 // the stride doubles, so the kept rows stay evenly spaced over the whole run.
 // A run's memory and its checkpoints hold these, not its history: both stay bounded however long it runs (they
-// held every row twice, and a checkpoint every 10 steps made a 12,000-step run take 14 times as long).
+// held every row twice, and a checkpoint every 10 steps made a 12,000-step run take 13 times as long).
 #pragma once
 
 #include <algorithm>
