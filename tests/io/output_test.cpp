@@ -384,7 +384,7 @@ TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete a
   CHECK(after.substr(lastRow) != before.substr(lastRow));
   CHECK(after.substr(lastRow, 6) == "6,0.6,");
   REQUIRE(out.lastRow());
-  CHECK(out.plotRows().back().u == out.lastRow()->u);
+  CHECK(out.plotRows().ranges.back().uHigh == out.lastRow()->u);
   CHECK(inode(dir / "frames.pvd") == pvd);
   CHECK(inode(dir / "probes.csv") == csv);
   // frames/ as a link out of the output directory is refused: the frames would have gone where it points.
@@ -407,8 +407,9 @@ TEST_CASE("output: a long run keeps a bounded number of rows, and probes.csv eve
   RunOutput out(dir.string(), scene, model);
   Eigen::VectorXd x = flatten(model.world.V);
   const int steps = 5000;
+  const Eigen::VectorXd rest = x;
   for (int step = 0; step <= steps; ++step) {
-    x[2] = -1e-4 * step;
+    for (Eigen::Index i = 2; i < x.size(); i += 3) x[i] = rest[i] - 1e-4 * step;  // every vertex falls
     out.record({step, 0.01 * step, 1.0, &x, nullptr}, step == 0);
   }
   const std::string probes = readText(dir / "probes.csv");
@@ -418,10 +419,16 @@ TEST_CASE("output: a long run keeps a bounded number of rows, and probes.csv eve
   CHECK(state.plotRows.stride == 4);
   CHECK(state.plotRows.rows.size() == 1251);
   CHECK(state.plotRows.consistent());
-  const std::vector<ProbeRow> rows = out.plotRows();
+  const PlotRows plot = out.plotRows();
+  const std::vector<ProbeRow>& rows = plot.rows;
   REQUIRE(rows.size() == 1251);
   CHECK(rows.front().step == 0);
   CHECK(rows.back().step == steps);
   for (std::size_t k = 1; k < rows.size(); ++k) CHECK(rows[k].step - rows[k - 1].step == 4);
   CHECK(out.lastRow()->step == steps);
+  // Each bucket spans its four rows: the probe falls by 1e-4 a step, from the bucket's first row's.
+  for (std::size_t k = 0; k + 1 < rows.size(); ++k) {
+    CHECK(plot.ranges[k].uHigh[2] == rows[k].u[2]);
+    CHECK(plot.ranges[k].uLow[2] == Approx(rows[k].u[2] - 3e-4).margin(1e-12));
+  }
 }

@@ -2,6 +2,8 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -24,6 +26,17 @@ CheckpointScene fourVertices() {
   return s;
 }
 
+/// Numbers as the checkpoint packs a plot row's lists: a byte string of little-endian doubles.
+Json packed(const std::vector<double>& values) {
+  std::vector<std::uint8_t> bytes;
+  for (double v : values) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, &v, sizeof word);
+    for (int b = 0; b < 8; ++b) bytes.push_back(static_cast<std::uint8_t>(word >> (8 * b)));
+  }
+  return Json::binary(bytes);
+}
+
 RunCheckpoint afterFiveSteps() {
   RunCheckpoint c;
   c.solver.x = Eigen::VectorXd::LinSpaced(12, 0.0, 1.0);
@@ -38,8 +51,9 @@ RunCheckpoint afterFiveSteps() {
   c.safeguards.cuts = {{"iteration_cap", 1}};
   c.safeguards.largestShift = 1e-6;
   for (int step = 0; step <= 5; ++step) {
-    c.output.lastRow = ProbeRow{step, 0.01 * step, 1.0, {0.0, 0.0, -0.1 * step}, {}};
-    c.output.plotRows.add(*c.output.lastRow);
+    const ProbeRow row{step, 0.01 * step, 1.0, {0.0, 0.0, -0.1 * step}, {}};
+    c.output.plotRows.add(row, c.output.lastRow ? &*c.output.lastRow : nullptr);
+    c.output.lastRow = row;
   }
   c.output.frames = 6;
   c.output.lastFrameStep = 5;
@@ -80,6 +94,9 @@ TEST_CASE("run checkpoint: every field is written and read back exactly") {
   REQUIRE(r.output.plotRows.rows.size() == 6);
   CHECK(r.output.plotRows.rows[3].u == c.output.plotRows.rows[3].u);
   CHECK(r.output.plotRows.rows[3].time == c.output.plotRows.rows[3].time);
+  REQUIRE(r.output.plotRows.ranges.size() == 6);
+  CHECK(r.output.plotRows.ranges[3].uLow == c.output.plotRows.ranges[3].uLow);
+  CHECK(r.output.plotRows.ranges[3].uHigh == c.output.plotRows.ranges[3].uHigh);
   CHECK(r.output.plotRows.recorded == 6);
   CHECK(r.output.plotRows.stride == 1);
   CHECK(r.output.lastRowOffset == 200);
@@ -101,7 +118,11 @@ TEST_CASE("run checkpoint: the rows' contact forces are read back, three per mea
   CheckpointScene scene = fourVertices();
   scene.contactSolids = 2;
   RunCheckpoint c = afterFiveSteps();
-  for (ProbeRow& row : c.output.plotRows.rows) row.force = {0.0, 0.0, 0.5 * row.step, -1.0, 0.0, 0.25};
+  for (std::size_t k = 0; k < c.output.plotRows.rows.size(); ++k) {
+    ProbeRow& row = c.output.plotRows.rows[k];
+    row.force = {0.0, 0.0, 0.5 * row.step, -1.0, 0.0, 0.25};
+    c.output.plotRows.ranges[k] = RowRange(row);
+  }
   c.output.lastRow = c.output.plotRows.rows.back();
   const Json saved = toJson(c, scene);
   const RunCheckpoint r = runCheckpointFromJson(Json::from_cbor(Json::to_cbor(saved)), scene, "c.cbor");
@@ -116,8 +137,10 @@ TEST_CASE("run checkpoint: the rows' contact forces are read back, three per mea
   };
   refused([](Json& j) { j["output"]["plot_rows"][2].erase("force"); },
           "output/plot_rows/2/force: missing (an incomplete checkpoint)");
-  refused([](Json& j) { j["output"]["plot_rows"][0]["force"] = std::vector<double>(3, 1.0); },
-          "output/plot_rows/0/force: must be a list of 6 numbers");
+  refused([](Json& j) { j["output"]["plot_rows"][0]["force"] = packed(std::vector<double>(3, 1.0)); },
+          "output/plot_rows/0/force: must be 6 numbers packed as a byte string of 48 bytes (little-endian doubles)");
+  refused([](Json& j) { j["output"]["plot_rows"][0]["force"] = std::vector<double>(6, 1.0); },
+          "output/plot_rows/0/force: must be 6 numbers packed as a byte string of 48 bytes (little-endian doubles)");
   refused([](Json& j) { j["output"]["last_row"]["force"][4] = std::numeric_limits<double>::infinity(); },
           "output/last_row/force: holds a value that is not a finite number");
   // A scene without measured solids refuses rows with forces.
@@ -148,7 +171,9 @@ TEST_CASE("run checkpoint: a field edited by hand is refused with its name") {
       "output/last_frame: holds 2 entries (at most 1)");
   // Probe rows become probes.csv and summary.json: one value per probe and axis, steps in order.
   refused([](Json& j) { j["output"]["plot_rows"][0]["u"] = Json::array(); },
-          "output/plot_rows/0/u: must be a list of 3 numbers");
+          "output/plot_rows/0/u: must be 3 numbers packed as a byte string of 24 bytes (little-endian doubles)");
+  refused([&](Json& j) { j["output"]["plot_rows"][1]["u"] = packed({0.0, nan, 0.0}); },
+          "output/plot_rows/1/u: holds a value that is not a finite number");
   refused([](Json& j) { j["output"]["last_row"]["u"] = std::vector<double>(30000, 1e300); },
           "output/last_row/u: must be a list of 3 numbers");
   refused([](Json& j) { j["output"]["plot_rows"][4]["step"] = 1; },
@@ -169,6 +194,13 @@ TEST_CASE("run checkpoint: a field edited by hand is refused with its name") {
                                "recorded rows, at most 2048, the stride a power of two, the last row recorded)";
   refused([](Json& j) { j["output"]["plot_rows"].erase(2); }, plotRule);
   refused([](Json& j) { j["output"]["plot_stride"] = 3; }, plotRule);
+  // A bucket's range holds its first row, value by value.
+  refused([](Json& j) { j["output"]["plot_rows"][1].erase("u_low"); },
+          "output/plot_rows/1/u_low: missing (an incomplete checkpoint)");
+  refused([](Json& j) { j["output"]["plot_rows"][3]["force_high"] = packed({1.0}); },
+          "output/plot_rows/3/force_high: must be 0 numbers packed as a byte string of 0 bytes (little-endian doubles)");
+  refused([](Json& j) { j["output"]["plot_rows"][2]["u_high"] = packed({0.0, 0.0, -5.0}); },
+          "output/plot_rows/2: u_low <= u <= u_high and force_low <= force <= force_high must hold value by value");
   refused([](Json& j) { j["output"]["recorded_rows"] = 5; }, plotRule);
   refused([](Json& j) { j["output"]["last_row"] = nullptr; }, "output/last_row: must be an object");
   refused(
@@ -229,12 +261,14 @@ TEST_CASE("run checkpoint: bytes that are not a checkpoint of this version are r
     const std::vector<std::uint8_t> b = Json::to_cbor(j);
     return std::string(b.begin(), b.end());
   };
-  // Version 1 held every probe row, twice (the rows and a plot history).
+  // Version 1 held every probe row, twice (the rows and a plot history); version 2 the plot rows without ranges.
   CHECK_THROWS_WITH(parseCheckpoint(cbor({{kCheckpointVersionKey, 1}}), "c.cbor"),
-                    "c.cbor: checkpoint version 1 (this build reads 2)");
+                    "c.cbor: checkpoint version 1 (this build reads 3)");
+  CHECK_THROWS_WITH(parseCheckpoint(cbor({{kCheckpointVersionKey, 2}}), "c.cbor"),
+                    "c.cbor: checkpoint version 2 (this build reads 3)");
   CHECK_THROWS_WITH(parseCheckpoint(cbor({{kCheckpointVersionKey, std::string(100000, 'x')}}), "c.cbor"),
-                    "c.cbor: checkpoint version (not a number) (this build reads 2)");
-  CHECK(parseCheckpoint(cbor({{kCheckpointVersionKey, 2}, {"a", 2}}), "c.cbor").at("a") == 2);
+                    "c.cbor: checkpoint version (not a number) (this build reads 3)");
+  CHECK(parseCheckpoint(cbor({{kCheckpointVersionKey, 3}, {"a", 2}}), "c.cbor").at("a") == 2);
 }
 
 TEST_CASE("run checkpoint: the fuzz harness's seeds are checkpoints of its scene") {

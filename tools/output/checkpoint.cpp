@@ -20,11 +20,12 @@ std::string checkpointPath(const std::string& directory) {
   return (std::filesystem::path(directory) / "checkpoint.cbor").string();
 }
 
-void writeCheckpoint(const std::string& directory, const nlohmann::json& state) {
-  nlohmann::json j = state;
-  j[kCheckpointVersionKey] = kCheckpointVersion;
-  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
-  writeFileAtomically(checkpointPath(directory), std::string(bytes.begin(), bytes.end()));
+void writeCheckpoint(const std::string& directory, nlohmann::json state) {
+  state[kCheckpointVersionKey] = kCheckpointVersion;
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(state);
+  writeFileAtomically(checkpointPath(directory), [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  });
 }
 
 nlohmann::json readCheckpoint(const std::string& directory) {

@@ -15,8 +15,9 @@ namespace jetshell {
 /// The checkpoint file of an output directory.
 std::string checkpointPath(const std::string& directory);
 
-/// Writes the checkpoint atomically. Throws InputError naming the file when it cannot.
-void writeCheckpoint(const std::string& directory, const nlohmann::json& state);
+/// Writes the checkpoint atomically (`state` by value: a run's is a temporary, moved in, not copied). Throws
+/// InputError naming the file when it cannot.
+void writeCheckpoint(const std::string& directory, nlohmann::json state);
 
 /// Reads it back. Throws InputError naming the file when it is missing, unreadable or not a checkpoint. Its
 /// fields are read by runCheckpointFromJson (tools/output/run_checkpoint.h).

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <tuple>
 
 #include "core/input_limits.h"
 #include "core/mesh.h"
@@ -104,6 +107,23 @@ class Fields {
     }
     return out;
   }
+  /// `size` finite numbers packed as one byte string (packedJson): the plot rows' lists, the bulk of a long run's
+  /// checkpoint, which as lists of CBOR numbers cost a document node each to write and to read.
+  std::vector<double> packedList(const std::string& key, std::size_t size) const {
+    const Json& v = at(key);
+    if (!v.is_binary() || v.get_binary().size() != 8 * size)
+      fail(key, "must be " + std::to_string(size) + " numbers packed as a byte string of " +
+                    std::to_string(8 * size) + " bytes (little-endian doubles)");
+    const std::vector<std::uint8_t>& bytes = v.get_binary();
+    std::vector<double> out(size);
+    for (std::size_t k = 0; k < size; ++k) {
+      std::uint64_t word = 0;
+      for (int b = 7; b >= 0; --b) word = (word << 8) | bytes[8 * k + static_cast<std::size_t>(b)];
+      std::memcpy(&out[k], &word, sizeof word);
+      if (!std::isfinite(out[k])) fail(key, "holds a value that is not a finite number");
+    }
+    return out;
+  }
   Eigen::VectorXd vector(const std::string& key, std::size_t size) const {
     const std::vector<double> values = finiteList(at(key), key, size);
     return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(size));
@@ -185,14 +205,28 @@ bool isFrameFileName(const std::string& name) {
   return true;
 }
 
-ProbeRow rowFrom(const Fields& row, const CheckpointScene& scene, int steps) {
+/// Doubles as one CBOR byte string, 8 little-endian bytes each (Fields::packedList reads it).
+Json packedJson(const std::vector<double>& values) {
+  std::vector<std::uint8_t> bytes(8 * values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, &values[k], sizeof word);
+    for (std::size_t b = 0; b < 8; ++b) bytes[8 * k + b] = static_cast<std::uint8_t>(word >> (8 * b));
+  }
+  return Json::binary(std::move(bytes));
+}
+
+/// A probe row: u and force as lists of numbers (the last row), or packed (the plot rows).
+ProbeRow rowFrom(const Fields& row, const CheckpointScene& scene, int steps, bool packed) {
   ProbeRow r;
   r.step = static_cast<int>(row.integer("step", 0, steps));
   r.time = row.number("time", 0.0, scene.duration * (1.0 + 1e-9), "must lie in [0, duration]");
   r.loadFactor = row.number("load_factor", -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
                             "must be finite");
-  r.u = row.finiteList(row.at("u"), "u", 3 * static_cast<std::size_t>(scene.probes));
-  r.force = row.finiteList(row.at("force"), "force", 3 * static_cast<std::size_t>(scene.contactSolids));
+  const std::size_t uSize = 3 * static_cast<std::size_t>(scene.probes);
+  const std::size_t forceSize = 3 * static_cast<std::size_t>(scene.contactSolids);
+  r.u = packed ? row.packedList("u", uSize) : row.finiteList(row.at("u"), "u", uSize);
+  r.force = packed ? row.packedList("force", forceSize) : row.finiteList(row.at("force"), "force", forceSize);
   return r;
 }
 
@@ -200,7 +234,7 @@ OutputCheckpoint outputFrom(const Fields& f, const CheckpointScene& scene, int s
   OutputCheckpoint o;
   o.frames = f.count("frames", steps + 1);
   // Written after a step: the initial state's row at least.
-  o.lastRow = rowFrom(f.object("last_row"), scene, steps);
+  o.lastRow = rowFrom(f.object("last_row"), scene, steps, false);
   const int lastStep = o.lastRow->step;
   o.lastFrameStep = static_cast<int>(f.integer("last_frame_step", -1, lastStep));
   const Json& last = f.array("last_frame", static_cast<std::size_t>(scene.frameFiles));
@@ -216,9 +250,20 @@ OutputCheckpoint outputFrom(const Fields& f, const CheckpointScene& scene, int s
                                         3 * static_cast<std::size_t>(scene.contactSolids));
   const Json& rows = f.array("plot_rows", plot.capacity);
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    plot.rows.push_back(rowFrom(f.element(rows[k], "plot_rows/" + std::to_string(k)), scene, steps));
+    const std::string where = "plot_rows/" + std::to_string(k);
+    const Fields row = f.element(rows[k], where);
+    plot.rows.push_back(rowFrom(row, scene, steps, true));
     if (plot.rows.back().step > lastStep || (k > 0 && plot.rows.back().step <= plot.rows[k - 1].step))
-      f.fail("plot_rows/" + std::to_string(k) + "/step", "must increase row by row up to the last row's");
+      f.fail(where + "/step", "must increase row by row up to the last row's");
+    RowRange& range = plot.ranges.emplace_back();
+    const std::size_t uSize = plot.rows.back().u.size(), forceSize = plot.rows.back().force.size();
+    for (const auto& [key, values, size] :
+         {std::tuple{"u_low", &range.uLow, uSize}, std::tuple{"u_high", &range.uHigh, uSize},
+          std::tuple{"force_low", &range.forceLow, forceSize}, std::tuple{"force_high", &range.forceHigh, forceSize}}) {
+      *values = row.packedList(key, size);
+    }
+    if (!range.holds(plot.rows.back()))
+      f.fail(where, "u_low <= u <= u_high and force_low <= force <= force_high must hold value by value");
   }
   plot.stride = f.integer("plot_stride", 1, std::int64_t{1} << 40);
   plot.recorded = f.integer("recorded_rows", 0, static_cast<std::int64_t>(steps) + 1);
@@ -244,7 +289,19 @@ Json toJson(const RunCheckpoint& c, const CheckpointScene& scene) {
     return Json{{"step", r.step}, {"time", r.time}, {"load_factor", r.loadFactor}, {"u", r.u}, {"force", r.force}};
   };
   Json plotRows = Json::array();
-  for (const ProbeRow& r : o.plotRows.rows) plotRows.push_back(rowJson(r));
+  for (std::size_t k = 0; k < o.plotRows.rows.size() && k < o.plotRows.ranges.size(); ++k) {
+    const ProbeRow& r = o.plotRows.rows[k];
+    const RowRange& range = o.plotRows.ranges[k];
+    plotRows.push_back(Json{{"step", r.step},
+                            {"time", r.time},
+                            {"load_factor", r.loadFactor},
+                            {"u", packedJson(r.u)},
+                            {"force", packedJson(r.force)},
+                            {"u_low", packedJson(range.uLow)},
+                            {"u_high", packedJson(range.uHigh)},
+                            {"force_low", packedJson(range.forceLow)},
+                            {"force_high", packedJson(range.forceHigh)}});
+  }
   const auto bytes = [](const std::optional<std::uint64_t>& n) { return n ? Json(*n) : Json(nullptr); };
   return {{"scene_fingerprint", scene.fingerprint},
           {"vertices", scene.vertices},

@@ -83,6 +83,7 @@ nlohmann::json parseCheckpoint(const std::string& bytes, const std::string& file
 
 /// The version key written into every checkpoint.
 constexpr const char* kCheckpointVersionKey = "jetshell_checkpoint";
-constexpr int kCheckpointVersion = 2;  // 2: the probe rows in probes.csv only (1: all rows, twice)
+// 3: each plot row with its bucket's range, packed; 2: the probe rows in probes.csv only; 1: all rows, twice.
+constexpr int kCheckpointVersion = 3;
 
 }  // namespace jetshell

@@ -120,7 +120,7 @@ void RunOutput::record(const StepState& s, bool forceFrame) {
   } else {
     if (writesProbes()) appendProbeRow(row, false);
     if (!lastRow_) plotRows_.capacity = PlotRows::capacityFor(3 + row.u.size() + row.force.size());
-    plotRows_.add(row);
+    plotRows_.add(row, lastRow_ ? &*lastRow_ : nullptr);
   }
   lastRow_ = std::move(row);
   lastPositions_ = x;
@@ -247,11 +247,7 @@ void RunOutput::appendProbeRow(const ProbeRow& r, bool overLastRow) {
   probesCsv_.append(out.str());
 }
 
-std::vector<ProbeRow> RunOutput::plotRows() const {
-  std::vector<ProbeRow> rows = plotRows_.rows;
-  if (lastRow_ && (rows.empty() || rows.back().step != lastRow_->step)) rows.push_back(*lastRow_);
-  return rows;
-}
+PlotRows RunOutput::plotRows() const { return plotRows_.closedWith(lastRow_ ? &*lastRow_ : nullptr); }
 
 std::map<std::string, Eigen::Vector3d> RunOutput::probeDisplacements() const {
   std::map<std::string, Eigen::Vector3d> out;

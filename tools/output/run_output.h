@@ -76,8 +76,9 @@ class RunOutput {
   void measureContactForces(std::vector<std::string> solids, ContactForceGauge gauge);
   /// The volume actors whose contact forces the rows hold (three values each, in this order).
   const std::vector<std::string>& contactSolids() const { return contactSolids_; }
-  /// The rows the plots draw: evenly thinned (PlotRows), the initial state's first and the last recorded one last.
-  std::vector<ProbeRow> plotRows() const;
+  /// The rows the plots draw (PlotRows: evenly spaced buckets, the initial state's first), the last recorded row
+  /// in the last bucket's range.
+  PlotRows plotRows() const;
   /// The last recorded row, or none before the first record().
   const std::optional<ProbeRow>& lastRow() const { return lastRow_; }
   /// Writes summary.json (with the probes' last displacements).

@@ -31,14 +31,28 @@ std::vector<PlotSeries> componentCurves(const std::vector<std::string>& names, c
 }  // namespace
 
 std::vector<PlotSeries> rowCurves(const std::vector<std::string>& names, const std::string& symbol,
-                                  const std::vector<ProbeRow>& rows, std::vector<double> ProbeRow::*field) {
+                                  const PlotRows& rows, const std::optional<ProbeRow>& last, RowField field) {
+  const bool u = field == RowField::u;
   std::vector<double> abscissa;
   std::vector<std::vector<double>> values(3 * names.size());
-  for (const ProbeRow& row : rows) {
-    const std::vector<double>& v = row.*field;
-    if (v.size() != values.size()) continue;
-    abscissa.push_back(row.time);
+  const auto point = [&](double time, const std::vector<double>& v) {
+    abscissa.push_back(time);
     for (std::size_t i = 0; i < values.size(); ++i) values[i].push_back(v[i]);
+  };
+  for (std::size_t k = 0; k < rows.rows.size() && k < rows.ranges.size(); ++k) {
+    const std::vector<double>& first = u ? rows.rows[k].u : rows.rows[k].force;
+    const std::vector<double>& low = u ? rows.ranges[k].uLow : rows.ranges[k].forceLow;
+    const std::vector<double>& high = u ? rows.ranges[k].uHigh : rows.ranges[k].forceHigh;
+    if (first.size() != values.size() || low.size() != values.size() || high.size() != values.size()) continue;
+    point(rows.rows[k].time, first);
+    if (low != first || high != first) {  // a bucket of rows that differ: its span, drawn upright
+      point(rows.rows[k].time, low);
+      point(rows.rows[k].time, high);
+    }
+  }
+  if (last && (rows.rows.empty() || last->step != rows.rows.back().step)) {
+    const std::vector<double>& v = u ? last->u : last->force;
+    if (v.size() == values.size()) point(last->time, v);
   }
   return componentCurves(names, symbol, abscissa, values);
 }

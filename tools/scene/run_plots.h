@@ -6,16 +6,21 @@
 #include "tools/output/plot_rows.h"
 #include "tools/render/plot.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace jetshell {
 
-/// The curves of one field of probes.csv's rows against their time: three values per name in each row's `field`
-/// (ProbeRow::u, one name per probe; ProbeRow::force, one per solid). Rows of another length are skipped.
-/// `symbol` names the quantity in the legend ("u" gives "B ux"). Components whose largest magnitude is at most
-/// 1e-3 of the largest of all are left out.
+/// A field of probes.csv's rows: the probes' displacements (ProbeRow::u) or the solids' forces (ProbeRow::force).
+enum class RowField { u, force };
+
+/// The curves of one field of the kept rows against their time: three values per name (one name per probe for u,
+/// one per solid for force). Each bucket of rows is drawn at its first row's time from its first row's value
+/// through its least and greatest (so a peak shorter than the bucket is drawn, at most a bucket early), then the
+/// last recorded row `last`. Rows of another length are skipped. `symbol` names the quantity in the legend ("u"
+/// gives "B ux"). Components whose largest magnitude is at most 1e-3 of the largest of all are left out.
 std::vector<PlotSeries> rowCurves(const std::vector<std::string>& names, const std::string& symbol,
-                                  const std::vector<ProbeRow>& rows, std::vector<double> ProbeRow::*field);
+                                  const PlotRows& rows, const std::optional<ProbeRow>& last, RowField field);
 
 }  // namespace jetshell

@@ -590,11 +590,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     };
     std::vector<std::string> probeNames;
     for (const ResolvedProbe& p : model.probes) probeNames.push_back(p.name);
-    const std::vector<ProbeRow> rows = output.plotRows();
-    if (rows.size() > 1) {
-      result.probesPng = draw(rowCurves(probeNames, "u", rows, &ProbeRow::u), "probe displacements",
-                              "displacement [m]", "probes.png");
-      result.contactForcesPng = draw(rowCurves(output.contactSolids(), "F", rows, &ProbeRow::force),
+    const PlotRows rows = output.plotRows();
+    if (rows.recorded > 1) {
+      result.probesPng = draw(rowCurves(probeNames, "u", rows, output.lastRow(), RowField::u),
+                              "probe displacements", "displacement [m]", "probes.png");
+      result.contactForcesPng = draw(rowCurves(output.contactSolids(), "F", rows, output.lastRow(), RowField::force),
                                      "contact forces", "force on the solid [N]", "contact_forces.png");
     }
   }
