@@ -41,11 +41,12 @@ const RegisterSubcommand registerRun("run", [](CLI::App& app, int& exitCode) {
   cmd->add_flag("--quiet,-q", args->quiet, "No log lines, only the final report");
   cmd->add_flag("--no-pictures", args->noPictures, "Skip final.png and probes.png");
   cmd->add_option("--checkpoint-every", args->checkpointEvery,
-                  "Dynamics: write checkpoint.cbor into the output directory every N steps")
+                  "Dynamics: write checkpoint.cbor into the output directory every N steps (a resumed run: "
+                  "the interrupted run's N unless given)")
       ->check(CLI::Range(1, static_cast<int>(inputLimits().maxSteps)));
   cmd->add_option("--resume", args->resume,
-                  "Dynamics: continue the run whose output directory DIR holds a checkpoint (same scene file); "
-                  "it ends bit for bit as an uninterrupted run");
+                  "Dynamics: continue the run whose output directory DIR holds a checkpoint (same scene file), "
+                  "checkpointing as it did; it ends bit for bit as an uninterrupted run");
   cmd->callback([args, &exitCode] {
     // Read once: the run is built from, and its checkpoints fingerprint, the same text.
     const std::string sceneText = readInputFile(args->scene, inputLimits().maxJsonBytes, "scene file");

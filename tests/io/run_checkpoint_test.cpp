@@ -44,6 +44,7 @@ RunCheckpoint afterFiveSteps() {
   c.solver.t = 0.05;
   c.solver.historyStep = 0.01;
   c.solver.steps = 5;
+  c.checkpointEvery = 5;
   c.newtonIterations = 11;
   c.cuts = 1;
   c.stepsAtIterationCap = 1;
@@ -82,6 +83,7 @@ TEST_CASE("run checkpoint: every field is written and read back exactly") {
   CHECK(r.solver.historyStep == c.solver.historyStep);
   CHECK(r.solver.steps == 5);
   CHECK(r.solver.historyValid);
+  CHECK(r.checkpointEvery == 5);
   CHECK(r.newtonIterations == 11);
   CHECK(r.cuts == 1);
   CHECK(r.stepsAtIterationCap == 1);
@@ -223,6 +225,7 @@ TEST_CASE("run checkpoint: a field edited by hand is refused with its name") {
           "newton_iterations: must be a whole number in [0, 1000000000]");
   refused([](Json& j) { j["solver"]["steps"] = 1e300; }, "solver/steps: must be a whole number in [0, 10000000]");
   refused([](Json& j) { j["solver"]["steps"] = 2.5; }, "solver/steps: must be a whole number in [0, 10000000]");
+  refused([](Json& j) { j["checkpoint_every"] = 0; }, "checkpoint_every: must be a whole number in [1, 10000000]");
   refused([](Json& j) { j["steps_at_iteration_cap"] = 6; }, "steps_at_iteration_cap: must be a whole number in [0, 5]");
   refused([](Json& j) { j["safeguards"]["accepted_at_cap"] = -5; },
           "safeguards/accepted_at_cap: must be a whole number in [0, 1000000000]");

@@ -315,6 +315,7 @@ Json toJson(const RunCheckpoint& c, const CheckpointScene& scene) {
             {"history_step", s.historyStep},
             {"steps", s.steps},
             {"history_valid", s.historyValid}}},
+          {"checkpoint_every", c.checkpointEvery},
           {"newton_iterations", c.newtonIterations},
           {"cuts", c.cuts},
           {"steps_at_iteration_cap", c.stepsAtIterationCap},
@@ -351,6 +352,7 @@ RunCheckpoint runCheckpointFromJson(const Json& j, const CheckpointScene& scene,
   RunCheckpoint c;
   c.solver = solverFrom(f.object("solver"), scene);
   const int steps = c.solver.steps;
+  c.checkpointEvery = static_cast<int>(f.integer("checkpoint_every", 1, std::max(1, scene.maxSteps)));
   c.newtonIterations = f.count("newton_iterations");
   c.cuts = f.count("cuts");
   c.stepsAtIterationCap = f.count("steps_at_iteration_cap", steps);

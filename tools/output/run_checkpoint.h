@@ -65,6 +65,7 @@ struct OutputCheckpoint {
 
 struct RunCheckpoint {
   SolverCheckpoint solver;
+  int checkpointEvery = 0;  // the run's --checkpoint-every, which a run resumed from here keeps unless told otherwise
   int newtonIterations = 0, cuts = 0, stepsAtIterationCap = 0;
   double worstResidualOverTolerance = 0.0;
   SafeguardCounts safeguards;
@@ -83,7 +84,8 @@ nlohmann::json parseCheckpoint(const std::string& bytes, const std::string& file
 
 /// The version key written into every checkpoint.
 constexpr const char* kCheckpointVersionKey = "jetshell_checkpoint";
-// 3: each plot row with its bucket's range, packed; 2: the probe rows in probes.csv only; 1: all rows, twice.
+// 3: each plot row with its bucket's range, packed, and the run's checkpoint cadence; 2: the probe rows in
+// probes.csv only; 1: all rows, twice.
 constexpr int kCheckpointVersion = 3;
 
 }  // namespace jetshell

@@ -157,6 +157,14 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   if (options.resume)
     checkpoint = runCheckpointFromJson(readCheckpoint(options.outputDirectory), checkpointScene,
                                        checkpointPath(options.outputDirectory));
+  // A resumed run checkpoints as the run it continues did, unless told otherwise: its solver restarts at the same
+  // steps, so it stays that run bit for bit, and a second interruption loses no more than the first.
+  const int checkpointEvery =
+      options.resume && options.checkpointEvery == 0 ? checkpoint.checkpointEvery : options.checkpointEvery;
+  if (options.resume && checkpointEvery != checkpoint.checkpointEvery)
+    progress.log("checkpoints every " + std::to_string(checkpointEvery) + " steps, the interrupted run's every " +
+                 std::to_string(checkpoint.checkpointEvery) +
+                 ": the run agrees with an uninterrupted one to the solver's tolerance, not bit for bit");
 
   Eigen::VectorXd x = system.restPositions();
   objective.applyPrescribed(0.0, x);
@@ -408,6 +416,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       const DynamicsSolver::Snapshot snap = d.snapshot();
       RunCheckpoint c;
       c.solver = {snap.x, snap.v, snap.xPrev, snap.vPrev, snap.t, snap.historyStep, snap.steps, snap.historyValid};
+      c.checkpointEvery = checkpointEvery;
       c.newtonIterations = previousIterations + doneIterations;
       c.cuts = previousCuts + doneCuts;
       c.stepsAtIterationCap = unconvergedSteps;
@@ -446,7 +455,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       progress.update(d.time() / duration, "t = " + formatNumber("%.3f", d.time()) + " s");
       doneIterations += s.newtonIterations;
       doneCuts += s.cuts;
-      if (options.checkpointEvery > 0 && s.step % options.checkpointEvery == 0) {
+      if (checkpointEvery > 0 && s.step % checkpointEvery == 0) {
         writeCheckpointNow(d);
         d.forgetSolverHistory();  // a run resumed from here starts with a new solver: so does this one
       }

@@ -21,9 +21,11 @@ struct RunOptions {
   bool progressBar = false;  // draw a progress bar (on a terminal)
   bool pictures = true;      // final.png and probes.png (when the scene's outputs ask for them)
   std::ostream* log = nullptr;  // log lines; null: silent
-  /// Dynamics: write outputDirectory/checkpoint.cbor every this many steps (0: never). tools/output/checkpoint.h
+  /// Dynamics: write outputDirectory/checkpoint.cbor every this many steps (0: never; when resuming, 0 keeps the
+  /// interrupted run's cadence). tools/output/checkpoint.h
   int checkpointEvery = 0;
-  /// Dynamics: continue from outputDirectory's checkpoint; the run ends bit for bit as an uninterrupted one.
+  /// Dynamics: continue from outputDirectory's checkpoint; with the interrupted run's cadence the run ends bit for
+  /// bit as an uninterrupted one.
   bool resume = false;
   /// Identifies the scene in checkpoints (a resume with another scene is refused); e.g. fingerprint(file text).
   std::string sceneFingerprint;
