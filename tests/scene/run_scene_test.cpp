@@ -583,6 +583,34 @@ TEST_CASE("run: probes.csv records the force a floor bears at every step, at res
   CHECK(summary.at("contact_forces").at("floor").at(2).get<double>() == last[5]);
 }
 
+TEST_CASE("run: a dynamic run's rows record its ramped load factor, the first 0 and the last the ramp's at the end") {
+  // The loads ramp over twice the run: the last state is at half load. Rows 0 and the last said 1.
+  const Scene scene = sceneFromJson(nlohmann::json::parse(R"({
+    "gravity": [0, 0, -9.81],
+    "actors": [{"type": "shell", "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 3, "ny": 3},
+                "material": {"youngsModulus": 1e6, "poissonRatio": 0.3, "thickness": 0.0005, "volumeDensity": 300},
+                "colliderType": "None", "fixed": [{"select": [{"nearest": [0, 1, 0]}, {"nearest": [1, 1, 0]}]}],
+                "probes": [{"name": "corner", "select": {"nearest": [1, 0, 0]}}]}],
+    "analysis": {"type": "dynamic", "timeStep": 0.02, "duration": 0.1, "loadRampTime": 0.2},
+    "solver": {"threads": 1}})"),
+                                    ".");
+  RunOptions o;
+  o.pictures = false;
+  o.outputDirectory = freshDirectory("ramped").string();
+  REQUIRE(runScene(scene, o).summary.converged);
+  const std::vector<std::string> lines = fileLines(fs::path(o.outputDirectory) / "probes.csv");
+  REQUIRE(lines.size() == 7);  // the header, t = 0 and 5 steps
+  for (std::size_t k = 1; k < lines.size(); ++k) {
+    const std::vector<double> row = csvNumbers(lines[k]);
+    INFO(lines[k]);
+    CHECK(row[2] == Approx(row[1] / 0.2));
+  }
+  CHECK(csvNumbers(lines[1])[2] == 0.0);
+  const double last = csvNumbers(lines.back())[2];
+  CHECK(last == Approx(0.5));
+  CHECK(readJson(fs::path(o.outputDirectory) / "summary.json").at("final_load_factor").get<double>() == last);
+}
+
 TEST_CASE("run: a checkpoint file is read only if it is a bounded regular file of shallow CBOR", "[checkpoint]") {
   const fs::path dir = freshDirectory("hostile_checkpoint");
   fs::create_directories(dir);

@@ -113,6 +113,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   const AnalysisKind kind = type == AnalysisType::Static    ? AnalysisKind::Statics
                             : type == AnalysisType::Dynamic ? AnalysisKind::Dynamics
                                                             : AnalysisKind::DynamicRelaxation;
+  // The load factor of a row at time t: a static path's time is its load factor, a dynamic run's loads follow its
+  // ramp (loadRampTime), dynamic relaxation applies the whole loads.
+  const auto rowLoadFactor = [&](double t) {
+    return type == AnalysisType::Static ? t : type == AnalysisType::Dynamic ? model.loadFactorAtTime(t) : 1.0;
+  };
   const ShellProblem problem = shellProblemFromScene(scene, model);
   ShellSystem system(problem, kind);
   selectSceneEvaluator(scene, system);
@@ -171,7 +176,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   if (options.resume)
     output.restore(checkpoint.output);
   else
-    output.record({0, 0.0, type == AnalysisType::Static ? 0.0 : 1.0, &x, nullptr}, true);
+    output.record({0, 0.0, rowLoadFactor(0.0), &x, nullptr}, true);
   // The logged potential energy: elastic energy minus the loads' work on the displacements (F·u), i.e. the
   // potential at x minus the potential at the reference positions under the same loads (the load terms are
   // −F·x; their value at rest, −F·X, would swamp the digits that matter). An end moment's −λMθ is 0 at rest by
@@ -438,8 +443,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
         if (lastSolve.residualThreshold > 0.0)
           worstRatio = std::max(worstRatio, lastSolve.finalResidual / lastSolve.residualThreshold);
       }
-      const double lambda = model.loadFactorAtTime(d.time());
-      output.record({s.step, d.time(), lambda, &d.positions(), &d.velocities()});
+      output.record({s.step, d.time(), rowLoadFactor(d.time()), &d.positions(), &d.velocities()});
       lastVelocity = d.velocities();
       // The next step's loads: λ at its end time.
       if (system.nodalForces) system.nodalForces->setLoadFactor(model.loadFactorAtTime(d.time() + o.timeStep));
@@ -482,7 +486,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     double firstResidual = -1.0;
     const RelaxationResult r = relaxToStatic(system, x, o, [&](const StepReport& s, double staticResidual) {
       addSolves(s);
-      output.record({s.step, s.time, 1.0, &x, nullptr});
+      output.record({s.step, s.time, rowLoadFactor(s.time), &x, nullptr});
       if (firstResidual < 0) firstResidual = staticResidual;
       std::ostringstream line;
       line << "step " << s.step << "  t = " << formatNumber("%.4f", s.time) << " s  Newton " << s.newtonIterations
@@ -538,7 +542,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   if (type != AnalysisType::Static) lastStep = summary.steps;
   // Its time is the last row's (the state the solvers left x in), except on a static path stopped between levels.
   const double finalTime = finalLoadFactor ? *finalLoadFactor : output.lastRow() ? output.lastRow()->time : 0.0;
-  output.record({lastStep, finalTime, type == AnalysisType::Static ? finalTime : 1.0, &x,
+  output.record({lastStep, finalTime, rowLoadFactor(finalTime), &x,
                  lastVelocity.size() ? &lastVelocity : nullptr},
                 true);
   {
