@@ -337,6 +337,16 @@ TEST_CASE("output: an append-only file is complete after every append and cut ba
   CHECK(readText(path) == "<a>\n1\n3\n</a>\n");
   AppendOnlyFile wrong;
   CHECK_THROWS_WITH(wrong.reopen(path.string(), 1000, "</a>\n"), Catch::Contains("shorter than at the checkpoint"));
+  // What was appended last before the checkpoint must be there, or the file (replaced or edited) is left as it is.
+  const std::uint64_t afterThree = fs::file_size(path);
+  CHECK_THROWS_WITH(wrong.reopen(path.string(), afterThree, "</a>\n", "4\n"),
+                    Catch::Contains("does not end as at the checkpoint"));
+  CHECK_THROWS_WITH(wrong.reopen(path.string(), afterThree, "</a>\n", "<a>\n1\n3\n3\n"),
+                    Catch::Contains("does not end as at the checkpoint"));
+  CHECK(readText(path) == "<a>\n1\n3\n</a>\n");
+  again.reopen(path.string(), afterThree, "</a>\n", "3\n");
+  again.append("4\n");
+  CHECK(readText(path) == "<a>\n1\n3\n4\n</a>\n");
   // A link in its place (an output directory unpacked from elsewhere) is not followed: reopening cut back and
   // wrote into whatever it pointed to. Nor is a FIFO opened as the file.
   const fs::path outside = scratch("outside.txt"), link = scratch("linked.xml"), fifo = scratch("fifo.xml");

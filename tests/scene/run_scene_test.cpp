@@ -358,7 +358,25 @@ TEST_CASE("run: a dynamic run resumed from its checkpoint ends bit for bit as an
   // Probe rows without their values wrote probes.csv rows short of columns.
   CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) { c["output"]["last_row"]["u"] = nlohmann::json::array(); }),
                     Catch::Contains("output/last_row/u: must be a list of 3 numbers"));
+  // A checkpoint whose last row is not where it says in probes.csv, and a probes.csv edited since the checkpoint,
+  // are refused before anything is cut: the resumed run cut the file there and wrote on, or over its last row.
+  CHECK_THROWS_WITH(resumeEdited([](nlohmann::json& c) {
+                      c["output"]["last_row_offset"] = c["output"]["last_row_offset"].get<std::int64_t>() - 1;
+                    }),
+                    Catch::Contains("probes.csv: the checkpoint's last row is not where the checkpoint says"));
   writeCheckpoint(o.outputDirectory, saved);
+  const fs::path probes = fs::path(o.outputDirectory) / "probes.csv";
+  const std::string original = fileBytes(probes);
+  const std::size_t rowTen = original.find("\n10,") + 1;
+  REQUIRE(rowTen > 0);
+  std::string edited = original;
+  edited[original.find(',', rowTen + 3) - 1] ^= 1;  // the last digit of its time
+  writeFileAtomically(probes.string(), edited);
+  CHECK_THROWS_WITH(runScene(scene, o), Catch::Contains("probes.csv: does not end as at the checkpoint"));
+  CHECK(fileBytes(probes) == edited);
+  writeFileAtomically(probes.string(), original);
+  REQUIRE(runScene(scene, o).summary.converged);
+  CHECK(fileBytes(probes) == original);
   // A different scene is refused.
   o.sceneFingerprint = "another";
   CHECK_THROWS_WITH(runScene(scene, o), Catch::Contains("written for another scene"));

@@ -29,7 +29,8 @@ void AppendOnlyFile::create(const std::string& path, const std::string& head, co
   if (fd_ < 0) throw InputError(path + ": cannot open for appending (" + std::strerror(errno) + ")");
 }
 
-void AppendOnlyFile::reopen(const std::string& path, std::uint64_t size, const std::string& tail) {
+void AppendOnlyFile::reopen(const std::string& path, std::uint64_t size, const std::string& tail,
+                            const std::string& lastWritten) {
   close();
   path_ = path;
   tail_ = tail;
@@ -46,6 +47,17 @@ void AppendOnlyFile::reopen(const std::string& path, std::uint64_t size, const s
   }
   if (static_cast<std::uint64_t>(st.st_size) < size || size < tail.size())
     throw InputError(path + ": shorter than at the checkpoint (" + std::to_string(size) + " bytes)");
+  if (!lastWritten.empty()) {
+    const std::uint64_t end = size - tail.size();
+    std::string found(lastWritten.size(), '\0');
+    const bool read = end >= lastWritten.size() &&
+                      ::pread(fd_, found.data(), found.size(), static_cast<off_t>(end - lastWritten.size())) ==
+                          static_cast<ssize_t>(found.size());
+    if (!read || found != lastWritten) {
+      close();
+      throw InputError(path + ": does not end as at the checkpoint (changed since it was written): not continued");
+    }
+  }
   // Whatever was appended after the checkpoint goes; the tail is written back at the cut.
   const std::uint64_t cut = size - tail.size();
   if (::ftruncate(fd_, static_cast<off_t>(cut)) != 0 ||

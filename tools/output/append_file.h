@@ -23,8 +23,11 @@ class AppendOnlyFile {
   /// the path when it cannot.
   void create(const std::string& path, const std::string& head, const std::string& tail);
   /// Opens an existing file written by create()/append() and cuts it back to `size` bytes (the size recorded at
-  /// a checkpoint, tail included), ending it with tail again. Throws InputError when it is missing or shorter.
-  void reopen(const std::string& path, std::uint64_t size, const std::string& tail);
+  /// a checkpoint, tail included), ending it with tail again. Throws InputError when it is missing or shorter,
+  /// or when its bytes just before `size - tail.size()` are not `lastWritten` (what was appended last before the
+  /// checkpoint: a file replaced or edited since is not cut or continued).
+  void reopen(const std::string& path, std::uint64_t size, const std::string& tail,
+              const std::string& lastWritten = "");
   /// Inserts text before the tail. Throws InputError naming the path on a failed write (disk full).
   void append(const std::string& text);
 

@@ -47,6 +47,16 @@ std::string csvField(const std::string& text) {
   return out + "\"";
 }
 
+/// A row of probes.csv: step, time, load factor, the probes' displacements, the solids' forces.
+std::string csvRow(const ProbeRow& r) {
+  std::ostringstream out;
+  out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
+  for (double u : r.u) out << ',' << formatDouble(u);
+  for (double f : r.force) out << ',' << formatDouble(f);
+  out << '\n';
+  return out.str();
+}
+
 }  // namespace
 
 /// The volume actors' surfaces (as placed at t = 0) moved where their paths put them at time t
@@ -238,13 +248,8 @@ void RunOutput::appendProbeRow(const ProbeRow& r, bool overLastRow) {
   } else if (overLastRow) {
     probesCsv_.reopen(path, lastRowOffset_, "");
   }
-  std::ostringstream out;
-  out << r.step << ',' << formatDouble(r.time) << ',' << formatDouble(r.loadFactor);
-  for (double u : r.u) out << ',' << formatDouble(u);
-  for (double f : r.force) out << ',' << formatDouble(f);
-  out << '\n';
   lastRowOffset_ = probesCsv_.size();
-  probesCsv_.append(out.str());
+  probesCsv_.append(csvRow(r));
 }
 
 PlotRows RunOutput::plotRows() const { return plotRows_.closedWith(lastRow_ ? &*lastRow_ : nullptr); }
@@ -286,8 +291,16 @@ void RunOutput::restore(const OutputCheckpoint& o) {
   movingVolumesFile_.clear();
   if (scene_.outputs.vtu && !movingVolumes_.empty() && frames_ > 0)
     movingVolumesFile_ = (fs::path(directory_) / "frames" / movingVolumesName(frames_ - 1, "vtu")).string();
+  // probes.csv must end with the checkpoint's last row, where the checkpoint says it starts: a file replaced or
+  // edited since would have been cut and continued as this run's. Checked first, before any file is cut.
+  if (o.probesBytes) {
+    const std::string path = (fs::path(directory_) / "probes.csv").string();
+    const std::string last = lastRow_ ? csvRow(*lastRow_) : std::string();
+    if (lastRow_ && *o.probesBytes - o.lastRowOffset != last.size())
+      throw InputError(path + ": the checkpoint's last row is not where the checkpoint says (a damaged checkpoint)");
+    probesCsv_.reopen(path, *o.probesBytes, "", last);
+  }
   if (o.pvdBytes) pvd_.reopen((fs::path(directory_) / "frames.pvd").string(), *o.pvdBytes, PvdSeries::tail());
-  if (o.probesBytes) probesCsv_.reopen((fs::path(directory_) / "probes.csv").string(), *o.probesBytes, "");
 }
 
 nlohmann::json RunOutput::actorSummaries() const {
