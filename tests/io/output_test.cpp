@@ -394,6 +394,7 @@ TEST_CASE("output: frames.pvd and probes.csv grow by appends and stay complete a
   CHECK(after.substr(lastRow) != before.substr(lastRow));
   CHECK(after.substr(lastRow, 6) == "6,0.6,");
   REQUIRE(out.lastRow());
+  CHECK(out.plotRows().rows.back().u == out.lastRow()->u);
   CHECK(out.plotRows().ranges.back().uHigh == out.lastRow()->u);
   CHECK(inode(dir / "frames.pvd") == pvd);
   CHECK(inode(dir / "probes.csv") == csv);

@@ -46,8 +46,7 @@ struct RowRange {
   }
   /// Whether `row` has the range's widths and lies within it.
   bool holds(const ProbeRow& row) const {
-    return within(uLow, uHigh, row.u) && within(forceLow, forceHigh, row.force) && uHigh.size() == uLow.size() &&
-           forceHigh.size() == forceLow.size();
+    return within(uLow, uHigh, row.u) && within(forceLow, forceHigh, row.force);
   }
 
  private:
