@@ -167,4 +167,10 @@ Eigen::AlignedBox3d sdfGridBox(const SdfGrid& grid) {
   return {grid.origin, grid.origin + grid.spacing * Eigen::Vector3d(grid.nx - 1, grid.ny - 1, grid.nz - 1)};
 }
 
+double sdfGridLargestDepth(const SdfGrid& grid) {
+  double deepest = 0.0;
+  for (const double v : grid.values) deepest = std::max(deepest, -v);
+  return deepest + 0.5 * std::sqrt(3.0) * grid.spacing;
+}
+
 }  // namespace jetshell

@@ -5,11 +5,16 @@
 #include "tools/scene/contact_coverage.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
+#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -32,8 +37,8 @@ Json clothOver(int n, const Json& volume) {
 const Json kRod = {{"type", "capsule"}, {"name", "rod"}, {"center", {0.5, 0.5, -0.1}}, {"radius", 0.01},
                    {"halfLength", 0.6}, {"rotation", {{"axis", {1, 0, 0}}, {"degrees", 90}}}};
 
-std::vector<std::string> warningsOf(const Json& j) {
-  const Scene scene = sceneFromJson(j, ".");
+std::vector<std::string> warningsOf(const Json& j, const std::string& directory = ".") {
+  const Scene scene = sceneFromJson(j, directory);
   const SceneModel model = buildSceneModel(scene);
   CHECK(contactCoverageWarnings(scene, model.actors) == model.warnings);
   return model.warnings;
@@ -56,8 +61,8 @@ TEST_CASE("contact coverage: a thin solid between a coarse shell's samples is na
   REQUIRE(three.size() == 1);
   CHECK_THAT(three[0], Catch::Contains("(three points a face, about 0.0407 m") &&
                            Catch::EndsWith("(a finer mesh closes the gap)"));
-  // 64 × 64: a face's middle 0.0102 m from its corners, within reach. A ball of 10 cm under the coarse cloth, a
-  // floor, and an SDF grid are not thin.
+  // 64 × 64: a face's middle 0.0102 m from its corners, within reach. A ball of 10 cm under the coarse cloth and a
+  // floor are not thin.
   CHECK(warningsOf(clothOver(64, kRod)).empty());
   CHECK(warningsOf(clothOver(8, {{"type", "sphere"}, {"center", {0.5, 0.5, -0.2}}, {"radius", 0.1}})).empty());
   CHECK(warningsOf(clothOver(8, {{"type", "plane"}})).empty());
@@ -91,4 +96,49 @@ TEST_CASE("contact coverage: the warnings of many pairs are bounded, the rest co
   REQUIRE(w.size() == 21);
   CHECK_THAT(w[19], Catch::StartsWith("volume actor 'rod19' "));
   CHECK(w[20] == "and 10 more contact pairs whose samples are as sparse");
+}
+
+namespace {
+
+/// An SDF grid file of a rod of `radius` along x, 1.2 m long, sampled every `spacing` m with its axis on the
+/// samples (so its deepest sample is `radius` inside).
+std::string sampledRod(const std::string& name, double radius, double spacing) {
+  const std::filesystem::path file = test::scratchDirectory("coverage_sdf") / name;
+  const int nx = static_cast<int>(std::lround(1.2 / spacing)) + 1;
+  const int half = static_cast<int>(std::ceil(2.0 * radius / spacing)), n = 2 * half + 1;
+  std::ofstream out(file);
+  out << "dims " << nx << ' ' << n << ' ' << n << "\norigin -0.6 " << -half * spacing << ' ' << -half * spacing
+      << "\nspacing " << spacing << "\n";
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const double x = -0.6 + i * spacing, y = (j - half) * spacing, z = (k - half) * spacing;
+        const double beyond = std::max(0.0, std::abs(x) - 0.5);  // the capsule's segment: |x| <= 0.5
+        out << std::sqrt(beyond * beyond + y * y + z * z) - radius << (i + 1 < nx ? ' ' : '\n');
+      }
+  return file.filename().string();
+}
+
+}  // namespace
+
+TEST_CASE("contact coverage: an SDF grid thin everywhere between a coarse shell's samples is named, a thick one not",
+          "[contact]") {
+  const std::string directory = test::scratchDirectory("coverage_sdf").string();
+  // A rod of radius 1 cm sampled every 5 mm: no point lies more than 0.01 + 0.0043 m inside it, within the 8 × 8
+  // cloth's gap of 0.0814 m with the 5 mm activation distance.
+  const Json rod = {{"type", "sdfGrid"}, {"name", "rod"}, {"file", sampledRod("rod.sdf", 0.01, 0.005)},
+                    {"center", {0.5, 0.5, -0.1}}};
+  const std::vector<std::string> coarse = warningsOf(clothOver(8, rod), directory);
+  REQUIRE(coarse.size() == 1);
+  CHECK(coarse[0] == "volume actor 'rod' (an SDF grid with no point deeper inside than 0.0143 m) fits between the "
+                     "contact samples of shell actor 'cloth' (at its vertices or face centroids, about 0.0814 m from "
+                     "a face's middle, beyond its reach of 0.0193 m): it can pass through the shell unfelt "
+                     "(\"contactElementType\": \"FaceThreePoint\" or a finer mesh closes the gap)");
+  // The analytic capsule of the same radius is named alike; the fine cloth closes the gap; a rod of 10 cm is
+  // thicker than the coarse cloth's gap.
+  CHECK(warningsOf(clothOver(8, kRod)).size() == 1);
+  CHECK(warningsOf(clothOver(64, rod), directory).empty());
+  const Json thick = {{"type", "sdfGrid"}, {"name", "log"}, {"file", sampledRod("log.sdf", 0.1, 0.02)},
+                      {"center", {0.5, 0.5, -0.2}}};
+  CHECK(warningsOf(clothOver(8, thick), directory).empty());
 }

@@ -22,9 +22,11 @@ double meanEdgeLength(const ActorBlock& b) {
 
 std::string metres(double x) { return formatNumber("%.3g", x) + " m"; }
 
-/// Half the width of the solid's thinnest part, as its shape states it; infinite for what is not judged (the
-/// half-space; an SDF grid, whose file is not read here and whose spacing says little of its thickness).
+/// Half the width of the solid's thinnest part, as its shape states it; infinite for the half-space. An SDF grid
+/// states no thinnest part (its spacing says little of it): it is judged by the most any point lies inside it, so
+/// only a grid thin everywhere is named.
 double thinnestHalfWidth(const VolumeActorParams& v) {
+  if (v.kind == VolumeActorParams::Kind::SdfGrid) return v.sdfLargestDepth;
   const VolumeShapePtr shape = analyticVolumeShape(v);
   return shape ? shape->thinnestHalfWidth() : std::numeric_limits<double>::infinity();
 }
@@ -73,7 +75,9 @@ std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::
       const double w = thinnest[k];
       const double reach = w + combine(s.contact, v.contact).activationDistance;
       if (!(sampleGap > reach)) continue;
-      add("volume actor '" + v.name + "' (thinnest half-width " + metres(w) +
+      const bool grid = v.kind == VolumeActorParams::Kind::SdfGrid;
+      add("volume actor '" + v.name + "' (" + (grid ? "an SDF grid with no point deeper inside than " + metres(w) :
+                                               "thinnest half-width " + metres(w)) +
           ") fits between the contact samples of shell actor '" + s.name + "' (" +
           (threePoint ? "three points a face" : "at its vertices or face centroids") + ", about " + metres(sampleGap) +
           " from a face's middle, beyond its reach of " + metres(reach) + "): it can pass through the shell unfelt (" +

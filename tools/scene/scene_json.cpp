@@ -484,11 +484,13 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
       p.sdfSamples = first.sdfSamples;
       p.sdfShape = first.sdfShape;
       p.sdfBox = first.sdfBox;
+      p.sdfLargestDepth = first.sdfLargestDepth;
     } else {
       at(o.member("file"), [&] {  // named errors now
         SdfGrid grid = readSdfGrid(p.sdfFile);
         p.sdfSamples = static_cast<std::int64_t>(grid.values.size());
         p.sdfBox = sdfGridBox(grid);
+        p.sdfLargestDepth = sdfGridLargestDepth(grid);
         p.sdfShape = makeSdfGridShape(std::move(grid));
       });
       sdfFiles.emplace(p.sdfFile, scene.volumes.size());
