@@ -36,9 +36,9 @@ SdfGrid parseSdfGrid(std::istream& in, const std::string& name);
 VolumeShapePtr makeSdfGridShape(SdfGrid grid);
 /// The box the grid's samples span, in its local coordinates.
 Eigen::AlignedBox3d sdfGridBox(const SdfGrid& grid);
-/// The most any point of the solid can lie inside it (the radius of the largest ball it holds): the deepest
-/// sample's depth (minus the most negative value, or 0) plus half a cell's diagonal, since a signed distance
-/// changes no faster than the point moves and every point is that close to a sample.
+/// A bound on how deep any point of the solid lies inside it (so on the radius of the largest ball it holds): the
+/// deepest sample's depth (minus the most negative value, or 0) plus half a cell's diagonal, since a signed
+/// distance changes no faster than the point moves and every point is that close to a sample.
 double sdfGridLargestDepth(const SdfGrid& grid);
 
 }  // namespace jetshell

@@ -7,9 +7,9 @@
 //     distance ε fits between them unfelt: a rod under a coarse cloth pokes through it.
 // Planes are not judged (no thin part); an SDF grid is judged by the most any point lies inside it (its deepest
 // sample's depth plus half a cell's diagonal: no part of it is wider), so only a grid thin everywhere is named,
-// such as a sampled rod. Input: the scene and its
-// resolved model (each actor's own mesh). Output: one warning per actor or pair, naming both and the size that
-// would close the gap; at most 20, then one line counting the rest (a scene may hold 100,000 pairs). Warnings only: the scene runs as written.
+// such as a sampled rod. Input: the scene and its resolved model (each actor's own mesh). Output: one warning per
+// actor or pair, naming both and the size that would close the gap; at most 20, then one line counting the rest
+// (a scene may hold 100,000 pairs). Warnings only: the scene runs as written.
 #pragma once
 
 #include "tools/scene/scene.h"
