@@ -84,7 +84,7 @@ if [ "$long" -eq 1 ]; then
 fi
 # With --all the main pass's test program holds only the test files with the runs the sanitizer pass leaves out
 # (CMakeLists.txt, JETSHELL_LONG_TESTS_ONLY): the unit suites run once, under the sanitizers, and the Release build
-# does not compile them a second time (about 3 of the 8 CPU minutes of its build; BENCHMARKS.md "CI time").
+# does not compile them a second time (about 450 of its 1,000 CPU s of build before; BENCHMARKS.md "CI time").
 # coveredOnce below checks that every test runs in one pass or the other.
 longOnly=OFF
 [ "$all" -eq 1 ] && longOnly=ON
