@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <fstream>
 #include <sstream>
 
@@ -171,6 +172,26 @@ double sdfGridLargestDepth(const SdfGrid& grid) {
   double deepest = 0.0;
   for (const double v : grid.values) deepest = std::max(deepest, -v);
   return deepest + 0.5 * std::sqrt(3.0) * grid.spacing;
+}
+
+double sdfGridThinnestHalfWidth(const SdfGrid& grid) {
+  const double halfDiagonal = 0.5 * std::sqrt(3.0) * grid.spacing;
+  double thinnest = sdfGridLargestDepth(grid);
+  const std::ptrdiff_t sx = 1, sy = grid.nx, sz = static_cast<std::ptrdiff_t>(grid.nx) * grid.ny;
+  for (int k = 1; k + 1 < grid.nz; ++k)
+    for (int j = 1; j + 1 < grid.ny; ++j)
+      for (int i = 1; i + 1 < grid.nx; ++i) {
+        const std::ptrdiff_t at = i * sx + j * sy + k * sz;
+        const double value = grid.values[static_cast<std::size_t>(at)];
+        if (!(value < 0.0) || -value + halfDiagonal >= thinnest) continue;
+        bool ridge = true;  // no neighbour deeper, so no neighbour's value below this one's
+        for (int dz = -1; dz <= 1 && ridge; ++dz)
+          for (int dy = -1; dy <= 1 && ridge; ++dy)
+            for (int dx = -1; dx <= 1 && ridge; ++dx)
+              ridge = grid.values[static_cast<std::size_t>(at + dx * sx + dy * sy + dz * sz)] >= value;
+        if (ridge) thinnest = -value + halfDiagonal;
+      }
+  return thinnest;
 }
 
 }  // namespace jetshell

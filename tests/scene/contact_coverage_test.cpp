@@ -3,6 +3,7 @@
 // 8 × 8 cloth below let a rod of radius 1 cm lying between two columns of vertices through untouched. At most 20
 // warnings are listed, the rest counted (a scene may hold 100,000 pairs).
 #include "tools/scene/contact_coverage.h"
+#include "energies/contact/sdf_grid.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
 #include "tests/scratch_directory.h"
@@ -119,6 +120,31 @@ std::string sampledRod(const std::string& name, double radius, double spacing) {
   return file.filename().string();
 }
 
+/// The signed distance of the box of half extents `b` centred at `c`.
+double boxDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& c, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d q = (p - c).cwiseAbs() - b;
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+/// An SDF grid file of a 20 cm cube at the origin and, with `fin`, a plate 2 cm thick along y standing out of its
+/// +x face to x = 0.45 m (the union's distance is the smaller of the two), sampled every 1 cm.
+std::string sampledBlock(const std::string& name, bool fin) {
+  const std::filesystem::path file = test::scratchDirectory("coverage_sdf") / name;
+  const double h = 0.01;
+  const int nx = 61, n = 31;  // x in [-0.15, 0.45], y and z in [-0.15, 0.15]
+  std::ofstream out(file);
+  out << "dims " << nx << ' ' << n << ' ' << n << "\norigin -0.15 -0.15 -0.15\nspacing " << h << "\n";
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Eigen::Vector3d p(-0.15 + i * h, -0.15 + j * h, -0.15 + k * h);
+        double d = boxDistance(p, Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.1));
+        if (fin) d = std::min(d, boxDistance(p, {0.275, 0.0, 0.0}, {0.175, 0.01, 0.1}));
+        out << d << (i + 1 < nx ? ' ' : '\n');
+      }
+  return file.filename().string();
+}
+
 }  // namespace
 
 TEST_CASE("contact coverage: an SDF grid thin everywhere between a coarse shell's samples is named, a thick one not",
@@ -130,7 +156,7 @@ TEST_CASE("contact coverage: an SDF grid thin everywhere between a coarse shell'
                     {"center", {0.5, 0.5, -0.1}}};
   const std::vector<std::string> coarse = warningsOf(clothOver(8, rod), directory);
   REQUIRE(coarse.size() == 1);
-  CHECK(coarse[0] == "volume actor 'rod' (an SDF grid with no point deeper inside than 0.0143 m) fits between the "
+  CHECK(coarse[0] == "volume actor 'rod' (an SDF grid, thinnest half-width at most 0.0143 m) fits between the "
                      "contact samples of shell actor 'cloth' (at its vertices or face centroids, about 0.0814 m from "
                      "a face's middle, beyond its reach of 0.0193 m): it can pass through the shell unfelt "
                      "(\"contactElementType\": \"FaceThreePoint\" or a finer mesh closes the gap)");
@@ -141,4 +167,29 @@ TEST_CASE("contact coverage: an SDF grid thin everywhere between a coarse shell'
   const Json thick = {{"type", "sdfGrid"}, {"name", "log"}, {"file", sampledRod("log.sdf", 0.1, 0.02)},
                       {"center", {0.5, 0.5, -0.2}}};
   CHECK(warningsOf(clothOver(8, thick), directory).empty());
+}
+
+TEST_CASE("contact coverage: a thin part of a thick SDF grid is named, the thick solid alone not", "[contact]") {
+  const std::string directory = test::scratchDirectory("coverage_sdf").string();
+  // The cube's centre lies 10 cm inside, beyond the 8 × 8 cloth's gap; the fin's middle 1 cm, on the samples: its
+  // ridge gives 0.01 m plus half a cell's diagonal, 0.0187 m.
+  const auto block = [&](bool fin) {
+    return Json{{"type", "sdfGrid"}, {"name", "block"}, {"file", sampledBlock(fin ? "fin.sdf" : "cube.sdf", fin)},
+                {"center", {0.5, 0.5, -0.2}}};
+  };
+  const std::vector<std::string> finned = warningsOf(clothOver(8, block(true)), directory);
+  REQUIRE(finned.size() == 1);
+  CHECK_THAT(finned[0], Catch::StartsWith("volume actor 'block' (an SDF grid, thinnest half-width at most 0.0187 m) "
+                                          "fits between the contact samples of shell actor 'cloth'"));
+  CHECK(warningsOf(clothOver(8, block(false)), directory).empty());
+  // The bound itself: the cube's centre sample, 0.1 m deep, plus half a cell's diagonal.
+  SdfGrid cube;
+  cube.nx = cube.ny = cube.nz = 21;
+  cube.spacing = 0.01;
+  for (int k = 0; k < 21; ++k)
+    for (int j = 0; j < 21; ++j)
+      for (int i = 0; i < 21; ++i)
+        cube.values.push_back(boxDistance(0.01 * Eigen::Vector3d(i, j, k), Eigen::Vector3d::Constant(0.1),
+                                          Eigen::Vector3d::Constant(0.1)));
+  CHECK(sdfGridThinnestHalfWidth(cube) == Approx(0.1 + 0.005 * std::sqrt(3.0)));
 }

@@ -68,10 +68,9 @@ struct VolumeActorParams {
   /// file is read when a run needs it.
   VolumeShapePtr sdfShape;
   Eigen::AlignedBox3d sdfBox;
-  /// SdfGrid: the most any point of the solid lies inside it [m] (sdfGridLargestDepth): no part of it is wider,
-  /// and contact coverage (tools/scene/contact_coverage.h) judges the grid by it. Infinite for actors built
-  /// otherwise.
-  double sdfLargestDepth = std::numeric_limits<double>::infinity();
+  /// SdfGrid: a bound on the half-width of the solid's thinnest part [m] (sdfGridThinnestHalfWidth), by which
+  /// contact coverage (tools/scene/contact_coverage.h) judges the grid. Infinite for actors built otherwise.
+  double sdfThinnestHalfWidth = std::numeric_limits<double>::infinity();
   /// Prescribed motion from the transform at t = 0: constant velocity [m/s] and angular velocity [rad/s]
   /// (world axes, about the actor's origin), or keyframes (energies/contact/rigid_path.h: translations and turns
   /// of the placement at increasing times > 0), not both. Zero and none: static.

@@ -23,10 +23,10 @@ double meanEdgeLength(const ActorBlock& b) {
 std::string metres(double x) { return formatNumber("%.3g", x) + " m"; }
 
 /// Half the width of the solid's thinnest part, as its shape states it; infinite for the half-space. An SDF grid
-/// states no thinnest part (its spacing says little of it): it is judged by the most any point lies inside it, so
-/// only a grid thin everywhere is named.
+/// states none: it is judged by a bound from its samples (the thinnest of its ridges, sdfGridThinnestHalfWidth),
+/// which errs towards the wide, so a grid is named only for a part that is thin.
 double thinnestHalfWidth(const VolumeActorParams& v) {
-  if (v.kind == VolumeActorParams::Kind::SdfGrid) return v.sdfLargestDepth;
+  if (v.kind == VolumeActorParams::Kind::SdfGrid) return v.sdfThinnestHalfWidth;
   const VolumeShapePtr shape = analyticVolumeShape(v);
   return shape ? shape->thinnestHalfWidth() : std::numeric_limits<double>::infinity();
 }
@@ -76,7 +76,7 @@ std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::
       const double reach = w + combine(s.contact, v.contact).activationDistance;
       if (!(sampleGap > reach)) continue;
       const bool grid = v.kind == VolumeActorParams::Kind::SdfGrid;
-      add("volume actor '" + v.name + "' (" + (grid ? "an SDF grid with no point deeper inside than " + metres(w) :
+      add("volume actor '" + v.name + "' (" + (grid ? "an SDF grid, thinnest half-width at most " + metres(w) :
                                                "thinnest half-width " + metres(w)) +
           ") fits between the contact samples of shell actor '" + s.name + "' (" +
           (threePoint ? "three points a face" : "at its vertices or face centroids") + ", about " + metres(sampleGap) +

@@ -484,13 +484,13 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
       p.sdfSamples = first.sdfSamples;
       p.sdfShape = first.sdfShape;
       p.sdfBox = first.sdfBox;
-      p.sdfLargestDepth = first.sdfLargestDepth;
+      p.sdfThinnestHalfWidth = first.sdfThinnestHalfWidth;
     } else {
       at(o.member("file"), [&] {  // named errors now
         SdfGrid grid = readSdfGrid(p.sdfFile);
         p.sdfSamples = static_cast<std::int64_t>(grid.values.size());
         p.sdfBox = sdfGridBox(grid);
-        p.sdfLargestDepth = sdfGridLargestDepth(grid);
+        p.sdfThinnestHalfWidth = sdfGridThinnestHalfWidth(grid);
         p.sdfShape = makeSdfGridShape(std::move(grid));
       });
       sdfFiles.emplace(p.sdfFile, scene.volumes.size());
