@@ -175,6 +175,10 @@ double sdfGridLargestDepth(const SdfGrid& grid) {
 }
 
 double sdfGridThinnestHalfWidth(const SdfGrid& grid) {
+  const long long samples = static_cast<long long>(grid.values.size());
+  const long long plane = static_cast<long long>(grid.nx) * grid.ny;  // ints: no overflow in long long
+  if (grid.nx < 1 || grid.ny < 1 || grid.nz < 1 || plane > samples || plane * grid.nz != samples)
+    throw InputError("SDF grid: values do not match dims");
   const double halfDiagonal = 0.5 * std::sqrt(3.0) * grid.spacing;
   double thinnest = sdfGridLargestDepth(grid);
   const std::ptrdiff_t sx = 1, sy = grid.nx, sz = static_cast<std::ptrdiff_t>(grid.nx) * grid.ny;

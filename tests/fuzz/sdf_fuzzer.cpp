@@ -1,6 +1,7 @@
-// libFuzzer harness: any bytes as an SDF grid file. A grid that parses becomes a shape and is queried inside,
-// on and outside its box. Only InputError may come out; anything else (a crash, a sanitizer report, another
-// exception, a hang, memory beyond libFuzzer's -rss_limit_mb) is a defect.
+// libFuzzer harness: any bytes as an SDF grid file. A grid that parses is bounded as the scene reader bounds it
+// (its thinnest part), becomes a shape and is queried inside, on and outside its box. Only InputError may come
+// out; anything else (a crash, a sanitizer report, another exception, a hang, memory beyond libFuzzer's
+// -rss_limit_mb) is a defect.
 #include "core/mesh.h"
 #include "energies/contact/sdf_grid.h"
 
@@ -18,6 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     SdfGrid grid = parseSdfGrid(in, "fuzz.sdf");
     const Eigen::Vector3d low = grid.origin;
     const Eigen::Vector3d high = low + grid.spacing * Eigen::Vector3d(grid.nx - 1, grid.ny - 1, grid.nz - 1);
+    sdfGridThinnestHalfWidth(grid);  // the scene reader's bound on the thinnest part walks every sample
     const VolumeShapePtr shape = makeSdfGridShape(std::move(grid));
     for (double t : {-0.5, 0.0, 0.37, 1.0, 1.5}) shape->signedDistance(low + t * (high - low));
   } catch (const InputError&) {

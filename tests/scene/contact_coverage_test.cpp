@@ -3,6 +3,7 @@
 // 8 × 8 cloth below let a rod of radius 1 cm lying between two columns of vertices through untouched. At most 20
 // warnings are listed, the rest counted (a scene may hold 100,000 pairs).
 #include "tools/scene/contact_coverage.h"
+#include "core/mesh.h"
 #include "energies/contact/sdf_grid.h"
 #include "tools/scene/scene_json.h"
 #include "tools/scene/scene_model.h"
@@ -192,4 +193,6 @@ TEST_CASE("contact coverage: a thin part of a thick SDF grid is named, the thick
         cube.values.push_back(boxDistance(0.01 * Eigen::Vector3d(i, j, k), Eigen::Vector3d::Constant(0.1),
                                           Eigen::Vector3d::Constant(0.1)));
   CHECK(sdfGridThinnestHalfWidth(cube) == Approx(0.1 + 0.005 * std::sqrt(3.0)));
+  cube.values.pop_back();  // a grid whose values do not fill its dims is refused, not read past its end
+  CHECK_THROWS_AS(sdfGridThinnestHalfWidth(cube), InputError);
 }
