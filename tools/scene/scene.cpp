@@ -117,7 +117,7 @@ void checkSceneTotals(const SceneTotals& t, const std::string& where) {
 }
 
 void validate(const Scene& scene) {
-  check::finite(scene.gravity, "gravity");
+  check::finite(scene.gravity, "/gravity");
   check::normAtMost(scene.gravity, inputLimits().maxAcceleration, "/gravity");
   if (scene.shells.empty()) throw InputError("scene: no shell actor (nothing to simulate)");
   std::set<std::string> shellNames, volumeNames;
