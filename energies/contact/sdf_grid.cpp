@@ -16,6 +16,25 @@ namespace {
 
 constexpr long long kMaxSamples = 16777216;
 
+/// The grid's dims against its values (a grid built by a caller, not read from a file, may disagree): each at
+/// least 2, at most kMaxSamples in all, and as many values as they announce.
+void checkDims(const SdfGrid& grid) {
+  if (grid.nx < 2 || grid.ny < 2 || grid.nz < 2) throw InputError("SDF grid: each dimension must be >= 2");
+  const long long plane = static_cast<long long>(grid.nx) * grid.ny;  // ints: no overflow in long long
+  if (plane > kMaxSamples || plane * grid.nz > kMaxSamples) throw InputError("SDF grid: at most 16777216 samples");
+  if (plane * grid.nz != static_cast<long long>(grid.values.size()))
+    throw InputError("SDF grid: values do not match dims");
+}
+
+/// A bound on how deep any point of the solid lies inside it: the deepest sample's depth (or 0) plus half a cell's
+/// diagonal, since a signed distance changes no faster than the point moves and every point is that close to a
+/// sample.
+double largestDepth(const SdfGrid& grid) {
+  double deepest = 0.0;
+  for (const double v : grid.values) deepest = std::max(deepest, -v);
+  return deepest + 0.5 * std::sqrt(3.0) * grid.spacing;
+}
+
 class GridShape : public VolumeShape {
  public:
   explicit GridShape(SdfGrid g) : g_(std::move(g)) {}
@@ -151,11 +170,7 @@ SdfGrid parseSdfGrid(std::istream& in, const std::string& path) {
 }
 
 VolumeShapePtr makeSdfGridShape(SdfGrid grid) {
-  if (grid.nx < 2 || grid.ny < 2 || grid.nz < 2) throw InputError("SDF grid: each dimension must be >= 2");
-  const long long plane = static_cast<long long>(grid.nx) * grid.ny;  // ints: no overflow in long long
-  if (plane > kMaxSamples || plane * grid.nz > kMaxSamples) throw InputError("SDF grid: at most 16777216 samples");
-  if (plane * grid.nz != static_cast<long long>(grid.values.size()))
-    throw InputError("SDF grid: values do not match dims");
+  checkDims(grid);
   if (!(std::isfinite(grid.spacing) && grid.spacing > 0)) throw InputError("SDF grid: spacing must be > 0");
   const Eigen::Vector3d upper = grid.origin + grid.spacing * Eigen::Vector3d(grid.nx - 1, grid.ny - 1, grid.nz - 1);
   if (!grid.origin.allFinite() || !upper.allFinite()) throw InputError("SDF grid: its box must be finite");
@@ -168,19 +183,10 @@ Eigen::AlignedBox3d sdfGridBox(const SdfGrid& grid) {
   return {grid.origin, grid.origin + grid.spacing * Eigen::Vector3d(grid.nx - 1, grid.ny - 1, grid.nz - 1)};
 }
 
-double sdfGridLargestDepth(const SdfGrid& grid) {
-  double deepest = 0.0;
-  for (const double v : grid.values) deepest = std::max(deepest, -v);
-  return deepest + 0.5 * std::sqrt(3.0) * grid.spacing;
-}
-
 double sdfGridThinnestHalfWidth(const SdfGrid& grid) {
-  const long long samples = static_cast<long long>(grid.values.size());
-  const long long plane = static_cast<long long>(grid.nx) * grid.ny;  // ints: no overflow in long long
-  if (grid.nx < 1 || grid.ny < 1 || grid.nz < 1 || plane > samples || plane * grid.nz != samples)
-    throw InputError("SDF grid: values do not match dims");
+  checkDims(grid);
   const double halfDiagonal = 0.5 * std::sqrt(3.0) * grid.spacing;
-  double thinnest = sdfGridLargestDepth(grid);
+  double thinnest = largestDepth(grid);
   const std::ptrdiff_t sx = 1, sy = grid.nx, sz = static_cast<std::ptrdiff_t>(grid.nx) * grid.ny;
   for (int k = 1; k + 1 < grid.nz; ++k)
     for (int j = 1; j + 1 < grid.ny; ++j)

@@ -36,16 +36,14 @@ SdfGrid parseSdfGrid(std::istream& in, const std::string& name);
 VolumeShapePtr makeSdfGridShape(SdfGrid grid);
 /// The box the grid's samples span, in its local coordinates.
 Eigen::AlignedBox3d sdfGridBox(const SdfGrid& grid);
-/// A bound on how deep any point of the solid lies inside it (so on the radius of the largest ball it holds): the
-/// deepest sample's depth (minus the most negative value, or 0) plus half a cell's diagonal, since a signed
-/// distance changes no faster than the point moves and every point is that close to a sample.
-double sdfGridLargestDepth(const SdfGrid& grid);
 /// A bound on the half-width of the solid's thinnest part that the grid resolves: the smaller of the largest depth
-/// and, over the samples inside the solid and inside the grid whose depth is at least each of their 26
-/// neighbours' (a ridge: the middle of a plate, the axis of a rod, the centre of a ball), the least depth plus
-/// half a cell's diagonal. Half a diagonal is as far as such a sample can lie from the middle of a plate or a rod
-/// (a neighbour nearer the middle would be deeper), so the part there is no wider than that. A part that thickens
-/// along its length (a wedge, a neck) has no ridge of its own and is not seen: the bound errs towards the wide.
+/// (the deepest sample's depth plus half a cell's diagonal: no point lies deeper) and, over the samples inside the
+/// solid and inside the grid whose depth is at least each of their 26 neighbours' (a ridge: the middle of a plate,
+/// the axis of a rod, the centre of a ball), the least depth plus half a cell's diagonal. Half a diagonal is as far
+/// as such a sample can lie from the middle of a plate or a rod (a neighbour nearer the middle would be deeper), so
+/// the part there is no wider than that. A part that thickens along its length (a wedge, a neck) has no ridge of
+/// its own and is not seen: the bound errs towards the wide.
+/// Throws InputError for a grid whose dims and values disagree, as makeSdfGridShape does.
 double sdfGridThinnestHalfWidth(const SdfGrid& grid);
 
 }  // namespace jetshell
