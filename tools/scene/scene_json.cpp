@@ -54,13 +54,14 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (!v.isObject()) v.typeError("an object (a shape: {\"obj\": path}, {\"generator\": ...} or {\"vertices\", \"faces\"})");
   const nlohmann::json& j = v.raw();
   if (j.contains("obj")) {
-    const Object o = v.object({"obj"}, "an OBJ shape");
+    const Object o = v.object({"obj", "weld"}, "an OBJ shape");
     std::filesystem::path path = o.at("obj").string();
     if (path.is_relative()) path = std::filesystem::path(baseDirectory) / path;
-    return at(o.member("obj"), [&] { return CreateTriMeshShape(path.lexically_normal().string()); });
+    const ShapeHandle shape = at(o.member("obj"), [&] { return CreateTriMeshShape(path.lexically_normal().string()); });
+    return o.boolean("weld", false) ? at(o.member("weld"), [&] { return WeldOpenSeams(shape); }) : shape;
   }
   if (j.contains("vertices") || j.contains("faces")) {
-    const Object o = v.object({"vertices", "faces"}, "a shape given by arrays");
+    const Object o = v.object({"vertices", "faces", "weld"}, "a shape given by arrays");
     const std::vector<Value> rows = o.at("vertices").array(), faces = o.at("faces").array();
     check::atMost(static_cast<std::int64_t>(rows.size()), inputLimits().maxVertices, o.member("vertices") + " (count)");
     check::atMost(static_cast<std::int64_t>(faces.size()), inputLimits().maxFaces, o.member("faces") + " (count)");
@@ -72,7 +73,8 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
       if (corners.size() != 3) faces[k].typeError("an array of 3 vertex indices");
       for (int c = 0; c < 3; ++c) F(static_cast<Eigen::Index>(k), c) = corners[static_cast<std::size_t>(c)].integer();
     }
-    return at(v.pointer(), [&] { return CreateTriMeshShape(V, F); });
+    const ShapeHandle shape = at(v.pointer(), [&] { return CreateTriMeshShape(V, F); });
+    return o.boolean("weld", false) ? at(o.member("weld"), [&] { return WeldOpenSeams(shape); }) : shape;
   }
   if (!j.contains("generator"))
     v.error("missing \"obj\", \"generator\" or \"vertices\"/\"faces\" (a shell needs a triangle mesh)");

@@ -1,6 +1,7 @@
 #include "tools/scene/scene_model.h"
 
 #include "tools/scene/contact_coverage.h"
+#include "tools/scene/open_seams.h"
 
 #include "core/input_limits.h"
 #include "core/topology.h"
@@ -12,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <unordered_set>
 
 namespace jetshell {
 
@@ -147,6 +149,25 @@ SceneModel buildSceneModel(const Scene& scene) {
     geometry.push_back(std::move(g));
     v0 += local.numVertices();
     f0 += local.numFaces();
+  }
+  // Meshes read from a file or given as arrays that are cut where they may be meant to be joined (the generators'
+  // slits are meant); a shape several actors share is named once.
+  std::unordered_set<const TriangularMeshShape*> judged;
+  for (std::size_t a = 0; a < scene.shells.size(); ++a) {
+    const ShellActorParams& actor = scene.shells[a];
+    if (!judged.insert(actor.shape.get()).second || actor.shape->source.rfind("generator", 0) == 0) continue;
+    const OpenSeams seams = findOpenSeams(actor.shape->mesh, geometry[a].topology);
+    if (seams.vertices == 0) continue;
+    const std::array<int, 2>& first = seams.pairs.front();
+    const Eigen::IOFormat inRow(Eigen::StreamPrecision, Eigen::DontAlignCols, ", ", ", ");
+    std::ostringstream m;
+    m << "shell actor '" << actor.name << "': " << (seams.partial ? "at least " : "") << seams.vertices
+      << " vertices of its mesh (" << actor.shape->source << ") lie on others with no edge between them (within "
+      << seams.tolerance << " m, a thousandth of the mean edge), first vertices " << first[0] << " and " << first[1]
+      << " (counted from 0) at (" << geometry[a].world.row(first[0]).format(inRow)
+      << "): the mesh is cut there, and its sides move apart (\"weld\": true in the shape joins them; a slit is "
+         "meant so)";
+    model.warnings.push_back(m.str());
   }
   double meanEdge = 0.0;
   {

@@ -2,6 +2,7 @@
 
 #include "core/mesh_io.h"
 #include "core/topology.h"
+#include "tools/scene/open_seams.h"
 
 #include <string>
 
@@ -13,6 +14,16 @@ ShapeHandle CreateTriMeshShape(const Positions& vertices, const Faces& faces) {
 
 ShapeHandle CreateTriMeshShape(const std::string& objPath) {
   return CreateTriMeshShape(readObj(objPath), objPath, {});
+}
+
+ShapeHandle WeldOpenSeams(const ShapeHandle& shape) {
+  const OpenSeams seams = findOpenSeams(shape->mesh, buildTopology(shape->mesh));
+  if (seams.pairs.empty() && !seams.partial) return shape;
+  TriMesh welded = weldOpenSeams(shape->mesh, seams, shape->source);
+  const int removed = shape->mesh.numVertices() - welded.numVertices();
+  const std::string source = shape->source + ", " + std::to_string(seams.vertices) + " vertices welded into " +
+                             std::to_string(seams.vertices - removed);
+  return CreateTriMeshShape(std::move(welded), source, {});  // files and arrays name no vertex groups
 }
 
 ShapeHandle CreateTriMeshShape(TriMesh mesh, std::string source, std::map<std::string, std::vector<int>> groups) {

@@ -28,6 +28,11 @@ ShapeHandle CreateTriMeshShape(const Positions& vertices, const Faces& faces);
 /// A shape read from a Wavefront OBJ file. Throws InputError naming the file and line on any problem.
 ShapeHandle CreateTriMeshShape(const std::string& objPath);
 
+/// The shape with the vertices that lie on one another with no edge between them merged (tools/scene/open_seams.h),
+/// its source "<source>, N vertices welded into M". Throws InputError when there are too many to weld, or when
+/// the welded mesh is invalid (two panels that face opposite ways, a seam that pinches three faces onto an edge).
+ShapeHandle WeldOpenSeams(const ShapeHandle& shape);
+
 /// A shape from an already built mesh and its groups (used by the generators); validates like the others.
 ShapeHandle CreateTriMeshShape(TriMesh mesh, std::string source, std::map<std::string, std::vector<int>> groups);
 
