@@ -35,6 +35,21 @@ OpenSeams findOpenSeams(const TriMesh& mesh, const Topology& topology) {
     sorted[static_cast<std::size_t>(v)] = {c, v};
   }
   std::sort(sorted.begin(), sorted.end());
+  // A filter of the occupied cells (one bit per hashed cell, 8 bits a vertex): cells are a thousandth of an edge,
+  // so nearly every cell looked in is empty, and the filter answers for it without a binary search.
+  std::size_t bits = 64;
+  while (bits < 8 * static_cast<std::size_t>(n)) bits *= 2;
+  std::vector<std::uint64_t> occupied(bits / 64, 0);
+  auto bit = [&](const Cell& c) {
+    std::uint64_t x = static_cast<std::uint64_t>(c[0]) * 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 29) ^ static_cast<std::uint64_t>(c[1])) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 31) ^ static_cast<std::uint64_t>(c[2])) * 0x94D049BB133111EBull;
+    return (x ^ (x >> 32)) & (bits - 1);
+  };
+  for (const auto& entry : sorted) {
+    const std::uint64_t b = bit(entry.first);
+    occupied[b / 64] |= std::uint64_t{1} << (b % 64);
+  }
   // Edges as sorted (smaller, larger) pairs: two vertices an edge joins make a short edge, not a seam.
   std::vector<std::array<int, 2>> joined(static_cast<std::size_t>(edges));
   for (int e = 0; e < edges; ++e) joined[static_cast<std::size_t>(e)] = {topology.edges(e, 0), topology.edges(e, 1)};
@@ -42,6 +57,7 @@ OpenSeams findOpenSeams(const TriMesh& mesh, const Topology& topology) {
   long long budget = kOpenSeamVisits * n;
   // Vertex v against the later vertices of one cell; false once the budget (vertices visited) is spent.
   auto compare = [&](int v, const Cell& cell) {
+    if (const std::uint64_t b = bit(cell); !(occupied[b / 64] >> (b % 64) & 1)) return true;
     for (auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(cell, -1));
          it != sorted.end() && it->first == cell; ++it) {
       if (--budget < 0) return false;
