@@ -153,7 +153,9 @@ std::vector<HalfEdge> checkedHalfEdges(const TriMesh& mesh, const MeshNaming& na
     const Eigen::Vector3d x0 = mesh.V.row(mesh.F(f, 0)), x1 = mesh.V.row(mesh.F(f, 1)), x2 = mesh.V.row(mesh.F(f, 2));
     const double doubleArea = (x1 - x0).cross(x2 - x0).norm();
     const double scale = std::max({(x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(), (x2 - x1).squaredNorm()});
-    if (!(doubleArea > 1e-12 * scale) || scale == 0.0 || !std::isfinite(doubleArea)) {
+    if (!std::isfinite(doubleArea) || !std::isfinite(scale))
+      throw InputError(naming.subject(f) + " is too large to measure (its area overflows a double)");
+    if (!(doubleArea > 1e-12 * scale) || scale == 0.0) {
       std::ostringstream s;
       s << naming.subject(f) << " is degenerate (area " << 0.5 * doubleArea << ")";
       throw InputError(s.str());

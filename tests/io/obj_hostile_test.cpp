@@ -118,6 +118,9 @@ TEST_CASE("obj hostile: numbers", "[obj][hostile]") {
   CHECK(errorOf("v 1,5 0 0\n") == "m.obj:1: '1,5' is not a number");
   CHECK(errorOf("v 0 0 0 1 0 nan\n") == "m.obj:1: vertex coordinate 'nan' is not finite");  // colours are checked too
   CHECK(errorOf("v 0 0 0\nv 1e-200 0 0\nv 0 1e-200 0\nf 1 2 3\n").rfind("m.obj:4: face is degenerate (area ", 0) == 0);
+  // Finite coordinates whose area overflows: once called degenerate, "area inf".
+  CHECK(errorOf("v 0 0 0\nv 1e200 0 0\nv 0 1e200 0\nf 1 2 3\n") ==
+        "m.obj:4: face is too large to measure (its area overflows a double)");
 }
 
 TEST_CASE("obj hostile: line ends, byte-order mark and vertex colours are accepted", "[obj][hostile]") {

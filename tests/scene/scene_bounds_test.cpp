@@ -399,3 +399,36 @@ TEST_CASE("scene bounds: directions with huge or tiny components keep their dire
         "/actors/0/pointCloudCollider/radius = 1e-300: too small (at least 1e-6 m: the broad phase's cells are this "
         "wide)");
 }
+
+TEST_CASE("scene bounds: shape lengths are metres, at most 1e6, and \"scale\" converts a mesh in other units",
+          "[scene][hostile]") {
+  // Generators' lengths: a 1e308 m rectangle once met the reader as a non-finite vertex coordinate.
+  CHECK(boundsErrorAfter([](Json& s) { s["actors"][0]["shape"]["width"] = 1e308; }) ==
+        "/actors/0/shape/width = 1e+308: too large (at most 1e+06)");
+  CHECK(boundsErrorAfter([](Json& s) {
+          s["actors"][0]["shape"] = {{"generator", "hemisphere"}, {"radius", 2e6}, {"rings", 2}, {"segments", 3}};
+        }) == "/actors/0/shape/radius = 2e+06: too large (at most 1e+06)");
+  // A triangle 2 km across, written in millimetres, is 2e6 units from the origin.
+  const Json inMillimetres = {{"vertices", {{0, 0, 0}, {2e6, 0, 0}, {0, 2e6, 0}}}, {"faces", {{0, 1, 2}}}};
+  CHECK(boundsErrorAfter([&](Json& s) { s["actors"][0]["shape"] = inMillimetres; }) ==
+        "/actors/0/shape: arrays: vertex 1 (counted from 0) lies at (2e+06, 0, 0), over 1e+06 m from the origin in a "
+        "coordinate (lengths are in metres: a scene's \"scale\" converts a mesh in other units)");
+  Json scaled = inMillimetres;
+  scaled["scale"] = 0.001;
+  Json s = boundsScene();
+  s["actors"][0]["shape"] = scaled;
+  s["actors"][0]["fixed"] = {{{"select", {{"indices", {0}}}}}};
+  s["actors"][0]["probes"][0]["select"] = {{"nearest", {2000, 0, 0}}};
+  const SceneModel model = buildSceneModel(sceneFromJson(s, "."));
+  CHECK(model.world.V.row(1) == Eigen::RowVector3d(2000, 0, 0));
+  CHECK(model.probes.at(0).vertex == 1);
+  // An OBJ file alike, and the factor bounded.
+  const std::string obj = boundsTempPath("millimetres.obj");
+  std::ofstream(obj) << "v 0 0 0\nv 2e6 0 0\nv 0 2e6 0\nf 1 2 3\n";
+  s["actors"][0]["shape"] = {{"obj", obj}, {"scale", 0.001}};
+  CHECK(buildSceneModel(sceneFromJson(s, ".")).world.V.row(2) == Eigen::RowVector3d(0, 2000, 0));
+  s["actors"][0]["shape"]["scale"] = 0;
+  CHECK(boundsErrorOf(s) == "/actors/0/shape/scale = 0: must lie in [1e-06, 1e+06] (the factor to metres)");
+  s["actors"][0]["shape"]["scale"] = 1e7;
+  CHECK(boundsErrorOf(s) == "/actors/0/shape/scale = 1e+07: must lie in [1e-06, 1e+06] (the factor to metres)");
+}

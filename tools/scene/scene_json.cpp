@@ -41,6 +41,20 @@ double positive(const Object& o, const std::string& key) {
   return v;
 }
 
+/// A generator's length [m]: positive, and at most the bound on distances.
+double length(const Object& o, const std::string& key) {
+  const double v = positive(o, key);
+  check::atMostReal(v, inputLimits().maxDistance, o.member(key));
+  return v;
+}
+
+/// A file's or arrays' "scale": the factor to metres (0.001 for millimetres), in [1e-6, 1e6].
+double meshScale(const Object& o) {
+  const double s = o.number("scale", 1.0);
+  if (!(s >= 1e-6 && s <= 1e6)) check::fail(o.member("scale"), s, "must lie in [1e-06, 1e+06] (the factor to metres)");
+  return s;
+}
+
 /// A required resolution count: at least `minimum`, at most the vertex limit (the generator bounds the product).
 int atLeast(const Object& o, const std::string& key, int minimum) {
   return o.at(key).integer(minimum, static_cast<int>(inputLimits().maxVertices));
@@ -54,14 +68,17 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (!v.isObject()) v.typeError("an object (a shape: {\"obj\": path}, {\"generator\": ...} or {\"vertices\", \"faces\"})");
   const nlohmann::json& j = v.raw();
   if (j.contains("obj")) {
-    const Object o = v.object({"obj", "weld"}, "an OBJ shape");
+    const Object o = v.object({"obj", "scale", "weld"}, "an OBJ shape");
     std::filesystem::path path = o.at("obj").string();
     if (path.is_relative()) path = std::filesystem::path(baseDirectory) / path;
-    const ShapeHandle shape = at(o.member("obj"), [&] { return CreateTriMeshShape(path.lexically_normal().string()); });
+    const double scale = meshScale(o);
+    const ShapeHandle shape =
+        at(o.member("obj"), [&] { return CreateTriMeshShape(path.lexically_normal().string(), scale); });
     return o.boolean("weld", false) ? at(o.member("weld"), [&] { return WeldOpenSeams(shape); }) : shape;
   }
   if (j.contains("vertices") || j.contains("faces")) {
-    const Object o = v.object({"vertices", "faces", "weld"}, "a shape given by arrays");
+    const Object o = v.object({"vertices", "faces", "scale", "weld"}, "a shape given by arrays");
+    const double scale = meshScale(o);
     const std::vector<Value> rows = o.at("vertices").array(), faces = o.at("faces").array();
     check::atMost(static_cast<std::int64_t>(rows.size()), inputLimits().maxVertices, o.member("vertices") + " (count)");
     check::atMost(static_cast<std::int64_t>(faces.size()), inputLimits().maxFaces, o.member("faces") + " (count)");
@@ -73,7 +90,7 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
       if (corners.size() != 3) faces[k].typeError("an array of 3 vertex indices");
       for (int c = 0; c < 3; ++c) F(static_cast<Eigen::Index>(k), c) = corners[static_cast<std::size_t>(c)].integer();
     }
-    const ShapeHandle shape = at(v.pointer(), [&] { return CreateTriMeshShape(V, F); });
+    const ShapeHandle shape = at(v.pointer(), [&] { return CreateTriMeshShape(scale * V, F); });
     return o.boolean("weld", false) ? at(o.member("weld"), [&] { return WeldOpenSeams(shape); }) : shape;
   }
   if (!j.contains("generator"))
@@ -90,7 +107,7 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   }
   if (generator == "rectangle") {
     const Object o = v.object({"generator", "width", "height", "nx", "ny", "diagonals"}, "a rectangle generator");
-    const double w = positive(o, "width"), h = positive(o, "height");
+    const double w = length(o, "width"), h = length(o, "height");
     const int nx = atLeast(o, "nx", 1), ny = atLeast(o, "ny", 1);
     const QuadDiagonals split = diagonals(o);
     return at(v.pointer(), [&] { return makeRectangleShape(w, h, nx, ny, split); });
@@ -99,7 +116,7 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
     const Object o =
         v.object({"generator", "innerRadius", "outerRadius", "rings", "nodesPerRing", "diagonals", "ringSpacing"},
                  "a slitAnnulus generator");
-    const double ri = positive(o, "innerRadius"), ro = positive(o, "outerRadius");
+    const double ri = length(o, "innerRadius"), ro = length(o, "outerRadius");
     if (!(ro > ri)) check::fail(o.member("outerRadius"), ro, "must be > innerRadius");
     const int rings = atLeast(o, "rings", 2), nodes = atLeast(o, "nodesPerRing", 4);
     const RingSpacing spacing = ringSpacingFromString(o.choice("ringSpacing", {"uniform", "cosine"}, "uniform"));
@@ -109,17 +126,17 @@ ShapeHandle readShape(const Value& v, const std::string& baseDirectory) {
   if (generator == "cylinder") {
     const Object o = v.object({"generator", "radius", "length", "arcDegrees", "nAround", "nAlong", "diagonals"},
                               "a cylinder generator");
-    const double r = positive(o, "radius"), length = positive(o, "length");
+    const double r = length(o, "radius"), along = length(o, "length");
     const double arc = o.number("arcDegrees", 360.0);
     if (!(arc > 0 && arc <= 360)) check::fail(o.member("arcDegrees"), arc, "must lie in (0, 360]");
     const int nAround = atLeast(o, "nAround", arc == 360.0 ? 3 : 1), nAlong = atLeast(o, "nAlong", 1);
     const QuadDiagonals split = diagonals(o);
     return at(v.pointer(),
-              [&] { return makeCylinderShape(r, length, arc * kRadiansPerDegree, nAround, nAlong, split); });
+              [&] { return makeCylinderShape(r, along, arc * kRadiansPerDegree, nAround, nAlong, split); });
   }
   const Object o = v.object({"generator", "radius", "rings", "segments", "holeDegrees", "azimuthDegrees", "diagonals"},
                             "a hemisphere generator");
-  const double r = positive(o, "radius");
+  const double r = length(o, "radius");
   const int rings = atLeast(o, "rings", 1);
   const double hole = o.number("holeDegrees", 0.0), azimuth = o.number("azimuthDegrees", 360.0);
   if (!(hole >= 0 && hole < 90)) check::fail(o.member("holeDegrees"), hole, "must lie in [0, 90)");

@@ -1,9 +1,11 @@
 #include "tools/scene/shapes.h"
 
+#include "core/input_limits.h"
 #include "core/mesh_io.h"
 #include "core/topology.h"
 #include "tools/scene/open_seams.h"
 
+#include <sstream>
 #include <string>
 
 namespace jetshell {
@@ -12,8 +14,10 @@ ShapeHandle CreateTriMeshShape(const Positions& vertices, const Faces& faces) {
   return CreateTriMeshShape(TriMesh{vertices, faces}, "arrays", {});
 }
 
-ShapeHandle CreateTriMeshShape(const std::string& objPath) {
-  return CreateTriMeshShape(readObj(objPath), objPath, {});
+ShapeHandle CreateTriMeshShape(const std::string& objPath, double scale) {
+  TriMesh mesh = readObj(objPath);
+  mesh.V *= scale;
+  return CreateTriMeshShape(std::move(mesh), objPath, {});
 }
 
 ShapeHandle WeldOpenSeams(const ShapeHandle& shape) {
@@ -28,6 +32,16 @@ ShapeHandle WeldOpenSeams(const ShapeHandle& shape) {
 
 ShapeHandle CreateTriMeshShape(TriMesh mesh, std::string source, std::map<std::string, std::vector<int>> groups) {
   buildTopology(mesh);  // validation; the topology itself is rebuilt where it is used
+  // Metres, as every length of a scene: a coordinate beyond the bound on distances is a mesh in other units.
+  const double far = inputLimits().maxDistance;
+  for (int v = 0; v < mesh.numVertices(); ++v)
+    if (!(mesh.V.row(v).cwiseAbs().maxCoeff() <= far)) {
+      std::ostringstream m;
+      m << source << ": vertex " << v << " (counted from 0) lies at (" << mesh.V(v, 0) << ", " << mesh.V(v, 1)
+        << ", " << mesh.V(v, 2) << "), over " << far << " m from the origin in a coordinate (lengths are in "
+        << "metres: a scene's \"scale\" converts a mesh in other units)";
+      throw InputError(m.str());
+    }
   if (const int v = firstVertexWithoutFace(mesh); v >= 0)
     throw InputError(source + ": vertex " + std::to_string(v) + " (counted from 0) belongs to no face: a shell "
                      "vertex without a face has no stiffness and no mass (remove it from the mesh)");

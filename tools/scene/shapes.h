@@ -22,11 +22,13 @@ struct TriangularMeshShape {
 using ShapeHandle = std::shared_ptr<const TriangularMeshShape>;
 
 /// A shape from vertex positions (N×3) and faces (F×3). Throws InputError when the mesh is invalid (index out
-/// of range, degenerate or non-manifold faces, inconsistent orientation, non-finite coordinates, empty).
+/// of range, degenerate or non-manifold faces, inconsistent orientation, non-finite coordinates, a coordinate
+/// beyond inputLimits().maxDistance metres, empty).
 ShapeHandle CreateTriMeshShape(const Positions& vertices, const Faces& faces);
 
-/// A shape read from a Wavefront OBJ file. Throws InputError naming the file and line on any problem.
-ShapeHandle CreateTriMeshShape(const std::string& objPath);
+/// A shape read from a Wavefront OBJ file, its coordinates multiplied by `scale` (0.01 for a file in
+/// centimetres). Throws InputError naming the file and line on any problem.
+ShapeHandle CreateTriMeshShape(const std::string& objPath, double scale = 1.0);
 
 /// The shape with the vertices that lie on one another with no edge between them merged (tools/scene/open_seams.h),
 /// its source "<source>, N vertices welded into M". Throws InputError when there are too many to weld, or when
