@@ -132,3 +132,24 @@ TEST_CASE("open seams: a scene names a shape cut where it may be meant to be joi
   CHECK(welded.warnings.empty());
   CHECK(welded.numVertices() == 4);
 }
+
+TEST_CASE("open seams: the garment example's panels, in centimetres, scaled and welded are the T-shirt generator's",
+          "[scene]") {
+  // examples/meshes/tshirt_panels_cm.obj: the generator's shirt at resolution 2 with its 88 seam vertices written
+  // once for each panel, in centimetres.
+  const Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/garment_from_obj.json");
+  const TriangularMeshShape& shape = *scene.shells.at(0).shape;
+  const std::string welded = "tshirt_panels_cm.obj, 176 vertices welded into 88";
+  REQUIRE(shape.source.size() > welded.size());
+  CHECK(shape.source.substr(shape.source.size() - welded.size()) == welded);
+  const TriMesh generated = makeTShirt(2).mesh;
+  REQUIRE(shape.mesh.numVertices() == generated.numVertices());
+  CHECK((shape.mesh.V - generated.V).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK(shape.mesh.F == generated.F);
+  // Unwelded, the reader names the seams.
+  const ShapeHandle panels =
+      CreateTriMeshShape(std::string(JETSHELL_SOURCE_DIR) + "/examples/meshes/tshirt_panels_cm.obj", 0.01);
+  const OpenSeams seams = seamsOf(panels->mesh);
+  CHECK(seams.vertices == 176);
+  CHECK(seams.pairs.size() == 88);
+}
