@@ -63,7 +63,7 @@ TEST_CASE("open seams: the slit annulus's slit is found, the T-shirt generator's
 
 TEST_CASE("open seams: thousands of vertices crowded in one place end the search at its budget", "[scene]") {
   // 300 copies of one triangle, none sharing a vertex: each corner's 300 copies share a cell, 90,000 visits there
-  // against a budget of 64 a vertex (57,600).
+  // against a budget of 64 visits a vertex (57,600 in all).
   const int copies = 300;
   TriMesh m;
   m.V.resize(3 * copies, 3);
@@ -77,8 +77,8 @@ TEST_CASE("open seams: thousands of vertices crowded in one place end the search
   CHECK(s.vertices > 0);
   CHECK(s.vertices <= 3 * copies);
   CHECK_THROWS_WITH(WeldOpenSeams(CreateTriMeshShape(m.V, m.F)),
-                    "arrays: cannot weld: over 64 vertices a vertex lie within the tolerance of one another (or "
-                    "coordinates are too far from the origin for it)");
+                    "arrays: cannot weld: too many vertices lie within the tolerance of one another for a search "
+                    "of 64 visits a vertex (or a coordinate is over 1e15 tolerances from the origin)");
 }
 
 TEST_CASE("open seams: welding joins a cut mesh, and refuses one whose sides face opposite ways", "[scene]") {

@@ -1,6 +1,5 @@
 #include "tools/scene/open_seams.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -84,8 +83,9 @@ OpenSeams findOpenSeams(const TriMesh& mesh, const Topology& topology) {
 
 TriMesh weldOpenSeams(const TriMesh& mesh, const OpenSeams& seams, const std::string& where) {
   if (seams.partial)
-    throw InputError(where + ": cannot weld: over " + std::to_string(kOpenSeamVisits) + " vertices a vertex lie " +
-                     "within the tolerance of one another (or coordinates are too far from the origin for it)");
+    throw InputError(where + ": cannot weld: too many vertices lie within the tolerance of one another for a search " +
+                     "of " + std::to_string(kOpenSeamVisits) + " visits a vertex (or a coordinate is over 1e15 " +
+                     "tolerances from the origin)");
   // Union-find over the pairs; each group's root is its smallest id.
   std::vector<int> root(static_cast<std::size_t>(mesh.numVertices()));
   std::iota(root.begin(), root.end(), 0);

@@ -17,8 +17,8 @@
 
 namespace jetshell {
 
-/// The tolerance is kOpenSeamTolerance × the mean edge length. The search visits at most kOpenSeamVisits
-/// vertices a vertex (a mesh with thousands of vertices crowded within the tolerance would take quadratic time).
+/// The tolerance is kOpenSeamTolerance × the mean edge length. The search visits at most kOpenSeamVisits × n
+/// vertices in all (a mesh with thousands of vertices crowded within the tolerance would take quadratic time).
 constexpr double kOpenSeamTolerance = 1e-3;
 constexpr long long kOpenSeamVisits = 64;
 
