@@ -62,8 +62,8 @@ TEST_CASE("open seams: the slit annulus's slit is found, the T-shirt generator's
 }
 
 TEST_CASE("open seams: thousands of vertices crowded in one place end the search at its budget", "[scene]") {
-  // 300 copies of one triangle, none sharing a vertex: each corner's 300 copies share a cell, 90,000 visits there
-  // against a budget of 64 visits a vertex (57,600 in all).
+  // 300 copies of one triangle, none sharing a vertex: each corner's 300 copies share a cell, 44,850 pairs and
+  // 90,000 visits there, against budgets of 4 pairs (3,600 in all) and 64 visits (57,600) a vertex.
   const int copies = 300;
   TriMesh m;
   m.V.resize(3 * copies, 3);

@@ -4,9 +4,8 @@
 // and welds them when the shape asks ("weld": true).
 //
 // Input: the actor's mesh and topology. Output: the pairs of vertices within a small tolerance (1e-3 of the mean
-// edge) of one another that no edge joins. The vertices are sorted by the cell of that size they fall in, and
-// each looks in the cells around it: O(n log n), serial (the scene reader is part of the parser library, which
-// runs without threads).
+// edge) of one another that no edge joins, found by the reader's bounded search for near pairs
+// (tools/scene/near_pairs.h): O(n log n), serial.
 #pragma once
 
 #include "core/mesh.h"
@@ -21,13 +20,16 @@ namespace jetshell {
 /// vertices in all (a mesh with thousands of vertices crowded within the tolerance would take quadratic time).
 constexpr double kOpenSeamTolerance = 1e-3;
 constexpr long long kOpenSeamVisits = 64;
+/// At most this many pairs a vertex are kept; past it the search stops (partial).
+constexpr long long kOpenSeamPairs = 4;
 
 struct OpenSeams {
   double tolerance = 0.0;                  // m: vertices closer than this lie on one another
   std::vector<std::array<int, 2>> pairs;   // (smaller id, larger), sorted
   int vertices = 0;                        // distinct vertices in `pairs`
-  /// The search stopped at its budget, so `pairs` may be incomplete. Also set, with no pairs, for a mesh whose
-  /// coordinates cannot be placed in cells of the tolerance's size (over 1e15 tolerances from the origin).
+  /// The search stopped at its budget of visits or of pairs, so `pairs` may be incomplete. Also set, with no
+  /// pairs, for a mesh whose coordinates cannot be placed in cells of the tolerance's size (over 1e15 tolerances
+  /// from the origin).
   bool partial = false;
 };
 

@@ -1,5 +1,6 @@
 #include "tools/scene/scene_model.h"
 
+#include "tools/scene/contact_at_start.h"
 #include "tools/scene/contact_coverage.h"
 #include "tools/scene/open_seams.h"
 
@@ -285,6 +286,7 @@ SceneModel buildSceneModel(const Scene& scene) {
     model.probes.push_back({p.name, p.actor, vertex, model.world.V.row(vertex).transpose()});
   }
   for (std::string& w : contactCoverageWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
+  for (std::string& w : contactAtStartWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
   return model;
 }
 
