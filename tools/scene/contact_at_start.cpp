@@ -68,7 +68,7 @@ std::vector<std::string> contactAtStartWarnings(const Scene& scene, const std::v
   const std::string atLeast = complete ? "" : "at least ";
   for (const auto& [actorPair, t] : byActors) {
     if (warnings.size() == kMostWarnings) {
-      warnings.push_back("and " + std::to_string(byActors.size() - kMostWarnings) + " more actors that start so");
+      warnings.push_back("and " + std::to_string(byActors.size() - kMostWarnings) + " more actors or pairs of actors that start in contact");
       break;
     }
     const std::string& a = scene.shells[static_cast<std::size_t>(actorPair.first)].name;

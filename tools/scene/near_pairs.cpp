@@ -1,9 +1,11 @@
 #include "tools/scene/near_pairs.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <utility>
+#include <vector>
 
 namespace jetshell {
 
