@@ -181,6 +181,13 @@ int firstVertexWithoutFace(const TriMesh& mesh) {
   return -1;
 }
 
+double meanEdgeLength(const TriMesh& mesh, const Topology& topology) {
+  double sum = 0.0;
+  for (int e = 0; e < topology.numEdges(); ++e)
+    sum += (mesh.V.row(topology.edges(e, 0)) - mesh.V.row(topology.edges(e, 1))).norm();
+  return topology.numEdges() > 0 ? sum / topology.numEdges() : 0.0;
+}
+
 void validateMesh(const TriMesh& mesh) { checkedHalfEdges(mesh, defaultNaming(mesh)); }
 
 void validateMesh(const TriMesh& mesh, const MeshNaming& naming) { checkedHalfEdges(mesh, naming); }

@@ -58,6 +58,9 @@ Topology buildTopology(const TriMesh& mesh);
 /// buildTopology does not, since an actor's faces index the vertices of all actors stacked).
 int firstVertexWithoutFace(const TriMesh& mesh);
 
+/// The mean length of the mesh's edges (each edge once), or 0 for a mesh without edges.
+double meanEdgeLength(const TriMesh& mesh, const Topology& topology);
+
 /// The validation part of buildTopology alone, with the default naming or the caller's.
 void validateMesh(const TriMesh& mesh);
 void validateMesh(const TriMesh& mesh, const MeshNaming& naming);

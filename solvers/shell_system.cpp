@@ -48,17 +48,6 @@ std::vector<char> vertexBlock(const std::vector<char>& mask, int first, int coun
 
 namespace {
 
-double meanEdgeLength(const TriMesh& mesh, const Topology& topo) {
-  double sum = 0.0;
-  for (int e = 0; e < topo.numEdges(); ++e)
-    sum += (mesh.V.row(topo.edges(e, 0)) - mesh.V.row(topo.edges(e, 1))).norm();
-  return topo.numEdges() > 0 ? sum / topo.numEdges() : 1.0;
-}
-
-}  // namespace
-
-namespace {
-
 /// The actors to build: the problem's, or one made of its mesh and material.
 std::vector<ShellActorPart> actorsOf(const ShellProblem& p) {
   if (!p.actors.empty()) return p.actors;
@@ -295,7 +284,8 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
   objective_.setPrescribed(p.prescribed);
 
   PhysicalScales scales;
-  scales.length = meanEdgeLength(mesh_, topology_);
+  const double meanEdge = meanEdgeLength(mesh_, topology_);
+  scales.length = meanEdge > 0.0 ? meanEdge : 1.0;  // 1 m for a mesh without edges
   scales.force = momentForce / scales.length;
   for (int v = 0; v < n; ++v) {
     Eigen::Vector3d f = Eigen::Vector3d::Zero();

@@ -123,10 +123,7 @@ CheckMesh makeCheckMesh(std::string name, TriMesh mesh) {
   c.name = std::move(name);
   c.topology = buildTopology(mesh);
   c.reference = computeReference(mesh, c.topology);
-  double sum = 0.0;
-  for (int e = 0; e < c.topology.numEdges(); ++e)
-    sum += (mesh.V.row(c.topology.edges(e, 0)) - mesh.V.row(c.topology.edges(e, 1))).norm();
-  c.meanEdgeLength = sum / c.topology.numEdges();
+  c.meanEdgeLength = meanEdgeLength(mesh, c.topology);
   c.mesh = std::move(mesh);
   return c;
 }

@@ -12,14 +12,6 @@ namespace jetshell {
 
 namespace {
 
-double meanEdgeLength(const ActorBlock& b) {
-  double sum = 0.0;
-  const int n = b.topology.numEdges();
-  for (int e = 0; e < n; ++e)
-    sum += (b.mesh.V.row(b.topology.edges(e, 0)) - b.mesh.V.row(b.topology.edges(e, 1))).norm();
-  return n > 0 ? sum / n : 0.0;
-}
-
 std::string metres(double x) { return formatNumber("%.3g", x) + " m"; }
 
 /// Half the width of the solid's thinnest part, as its shape states it; infinite for the half-space. An SDF grid
@@ -58,7 +50,7 @@ std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::
   for (const VolumeActorParams& v : scene.volumes) thinnest.push_back(thinnestHalfWidth(v));
   for (std::size_t a = 0; a < scene.shells.size() && a < actors.size(); ++a) {
     const ShellActorParams& s = scene.shells[a];
-    const double gap = toMiddle * meanEdgeLength(actors[a]);
+    const double gap = toMiddle * meanEdgeLength(actors[a].mesh, actors[a].topology);
     if (!(gap > 0.0)) continue;
     if (pointContact && s.colliderType == ColliderType::PointCloud) {
       const double r = s.pointCloudCollider.radius;

@@ -13,9 +13,7 @@ OpenSeams findOpenSeams(const TriMesh& mesh, const Topology& topology) {
   OpenSeams seams;
   const int edges = topology.numEdges();
   if (edges == 0) return seams;
-  double total = 0.0;
-  for (int e = 0; e < edges; ++e) total += (mesh.V.row(topology.edges(e, 0)) - mesh.V.row(topology.edges(e, 1))).norm();
-  const double h = kOpenSeamTolerance * total / edges;
+  const double h = kOpenSeamTolerance * meanEdgeLength(mesh, topology);
   seams.tolerance = h;
   if (!(h > 0.0)) return seams;
   // Edges as sorted (smaller, larger) pairs: two vertices an edge joins make a short edge, not a seam.

@@ -170,13 +170,7 @@ SceneModel buildSceneModel(const Scene& scene) {
          "meant so)";
     model.warnings.push_back(m.str());
   }
-  double meanEdge = 0.0;
-  {
-    const Topology topo = buildTopology(model.world);
-    for (int e = 0; e < topo.numEdges(); ++e)
-      meanEdge += (model.world.V.row(topo.edges(e, 0)) - model.world.V.row(topo.edges(e, 1))).norm();
-    meanEdge /= std::max(1, topo.numEdges());
-  }
+  const double meanEdge = meanEdgeLength(model.world, buildTopology(model.world));
   auto select = [&](int actor, const VertexSelection& s, const std::string& where) {
     const ShellActorParams& a = scene.shells[static_cast<std::size_t>(actor)];
     const ActorGeometry& g = geometry[static_cast<std::size_t>(actor)];
