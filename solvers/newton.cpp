@@ -112,6 +112,15 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     roundOffBound = std::min(s.roundOffFloor, kFloorCeiling * forceScale);
   };
 
+  // Why a residual above 1% of F cannot pass: rounding the positions alone leaves more (said when it stops).
+  auto floorNote = [&]() -> std::string {
+    if (!(r > kFloorCeiling * forceScale && s.roundOffFloor > kFloorCeiling * forceScale)) return "";
+    std::ostringstream m;
+    m << "; the residual's round-off floor " << s.roundOffFloor << " N is above 1% of the force scale " << forceScale
+      << " N: the loads move the shell by less than its positions' round-off";
+    return m.str();
+  };
+
   auto finish = [&](TerminationReason reason, const std::string& message) {
     s.reason = reason;
     if (reason == TerminationReason::Converged && s.convergenceTest.empty()) s.convergenceTest = "residual";
@@ -254,9 +263,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       s.assemblySeconds += rec.assemblySeconds;
       std::ostringstream m;
       m << "reached " << o.maxIterations << " iterations with residual " << r << " N > " << scaledTolerance << " N";
-      if (r > kFloorCeiling * forceScale && s.roundOffFloor > kFloorCeiling * forceScale)
-        m << "; the residual's round-off floor " << s.roundOffFloor << " N is above 1% of the force scale " << forceScale
-          << " N: the loads move the shell by less than its positions' round-off";
+      m << floorNote();
       return finish(TerminationReason::IterationCap, m.str());
     }
     // Modified Newton: the direction from the last factor, nothing assembled (NewtonOptions::reuseFactor).
@@ -403,7 +410,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       std::ostringstream m;
       m << "stalled: Newton decrement " << decrement << " J <= " << decrementThreshold << " J"
         << (moved ? "" : " (the step raised the energy)") << " but residual " << r << " N > " << scaledTolerance
-        << " N";
+        << " N" << floorNote();
       return finish(TerminationReason::Stalled, m.str());
     }
 

@@ -326,4 +326,23 @@ TEST_CASE("newton: a floor above 1% of the load still gives a round-off pass, a 
   INFO("tiny load: " << tiny.message);
   checkClaim(tiny);
   CHECK_FALSE(tiny.converged());
+  // ...and says why, whether it stalls or reaches the cap.
+  CHECK_THAT(tiny.message, Catch::Contains("the loads move the shell by less than its positions' round-off"));
+}
+
+TEST_CASE("newton: a material too stiff for its load to move it past round-off stalls and says why",
+          "[newton][convergence]") {
+  testing::SingleThread single;
+  // E = 1e30 Pa: the load's displacement (about 1e-25 m) is lost in rounding positions of order 1 m (the plate
+  // lies at z = 1, so even its out-of-plane motion is), the Newton step releases next to no energy and the
+  // residual stays at the load. Measured: the solve stalled, its message naming neither the floor nor the cause.
+  ShellProblem p = offsetCantilever(1e-2, Eigen::Vector3d(1.0, 1.0, 1.0));
+  p.material = ShellMaterialParamsFrom3dIsotropic(1e30, 0.3, 1000.0, 0.01);
+  SolverSummary s;
+  solveStatic(p, s);
+  INFO(s.message);
+  checkClaim(s);
+  REQUIRE(s.reason == TerminationReason::Stalled);
+  CHECK(s.roundOffFloor > 1e-2 * s.forceScale);
+  CHECK_THAT(s.message, Catch::Contains("the loads move the shell by less than its positions' round-off"));
 }
