@@ -204,20 +204,23 @@ double VolumeContactState::solidTravel(const Eigen::VectorXd& x, const Eigen::Ve
   if (path.isStatic() || !(h > 0.0)) return 0.0;
   // Over a piece of constant velocities from t to t + Δ a material point at p moves to c(t) + Δ v + Rot(ω Δ)
   // (p − c(t)) (rigid_path.h); a turn about an axis of the shape's symmetry leaves its surface in place and is left
-  // out. Over several pieces (keyframes) the point is followed through them and its moves added up.
+  // out. Over several pieces (keyframes) the point is followed through them and its moves added up. A move is the
+  // length of the point's path, |Δ v| + |ω| Δ ρ (ρ its distance from the axis), not the chord to where it ends: a
+  // solid that turns by a whole turn within the step ends where it began, and sweeps everything within its reach.
   struct Move {
-    Eigen::Vector3d centre, shift;
-    Eigen::Matrix3d turn;  // Rot(ω' Δ) − I
+    Eigen::Vector3d centre, shift, axis;  // axis: ω' / |ω'| (zero without a turn)
+    double angle;                         // |ω'| Δ [rad]
+    Eigen::Matrix3d turn;                 // Rot(ω' Δ) − I
   };
   std::vector<Move> moves;
   for (const RigidPath::Piece& piece : path.piecesOver(tStart, h)) {
     const Eigen::Vector3d omega = collider->surfaceTurning(piece);
     const double angle = omega.norm() * piece.duration;
+    const Eigen::Vector3d axis = angle > 0.0 ? Eigen::Vector3d(omega.normalized()) : Eigen::Vector3d::Zero();
     const Eigen::Matrix3d turn =
-        angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, omega.normalized()).toRotationMatrix() -
-                                      Eigen::Matrix3d::Identity())
+        angle > 0.0 ? Eigen::Matrix3d(Eigen::AngleAxisd(angle, axis).toRotationMatrix() - Eigen::Matrix3d::Identity())
                     : Eigen::Matrix3d::Zero();
-    moves.push_back({path.originAt(piece.start), piece.duration * piece.velocity, turn});
+    moves.push_back({path.originAt(piece.start), piece.duration * piece.velocity, axis, angle, turn});
   }
   double largest = 0.0;
   for (int e = 0; e < sampling.numElements(); ++e)
@@ -226,9 +229,10 @@ double VolumeContactState::solidTravel(const Eigen::VectorXd& x, const Eigen::Ve
       double move = 0.0;
       Eigen::Vector3d m = p;
       for (const Move& piece : moves) {
-        const Eigen::Vector3d step = piece.shift + piece.turn * (m - piece.centre);
-        move += step.norm();
-        m += step;
+        const Eigen::Vector3d arm = m - piece.centre;
+        const double fromAxis = (arm - piece.axis * piece.axis.dot(arm)).norm();
+        move += piece.shift.norm() + piece.angle * fromAxis;
+        m += piece.shift + piece.turn * arm;
       }
       if (!(move > largest)) continue;
       const double reach = move + h * point(v, e, q).norm() + params.activationDistance;

@@ -55,8 +55,9 @@ struct VolumeContactState {
   /// sum over the sample points of −A_q k r(p_q) ∇d, the reaction to the penalty's push on the shell (friction
   /// and damping, forces of a step, are not counted).
   Eigen::Vector3d forceOnSolid(const Eigen::VectorXd& x, double t) const;
-  /// The farthest the solid's material moves over [tStart, tStart + h] at a sample point it may reach in that
-  /// time: one whose distance at tStart is at most that move, the sample's own move (|velocity| h) and the
+  /// The longest path the solid's material travels over [tStart, tStart + h] (a path, not a chord: a whole turn
+  /// counts its circumference) at a sample point it may reach in that time: one whose distance at tStart is at
+  /// most that move, the sample's own move (|velocity| h) and the
   /// activation distance [m]. 0 for a static solid; a turn that leaves its surface in place (a ball about its
   /// centre, a capsule about its axis: VolumeShape::surfaceTurning) moves nothing; across keyframes the moves
   /// over each piece of the step add up (RigidPath::piecesOver). x, v: positions and velocities (3N) at tStart.

@@ -255,16 +255,17 @@ TEST_CASE("contact terms: a moving solid's travel over a step counts at the samp
   falling[2] = -3.0;
   CHECK(rising.solidTravel(x, falling, 0.0, 0.01) == Approx(0.02));
   // The cube turning at 10 rad/s about z for 0.1 s: the sample on the axis does not move, the other 10 cm off
-  // it moves by the chord 2 · 0.1 · sin(0.5). The ball turning so stays in place, and so does a capsule turning
-  // about its own axis (local z); about another axis it sweeps.
+  // it travels the arc 0.1 · 1 rad (its chord, 2 · 0.1 · sin(0.5), would miss what a longer turn sweeps). The
+  // ball turning so stays in place, and so does a capsule turning about its own axis (local z); about another
+  // axis it sweeps.
   const VolumeContactState cube(c.sampling, solid(makeBoxShape({0.05, 0.05, 0.05}), {0, 0, 0}, {0, 0, 10.0}), c.params);
-  CHECK(cube.solidTravel(x, still, 0.0, 0.1) == Approx(0.2 * std::sin(0.5)));
+  CHECK(cube.solidTravel(x, still, 0.0, 0.1) == Approx(0.1 * 1.0));
   const VolumeContactState spinningBall(c.sampling, ball({0.0, 0.0, 0.0}, {3.0, -4.0, 10.0}), c.params);
   CHECK(spinningBall.solidTravel(x, still, 0.0, 0.1) == 0.0);
   const VolumeContactState rolling(c.sampling, solid(makeCapsuleShape(0.05, 0.0), {0, 0, 0}, {0, 0, 10.0}), c.params);
   CHECK(rolling.solidTravel(x, still, 0.0, 0.1) == 0.0);
   const VolumeContactState tumbling(c.sampling, solid(makeCapsuleShape(0.05, 0.0), {0, 0, 0}, {0, 10.0, 0}), c.params);
-  CHECK(tumbling.solidTravel(x, still, 0.0, 0.1) == Approx(0.2 * std::sin(0.5)));
+  CHECK(tumbling.solidTravel(x, still, 0.0, 0.1) == Approx(0.1 * 1.0));
   // Later the centre has moved with the path: 1 s at 2 m/s leaves the ball 2 m above both samples.
   CHECK(rising.solidTravel(x, still, 1.0, 0.01) == 0.0);
 }

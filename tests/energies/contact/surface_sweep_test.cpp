@@ -111,3 +111,19 @@ TEST_CASE("surface sweep: corners sweeping past a sample and a face coming at it
   CHECK(surfaceSweepParts(rising, above.x, stillAbove, 0.0, h, allowed, 16.0) ==
         std::numeric_limits<double>::infinity());
 }
+
+TEST_CASE("surface sweep: a tray that turns a whole turn within the step travels its circumference, not 0",
+          "[contact]") {
+  // At 2π / h rad/s the tray ends the step where it began: the chord from start to end is zero, and its corners
+  // sweep 2 m past the samples on its top. Measured before: a travel of 0 m, so the step ran whole.
+  const Samples s = samplesAt({{0.0, 0.0, 0.003}, {0.2, 0.1, 0.003}, {-0.25, 0.2, 0.003}, {0.1, -0.3, 0.003}});
+  const Eigen::VectorXd still = Eigen::VectorXd::Zero(s.x.size());
+  const double h = 1.0 / 60.0;
+  const double rate = 2.0 * 3.14159265358979323846 / h;
+  const VolumeContactState whole = tray(s, Eigen::Vector3d::Zero(), {0.0, 0.0, rate});
+  // The farthest sample from the axis (|(−0.25, 0.2)| = 0.32 m) travels 2π × 0.32 m.
+  CHECK(whole.solidTravel(s.x, still, 0.0, h) == Approx(rate * h * std::hypot(0.25, 0.2)).epsilon(1e-9));
+  // Half a turn, with a slide: the path's length, |v| h plus the arc.
+  const VolumeContactState half = tray(s, {0.5, 0.0, 0.0}, {0.0, 0.0, 0.5 * rate});
+  CHECK(half.solidTravel(s.x, still, 0.0, h) >= 0.5 * h + 0.5 * rate * h * std::hypot(0.25, 0.2) * (1 - 1e-9));
+}
