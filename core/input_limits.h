@@ -53,6 +53,7 @@ struct InputLimits {
   // Physical magnitudes whose squares and reciprocals the solvers form: past them energies overflow to inf.
   double maxDistance = 1e6;                  // m (and m/s): prescribed displacements and velocities, translations
   double maxAcceleration = 1e6;              // m/s²: gravity (a fall of at most maxDistance in its first second)
+  double maxAngularVelocity = 1e6;           // rad/s: a volume actor's constant turn
   double minTimeStep = 1e-9;                 // s: time steps of dynamics and relaxation (1/Δt² stays finite)
   double maxDampingCoefficient = 1e9;        // 1/s (mass damping α_R) and s (stiffness damping β_R)
 };

@@ -432,3 +432,36 @@ TEST_CASE("scene bounds: shape lengths are metres, at most 1e6, and \"scale\" co
   s["actors"][0]["shape"]["scale"] = 1e7;
   CHECK(boundsErrorOf(s) == "/actors/0/shape/scale = 1e+07: must lie in [1e-06, 1e+06] (the factor to metres)");
 }
+
+TEST_CASE("scene bounds: volume actors' sizes, places and speeds are bounded, and named in the scene's words",
+          "[scene][hostile]") {
+  // A ball of radius 1e300 once ran, and every load step failed with a non-finite energy at iteration 0.
+  const auto withSolid = [](Json solid) {
+    return boundsErrorAfter([&](Json& s) { s["actors"].push_back(solid); });
+  };
+  CHECK(withSolid({{"type", "sphere"}, {"name", "ball"}, {"center", {0, 0, 2}}, {"radius", 1e300}}) ==
+        "/actors/1/radius = 1e+300: too large (at most 1e+06)");
+  CHECK(withSolid({{"type", "capsule"}, {"center", {0, 0, 2}}, {"radius", 0.1}, {"halfLength", 2e6}}) ==
+        "/actors/1/halfLength = 2e+06: too large (at most 1e+06)");
+  CHECK(withSolid({{"type", "box"}, {"center", {0, 0, 2}}, {"halfExtents", {1, 1e7, 1}}}) ==
+        "/actors/1/halfExtents/1 = 1e+07: too large (at most 1e+06)");
+  // Once named by the library's field ("volume actor 'ball'.worldFromLocalTransform.translation").
+  CHECK(withSolid({{"type", "sphere"}, {"center", {0, 0, 1e300}}, {"radius", 0.1}}) ==
+        "/actors/1/center = [0, 0, 1e+300]: too large (norm at most 1e+06)");
+  CHECK(withSolid({{"type", "plane"}, {"point", {0, 2e6, 0}}}) ==
+        "/actors/1/point = [0, 2e+06, 0]: too large (norm at most 1e+06)");
+  CHECK(withSolid({{"type", "box"}, {"halfExtents", {1, 1, 1}}, {"center", {0, 0, 2}}, {"velocity", {0, 0, 1e300}}}) ==
+        "/actors/1/velocity = [0, 0, 1e+300]: too large (norm at most 1e+06)");
+  CHECK(withSolid({{"type", "box"}, {"halfExtents", {1, 1, 1}}, {"center", {0, 0, 2}},
+                   {"angularVelocity", {0, 0, 1e12}}}) ==
+        "/actors/1/angularVelocity = [0, 0, 1e+12]: too large (norm at most 1e+06)");
+  // The C++ API holds the same bounds.
+  VolumeActorParams ball;
+  ball.kind = VolumeActorParams::Kind::Sphere;
+  ball.name = "ball";
+  ball.radius = 1e300;
+  CHECK_THROWS_WITH(validate(ball, "ball"), "ball.radius = 1e+300: too large (at most 1e+06)");
+  ball.radius = 0.1;
+  ball.angularVelocity = {0, 0, 1e12};
+  CHECK_THROWS_WITH(validate(ball, "ball"), "ball.angularVelocity = [0, 0, 1e+12]: too large (norm at most 1e+06)");
+}

@@ -58,17 +58,29 @@ void checkEdgeRadius(double edgeRadius, const Eigen::Vector3d& halfExtents, cons
 
 void validate(const VolumeActorParams& p, const std::string& where) {
   validate(p.worldFromLocalTransform, where + ".worldFromLocalTransform");
+  const double most = inputLimits().maxDistance;
   if (p.kind == VolumeActorParams::Kind::Box) {
-    for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], where + ".halfExtents[" + std::to_string(c) + "]");
+    for (int c = 0; c < 3; ++c) {
+      const std::string field = where + ".halfExtents[" + std::to_string(c) + "]";
+      check::positive(p.halfExtents[c], field);
+      check::atMostReal(p.halfExtents[c], most, field);
+    }
     checkEdgeRadius(p.edgeRadius, p.halfExtents, where + ".edgeRadius");
   }
-  if (p.kind == VolumeActorParams::Kind::Sphere || p.kind == VolumeActorParams::Kind::Capsule)
+  if (p.kind == VolumeActorParams::Kind::Sphere || p.kind == VolumeActorParams::Kind::Capsule) {
     check::positive(p.radius, where + ".radius");
-  if (p.kind == VolumeActorParams::Kind::Capsule) check::nonNegative(p.halfLength, where + ".halfLength");
+    check::atMostReal(p.radius, most, where + ".radius");
+  }
+  if (p.kind == VolumeActorParams::Kind::Capsule) {
+    check::nonNegative(p.halfLength, where + ".halfLength");
+    check::atMostReal(p.halfLength, most, where + ".halfLength");
+  }
   if (p.kind == VolumeActorParams::Kind::SdfGrid && p.sdfFile.empty())
     throw InputError(where + ".sdfFile: missing (required for an SDF grid)");
   check::finite(p.velocity, where + ".velocity");
+  check::normAtMost(p.velocity, most, where + ".velocity");
   check::finite(p.angularVelocity, where + ".angularVelocity");
+  check::normAtMost(p.angularVelocity, inputLimits().maxAngularVelocity, where + ".angularVelocity");
   check::atMost(static_cast<std::int64_t>(p.keyframes.size()), inputLimits().maxKeyframes, where + ".keyframes");
   for (std::size_t k = 0; k < p.keyframes.size(); ++k)
     check::normAtMost(p.keyframes[k].translation, inputLimits().maxDistance,

@@ -41,6 +41,13 @@ double positive(const Object& o, const std::string& key) {
   return v;
 }
 
+/// A point's position [m] (zero when absent): finite, and at most the bound on distances from the origin.
+Eigen::Vector3d position(const Object& o, const std::string& key) {
+  const Eigen::Vector3d v = o.vec3(key, Eigen::Vector3d::Zero());
+  check::normAtMost(v, inputLimits().maxDistance, o.member(key));
+  return v;
+}
+
 /// A generator's length [m]: positive, and at most the bound on distances.
 double length(const Object& o, const std::string& key) {
   const double v = positive(o, key);
@@ -470,29 +477,33 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
     p.kind = VolumeActorParams::Kind::Plane;
     const Eigen::Vector3d normal = check::unitDirection(o.vec3("normal", Eigen::Vector3d::UnitZ()), o.member("normal"));
     p.worldFromLocalTransform.rotation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal);
-    p.worldFromLocalTransform.translation = o.vec3("point", Eigen::Vector3d::Zero());
+    p.worldFromLocalTransform.translation = position(o, "point");
   } else if (type == "box") {
     p.kind = VolumeActorParams::Kind::Box;
-    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
+    p.worldFromLocalTransform.translation = position(o, "center");
     if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
     p.halfExtents = o.at("halfExtents").vec3();
-    for (int c = 0; c < 3; ++c) check::positive(p.halfExtents[c], o.member("halfExtents") + "/" + std::to_string(c));
+    for (int c = 0; c < 3; ++c) {
+      check::positive(p.halfExtents[c], o.member("halfExtents") + "/" + std::to_string(c));
+      check::atMostReal(p.halfExtents[c], inputLimits().maxDistance, o.member("halfExtents") + "/" + std::to_string(c));
+    }
     p.edgeRadius = o.number("edgeRadius", 0.0);
     checkEdgeRadius(p.edgeRadius, p.halfExtents, o.member("edgeRadius"));
   } else if (type == "sphere") {
     p.kind = VolumeActorParams::Kind::Sphere;
-    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
-    p.radius = positive(o, "radius");
+    p.worldFromLocalTransform.translation = position(o, "center");
+    p.radius = length(o, "radius");
   } else if (type == "capsule") {
     p.kind = VolumeActorParams::Kind::Capsule;
-    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
+    p.worldFromLocalTransform.translation = position(o, "center");
     if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
-    p.radius = positive(o, "radius");
+    p.radius = length(o, "radius");
     p.halfLength = o.number("halfLength", 0.0);
     check::nonNegative(p.halfLength, o.member("halfLength"));
+    check::atMostReal(p.halfLength, inputLimits().maxDistance, o.member("halfLength"));
   } else {
     p.kind = VolumeActorParams::Kind::SdfGrid;
-    p.worldFromLocalTransform.translation = o.vec3("center", Eigen::Vector3d::Zero());
+    p.worldFromLocalTransform.translation = position(o, "center");
     if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
     const std::string file = o.string("file", "");
     if (file.empty()) throw InputError(o.member("file") + ": missing (the SDF grid file)");
@@ -516,7 +527,9 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
     }
   }
   p.velocity = o.vec3("velocity", Eigen::Vector3d::Zero());
+  check::normAtMost(p.velocity, inputLimits().maxDistance, o.member("velocity"));
   p.angularVelocity = o.vec3("angularVelocity", Eigen::Vector3d::Zero());
+  check::normAtMost(p.angularVelocity, inputLimits().maxAngularVelocity, o.member("angularVelocity"));
   if (const auto k = o.find("keyframes")) {
     if (o.has("velocity") || o.has("angularVelocity"))
       throw InputError(o.member("keyframes") + ": cannot be combined with \"velocity\" or \"angularVelocity\" (a "
