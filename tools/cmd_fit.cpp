@@ -4,6 +4,7 @@
 #include "tools/fit/fit_file.h"
 #include "tools/fit/fit_report.h"
 #include "tools/fit/fit_setup.h"
+#include "tools/output/interrupt.h"
 #include "tools/subcommand.h"
 
 #include <filesystem>
@@ -39,7 +40,17 @@ const RegisterSubcommand registerFit("fit", [](CLI::App& app, int& exitCode) {
       exitCode = kOk;
       return;
     }
-    const FitResult result = runFit(setup.problem(), setup.variables(), file.options);
+    // Ctrl-C stops the fit before its next forward evaluation; the report then holds the best values so far.
+    file.options.stopRequested = interruptRequested;
+    installInterruptHandler();
+    FitResult result;
+    try {
+      result = runFit(setup.problem(), setup.variables(), file.options);
+    } catch (...) {
+      removeInterruptHandler();
+      throw;
+    }
+    removeInterruptHandler();
     FitReportInputs in;
     in.problem = &setup.problem();
     in.result = &result;
@@ -56,7 +67,7 @@ const RegisterSubcommand registerFit("fit", [](CLI::App& app, int& exitCode) {
     std::cout << "outputs:";
     for (const std::string& f : files) std::cout << " " << f;
     std::cout << "\n";
-    exitCode = result.success ? kOk : kFailed;
+    exitCode = result.interrupted ? kInterrupted : result.success ? kOk : kFailed;
   });
 });
 

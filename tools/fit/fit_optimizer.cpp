@@ -80,6 +80,12 @@ struct Run {
   /// 1e-9 (displacements in metres) L-BFGS stopped at its first point and MMA crept in steps of ~1e-4.
   double misfitScale = 0.0;
 
+  /// Whether the fit is to stop before its next evaluation (FitOptions::stopRequested); remembered.
+  bool stopping() {
+    if (!result->interrupted && options.stopRequested && options.stopRequested()) result->interrupted = true;
+    return result->interrupted;
+  }
+
   /// Evaluates at z; returns the evaluation (misfit +inf when it failed).
   FitEvaluation at(const Eigen::VectorXd& z, FitDerivatives d) {
     const Eigen::VectorXd q = scaling.q(z);
@@ -114,6 +120,11 @@ struct Run {
 
 double nloptObjective(unsigned n, const double* zp, double* grad, void* data) {
   Run& run = *static_cast<Run*>(data);
+  if (run.stopping()) {  // no made-up value reaches the optimizer: it stops here
+    nlopt_force_stop(run.opt);
+    if (grad) std::fill(grad, grad + n, 0.0);
+    return std::numeric_limits<double>::max();
+  }
   const Eigen::VectorXd z = Eigen::Map<const Eigen::VectorXd>(zp, n);
   const FitEvaluation e = run.at(z, grad ? FitDerivatives::Gradient : FitDerivatives::None);
   if (!e.ok) {
@@ -166,6 +177,7 @@ void runNlopt(Run& run, const Eigen::VectorXd& z0, const Eigen::VectorXd& lower,
     r.success = run.haveBest;
   }
   if (!run.failure.empty()) r.message = "a forward evaluation failed: " + run.failure;
+  if (r.interrupted) r.success = false;
 }
 
 void runLevenbergMarquardt(Run& run, const Eigen::VectorXd& z0, const Eigen::VectorXd& lower,
@@ -173,6 +185,7 @@ void runLevenbergMarquardt(Run& run, const Eigen::VectorXd& z0, const Eigen::Vec
   FitResult& r = *run.result;
   const int Q = static_cast<int>(z0.size());
   Eigen::VectorXd z = z0;
+  if (run.stopping()) return;
   FitEvaluation e = run.at(z, FitDerivatives::Jacobian);
   if (!e.ok) {
     r.termination = "FORWARD_FAILURE";
@@ -194,6 +207,7 @@ void runLevenbergMarquardt(Run& run, const Eigen::VectorXd& z0, const Eigen::Vec
     ++r.iterations;
     bool accepted = false;
     while (!accepted) {
+      if (run.stopping()) return;
       if (static_cast<int>(r.history.size()) >= run.options.maxEvaluations) {
         r.termination = "MAXEVAL_REACHED";
         return;
@@ -312,6 +326,13 @@ FitResult runFit(FitProblem& problem, const std::vector<FitVariable>& variables,
   r.counters.jacobianEvaluations -= before.jacobianEvaluations;
   r.counters.timeSteps -= before.timeSteps;
   r.counters.inexactDerivativeSolves -= before.inexactDerivativeSolves;
+  if (r.interrupted) {
+    r.termination = "INTERRUPTED";
+    r.success = false;
+    std::ostringstream m;
+    m << "interrupted after " << r.history.size() << " evaluations" << (run.haveBest ? ": the best values so far" : "");
+    r.message = m.str();
+  }
   if (!run.haveBest) {
     r.success = false;
     if (r.message.empty()) r.message = "no evaluation succeeded: " + run.failure;
@@ -325,12 +346,13 @@ FitResult runFit(FitProblem& problem, const std::vector<FitVariable>& variables,
   // The uncertainty needs J at the best point: reuse it when the best evaluation has one.
   if (run.best.jacobian.size() > 0) {
     r.jacobian = run.best.jacobian;
-  } else {
+  } else if (!r.interrupted) {  // one more solve, which an interrupted fit does not wait for
     const FitEvaluation e = problem.evaluate(r.q, FitDerivatives::Jacobian);
     if (e.ok) r.jacobian = e.jacobian;
     if (e.ok && !e.derivativesExact) ++r.inexactDerivativeEvaluations;
   }
   if (r.jacobian.size() > 0) r.uncertainty = gaussNewtonUncertainty(r.jacobian, r.residuals);
+  else if (r.interrupted) r.uncertainty.message = "not computed: the fit was interrupted";
   else r.uncertainty.message = "the Jacobian at the fitted values could not be computed";
   if (r.message.empty()) r.message = r.success ? "converged" : "stopped before the tolerances were met";
   r.wallSeconds = timer.seconds();

@@ -43,6 +43,7 @@ struct FitUncertainty {
 struct FitResult {
   FitAlgorithm algorithm = FitAlgorithm::LevenbergMarquardt;
   bool success = false;        // the optimizer stopped on a tolerance (not on a failure or the evaluation cap)
+  bool interrupted = false;    // FitOptions::stopRequested stopped it (termination "INTERRUPTED")
   std::string termination;     // NLopt's result name (NLOPT_XTOL_REACHED, ...) or the loop's reason
   std::string message;
   int iterations = 0;          // Levenberg–Marquardt iterations, or NLopt evaluations

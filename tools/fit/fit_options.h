@@ -3,6 +3,7 @@
 // no solver, so the fit-file reader builds with the other parsers (cmake/parser_sources.cmake).
 #pragma once
 
+#include <functional>
 #include <string>
 
 namespace jetshell {
@@ -25,6 +26,8 @@ struct FitOptions {
   int maxEvaluations = 200;          // forward evaluations (each a full solve of every level)
   double parameterTolerance = 1e-9;  // stop when a step changes no scaled variable by more than this
   double misfitTolerance = 1e-14;    // stop when a step lowers the misfit by less than this fraction
+  /// Asked before each forward evaluation: true stops the fit there, with the best values so far (Ctrl-C).
+  std::function<bool()> stopRequested;
 };
 
 }  // namespace jetshell
