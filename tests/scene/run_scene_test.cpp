@@ -128,6 +128,32 @@ TEST_CASE("run: Ctrl-C stops after the current step with everything written") {
     CHECK(f.path().string().find(".tmp") == std::string::npos);  // no half-written file left behind
 }
 
+TEST_CASE("run: a second run into the same directory leaves none of the first run's frames or pictures") {
+  // Measured before: 61 frames of a whole run, then a 10-step run into the same directory: frames/ held 61 files,
+  // frames.pvd listed 6, and the first run's final.png stayed beside the second run's summary.json.
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/hanging_cloth.json");
+  scene.outputs.frameStride = 1;
+  RunOptions o;
+  o.outputDirectory = freshDirectory("second_run").string();
+  o.stepLimit = 6;
+  o.pictures = true;
+  runScene(scene, o);
+  const fs::path dir(o.outputDirectory);
+  REQUIRE(fs::exists(dir / "frames" / "frame_00006.vtu"));
+  REQUIRE(fs::exists(dir / "final.png"));
+  std::ofstream(dir / "notes.txt") << "mine";
+  o.stepLimit = 2;
+  o.pictures = false;
+  runScene(scene, o);
+  int frames = 0;
+  for (const auto& f : fs::directory_iterator(dir / "frames")) frames += f.path().extension() == ".vtu" ? 1 : 0;
+  CHECK(frames == 3);  // frames 0, 1 and 2 of the second run
+  CHECK_FALSE(fs::exists(dir / "final.png"));
+  CHECK_FALSE(fs::exists(dir / "probes.png"));
+  CHECK(fs::exists(dir / "notes.txt"));
+  CHECK(fileLines(dir / "probes.csv").size() == 4);  // a header and steps 0, 1, 2
+}
+
 TEST_CASE("run: a static path stopped between two levels ends on a frame of its own load factor") {
   // The first increment is a quarter of a level (λ = 0.025 of 10 levels): Ctrl-C stops the path there, and the
   // final frame and probe row say λ = 0.025, not the previous level's 0 (they had: row 0 then carried the

@@ -10,6 +10,7 @@
 #include "solvers/statics.h"
 #include "solvers/time_step_policy.h"
 #include "tools/output/checkpoint.h"
+#include "tools/output/earlier_run_files.h"
 #include "tools/output/interrupt.h"
 #include "tools/output/progress.h"
 #include "tools/output/run_checkpoint.h"
@@ -123,6 +124,12 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   selectSceneEvaluator(scene, system);
   addSceneEdgeRules(scene, problem, system);
   Objective& objective = system.objective();
+  // The directory holds this run alone: what an earlier run into it left goes first (a resumed run keeps its own).
+  if (!options.resume) {
+    const int removed = removeEarlierRunFiles(options.outputDirectory);
+    if (removed > 0)
+      progress.log("removed " + std::to_string(removed) + " files of an earlier run from " + options.outputDirectory);
+  }
   RunOutput output(options.outputDirectory, scene, model, options.scenePath);
   // Every row of probes.csv holds the contact force on each volume actor, with the solids where the analysis's
   // clock puts them at the row's time (a static path's is its load factor; a relaxation holds them).
