@@ -1,6 +1,7 @@
 #include "tools/scene/scene_model.h"
 
 #include "tools/scene/contact_at_start.h"
+#include "tools/scene/inside_solids.h"
 #include "tools/scene/contact_coverage.h"
 #include "tools/scene/open_seams.h"
 
@@ -281,6 +282,7 @@ SceneModel buildSceneModel(const Scene& scene) {
   }
   for (std::string& w : contactCoverageWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
   for (std::string& w : contactAtStartWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
+  for (std::string& w : insideSolidWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
   return model;
 }
 
