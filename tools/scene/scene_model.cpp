@@ -2,6 +2,7 @@
 
 #include "tools/scene/contact_at_start.h"
 #include "tools/scene/inside_solids.h"
+#include "tools/scene/sliver_faces.h"
 #include "tools/scene/contact_coverage.h"
 #include "tools/scene/open_seams.h"
 
@@ -283,6 +284,7 @@ SceneModel buildSceneModel(const Scene& scene) {
   for (std::string& w : contactCoverageWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
   for (std::string& w : contactAtStartWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
   for (std::string& w : insideSolidWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
+  for (std::string& w : sliverFaceWarnings(scene, model.actors)) model.warnings.push_back(std::move(w));
   return model;
 }
 

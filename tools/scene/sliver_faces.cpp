@@ -1,0 +1,46 @@
+#include "tools/scene/sliver_faces.h"
+
+#include "core/format.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace jetshell {
+
+std::vector<std::string> sliverFaceWarnings(const Scene& scene, const std::vector<ActorBlock>& actors) {
+  std::vector<std::string> warnings;
+  constexpr std::size_t kMostWarnings = 20;
+  std::size_t unlisted = 0;
+  for (std::size_t a = 0; a < scene.shells.size() && a < actors.size(); ++a) {
+    const TriMesh& mesh = actors[a].mesh;
+    int slivers = 0, thinnestFace = -1;
+    double thinnest = std::numeric_limits<double>::infinity(), thinnestEdge = 0.0;
+    for (int f = 0; f < mesh.numFaces(); ++f) {
+      const Eigen::Vector3d x0 = mesh.V.row(mesh.F(f, 0)), x1 = mesh.V.row(mesh.F(f, 1)), x2 = mesh.V.row(mesh.F(f, 2));
+      const double longest2 = std::max({(x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(), (x2 - x1).squaredNorm()});
+      // height / longest edge = (2 area / L) / L
+      const double ratio = (x1 - x0).cross(x2 - x0).norm() / longest2;
+      if (!(ratio < kSliverHeightRatio)) continue;
+      ++slivers;
+      if (ratio < thinnest) thinnest = ratio, thinnestFace = f, thinnestEdge = std::sqrt(longest2);
+    }
+    if (slivers == 0) continue;
+    if (warnings.size() == kMostWarnings) {
+      ++unlisted;
+      continue;
+    }
+    warnings.push_back("shell actor '" + scene.shells[a].name + "': " + std::to_string(slivers) + " of its " +
+                       std::to_string(mesh.numFaces()) + " faces are slivers, lower than " +
+                       formatNumber("%g", kSliverHeightRatio) + " of their longest edge (the thinnest, face " +
+                       std::to_string(thinnestFace) + " counted from 0, " + formatNumber("%.3g", thinnest) +
+                       " of its " + formatNumber("%.3g", thinnestEdge) +
+                       " m edge): Newton slows down on such faces or stalls in its line search (fewer faces "
+                       "across the narrow direction, or a remeshed surface, widen them)");
+  }
+  if (unlisted > 0)
+    warnings.push_back("and " + std::to_string(unlisted) + " more shell actors with sliver faces");
+  return warnings;
+}
+
+}  // namespace jetshell
