@@ -57,10 +57,10 @@ struct VolumeContactState {
   Eigen::Vector3d forceOnSolid(const Eigen::VectorXd& x, double t) const;
   /// The longest path the solid's material travels over [tStart, tStart + h] (a path, not a chord: a whole turn
   /// counts its circumference) at a sample point it may reach in that time: one whose distance at tStart is at
-  /// most that move, the sample's own move (|velocity| h) and the
-  /// activation distance [m]. 0 for a static solid; a turn that leaves its surface in place (a ball about its
-  /// centre, a capsule about its axis: VolumeShape::surfaceTurning) moves nothing; across keyframes the moves
-  /// over each piece of the step add up (RigidPath::piecesOver). x, v: positions and velocities (3N) at tStart.
+  /// most that move, the sample's own move (|velocity| h) and the activation distance [m]. 0 for a static solid;
+  /// a turn that leaves its surface in place (a ball about its centre, a capsule about its axis:
+  /// VolumeShape::surfaceTurning) moves nothing; across keyframes the moves over each piece of the step add up
+  /// (RigidPath::piecesOver). x, v: positions and velocities (3N) at tStart.
   double solidTravel(const Eigen::VectorXd& x, const Eigen::VectorXd& v, double tStart, double h) const;
 };
 

@@ -484,8 +484,9 @@ void readVolume(const Value& v, const std::string& type, Scene& scene, const std
     if (const auto r = o.find("rotation")) p.worldFromLocalTransform.rotation = readRotation(*r);
     p.halfExtents = o.at("halfExtents").vec3();
     for (int c = 0; c < 3; ++c) {
-      check::positive(p.halfExtents[c], o.member("halfExtents") + "/" + std::to_string(c));
-      check::atMostReal(p.halfExtents[c], inputLimits().maxDistance, o.member("halfExtents") + "/" + std::to_string(c));
+      const std::string field = o.member("halfExtents") + "/" + std::to_string(c);
+      check::positive(p.halfExtents[c], field);
+      check::atMostReal(p.halfExtents[c], inputLimits().maxDistance, field);
     }
     p.edgeRadius = o.number("edgeRadius", 0.0);
     checkEdgeRadius(p.edgeRadius, p.halfExtents, o.member("edgeRadius"));

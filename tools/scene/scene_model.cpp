@@ -1,10 +1,10 @@
 #include "tools/scene/scene_model.h"
 
 #include "tools/scene/contact_at_start.h"
-#include "tools/scene/inside_solids.h"
-#include "tools/scene/sliver_faces.h"
 #include "tools/scene/contact_coverage.h"
+#include "tools/scene/inside_solids.h"
 #include "tools/scene/open_seams.h"
+#include "tools/scene/sliver_faces.h"
 
 #include "core/input_limits.h"
 #include "core/topology.h"
