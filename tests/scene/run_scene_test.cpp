@@ -154,6 +154,35 @@ TEST_CASE("run: a second run into the same directory leaves none of the first ru
   CHECK(fileLines(dir / "probes.csv").size() == 4);  // a header and steps 0, 1, 2
 }
 
+TEST_CASE("run: a new run does not remove the checkpoint of an interrupted run, which --resume continues",
+          "[checkpoint]") {
+  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/hanging_cloth.json");
+  scene.outputs.frameStride = 1;
+  RunOptions o;
+  o.checkpointEvery = 1;
+  const RunResult interrupted = runInterrupted(scene, "unfinished", o);  // stops after its first step
+  REQUIRE(interrupted.interrupted);
+  const fs::path dir(o.outputDirectory);
+  REQUIRE(fs::exists(dir / "checkpoint.cbor"));
+  // A new run there would remove the checkpoint: refused, naming --resume.
+  o.stepLimit = 2;
+  CHECK_THROWS_WITH(runScene(scene, o), Catch::Contains("holds the checkpoint of an interrupted run, which --resume " +
+                                                        o.outputDirectory + " continues"));
+  CHECK(fs::exists(dir / "checkpoint.cbor"));
+  // A run killed before it wrote its summary.json alike.
+  fs::remove(dir / "summary.json");
+  CHECK_THROWS_WITH(runScene(scene, o), Catch::Contains("a run that stopped before writing its summary.json"));
+  // Resumed, it ends; a new run over a run that ended is free to start over.
+  runInterrupted(scene, "unfinished", o);
+  o.resume = true;
+  o.stepLimit = 3;
+  const RunResult resumed = runScene(scene, o);
+  CHECK(resumed.stepLimitReached);
+  o.resume = false;
+  o.stepLimit = 2;
+  CHECK(runScene(scene, o).stepLimitReached);
+}
+
 TEST_CASE("run: a static path stopped between two levels ends on a frame of its own load factor") {
   // The first increment is a quarter of a level (λ = 0.025 of 10 levels): Ctrl-C stops the path there, and the
   // final frame and probe row say λ = 0.025, not the previous level's 0 (they had: row 0 then carried the

@@ -1,6 +1,9 @@
 #include "tools/output/earlier_run_files.h"
 
+#include "core/input_file.h"
 #include "core/mesh.h"
+
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <cctype>
@@ -12,6 +15,9 @@ namespace jetshell {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// A summary.json is a few kilobytes (its probes and warnings); past this it is not one.
+constexpr std::int64_t kMostSummaryBytes = 64LL << 20;
 
 bool allDigits(const std::string& s, std::size_t from, std::size_t to) {
   if (from >= to) return false;
@@ -79,6 +85,25 @@ int removeEarlierRunFiles(const std::string& directory) {
     return isNumberedFrame(file, "obj") || isOrTemporaryOf(file, "volumes.obj");
   });
   return removed;
+}
+
+std::string unfinishedRunIn(const std::string& directory) {
+  const fs::path root(directory);
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(root / "checkpoint.cbor", ec))) return "";
+  const fs::path summary = root / "summary.json";
+  if (!fs::exists(fs::symlink_status(summary, ec)))
+    return "the checkpoint of a run that stopped before writing its summary.json";
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(readInputFile(summary.string(), kMostSummaryBytes, "summary"), nullptr, false);
+  } catch (const InputError&) {
+    return "the checkpoint of a run whose summary.json cannot be read";
+  }
+  if (!j.is_object() || !j.contains("termination") || !j["termination"].is_string())
+    return "the checkpoint of a run whose summary.json states no termination";
+  if (j["termination"].get<std::string>() == "interrupted") return "the checkpoint of an interrupted run";
+  return "";
 }
 
 }  // namespace jetshell

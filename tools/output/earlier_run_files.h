@@ -16,4 +16,10 @@ namespace jetshell {
 /// Returns how many files it removed; throws InputError naming a file it cannot remove.
 int removeEarlierRunFiles(const std::string& directory);
 
+/// Whether `directory` holds a run that `--resume` can continue and that did not finish: its checkpoint.cbor,
+/// with no summary.json (the run was killed before it wrote one: a run removes the earlier summary first) or
+/// one that is unreadable or says `"termination": "interrupted"`. Empty when not; else what it holds, for a
+/// message. A new run there would remove that checkpoint, so the caller refuses it.
+std::string unfinishedRunIn(const std::string& directory);
+
 }  // namespace jetshell

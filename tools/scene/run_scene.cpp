@@ -126,6 +126,11 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   Objective& objective = system.objective();
   // The directory holds this run alone: what an earlier run into it left goes first (a resumed run keeps its own).
   if (!options.resume) {
+    const std::string unfinished = unfinishedRunIn(options.outputDirectory);
+    if (!unfinished.empty())
+      throw InputError(options.outputDirectory + ": holds " + unfinished + ", which --resume " +
+                       options.outputDirectory + " continues; a new run there would remove it (give another --out, "
+                       "or remove " + checkpointPath(options.outputDirectory) + " to start over)");
     const int removed = removeEarlierRunFiles(options.outputDirectory);
     if (removed > 0)
       progress.log("removed " + std::to_string(removed) + " files of an earlier run from " + options.outputDirectory);
