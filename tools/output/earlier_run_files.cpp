@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A summary.json is a few kilobytes (its probes and warnings); past this it is not one.
-constexpr std::int64_t kMostSummaryBytes = 64LL << 20;
+constexpr std::int64_t kMostSummaryBytes = 16LL << 20;
 
 bool allDigits(const std::string& s, std::size_t from, std::size_t to) {
   if (from >= to) return false;
