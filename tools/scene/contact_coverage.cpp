@@ -3,6 +3,7 @@
 #include "core/format.h"
 #include "energies/contact/contact_params.h"
 #include "tools/scene/volume_shape.h"
+#include "tools/scene/warning_list.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,14 +27,7 @@ double thinnestHalfWidth(const VolumeActorParams& v) {
 }  // namespace
 
 std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::vector<ActorBlock>& actors) {
-  std::vector<std::string> warnings;
-  // A scene may hold 100,000 shell × volume pairs: the first kMostWarnings are listed, the rest counted.
-  constexpr std::size_t kMostWarnings = 20;
-  std::size_t unlisted = 0;
-  auto add = [&](std::string w) {
-    if (warnings.size() < kMostWarnings) warnings.push_back(std::move(w));
-    else ++unlisted;
-  };
+  WarningList warnings;
   const double toMiddle = 1.0 / std::sqrt(3.0);  // a face's middle from its corners, per edge length
   // Point clouds interact when two actors have one, or one has self-contact.
   int clouds = 0;
@@ -55,10 +49,12 @@ std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::
     if (pointContact && s.colliderType == ColliderType::PointCloud) {
       const double r = s.pointCloudCollider.radius;
       if (gap > r + smallest)
-        add("shell actor '" + s.name + "': point-cloud samples of radius " + metres(r) +
-            " at vertices a mean edge of " + metres(gap / toMiddle) + " apart leave a gap " + metres(gap) +
-            " from the corners in the middle of a face, which a sample of radius " + metres(smallest) +
-            " passes through untouched (radii that add up to " + metres(gap) + ", or a finer mesh, close it)");
+        warnings.add([&] {
+          return "shell actor '" + s.name + "': point-cloud samples of radius " + metres(r) +
+                 " at vertices a mean edge of " + metres(gap / toMiddle) + " apart leave a gap " + metres(gap) +
+                 " from the corners in the middle of a face, which a sample of radius " + metres(smallest) +
+                 " passes through untouched (radii that add up to " + metres(gap) + ", or a finer mesh, close it)";
+        });
     }
     const bool threePoint = s.contactElementType == ActorBoundaryElementType::FaceThreePoint;
     const double sampleGap = threePoint ? 0.5 * gap : gap;
@@ -68,18 +64,19 @@ std::vector<std::string> contactCoverageWarnings(const Scene& scene, const std::
       const double reach = w + combine(s.contact, v.contact).activationDistance;
       if (!(sampleGap > reach)) continue;
       const bool grid = v.kind == VolumeActorParams::Kind::SdfGrid;
-      add("volume actor '" + v.name + "' (" + (grid ? "an SDF grid, thinnest half-width at most " + metres(w) :
-                                               "thinnest half-width " + metres(w)) +
-          ") fits between the contact samples of shell actor '" + s.name + "' (" +
-          (threePoint ? "three points a face" : "at its vertices or face centroids") + ", about " + metres(sampleGap) +
-          " from a face's middle, beyond its reach of " + metres(reach) + "): it can pass through the shell unfelt (" +
-          (threePoint ? "a finer mesh" : "\"contactElementType\": \"FaceThreePoint\" or a finer mesh") +
-          " closes the gap)");
+      warnings.add([&] {
+        return "volume actor '" + v.name + "' (" +
+               (grid ? "an SDF grid, thinnest half-width at most " + metres(w) : "thinnest half-width " + metres(w)) +
+               ") fits between the contact samples of shell actor '" + s.name + "' (" +
+               (threePoint ? "three points a face" : "at its vertices or face centroids") + ", about " +
+               metres(sampleGap) + " from a face's middle, beyond its reach of " + metres(reach) +
+               "): it can pass through the shell unfelt (" +
+               (threePoint ? "a finer mesh" : "\"contactElementType\": \"FaceThreePoint\" or a finer mesh") +
+               " closes the gap)";
+      });
     }
   }
-  if (unlisted > 0)
-    warnings.push_back("and " + std::to_string(unlisted) + " more contact pairs whose samples are as sparse");
-  return warnings;
+  return std::move(warnings).finish("contact pairs whose samples are as sparse");
 }
 
 }  // namespace jetshell

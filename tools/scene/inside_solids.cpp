@@ -3,16 +3,14 @@
 #include "core/format.h"
 #include "core/topology.h"
 #include "tools/scene/volume_shape.h"
+#include "tools/scene/warning_list.h"
 
-#include <limits>
 
 namespace jetshell {
 
 std::vector<std::string> insideSolidWarnings(const Scene& scene, const std::vector<ActorBlock>& actors) {
-  std::vector<std::string> warnings;
-  if (scene.volumes.empty()) return warnings;
-  constexpr std::size_t kMostWarnings = 20;
-  std::size_t unlisted = 0;
+  if (scene.volumes.empty()) return {};
+  WarningList warnings;
   std::vector<VolumeShapePtr> shapes;  // each made once, not once per shell actor
   for (const VolumeActorParams& v : scene.volumes)
     shapes.push_back(v.kind == VolumeActorParams::Kind::SdfGrid ? v.sdfShape : analyticVolumeShape(v));
@@ -33,25 +31,19 @@ std::vector<std::string> insideSolidWarnings(const Scene& scene, const std::vect
         if (d < deepest) deepest = d, deepestVertex = v;
       }
       if (inside == 0) continue;
-      if (warnings.size() == kMostWarnings) {
-        ++unlisted;
-        continue;
-      }
-      const Eigen::Vector3d at = block.mesh.V.row(deepestVertex).transpose();
-      warnings.push_back("shell actor '" + scene.shells[a].name + "' starts inside volume actor '" +
-                         scene.volumes[k].name + "': " + std::to_string(inside) + " of its " +
-                         std::to_string(block.numVertices) + " vertices lie inside it, the deepest " +
-                         formatNumber("%.3g", -deepest) + " m (vertex " + std::to_string(deepestVertex) +
-                         ", counted from 0, at (" + formatNumber("%.6g", at.x()) + ", " +
-                         formatNumber("%.6g", at.y()) + ", " + formatNumber("%.6g", at.z()) +
-                         ")); the contact penalty pushes them out in the first steps (start the shell and the "
-                         "solid apart, and move the solid in)");
+      warnings.add([&] {
+        const Eigen::Vector3d at = block.mesh.V.row(deepestVertex).transpose();
+        return "shell actor '" + scene.shells[a].name + "' starts inside volume actor '" + scene.volumes[k].name +
+               "': " + std::to_string(inside) + " of its " + std::to_string(block.numVertices) +
+               " vertices lie inside it, the deepest " + formatNumber("%.3g", -deepest) + " m (vertex " +
+               std::to_string(deepestVertex) + ", counted from 0, at (" + formatNumber("%.6g", at.x()) + ", " +
+               formatNumber("%.6g", at.y()) + ", " + formatNumber("%.6g", at.z()) +
+               ")); the contact penalty pushes them out in the first steps (start the shell and the solid apart, "
+               "and move the solid in)";
+      });
     }
   }
-  if (unlisted > 0)
-    warnings.push_back("and " + std::to_string(unlisted) + " more pairs of a shell actor that starts inside a volume "
-                       "actor");
-  return warnings;
+  return std::move(warnings).finish("pairs of a shell actor that starts inside a volume actor");
 }
 
 }  // namespace jetshell

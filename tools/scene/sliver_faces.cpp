@@ -1,6 +1,7 @@
 #include "tools/scene/sliver_faces.h"
 
 #include "core/format.h"
+#include "tools/scene/warning_list.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +10,7 @@
 namespace jetshell {
 
 std::vector<std::string> sliverFaceWarnings(const Scene& scene, const std::vector<ActorBlock>& actors) {
-  std::vector<std::string> warnings;
-  constexpr std::size_t kMostWarnings = 20;
-  std::size_t unlisted = 0;
+  WarningList warnings;
   for (std::size_t a = 0; a < scene.shells.size() && a < actors.size(); ++a) {
     const TriMesh& mesh = actors[a].mesh;
     int slivers = 0, thinnestFace = -1;
@@ -26,21 +25,17 @@ std::vector<std::string> sliverFaceWarnings(const Scene& scene, const std::vecto
       if (ratio < thinnest) thinnest = ratio, thinnestFace = f, thinnestEdge = std::sqrt(longest2);
     }
     if (slivers == 0) continue;
-    if (warnings.size() == kMostWarnings) {
-      ++unlisted;
-      continue;
-    }
-    warnings.push_back("shell actor '" + scene.shells[a].name + "': " + std::to_string(slivers) + " of its " +
-                       std::to_string(mesh.numFaces()) + " faces are slivers, lower than " +
-                       formatNumber("%g", kSliverHeightRatio) + " of their longest edge (the thinnest, face " +
-                       std::to_string(thinnestFace) + " counted from 0, " + formatNumber("%.3g", thinnest) +
-                       " of its " + formatNumber("%.3g", thinnestEdge) +
-                       " m edge): Newton slows down on such faces or stalls in its line search (fewer faces "
-                       "across the narrow direction, or a remeshed surface, widen them)");
+    warnings.add([&] {
+      return "shell actor '" + scene.shells[a].name + "': " + std::to_string(slivers) + " of its " +
+             std::to_string(mesh.numFaces()) + " faces are slivers, lower than " +
+             formatNumber("%g", kSliverHeightRatio) + " of their longest edge (the thinnest, face " +
+             std::to_string(thinnestFace) + " counted from 0, " + formatNumber("%.3g", thinnest) + " of its " +
+             formatNumber("%.3g", thinnestEdge) +
+             " m edge): Newton slows down on such faces or stalls in its line search (fewer faces across the narrow "
+             "direction, or a remeshed surface, widen them)";
+    });
   }
-  if (unlisted > 0)
-    warnings.push_back("and " + std::to_string(unlisted) + " more shell actors with sliver faces");
-  return warnings;
+  return std::move(warnings).finish("shell actors with sliver faces");
 }
 
 }  // namespace jetshell
