@@ -4,6 +4,7 @@
 #include "solvers/stability_check.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -32,6 +33,10 @@ RelaxationResult relaxToStatic(ShellSystem& system, Eigen::VectorXd& x, const Re
                        (type == LinearSolverType::Auto && x.size() <= o.newton.linear.autoDirectMaxDofs);
   if (o.reuseFactor && cholmod) d.newton.reuseFactor = true;
   d.massDampingOverride = alpha;
+  // Its mass is fictitious and its motion overdamped, so its acceleration is smooth however fast the membrane's
+  // waves: every step keeps the extrapolated acceleration (the slit ring's relaxation, examples/: 2,062 Newton
+  // iterations, against 3,232 from the inertial predictor).
+  d.extrapolationWaveLimit = std::numeric_limits<double>::infinity();
   DynamicsSolver solver(system, d);
   solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
   if (system.nodalForces) system.nodalForces->setLoadFactor(o.loadFactor);

@@ -50,6 +50,9 @@ double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
     throw InputError(s.str());
   }
   if (o.maxCuts < 0 || o.maxCuts > 30) throw InputError("dynamics: maxCuts must lie in [0, 30]");
+  if (!(o.extrapolationWaveLimit >= 0.0))  // +∞ allowed: every actor extrapolates
+    throw InputError("dynamics: extrapolationWaveLimit must be >= 0 (or infinite), not " +
+                     std::to_string(o.extrapolationWaveLimit));
   if (!(std::isfinite(o.updateTolerance) && o.updateTolerance >= 0.0))
     throw InputError("dynamics: updateTolerance must be finite and >= 0");
   if (!(std::isfinite(o.contactCorrectionFraction) && o.contactCorrectionFraction >= 0.0 &&
@@ -168,8 +171,14 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   // full step) or the predictor, followed only as far as the objective's step bound allows (contact: no sample
   // starts the solve on the wrong side of a layer).
   Eigen::VectorXd drift = h * v_;
-  if (options_.extrapolatedStart && historyValid_)
-    drift += (bdf2 ? 0.5 : 1.0) * (h * h / historyStep_) * (v_ - vPrev_);
+  if (options_.extrapolatedStart && historyValid_) {
+    // Only where the step resolves the membrane's waves (see the header): a stiffer actor's acceleration is theirs.
+    const double scale = (bdf2 ? 0.5 : 1.0) * (h * h / historyStep_);
+    const Eigen::VectorXd& waveRate = sys.membraneWaveRate();
+    for (Eigen::Index v = 0; v < waveRate.size(); ++v)
+      if (h * waveRate[v] <= options_.extrapolationWaveLimit)
+        drift.segment<3>(3 * v) += scale * (v_.segment<3>(3 * v) - vPrev_.segment<3>(3 * v));
+  }
   Eigen::VectorXd x = x_ + sys.objective().stepBound(x_, drift) * drift;
   sys.objective().applyPrescribed(t_ + h, x);
   // BDF2's local truncation error is O(Δt³): its time-error scale is the step's change against its own step

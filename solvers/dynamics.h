@@ -23,6 +23,18 @@
 // (v_{n+1} = v_n + Δt a) and x_n + Δt v_n + ½Δt² a for BDF2 (exact for a parabola); else from the inertial
 // predictor x_n + Δt v_n. (BDF2 used backward Euler's formula until 2026-11-23: off by ½Δt² a, about the whole
 // step's change; the 2,601-vertex falling cloth took 273 Newton iterations, against 178 now: BENCHMARKS.md.)
+// The acceleration is extrapolated only for actors whose membrane waves the step resolves: a wave of speed
+// c = √((λ + 2μ)/ρ_A) crosses Δt c/ℓ of the actor's edges (mean length ℓ) in a step, and above
+// extrapolationWaveLimit (20) the actor starts from x_n + Δt v_n. A stiffer sheet's (v_n − v_{n−1})/Δt is mostly
+// its membrane's ringing, which the step cannot follow, and extrapolating it stretches the membrane: a 1 m steel
+// foil of 0.1 mm (E 2e11 Pa) hanging from two corners at 60 Hz, some 1,560 edges a step, started at residuals of
+// up to 6.5e5 N and took 32 Newton iterations a step with 8 cuts in 60 steps; from the inertial predictor 5 a
+// step and no cut, its trajectory closer to the reference (`jetshell bench dynamics --material steel-foil`).
+// Measured across stiffnesses (a cotton sheet of E 1e6 to 1e10 Pa, Δt and mesh varied): the extrapolation saves
+// iterations below about 18 edges a step and costs them from about 20 on (BENCHMARKS.md, Dynamics, session 62).
+// The T-shirts (6 and 12) and the hanging cloth (18) of examples/ keep it; the turntable's cloth (44) does not,
+// for 2.68 Newton iterations a step instead of 2.62 (a cloth turning with its tray accelerates smoothly).
+// Dynamic relaxation keeps it always.
 // A step ends no higher than staying put (guardedEnd): when a solve that converged or moved on at the cap ends
 // with a higher incremental potential than x_n's (x_n with the prescribed positions of the step's end, a point
 // the step could always have taken), the step is solved again from x_n, and Newton's line search, which only
@@ -101,6 +113,10 @@ struct DynamicsOptions {
   double massDampingOverride = -1.0;
   /// Start Newton from the constant-acceleration extrapolation of the trajectory (see the file comment).
   bool extrapolatedStart = true;
+  /// The extrapolation keeps an actor's acceleration only while a step lets its membrane wave cross at most this
+  /// many of its edges (Δt · ShellSystem::membraneWaveRate); a stiffer actor starts from the inertial predictor
+  /// x_n + Δt v_n (see the file comment). +∞: every actor's acceleration is extrapolated.
+  double extrapolationWaveLimit = 20.0;
   /// Solve a step again from x_n when its solve ended with a higher incremental potential than x_n's, or moved on
   /// at the cap from a crushed iterate (see the file comment).
   bool guardedEnd = true;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace jetshell {
@@ -150,6 +151,15 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
 
   const bool dynamic = kind != AnalysisKind::Statics;
   vertexMass_ = Eigen::VectorXd::Zero(n);
+  membraneWaveRate_ = Eigen::VectorXd::Zero(n);
+  for (std::size_t i = 0; i < actors.size(); ++i) {
+    const ShellMaterialParams& m = actors[i].material;
+    const double edge = meanEdgeLength(actors[i].mesh, actorTopology[i]);
+    const double rate = m.density > 0.0 && edge > 0.0
+                            ? std::sqrt((m.membraneLambda + 2.0 * m.membraneMu) / m.density) / edge
+                            : std::numeric_limits<double>::infinity();
+    membraneWaveRate_.segment(actors[i].firstVertex, actors[i].mesh.numVertices()).setConstant(rate);
+  }
   Eigen::VectorXd gravityMass = Eigen::VectorXd::Zero(n), dampedMass = Eigen::VectorXd::Zero(n);
   for (std::size_t i = 0; i < actors.size(); ++i) {
     const Eigen::VectorXd m = lumpedMass(actors[i].mesh, actorReference[i], actors[i].material.density);

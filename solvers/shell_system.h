@@ -109,6 +109,10 @@ class ShellSystem {
   Eigen::VectorXd restPositions() const { return flatten(mesh_.V); }
   /// Lumped vertex masses m_v (size N).
   const Eigen::VectorXd& vertexMass() const { return vertexMass_; }
+  /// Per vertex (size N), its actor's membrane wave speed over the actor's mean reference edge length [1/s]:
+  /// c/ℓ with c = √((λ + 2μ)/ρ_A), the speed of a plane-stress compression wave (√(E/(ρ0(1 − ν²)))). A time step
+  /// Δt lets the wave cross Δt·c/ℓ edges (the membrane's Courant number); +∞ for a massless actor.
+  const Eigen::VectorXd& membraneWaveRate() const { return membraneWaveRate_; }
 
   Objective& objective() { return objective_; }
   const Objective& objective() const { return objective_; }
@@ -147,6 +151,7 @@ class ShellSystem {
   ShellReference reference_;
   ShellMaterialParams material_;
   Eigen::VectorXd vertexMass_;
+  Eigen::VectorXd membraneWaveRate_;
   Objective objective_;
 };
 
