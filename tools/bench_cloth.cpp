@@ -9,10 +9,11 @@
 
 namespace jetshell::cli {
 
-ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping) {
+ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping, SheetMaterial material) {
   ShellProblem p;
   p.mesh = makeRectangleGrid(1.0, 1.0, n, n);
-  p.material = ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
+  p.material = material == SheetMaterial::SteelFoil ? ShellMaterialParamsFrom3dIsotropic(2e11, 0.3, 7850.0, 1e-4)
+                                                    : ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
   p.material.massDampingCoefficient = massDamping;
   p.material.stiffnessDampingCoefficient = stiffnessDamping;
   p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);

@@ -9,7 +9,12 @@
 
 namespace jetshell::cli {
 
-ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping);
+/// The cloth's material (the spec's T-shirt), or a steel foil's: E 2e11 Pa, ν 0.3, ρ0 7850 kg/m³, h 0.1 mm, a sheet
+/// whose membrane is some 10^6 times stiffer than a time step's inertia.
+enum class SheetMaterial { Cloth, SteelFoil };
+
+ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping,
+                          SheetMaterial material = SheetMaterial::Cloth);
 
 double wallSeconds();
 /// CPU seconds of the whole process (all threads).

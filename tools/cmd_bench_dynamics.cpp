@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -33,6 +34,8 @@ constexpr int kMaxListEntries = 16;
 
 struct DynamicsBenchOptions {
   int n = 20;
+  std::string material = "cloth";  // cloth | steel-foil (tools/bench_cloth.h)
+  double waveLimit = DynamicsOptions{}.extrapolationWaveLimit;  // the runs' (not the reference's)
   double duration = 0.5;
   std::string dts = "1/30,1/60,1/120,1/240";
   std::string integrators = "backward_euler,bdf2";
@@ -120,6 +123,7 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
   d.newton.linear.ordering = fillOrderingFromString(o.ordering);
   applyTimeStepPolicy(policy, d);
   if (policy == TimeStepPolicy::Jetshell && eta > 0.0) d.updateTolerance = eta;
+  if (policy != TimeStepPolicy::Reference) d.extrapolationWaveLimit = o.waveLimit;
   f.eta = d.updateTolerance;
   DynamicsSolver solver(system, d);
   const int stepsPerSample = static_cast<int>(std::lround(sampleInterval / dt));
@@ -262,14 +266,21 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
   if (samples * sampleInterval / (minDt / o.referenceDivisor) > 2e6)
     throw InputError("--duration: the reference would need more than 2e6 steps");
 
-  const ShellProblem problem = hangingCloth(o.n, 0.0, 0.0);
+  const ShellProblem problem =
+      hangingCloth(o.n, 0.0, 0.0, o.material == "steel-foil" ? SheetMaterial::SteelFoil : SheetMaterial::Cloth);
   nlohmann::json out;
-  std::printf("jetshell bench dynamics: %d×%d-square hanging cloth, %d vertices, %d threads, %.4g s (%d samples "
+  std::printf("jetshell bench dynamics: %d×%d-square hanging %s, %d vertices, %d threads, %.4g s (%d samples "
               "every %.4g s); linear solver %s%s\n",
-              o.n, o.n, problem.mesh.numVertices(), omp_get_max_threads(), samples * sampleInterval, samples,
+              o.n, o.n, o.material == "steel-foil" ? "steel foil" : "cloth", problem.mesh.numVertices(),
+              omp_get_max_threads(), samples * sampleInterval, samples,
               sampleInterval, o.linearSolver.c_str(),
               o.linearSolver == "pcg" ? (" + " + o.preconditioner).c_str() : "");
   out["mesh"] = {{"squares_per_side", o.n}, {"vertices", problem.mesh.numVertices()}};
+  out["material"] = o.material;
+  out["extrapolation_wave_limit"] = std::isinf(o.waveLimit) ? nlohmann::json("inf") : nlohmann::json(o.waveLimit);
+  std::printf("the runs extrapolate an actor's acceleration while a step lets its membrane wave cross at most %g "
+              "edges (this sheet's: %.3g at the largest time step)\n",
+              o.waveLimit, sampleInterval * ShellSystem(problem, AnalysisKind::Dynamics).membraneWaveRate()[0]);
   out["threads"] = omp_get_max_threads();
   out["duration"] = samples * sampleInterval;
   out["linear_solver"] = o.linearSolver;
@@ -327,6 +338,14 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
   auto opts = std::make_shared<DynamicsBenchOptions>();
   CLI::App* cmd = bench->add_subcommand("dynamics", "Trajectory error against run time for time stepping (hanging cloth)");
   cmd->add_option("--n", opts->n, "Cloth squares per side (vertices = (n+1)^2)")->check(CLI::Range(2, 400));
+  cmd->add_option("--material", opts->material,
+                  "cloth (the spec's T-shirt material) or steel-foil (E 2e11 Pa, 0.1 mm: a membrane far stiffer "
+                  "than a step's inertia)")
+      ->check(CLI::IsMember({"cloth", "steel-foil"}));
+  cmd->add_option("--extrapolation-wave-limit", opts->waveLimit,
+                  "The runs keep the extrapolated acceleration while a step lets the membrane wave cross at most "
+                  "this many edges (inf: always; the solver's default otherwise)")
+      ->check(CLI::Range(0.0, std::numeric_limits<double>::infinity()));
   cmd->add_option("--duration", opts->duration, "Simulated time [s]")->check(finiteRange(1e-3, 60.0));
   cmd->add_option("--dts", opts->dts, "Time steps, comma-separated (e.g. 1/30,1/60); each divides the largest");
   cmd->add_option("--integrators", opts->integrators, "Comma-separated: backward_euler, bdf2");

@@ -410,6 +410,15 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
   } else if (type == AnalysisType::Dynamic) {
     const DynamicsOptions o = dynamicsOptionsFor(scene);
     DynamicsSolver solver(system, o);
+    // Say which actors' steps start without the extrapolated acceleration (solvers/dynamics.h).
+    for (std::size_t a = 0; o.extrapolatedStart && a < model.actors.size(); ++a) {
+      const double crossed = scene.analysis.timeStep * system.membraneWaveRate()[model.actors[a].firstVertex];
+      if (model.actors[a].numVertices > 0 && crossed > o.extrapolationWaveLimit)
+        progress.log("shell actor '" + scene.shells[a].name + "': its membrane wave crosses " +
+                     formatNumber("%.3g", crossed) + " edges a step (more than " +
+                     formatNumber("%g", o.extrapolationWaveLimit) +
+                     "), so its steps start from x_n + dt v_n, without the extrapolated acceleration");
+    }
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
     const double duration = scene.analysis.duration;
     int previousIterations = 0, previousCuts = 0;  // before the checkpoint resumed from
