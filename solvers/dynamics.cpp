@@ -53,6 +53,9 @@ double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
   if (!(o.extrapolationWaveLimit >= 0.0))  // +∞ allowed: every actor extrapolates
     throw InputError("dynamics: extrapolationWaveLimit must be >= 0 (or infinite), not " +
                      std::to_string(o.extrapolationWaveLimit));
+  if (!(o.extrapolationThinLimit >= 0.0))
+    throw InputError("dynamics: extrapolationThinLimit must be >= 0 (or infinite), not " +
+                     std::to_string(o.extrapolationThinLimit));
   if (!(std::isfinite(o.updateTolerance) && o.updateTolerance >= 0.0))
     throw InputError("dynamics: updateTolerance must be finite and >= 0");
   if (!(std::isfinite(o.contactCorrectionFraction) && o.contactCorrectionFraction >= 0.0 &&
@@ -89,6 +92,11 @@ void addTimes(StepReport& r, const SolverSummary& s) {
 }
 
 }  // namespace
+
+bool extrapolatesAcceleration(const ShellSystem& system, Eigen::Index v, double h, const DynamicsOptions& o) {
+  return !(h * system.membraneWaveRate()[v] > o.extrapolationWaveLimit &&
+           system.edgeOverThickness()[v] > o.extrapolationThinLimit);
+}
 
 bool correctionTestApplies(double residualEstimate, double lastResidualEstimate, double bound) {
   return residualEstimate <= kCorrectionContraction * lastResidualEstimate &&
@@ -174,9 +182,8 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   if (options_.extrapolatedStart && historyValid_) {
     // Only where the step resolves the membrane's waves (see the header): a stiffer actor's acceleration is theirs.
     const double scale = (bdf2 ? 0.5 : 1.0) * (h * h / historyStep_);
-    const Eigen::VectorXd& waveRate = sys.membraneWaveRate();
-    for (Eigen::Index v = 0; v < waveRate.size(); ++v)
-      if (h * waveRate[v] <= options_.extrapolationWaveLimit)
+    for (Eigen::Index v = 0; v < sys.vertexMass().size(); ++v)
+      if (extrapolatesAcceleration(sys, v, h, options_))
         drift.segment<3>(3 * v) += scale * (v_.segment<3>(3 * v) - vPrev_.segment<3>(3 * v));
   }
   Eigen::VectorXd x = x_ + sys.objective().stepBound(x_, drift) * drift;

@@ -23,18 +23,20 @@
 // (v_{n+1} = v_n + Δt a) and x_n + Δt v_n + ½Δt² a for BDF2 (exact for a parabola); else from the inertial
 // predictor x_n + Δt v_n. (BDF2 used backward Euler's formula until 2026-11-23: off by ½Δt² a, about the whole
 // step's change; the 2,601-vertex falling cloth took 273 Newton iterations, against 178 now: BENCHMARKS.md.)
-// The acceleration is extrapolated only for actors whose membrane waves the step resolves: a wave of speed
-// c = √((λ + 2μ)/ρ_A) crosses Δt c/ℓ of the actor's edges (mean length ℓ) in a step, and above
-// extrapolationWaveLimit (20) the actor starts from x_n + Δt v_n. A stiffer sheet's (v_n − v_{n−1})/Δt is mostly
-// its membrane's ringing, which the step cannot follow, and extrapolating it stretches the membrane: a 1 m steel
-// foil of 0.1 mm (E 2e11 Pa) hanging from two corners at 60 Hz, some 1,560 edges a step, started at residuals of
-// up to 6.5e5 N and took 32 Newton iterations a step with 8 cuts in 60 steps; from the inertial predictor 5 a
-// step and no cut, its trajectory closer to the reference (`jetshell bench dynamics --material steel-foil`).
-// Measured across stiffnesses (a cotton sheet of E 1e6 to 1e10 Pa, Δt and mesh varied): the extrapolation saves
-// iterations below about 18 edges a step and costs them from about 20 on (BENCHMARKS.md, Dynamics, session 62).
-// The T-shirts (6 and 12) and the hanging cloth (18) of examples/ keep it; the turntable's cloth (44) does not,
-// for 2.68 Newton iterations a step instead of 2.62 (a cloth turning with its tray accelerates smoothly).
-// Dynamic relaxation keeps it always.
+// The acceleration is dropped for an actor that is stiff and thin for the step: its membrane wave (speed
+// c = √((λ + 2μ)/ρ_A)) crosses more than extrapolationWaveLimit (20) of its edges (mean length ℓ) a step, and ℓ
+// is more than extrapolationThinLimit (50) times its thickness; such an actor starts from x_n + Δt v_n. There
+// (v_n − v_{n−1})/Δt is mostly the ringing of a wrinkling membrane, which the step cannot follow, and
+// extrapolating it stretches the membrane: a 1 m steel foil of 0.1 mm (E 2e11 Pa) hanging from two corners at
+// 60 Hz (1,560 edges a step, ℓ = 567 h) started at residuals of up to 6.5e5 N and took 32 Newton iterations a
+// step with 8 cuts in 60 steps; from the inertial predictor 5 a step and no cut, its trajectory nearer the
+// reference (`jetshell bench dynamics --material steel-foil`). Measured on a hanging sheet over E, thickness,
+// Δt and mesh (BENCHMARKS.md, Dynamics, session 62): with ℓ/h of 57–1,140 the extrapolation saves iterations
+// below about 18 edges a step and costs 1.06–6.3× as many from about 20 on; with ℓ/h of 28–45 it still saves
+// them at 44–180 edges a step (likely because a thick sheet does not wrinkle at the mesh's scale), is mixed at
+// 300 and costs them at 1,780, which the rule leaves as it was. Every scene of examples/ keeps it (the T-shirts
+// cross 6 and 12 edges a step, the hanging cloth 18; the turntable's cloth 44, with ℓ = 45 h). Dynamic
+// relaxation keeps it always.
 // A step ends no higher than staying put (guardedEnd): when a solve that converged or moved on at the cap ends
 // with a higher incremental potential than x_n's (x_n with the prescribed positions of the step's end, a point
 // the step could always have taken), the step is solved again from x_n, and Newton's line search, which only
@@ -113,10 +115,12 @@ struct DynamicsOptions {
   double massDampingOverride = -1.0;
   /// Start Newton from the constant-acceleration extrapolation of the trajectory (see the file comment).
   bool extrapolatedStart = true;
-  /// The extrapolation keeps an actor's acceleration only while a step lets its membrane wave cross at most this
-  /// many of its edges (Δt · ShellSystem::membraneWaveRate); a stiffer actor starts from the inertial predictor
-  /// x_n + Δt v_n (see the file comment). +∞: every actor's acceleration is extrapolated.
+  /// The extrapolation drops the acceleration of an actor that is both stiff and thin for the step: its membrane
+  /// wave crosses more than extrapolationWaveLimit of its edges a step (Δt · ShellSystem::membraneWaveRate) and
+  /// its edges are more than extrapolationThinLimit times its thickness (ShellSystem::edgeOverThickness). Such
+  /// an actor starts from the inertial predictor x_n + Δt v_n (see the file comment). +∞: every actor keeps it.
   double extrapolationWaveLimit = 20.0;
+  double extrapolationThinLimit = 50.0;
   /// Solve a step again from x_n when its solve ended with a higher incremental potential than x_n's, or moved on
   /// at the cap from a crushed iterate (see the file comment).
   bool guardedEnd = true;
@@ -137,6 +141,10 @@ struct DynamicsOptions {
   /// tolerance where it passes its reference. 0: by the displacement at each step's end alone.
   double duration = 0.0;
 };
+
+/// Whether the extrapolated start keeps vertex v's acceleration in a step of h (DynamicsOptions::
+/// extrapolationWaveLimit and extrapolationThinLimit; see the file comment).
+bool extrapolatesAcceleration(const ShellSystem& system, Eigen::Index v, double h, const DynamicsOptions& o);
 
 /// Whether the Newton correction test may judge an iterate (see the file comment): its residual estimate fell at
 /// least ×2 from the previous iterate's, and overstates the bound the correction must meet by at most the

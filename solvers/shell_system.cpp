@@ -152,13 +152,16 @@ ShellSystem::ShellSystem(const ShellProblem& p, AnalysisKind kind)
   const bool dynamic = kind != AnalysisKind::Statics;
   vertexMass_ = Eigen::VectorXd::Zero(n);
   membraneWaveRate_ = Eigen::VectorXd::Zero(n);
+  edgeOverThickness_ = Eigen::VectorXd::Zero(n);
   for (std::size_t i = 0; i < actors.size(); ++i) {
     const ShellMaterialParams& m = actors[i].material;
     const double edge = meanEdgeLength(actors[i].mesh, actorTopology[i]);
-    const double rate = m.density > 0.0 && edge > 0.0
-                            ? std::sqrt((m.membraneLambda + 2.0 * m.membraneMu) / m.density) / edge
-                            : std::numeric_limits<double>::infinity();
+    const double plane = m.membraneLambda + 2.0 * m.membraneMu;  // > 0 (validate)
+    const double rate = m.density > 0.0 && edge > 0.0 ? std::sqrt(plane / m.density) / edge
+                                                      : std::numeric_limits<double>::infinity();
+    const double thickness = std::sqrt(12.0 * (m.bendingAlpha + m.bendingBeta) / plane);
     membraneWaveRate_.segment(actors[i].firstVertex, actors[i].mesh.numVertices()).setConstant(rate);
+    edgeOverThickness_.segment(actors[i].firstVertex, actors[i].mesh.numVertices()).setConstant(edge / thickness);
   }
   Eigen::VectorXd gravityMass = Eigen::VectorXd::Zero(n), dampedMass = Eigen::VectorXd::Zero(n);
   for (std::size_t i = 0; i < actors.size(); ++i) {

@@ -113,6 +113,10 @@ class ShellSystem {
   /// c/ℓ with c = √((λ + 2μ)/ρ_A), the speed of a plane-stress compression wave (√(E/(ρ0(1 − ν²)))). A time step
   /// Δt lets the wave cross Δt·c/ℓ edges (the membrane's Courant number); +∞ for a massless actor.
   const Eigen::VectorXd& membraneWaveRate() const { return membraneWaveRate_; }
+  /// Per vertex (size N), its actor's mean reference edge length over the thickness its material implies,
+  /// h = √(12 (α + β)/(λ + 2μ)) (the 3D thickness for ShellMaterialParamsFrom3dIsotropic): how thin the sheet is
+  /// at the mesh's scale (its membrane is 12 (ℓ/h)² times stiffer than its bending there).
+  const Eigen::VectorXd& edgeOverThickness() const { return edgeOverThickness_; }
 
   Objective& objective() { return objective_; }
   const Objective& objective() const { return objective_; }
@@ -151,7 +155,7 @@ class ShellSystem {
   ShellReference reference_;
   ShellMaterialParams material_;
   Eigen::VectorXd vertexMass_;
-  Eigen::VectorXd membraneWaveRate_;
+  Eigen::VectorXd membraneWaveRate_, edgeOverThickness_;
   Objective objective_;
 };
 

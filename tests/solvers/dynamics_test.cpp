@@ -365,7 +365,8 @@ ShellProblem hangingFoil(int n) {
 
 }  // namespace
 
-TEST_CASE("dynamics: the membrane wave's edges a step are c dt / l, with c the plane-stress wave speed") {
+TEST_CASE("dynamics: the membrane wave's edges a step are c dt / l, with c the plane-stress wave speed, and a "
+          "sheet stiff and thin for its step drops the extrapolated acceleration") {
   ShellProblem p = hangingFoil(4);
   const ShellSystem foil(p, AnalysisKind::Dynamics);
   // E 2e11 Pa, ν 0.3, 7850 kg/m³: c = √(E / (ρ0 (1 − ν²))) = 5291 m/s; the 4 × 4 grid's mean edge: 40 edges of
@@ -375,6 +376,15 @@ TEST_CASE("dynamics: the membrane wave's edges a step are c dt / l, with c the p
   REQUIRE(foil.membraneWaveRate().size() == foil.mesh().numVertices());
   CHECK(foil.membraneWaveRate().minCoeff() == Approx(c / edge).epsilon(1e-12));
   CHECK(foil.membraneWaveRate().maxCoeff() == Approx(c / edge).epsilon(1e-12));
+  CHECK(foil.edgeOverThickness()[0] == Approx(edge / 1e-4).epsilon(1e-12));
+  // At 60 Hz the foil is stiff and thin for the step: it drops the extrapolated acceleration. A 20 mm plate of
+  // the same steel is as stiff (its wave is as fast) but thick at this mesh's scale: it keeps it.
+  const DynamicsOptions o;
+  CHECK_FALSE(extrapolatesAcceleration(foil, 0, 1.0 / 60.0, o));
+  CHECK(extrapolatesAcceleration(foil, 0, 1e-6, o));  // a step short enough to follow the wave
+  ShellProblem plate = hangingFoil(4);
+  plate.material = ShellMaterialParamsFrom3dIsotropic(2e11, 0.3, 7850.0, 0.02);
+  CHECK(extrapolatesAcceleration(ShellSystem(plate, AnalysisKind::Dynamics), 0, 1.0 / 60.0, o));
   // A massless sheet's wave is infinitely fast.
   p.material.density = 0.0;
   const ShellSystem massless(p, AnalysisKind::Statics);
