@@ -9,11 +9,14 @@
 
 namespace jetshell::cli {
 
-ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping, SheetMaterial material) {
+ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping, SheetMaterial material,
+                          double youngsModulus) {
   ShellProblem p;
   p.mesh = makeRectangleGrid(1.0, 1.0, n, n);
-  p.material = material == SheetMaterial::SteelFoil ? ShellMaterialParamsFrom3dIsotropic(2e11, 0.3, 7850.0, 1e-4)
-                                                    : ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
+  const bool foil = material == SheetMaterial::SteelFoil;
+  const double E = youngsModulus > 0.0 ? youngsModulus : (foil ? 2e11 : 1e5);
+  p.material = foil ? ShellMaterialParamsFrom3dIsotropic(E, 0.3, 7850.0, 1e-4)
+                    : ShellMaterialParamsFrom3dIsotropic(E, 0.25, 1000.0, 0.002);
   p.material.massDampingCoefficient = massDamping;
   p.material.stiffnessDampingCoefficient = stiffnessDamping;
   p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);

@@ -36,6 +36,7 @@ struct DynamicsBenchOptions {
   int n = 20;
   std::string material = "cloth";  // cloth | steel-foil (tools/bench_cloth.h)
   double waveLimit = DynamicsOptions{}.extrapolationWaveLimit;  // the runs' (not the reference's)
+  double youngsModulus = 0.0;  // Pa; > 0: instead of the material's
   double duration = 0.5;
   std::string dts = "1/30,1/60,1/120,1/240";
   std::string integrators = "backward_euler,bdf2";
@@ -266,8 +267,8 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
   if (samples * sampleInterval / (minDt / o.referenceDivisor) > 2e6)
     throw InputError("--duration: the reference would need more than 2e6 steps");
 
-  const ShellProblem problem =
-      hangingCloth(o.n, 0.0, 0.0, o.material == "steel-foil" ? SheetMaterial::SteelFoil : SheetMaterial::Cloth);
+  const SheetMaterial material = o.material == "steel-foil" ? SheetMaterial::SteelFoil : SheetMaterial::Cloth;
+  const ShellProblem problem = hangingCloth(o.n, 0.0, 0.0, material, o.youngsModulus);
   nlohmann::json out;
   std::printf("jetshell bench dynamics: %d×%d-square hanging %s, %d vertices, %d threads, %.4g s (%d samples "
               "every %.4g s); linear solver %s%s\n",
@@ -277,10 +278,16 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
               o.linearSolver == "pcg" ? (" + " + o.preconditioner).c_str() : "");
   out["mesh"] = {{"squares_per_side", o.n}, {"vertices", problem.mesh.numVertices()}};
   out["material"] = o.material;
+  out["youngs_modulus"] = o.youngsModulus > 0.0 ? nlohmann::json(o.youngsModulus) : nlohmann::json("material's");
   out["extrapolation_wave_limit"] = std::isinf(o.waveLimit) ? nlohmann::json("inf") : nlohmann::json(o.waveLimit);
-  std::printf("the runs extrapolate an actor's acceleration while a step lets its membrane wave cross at most %g "
-              "edges (this sheet's: %.3g at the largest time step)\n",
-              o.waveLimit, sampleInterval * ShellSystem(problem, AnalysisKind::Dynamics).membraneWaveRate()[0]);
+  {
+    const ShellSystem sheet(problem, AnalysisKind::Dynamics);
+    std::printf("the runs drop an actor's extrapolated acceleration when its membrane wave crosses more than %g "
+                "edges a step and its edges are more than %g thicknesses long; this sheet: %.3g edges at the largest "
+                "time step, %.3g thicknesses\n",
+                o.waveLimit, DynamicsOptions{}.extrapolationThinLimit,
+                sampleInterval * sheet.membraneWaveRate()[0], sheet.edgeOverThickness()[0]);
+  }
   out["threads"] = omp_get_max_threads();
   out["duration"] = samples * sampleInterval;
   out["linear_solver"] = o.linearSolver;
@@ -342,9 +349,11 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
                   "cloth (the spec's T-shirt material) or steel-foil (E 2e11 Pa, 0.1 mm: a membrane far stiffer "
                   "than a step's inertia)")
       ->check(CLI::IsMember({"cloth", "steel-foil"}));
+  cmd->add_option("--youngs-modulus", opts->youngsModulus, "Young's modulus [Pa] instead of the material's")
+      ->check(finiteRange(1.0, 1e13));
   cmd->add_option("--extrapolation-wave-limit", opts->waveLimit,
-                  "The runs keep the extrapolated acceleration while a step lets the membrane wave cross at most "
-                  "this many edges (inf: always; the solver's default otherwise)")
+                  "The runs drop the extrapolated acceleration of a thin sheet whose membrane wave crosses more "
+                  "than this many edges a step (inf: never; the solver's default otherwise)")
       ->check(CLI::Range(0.0, std::numeric_limits<double>::infinity()));
   cmd->add_option("--duration", opts->duration, "Simulated time [s]")->check(finiteRange(1e-3, 60.0));
   cmd->add_option("--dts", opts->dts, "Time steps, comma-separated (e.g. 1/30,1/60); each divides the largest");

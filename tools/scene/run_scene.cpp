@@ -412,12 +412,13 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     DynamicsSolver solver(system, o);
     // Say which actors' steps start without the extrapolated acceleration (solvers/dynamics.h).
     for (std::size_t a = 0; o.extrapolatedStart && a < model.actors.size(); ++a) {
-      const double crossed = scene.analysis.timeStep * system.membraneWaveRate()[model.actors[a].firstVertex];
-      if (model.actors[a].numVertices > 0 && crossed > o.extrapolationWaveLimit)
-        progress.log("shell actor '" + scene.shells[a].name + "': its membrane wave crosses " +
-                     formatNumber("%.3g", crossed) + " edges a step (more than " +
-                     formatNumber("%g", o.extrapolationWaveLimit) +
-                     "), so its steps start from x_n + dt v_n, without the extrapolated acceleration");
+      const int v = model.actors[a].firstVertex;
+      if (model.actors[a].numVertices > 0 && !extrapolatesAcceleration(system, v, scene.analysis.timeStep, o))
+        progress.log("shell actor '" + scene.shells[a].name + "': stiff and thin for the time step (its membrane "
+                     "wave crosses " + formatNumber("%.3g", scene.analysis.timeStep * system.membraneWaveRate()[v]) +
+                     " edges a step, its edges are " + formatNumber("%.3g", system.edgeOverThickness()[v]) +
+                     " thicknesses long), so its steps start from x_n + dt v_n, without the extrapolated "
+                     "acceleration");
     }
     solver.setState(x, Eigen::VectorXd::Zero(x.size()), 0.0);
     const double duration = scene.analysis.duration;
