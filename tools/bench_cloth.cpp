@@ -10,13 +10,14 @@
 namespace jetshell::cli {
 
 ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping, SheetMaterial material,
-                          double youngsModulus) {
+                          double youngsModulus, double thickness) {
   ShellProblem p;
   p.mesh = makeRectangleGrid(1.0, 1.0, n, n);
   const bool foil = material == SheetMaterial::SteelFoil;
   const double E = youngsModulus > 0.0 ? youngsModulus : (foil ? 2e11 : 1e5);
-  p.material = foil ? ShellMaterialParamsFrom3dIsotropic(E, 0.3, 7850.0, 1e-4)
-                    : ShellMaterialParamsFrom3dIsotropic(E, 0.25, 1000.0, 0.002);
+  const double h = thickness > 0.0 ? thickness : (foil ? 1e-4 : 0.002);
+  p.material = foil ? ShellMaterialParamsFrom3dIsotropic(E, 0.3, 7850.0, h)
+                    : ShellMaterialParamsFrom3dIsotropic(E, 0.25, 1000.0, h);
   p.material.massDampingCoefficient = massDamping;
   p.material.stiffnessDampingCoefficient = stiffnessDamping;
   p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);

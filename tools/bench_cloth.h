@@ -13,9 +13,10 @@ namespace jetshell::cli {
 /// whose membrane is some 10^6 times stiffer than a time step's inertia.
 enum class SheetMaterial { Cloth, SteelFoil };
 
-/// youngsModulus > 0 replaces the material's E [Pa].
+/// youngsModulus > 0 replaces the material's E [Pa], thickness > 0 its thickness [m].
 ShellProblem hangingCloth(int n, double massDamping, double stiffnessDamping,
-                          SheetMaterial material = SheetMaterial::Cloth, double youngsModulus = 0.0);
+                          SheetMaterial material = SheetMaterial::Cloth, double youngsModulus = 0.0,
+                          double thickness = 0.0);
 
 double wallSeconds();
 /// CPU seconds of the whole process (all threads).

@@ -37,6 +37,7 @@ struct DynamicsBenchOptions {
   std::string material = "cloth";  // cloth | steel-foil (tools/bench_cloth.h)
   double waveLimit = DynamicsOptions{}.extrapolationWaveLimit;  // the runs' (not the reference's)
   double youngsModulus = 0.0;  // Pa; > 0: instead of the material's
+  double thickness = 0.0;      // m; > 0: instead of the material's
   double duration = 0.5;
   std::string dts = "1/30,1/60,1/120,1/240";
   std::string integrators = "backward_euler,bdf2";
@@ -268,7 +269,7 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
     throw InputError("--duration: the reference would need more than 2e6 steps");
 
   const SheetMaterial material = o.material == "steel-foil" ? SheetMaterial::SteelFoil : SheetMaterial::Cloth;
-  const ShellProblem problem = hangingCloth(o.n, 0.0, 0.0, material, o.youngsModulus);
+  const ShellProblem problem = hangingCloth(o.n, 0.0, 0.0, material, o.youngsModulus, o.thickness);
   nlohmann::json out;
   std::printf("jetshell bench dynamics: %d×%d-square hanging %s, %d vertices, %d threads, %.4g s (%d samples "
               "every %.4g s); linear solver %s%s\n",
@@ -279,6 +280,7 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
   out["mesh"] = {{"squares_per_side", o.n}, {"vertices", problem.mesh.numVertices()}};
   out["material"] = o.material;
   out["youngs_modulus"] = o.youngsModulus > 0.0 ? nlohmann::json(o.youngsModulus) : nlohmann::json("material's");
+  out["thickness"] = o.thickness > 0.0 ? nlohmann::json(o.thickness) : nlohmann::json("material's");
   out["extrapolation_wave_limit"] = std::isinf(o.waveLimit) ? nlohmann::json("inf") : nlohmann::json(o.waveLimit);
   {
     const ShellSystem sheet(problem, AnalysisKind::Dynamics);
@@ -351,6 +353,8 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
       ->check(CLI::IsMember({"cloth", "steel-foil"}));
   cmd->add_option("--youngs-modulus", opts->youngsModulus, "Young's modulus [Pa] instead of the material's")
       ->check(finiteRange(1.0, 1e13));
+  cmd->add_option("--thickness", opts->thickness, "Thickness [m] instead of the material's")
+      ->check(finiteRange(1e-6, 0.1));
   cmd->add_option("--extrapolation-wave-limit", opts->waveLimit,
                   "The runs drop the extrapolated acceleration of a thin sheet whose membrane wave crosses more "
                   "than this many edges a step (inf: never; the solver's default otherwise)")
