@@ -180,7 +180,7 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   // starts the solve on the wrong side of a layer).
   Eigen::VectorXd drift = h * v_;
   if (options_.extrapolatedStart && historyValid_) {
-    // Only where the step resolves the membrane's waves (see the header): a stiffer actor's acceleration is theirs.
+    // Not for an actor stiff and thin for the step (see the header): its acceleration is its membrane's ringing.
     const double scale = (bdf2 ? 0.5 : 1.0) * (h * h / historyStep_);
     for (Eigen::Index v = 0; v < sys.vertexMass().size(); ++v)
       if (extrapolatesAcceleration(sys, v, h, options_))
