@@ -11,6 +11,13 @@
 #include <sstream>
 
 namespace jetshell {
+
+FaceShape faceShape(const TriMesh& mesh, int f) {
+  const Eigen::Vector3d x0 = mesh.V.row(mesh.F(f, 0)), x1 = mesh.V.row(mesh.F(f, 1)), x2 = mesh.V.row(mesh.F(f, 2));
+  return {(x1 - x0).cross(x2 - x0).norm(),
+          std::max({(x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(), (x2 - x1).squaredNorm()})};
+}
+
 namespace {
 
 struct HalfEdge {
@@ -150,9 +157,7 @@ std::vector<HalfEdge> checkedHalfEdges(const TriMesh& mesh, const MeshNaming& na
     }
     if (mesh.F(f, 0) == mesh.F(f, 1) || mesh.F(f, 1) == mesh.F(f, 2) || mesh.F(f, 0) == mesh.F(f, 2))
       throw InputError(naming.subject(f) + " repeats a vertex");
-    const Eigen::Vector3d x0 = mesh.V.row(mesh.F(f, 0)), x1 = mesh.V.row(mesh.F(f, 1)), x2 = mesh.V.row(mesh.F(f, 2));
-    const double doubleArea = (x1 - x0).cross(x2 - x0).norm();
-    const double scale = std::max({(x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(), (x2 - x1).squaredNorm()});
+    const auto [doubleArea, scale] = faceShape(mesh, f);
     if (!std::isfinite(doubleArea) || !std::isfinite(scale))
       throw InputError(naming.subject(f) + " is too large to measure (its area overflows a double)");
     if (!(doubleArea > 1e-12 * scale) || scale == 0.0) {

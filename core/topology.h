@@ -61,6 +61,15 @@ int firstVertexWithoutFace(const TriMesh& mesh);
 /// The mean length of the mesh's edges (each edge once), or 0 for a mesh without edges.
 double meanEdgeLength(const TriMesh& mesh, const Topology& topology);
 
+/// Face f's shape: twice its area, |(x1 − x0) × (x2 − x0)|, and its longest edge's squared length. Its height
+/// over its longest edge is doubleArea / longestSquared (buildTopology refuses 1e-12 and less as degenerate; the
+/// scene reader warns of slivers above that: tools/scene/sliver_faces.h).
+struct FaceShape {
+  double doubleArea = 0.0;
+  double longestSquared = 0.0;
+};
+FaceShape faceShape(const TriMesh& mesh, int f);
+
 /// The validation part of buildTopology alone, with the default naming or the caller's.
 void validateMesh(const TriMesh& mesh);
 void validateMesh(const TriMesh& mesh, const MeshNaming& naming);

@@ -5,7 +5,6 @@
 #include "tools/scene/volume_shape.h"
 #include "tools/scene/warning_list.h"
 
-
 namespace jetshell {
 
 std::vector<std::string> insideSolidWarnings(const Scene& scene, const std::vector<ActorBlock>& actors) {

@@ -1,9 +1,9 @@
 #include "tools/scene/sliver_faces.h"
 
 #include "core/format.h"
+#include "core/topology.h"
 #include "tools/scene/warning_list.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -16,10 +16,9 @@ std::vector<std::string> sliverFaceWarnings(const Scene& scene, const std::vecto
     int slivers = 0, thinnestFace = -1;
     double thinnest = std::numeric_limits<double>::infinity(), thinnestEdge = 0.0;
     for (int f = 0; f < mesh.numFaces(); ++f) {
-      const Eigen::Vector3d x0 = mesh.V.row(mesh.F(f, 0)), x1 = mesh.V.row(mesh.F(f, 1)), x2 = mesh.V.row(mesh.F(f, 2));
-      const double longest2 = std::max({(x1 - x0).squaredNorm(), (x2 - x0).squaredNorm(), (x2 - x1).squaredNorm()});
-      // height / longest edge = (2 area / L) / L
-      const double ratio = (x1 - x0).cross(x2 - x0).norm() / longest2;
+      const FaceShape shape = faceShape(mesh, f);
+      const double longest2 = shape.longestSquared;
+      const double ratio = shape.doubleArea / longest2;  // height / longest edge = (2 area / L) / L
       if (!(ratio < kSliverHeightRatio)) continue;
       ++slivers;
       if (ratio < thinnest) thinnest = ratio, thinnestFace = f, thinnestEdge = std::sqrt(longest2);
