@@ -1,6 +1,7 @@
 #include "solvers/linear_solver.h"
 
 #include "core/mesh.h"
+#include "solvers/timer.h"
 
 #include <cmath>
 #include <sstream>
@@ -130,6 +131,7 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
     if (a == Attempt::Ok && x.allFinite()) {
       report.success = true;
       factorValid_ = true;
+      factorShift_ = shift;
       report.shift = shift;
       report.positiveDefinite = k == 0 && factorProvesDefiniteness();
       if (k > 0) {
@@ -152,6 +154,19 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
 bool LinearSolver::solveWithLastFactor(std::uint64_t patternVersion, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   if (!factorValid_ || patternVersion != analyzedVersion_ || !b.allFinite()) return false;
   return solveWithFactor(b, x) && x.allFinite();
+}
+
+bool LinearSolver::solveLastSystem(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion,
+                                   const Eigen::VectorXd& b, Eigen::VectorXd& x, double relativeTolerance,
+                                   LinearSolveReport& report) {
+  if (!factorValid_ || factorShift_ != 0.0 || patternVersion != analyzedVersion_ || !b.allFinite() ||
+      upper.rows() != b.size())
+    return false;
+  const Timer timer;
+  const bool solved =
+      solveWithFactor(b, x) || iterateWithLastPreconditioner(upper, b, x, relativeTolerance, report);
+  report.solveSeconds += timer.seconds();
+  return solved && x.allFinite();
 }
 
 std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions& options, int numDofs) {

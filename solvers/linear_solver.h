@@ -124,6 +124,13 @@ class LinearSolver {
   /// (modified Newton, NewtonOptions::reuseFactor). False, x unspecified, when the solver keeps no factor
   /// (iterative solvers), the last solve failed, or patternVersion is not the one that factor was taken on.
   bool solveWithLastFactor(std::uint64_t patternVersion, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// Solves the last successful solve's system again for a new right-hand side, nothing assembled or factored:
+  /// a direct solver with its factor, an iterative one by CG to relativeTolerance with its last preconditioner
+  /// on `upper`, which must still hold that solve's matrix. False, x unspecified, when the last solve failed, was
+  /// shifted, or patternVersion is not its pattern. Adds its times and CG iterations to the report.
+  bool solveLastSystem(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion,
+                       const Eigen::VectorXd& b, Eigen::VectorXd& x, double relativeTolerance,
+                       LinearSolveReport& report);
 
   /// Preconditioning ahead of the solve, overlapped with assembly. Called while `upper` (the assembler's matrix,
   /// of pattern `patternVersion`) holds only the terms with narrow stencils (at most one triangle: membrane,
@@ -187,6 +194,13 @@ class LinearSolver {
                           const Eigen::VectorXd& b, Eigen::VectorXd& x, LinearSolveReport& report) = 0;
   /// x = the last successful attempt's factor applied to b; false when the solver keeps none.
   virtual bool solveWithFactor(const Eigen::VectorXd& /*b*/, Eigen::VectorXd& /*x*/) { return false; }
+  /// Iterative solvers: x from CG on upper (unshifted) to relativeTolerance, with the last successful attempt's
+  /// preconditioner; false when the solver keeps none or CG does not get there.
+  virtual bool iterateWithLastPreconditioner(const Eigen::SparseMatrix<double>& /*upper*/,
+                                             const Eigen::VectorXd& /*b*/, Eigen::VectorXd& /*x*/,
+                                             double /*relativeTolerance*/, LinearSolveReport& /*report*/) {
+    return false;
+  }
 
  private:
   LinearSolverOptions options_;
@@ -194,6 +208,7 @@ class LinearSolver {
   std::uint64_t solvingVersion_ = 0;
   bool analyzed_ = false;
   bool factorValid_ = false;  // the last solve() succeeded (solveWithLastFactor)
+  double factorShift_ = 0.0;  // the last successful solve()'s diagonal shift (solveLastSystem)
   int analyses_ = 0;
   double relativeTolerance_ = 0.0;
 };

@@ -123,6 +123,12 @@ class PcgSolver : public LinearSolver {
     };
   }
 
+  bool iterateWithLastPreconditioner(const Eigen::SparseMatrix<double>& upper, const Eigen::VectorXd& b,
+                                     Eigen::VectorXd& x, double relativeTolerance,
+                                     LinearSolveReport& report) override {
+    return iterate(upper, 0.0, b, x, options().cgMaxIterations, report, relativeTolerance) == Attempt::Ok;
+  }
+
   void discardPrepared() override {
     narrowValid_ = false;
     prepared_ = false;
@@ -355,8 +361,10 @@ class PcgSolver : public LinearSolver {
            std::equal(a.innerIndexPtr(), a.innerIndexPtr() + nnz, b.innerIndexPtr());
   }
 
+  /// CG to relative residual `tolerance` (≤ 0: relativeTolerance()).
   Attempt iterate(const Eigen::SparseMatrix<double>& H, double shift, const Eigen::VectorXd& b, Eigen::VectorXd& x,
-                  int maxIterations, LinearSolveReport& report) {
+                  int maxIterations, LinearSolveReport& report, double tolerance = 0.0) {
+    if (!(tolerance > 0.0)) tolerance = relativeTolerance();
     const double bNorm = b.norm();
     x.setZero(b.size());
     if (bNorm == 0.0) return Attempt::Ok;
@@ -364,7 +372,7 @@ class PcgSolver : public LinearSolver {
     precondition(r, z);
     p = z;
     double rz = r.dot(z);
-    const double target = relativeTolerance() * bNorm;
+    const double target = tolerance * bNorm;
     for (int k = 1; k <= maxIterations; ++k) {
       product_.apply(H, p, Ap, solvingPatternVersion());
       Ap += shift * p;
@@ -384,7 +392,7 @@ class PcgSolver : public LinearSolver {
       rz = rzNew;
     }
     std::ostringstream s;
-    s << "CG did not reach relative residual " << relativeTolerance() << " in " << maxIterations
+    s << "CG did not reach relative residual " << tolerance << " in " << maxIterations
       << " iterations";
     report.message = s.str();
     return Attempt::Failed;

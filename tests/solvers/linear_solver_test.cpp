@@ -222,3 +222,49 @@ TEST_CASE("linear solver: CHOLMOD runs with its BLAS thread count and leaves Ope
     CHECK(omp_get_max_active_levels() == levels);
   }
 }
+
+TEST_CASE("linear solver: the last system is solved again for a new right-hand side, and not after a shifted "
+          "solve or on another pattern") {
+  testing::SingleThread single;
+  System sys;
+  const Eigen::SparseMatrix<double>& H = sys.assembler().matrix();
+  const std::uint64_t version = sys.assembler().patternVersion();
+  const Eigen::VectorXd b = -sys.g;
+  Eigen::VectorXd other = Eigen::VectorXd::LinSpaced(b.size(), -1.0, 1.0);
+  for (Eigen::Index i = 0; i < other.size(); ++i)
+    if (sys.assembler().fixedDof()[static_cast<std::size_t>(i)]) other[i] = 0.0;
+  const Eigen::VectorXd reference = testing::symmetricFromUpper(H).ldlt().solve(other);
+  struct Case {
+    LinearSolverType type;
+    Preconditioner preconditioner;
+    double tolerance;  // relative to the reference
+  };
+  for (const Case& c : {Case{LinearSolverType::Cholmod, Preconditioner::Jacobi, 1e-8},
+                        Case{LinearSolverType::PCG, Preconditioner::IncompleteCholesky, 1e-2},
+                        Case{LinearSolverType::PCG, Preconditioner::BlockJacobi, 1e-2}}) {
+    LinearSolverOptions o;
+    o.type = c.type;
+    o.preconditioner = c.preconditioner;
+    auto solver = makeLinearSolver(o, static_cast<int>(b.size()));
+    Eigen::VectorXd x, y;
+    LinearSolveReport again;
+    INFO(solver->name());
+    CHECK_FALSE(solver->solveLastSystem(H, version, other, y, 1e-6, again));  // nothing solved yet
+    REQUIRE(solver->solve(sys.assembler(), b, x).success);
+    REQUIRE(solver->solveLastSystem(H, version, other, y, 1e-6, again));
+    CHECK((y - reference).norm() <= c.tolerance * reference.norm());
+    CHECK_FALSE(solver->solveLastSystem(H, version + 1, other, y, 1e-6, again));  // another pattern
+    // A shifted solve's system is not H: nothing to solve again.
+    Eigen::SparseMatrix<double> indefinite = H;
+    const Eigen::VectorXd d = H.diagonal();
+    const double shiftDown = d.cwiseAbs().minCoeff() + 1e-3 * d.cwiseAbs().mean();
+    for (int j = 0; j < indefinite.outerSize(); ++j)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(indefinite, j); it; ++it)
+        if (it.row() == j && !sys.assembler().fixedDof()[static_cast<std::size_t>(j)]) it.valueRef() -= shiftDown;
+    const LinearSolveReport shifted = solver->solve(indefinite, version, b, x, &sys.assembler().fixedDof());
+    INFO(shifted.message);
+    REQUIRE(shifted.success);
+    REQUIRE(shifted.shift > 0.0);
+    CHECK_FALSE(solver->solveLastSystem(indefinite, version, other, y, 1e-6, again));
+  }
+}
