@@ -28,8 +28,9 @@ const char* toString(TimeIntegrator t) {
 
 namespace {
 
-/// The correction test needs the residual estimate to have fallen at least this much over the last iteration
-/// (evidence that Newton contracts, so the error left is below the last correction).
+/// The correction test needs the residual estimate to have fallen at least this much over the last iteration,
+/// and the Newton correction over the last correction (evidence that Newton contracts, so the error left is
+/// below the last correction: at most r/(1 − r) of it for a contraction r).
 constexpr double kCorrectionContraction = 0.5;
 /// The correction test trusts a correction only while the residual estimate overstates it by at most this
 /// factor: the estimate is the error under the inertia alone, so the factor is the stiffness-to-inertia ratio
@@ -101,6 +102,16 @@ bool extrapolatesAcceleration(const ShellSystem& system, Eigen::Index v, double 
 bool correctionTestApplies(double residualEstimate, double lastResidualEstimate, double bound) {
   return residualEstimate <= kCorrectionContraction * lastResidualEstimate &&
          residualEstimate <= kCorrectionOverstatementLimit * bound;
+}
+
+double simplifiedErrorEstimate(double simplifiedCorrection, double correction) {
+  const double theta = simplifiedCorrection / correction;
+  return theta < 1.0 ? simplifiedCorrection / (1.0 - theta) : std::numeric_limits<double>::infinity();
+}
+
+double contractionErrorEstimate(double correction, double lastCorrection) {
+  return correction <= kCorrectionContraction * lastCorrection ? correction
+                                                               : std::numeric_limits<double>::infinity();
 }
 
 DynamicsSolver::DynamicsSolver(ShellSystem& system, const DynamicsOptions& options)
@@ -194,6 +205,8 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       bdf2 ? Eigen::VectorXd(x_ + h * v_ + 0.5 * h * (v_ - vPrev_)) : Eigen::VectorXd();
   Eigen::VectorXd lastIterate;       // the correction test's memory of this solve's previous iterate
   double lastResidualEstimate = 0.0;
+  double lastCorrection = 0.0;  // the last Newton correction of this solve, 0 when the last step was not one
+  Eigen::VectorXd simplifiedCorrection;
   // Whether the last iterate the test judged overstated its threshold beyond kCorrectionOverstatementLimit: a
   // stiffness no time step should meet (crushed elements), so its solve is done again from x_n (below).
   bool crushedIterate = false;
@@ -217,9 +230,10 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
                                                 : std::numeric_limits<double>::infinity();
     const double correctionFloor = withContact ? kContactCorrectionFloor * sys.contact.narrowestRamp : 0.0;
     const bool correctionTest = options_.correctionTest && largestMoveBound > 0.0;
-    newton_.setIterateTest([&predictor, &extrapolated, &m, &lastIterate, &lastResidualEstimate, &crushedIterate, eta,
-                            floor, totalMass, inertiaCoefficient, correctionTest, bdf2, largestMoveBound,
-                            correctionFloor](const IterateView& it) {
+    newton_.setIterateTest([&predictor, &extrapolated, &m, &lastIterate, &lastResidualEstimate, &lastCorrection,
+                            &simplifiedCorrection, &crushedIterate, eta, floor, totalMass, inertiaCoefficient,
+                            correctionTest, bdf2, largestMoveBound, correctionFloor,
+                            withContact](const IterateView& it) {
       const Eigen::VectorXd& xk = it.x;
       const Eigen::VectorXd& g = it.gradient;
       // The correction x_k − x_{k−1} is a Newton correction only after a full Newton step.
@@ -242,14 +256,30 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       IterateTestResult result{residualEstimate <= threshold, residualEstimate, threshold, "residual estimate"};
       const double bound = std::max(threshold, correctionFloor);  // the correction's
       crushedIterate = !result.passed && residualEstimate > kCorrectionOverstatementLimit * bound;
-      if (!result.passed && haveCorrection && correctionTestApplies(residualEstimate, lastResidualEstimate, bound)) {
-        const double correction = std::sqrt(correctionSq / totalMass);
-        if (correction <= bound && std::sqrt(largestMoveSq) <= largestMoveBound)
-          result = {true, correction, bound, "Newton correction"};
+      const double correction = haveCorrection ? std::sqrt(correctionSq / totalMass) : 0.0;
+      if (!result.passed && haveCorrection && correctionTestApplies(residualEstimate, lastResidualEstimate, bound) &&
+          correction <= bound && std::sqrt(largestMoveSq) <= largestMoveBound) {
+        // The error left (see the header). With contact terms the correction itself, under the move bound above.
+        // Without them, from the contraction over the last two corrections, or else from the simplified Newton
+        // correction −H_{k−1}⁻¹ g_k where the last system can be solved again.
+        double errorLeft = correction;
+        if (!withContact) {
+          errorLeft = lastCorrection > 0.0 ? contractionErrorEstimate(correction, lastCorrection)
+                                           : std::numeric_limits<double>::infinity();
+          if (!(errorLeft <= bound) && correction > 0.0 && it.solveLastSystem &&
+              it.solveLastSystem(-g, simplifiedCorrection)) {
+            double simplifiedSq = 0.0;
+            for (Eigen::Index v = 0; v < m.size(); ++v)
+              if (m[v] > 0.0) simplifiedSq += m[v] * simplifiedCorrection.segment<3>(3 * v).squaredNorm();
+            errorLeft = simplifiedErrorEstimate(std::sqrt(simplifiedSq / totalMass), correction);
+          }
+        }
+        if (errorLeft <= bound) result = {true, correction, bound, "Newton correction"};
       }
       if (correctionTest) {
         lastIterate = xk;
         lastResidualEstimate = residualEstimate;
+        lastCorrection = correction;
       }
       return result;
     });
@@ -272,6 +302,7 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       report.solves.push_back(std::move(summary));
       lastIterate.resize(0);
       lastResidualEstimate = 0.0;
+      lastCorrection = 0.0;
       x = std::move(stay);
       summary = newton_.minimize(x);
       addTimes(report, summary);

@@ -147,12 +147,20 @@ struct IterateTestResult {
 /// What an iterate test sees: the iterate, the objective's gradient there (fixed dofs zeroed), the iteration k,
 /// and the fraction of the last Newton direction that led to it (α × the step bound: 1 for a full Newton step;
 /// 0 at the start, and after a steepest-descent fallback).
+/// After a full Newton step on the unprojected Hessian, solveLastSystem solves H_{k−1} y = b, the system that
+/// step came from, again (LinearSolver::solveLastSystem: a direct solver's back-substitution, or CG to a relative
+/// residual of kSimplifiedCorrectionTolerance with the last preconditioner; nothing assembled or factored; false
+/// when it cannot, as after a shifted solve or a new pattern): −H_{k−1}⁻¹ g_k is the simplified Newton
+/// correction, an estimate of the iterate's error that needs no new factor. Empty otherwise.
 struct IterateView {
   const Eigen::VectorXd& x;
   const Eigen::VectorXd& gradient;
   int iteration = 0;
   double newtonStepFraction = 0.0;
+  std::function<bool(const Eigen::VectorXd& b, Eigen::VectorXd& y)> solveLastSystem;
 };
+/// The relative residual of IterateView::solveLastSystem's CG: an error estimate needs a digit or two.
+constexpr double kSimplifiedCorrectionTolerance = 1e-2;
 using IterateTest = std::function<IterateTestResult(const IterateView& iterate)>;
 
 class NewtonSolver {
