@@ -28,9 +28,9 @@ const char* toString(TimeIntegrator t) {
 
 namespace {
 
-/// The correction test needs the residual estimate to have fallen at least this much over the last iteration,
-/// and the Newton correction over the last correction (evidence that Newton contracts, so the error left is
-/// below the last correction: at most r/(1 − r) of it for a contraction r).
+/// The correction test needs the residual estimate to have fallen at least this much over the last iteration
+/// (evidence that Newton contracts). Without contact terms, the correction itself bounds the error left only
+/// when it also fell this much against the last one (the error left is then at most r/(1 − r) ≤ 1 of it).
 constexpr double kCorrectionContraction = 0.5;
 /// The correction test trusts a correction only while the residual estimate overstates it by at most this
 /// factor: the estimate is the error under the inertia alone, so the factor is the stiffness-to-inertia ratio

@@ -146,8 +146,9 @@ struct DynamicsOptions {
   /// The default is jetshell's (solvers/time_step_policy.h, chosen by `jetshell bench dynamics`).
   double updateTolerance = 0.1;
   /// With updateTolerance: also pass an iterate reached by a full Newton step whose correction ‖Δx‖_M is at
-  /// most η ‖x − x̃‖_M while the residual estimate fell at least ×2 (see the file comment). Such a solve is
-  /// converged; its summary's message names the "Newton correction". With contact terms it also needs
+  /// most η ‖x − x̃‖_M while the residual estimate fell at least ×2, and, without contact terms, the error left
+  /// estimated from Newton's contraction is too (see the file comment). Such a solve is converged; its
+  /// summary's message names the "Newton correction". With contact terms it also needs
   /// contactCorrectionFraction (see the file comment).
   bool correctionTest = true;
   /// κ of the correction test with contact terms: there the correction must also move no vertex farther than
