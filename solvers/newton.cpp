@@ -269,6 +269,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
         m << "iterate test: " << t.estimateName << " " << t.estimate << " m <= " << t.threshold << " m; residual " << r << " N";
         s.convergenceTest = "iterate";
         s.iterateEstimate = t.estimateName;
+        s.iterateThreshold = t.threshold;
         return finish(TerminationReason::Converged, m.str());
       }
     }

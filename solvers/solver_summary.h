@@ -66,6 +66,7 @@ struct SolverSummary {
                                     // (a time step's update test, in m)
   std::string iterateEstimate;      // with "iterate": the estimate that passed (solvers/dynamics.h: "residual
                                     // estimate" or "Newton correction")
+  double iterateThreshold = 0.0;    // with "iterate": the threshold [m] that estimate passed
   bool discarded = false;           // its result was not kept: it ended above the time step's previous
                                     // positions, and the step was solved again from them (solvers/dynamics.h)
 

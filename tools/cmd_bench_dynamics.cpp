@@ -6,6 +6,11 @@
 // against the run's wall and process-CPU seconds (the load average is printed next to them). Prints a table
 // (markdown), writes --json and a log-log PNG chart of RMS error against wall (or, --chart-time cpu, process CPU)
 // time (--png); --replot redraws the chart from an earlier --json without running anything.
+// --newton-error also checks every step a jetshell run's iterate test passed: the step is solved again from the
+// same state, by a second solver on its own system, to η = 1e-6, and the passed iterate's mass-weighted RMS
+// distance from that solution is compared with the threshold the test claimed to meet. Both solvers start each
+// step without the Newton solver's history, so they take the same iterates up to the pass (wall times then
+// include the second solves, and the run's starts differ from a plain run's).
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "solvers/time_step_policy.h"
@@ -52,6 +57,7 @@ struct DynamicsBenchOptions {
   std::string json, png;
   std::string chartTime = "wall";  // wall | cpu
   std::string replot;
+  bool newtonError = false;
 };
 
 std::vector<std::string> splitList(const std::string& text, const char* field) {
@@ -96,6 +102,15 @@ struct Trajectory {
   std::vector<Eigen::VectorXd> samples;
 };
 
+/// --newton-error: the steps whose iterate test passed, against the same steps solved to η = 1e-6.
+struct EstimateCheck {
+  int passes = 0;       // steps passed by this estimate (and solved again whole, without cuts)
+  int aboveBound = 0;   // of them, error > threshold
+  double worstRatio = 0.0;  // the largest error / threshold
+  int worstStep = 0;
+  std::string worstTrace;   // the worst pass's Newton iterations, and the tight solve's
+};
+
 struct RunFigures {
   std::string integrator, policy, label;
   double eta = 0.0;
@@ -106,7 +121,52 @@ struct RunFigures {
   double wall = 0.0, cpu = 0.0, loadBefore = 0.0, loadAfter = 0.0;
   double rmsError = 0.0, finalError = 0.0;
   Trajectory trajectory;
+  std::vector<std::pair<std::string, EstimateCheck>> checks;  // --newton-error, by estimate name
 };
+
+/// The Newton iterations on one line: step length, largest move, whether the exact(-first) Hessian or the projected
+/// one gave the direction, and whether it was shifted.
+std::string traceLine(const SolverSummary& s) {
+  std::ostringstream o;
+  o.precision(3);
+  for (const IterationRecord& r : s.trace)
+    o << " [" << r.iteration << ": a " << r.stepLength << " move " << r.largestMove
+      << (r.exactHessian ? " exact" : " projected") << (r.shift > 0.0 ? " shifted" : "") << "]";
+  o << " -> " << s.message;
+  return o.str();
+}
+
+/// The mass-weighted RMS vertex distance between a and b [m].
+double massRms(const Eigen::VectorXd& m, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double sum = 0.0;
+  for (Eigen::Index v = 0; v < m.size(); ++v)
+    sum += m[v] * (a.segment<3>(3 * v) - b.segment<3>(3 * v)).squaredNorm();
+  return std::sqrt(sum / m.sum());
+}
+
+/// Checks the step just taken (from `before`) against the same step solved to η = 1e-6 by `tight`.
+void checkStep(RunFigures& f, const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
+               const DynamicsSolver::Snapshot& before) {
+  if (rep.solves.size() != 1 || rep.substeps != 1) return;  // a cut step: the passes are of its parts
+  const SolverSummary& loose = rep.solves.front();
+  if (!loose.converged() || loose.convergenceTest != "iterate" || !(loose.iterateThreshold > 0.0)) return;
+  tight.restore(before);
+  const StepReport t = tight.step();
+  if (!t.success || t.solves.size() != 1) return;
+  const double error = massRms(run.system().vertexMass(), run.positions(), tight.positions());
+  const double ratio = error / loose.iterateThreshold;
+  auto it = std::find_if(f.checks.begin(), f.checks.end(),
+                         [&](const auto& c) { return c.first == loose.iterateEstimate; });
+  if (it == f.checks.end()) it = f.checks.insert(f.checks.end(), {loose.iterateEstimate, EstimateCheck{}});
+  EstimateCheck& c = it->second;
+  ++c.passes;
+  if (ratio > 1.0) ++c.aboveBound;
+  if (ratio > c.worstRatio) {
+    c.worstRatio = ratio;
+    c.worstStep = rep.step;
+    c.worstTrace = "passed:" + traceLine(loose) + "\n      tight: " + traceLine(t.solves.front());
+  }
+}
 
 RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, TimeIntegrator integrator,
                   TimeStepPolicy policy, double eta, double dt, double sampleInterval, int samples) {
@@ -128,12 +188,31 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
   if (policy != TimeStepPolicy::Reference) d.extrapolationWaveLimit = o.waveLimit;
   f.eta = d.updateTolerance;
   DynamicsSolver solver(system, d);
+  // --newton-error: a second solver on its own system, so the check leaves the run untouched.
+  const bool check = o.newtonError && policy == TimeStepPolicy::Jetshell;
+  std::unique_ptr<ShellSystem> tightSystem;
+  std::unique_ptr<DynamicsSolver> tight;
+  DynamicsSolver::Snapshot before;
+  if (check) {
+    tightSystem = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
+    DynamicsOptions td = d;
+    td.updateTolerance = 1e-6;
+    tight = std::make_unique<DynamicsSolver>(*tightSystem, td);
+    before = solver.snapshot();
+  }
   const int stepsPerSample = static_cast<int>(std::lround(sampleInterval / dt));
   f.loadBefore = loadAverage();
   const double w0 = wallSeconds(), c0 = processCpuSeconds();
   const DynamicsResult r = simulate(solver, samples * sampleInterval, [&](const StepReport& rep, DynamicsSolver& s) {
     for (const SolverSummary& sum : rep.solves) f.factorizations += sum.numericFactorizations;
     if (rep.step % stepsPerSample == 0) f.trajectory.samples.push_back(s.positions());
+    if (check) {
+      checkStep(f, rep, s, *tight, before);
+      before = s.snapshot();
+      // Both solvers then start the next step alike (restore() forgets the Newton solver's history), so the
+      // second one follows the run's iterates up to its pass and on to the solution they head for.
+      s.forgetSolverHistory();
+    }
     return true;
   });
   f.wall = wallSeconds() - w0;
@@ -170,13 +249,19 @@ std::string seriesLabel(const RunFigures& f) {
 }
 
 nlohmann::json toJson(const RunFigures& f) {
-  return {{"integrator", f.integrator}, {"policy", f.policy},     {"eta", f.eta},
+  nlohmann::json checks = nlohmann::json::object();
+  for (const auto& [name, c] : f.checks)
+    checks[name] = {{"passes", c.passes}, {"above_threshold", c.aboveBound}, {"worst_ratio", c.worstRatio},
+                    {"worst_step", c.worstStep}};
+  nlohmann::json j = {{"integrator", f.integrator}, {"policy", f.policy},     {"eta", f.eta},
           {"dt", f.dt},                 {"completed", f.completed}, {"message", f.message},
           {"steps", f.steps},           {"newton_iterations", f.newtonIterations},
           {"cuts", f.cuts},             {"moved_on", f.movedOn},  {"factorizations", f.factorizations},
           {"wall_seconds", f.wall},     {"process_cpu_seconds", f.cpu},
           {"load_before", f.loadBefore}, {"load_after", f.loadAfter},
           {"rms_error_m", f.rmsError},  {"final_error_m", f.finalError}};
+  if (!f.checks.empty()) j["newton_error"] = checks;
+  return j;
 }
 
 void plotRuns(const std::vector<RunFigures>& runs, int vertices, const DynamicsBenchOptions& o) {
@@ -328,6 +413,10 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
                       f.completed ? std::to_string(f.finalError).c_str() : "failed", f.wall, f.cpu,
                       0.5 * (f.loadBefore + f.loadAfter));
           if (!f.completed) std::printf("  (%s)\n", f.message.c_str());
+          for (const auto& [name, c] : f.checks)
+            std::printf("  newton error, %s: %d passes, %d above their threshold, worst %.3g x at step %d\n"
+                        "      %s\n",
+                        name.c_str(), c.passes, c.aboveBound, c.worstRatio, c.worstStep, c.worstTrace.c_str());
           runs.push_back(std::move(f));
         }
   nlohmann::json rows = nlohmann::json::array();
@@ -378,6 +467,9 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
       ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
   cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->add_option("--png", opts->png, "Write the error-against-time chart (PNG)")->check(outputFile());
+  cmd->add_flag("--newton-error", opts->newtonError,
+               "Solve every step a jetshell run's iterate test passed again to eta 1e-6 and report the error left "
+               "against the threshold claimed");
   cmd->add_option("--replot", opts->replot, "Only redraw --png from the JSON of an earlier run");
   cmd->add_option("--chart-time", opts->chartTime, "Time axis of the chart: wall | cpu (process CPU, steadier on a busy machine)")
       ->check(CLI::IsMember({"wall", "cpu"}));
