@@ -29,8 +29,7 @@ const char* toString(TimeIntegrator t) {
 namespace {
 
 /// The correction test needs the residual estimate to have fallen at least this much over the last iteration
-/// (evidence that Newton contracts). Without contact terms, the correction itself bounds the error left only
-/// when it also fell this much against the last one (the error left is then at most r/(1 − r) ≤ 1 of it).
+/// (evidence that Newton contracts).
 constexpr double kCorrectionContraction = 0.5;
 /// The correction test trusts a correction only while the residual estimate overstates it by at most this
 /// factor: the estimate is the error under the inertia alone, so the factor is the stiffness-to-inertia ratio
@@ -106,12 +105,8 @@ bool correctionTestApplies(double residualEstimate, double lastResidualEstimate,
 
 double simplifiedErrorEstimate(double simplifiedCorrection, double correction) {
   const double theta = simplifiedCorrection / correction;
-  return theta < 1.0 ? simplifiedCorrection / (1.0 - theta) : std::numeric_limits<double>::infinity();
-}
-
-double contractionErrorEstimate(double correction, double lastCorrection) {
-  return correction <= kCorrectionContraction * lastCorrection ? correction
-                                                               : std::numeric_limits<double>::infinity();
+  return theta <= kSimplifiedContractionLimit ? simplifiedCorrection / (1.0 - theta)
+                                              : std::numeric_limits<double>::infinity();
 }
 
 DynamicsSolver::DynamicsSolver(ShellSystem& system, const DynamicsOptions& options)
@@ -260,13 +255,12 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       if (!result.passed && haveCorrection && correctionTestApplies(residualEstimate, lastResidualEstimate, bound) &&
           correction <= bound && std::sqrt(largestMoveSq) <= largestMoveBound) {
         // The error left (see the header). With contact terms the correction itself, under the move bound above.
-        // Without them, from the contraction over the last two corrections, or else from the simplified Newton
-        // correction −H_{k−1}⁻¹ g_k where the last system can be solved again.
+        // Without them, from the simplified Newton correction −H_{k−1}⁻¹ g_k, where the last system can be solved
+        // again and the iterate is Newton's second correction or a later one.
         double errorLeft = correction;
         if (!withContact) {
-          errorLeft = lastCorrection > 0.0 ? contractionErrorEstimate(correction, lastCorrection)
-                                           : std::numeric_limits<double>::infinity();
-          if (!(errorLeft <= bound) && correction > 0.0 && it.solveLastSystem &&
+          errorLeft = std::numeric_limits<double>::infinity();
+          if (correction > 0.0 && lastCorrection > 0.0 && it.solveLastSystem &&
               it.solveLastSystem(-g, simplifiedCorrection)) {
             double simplifiedSq = 0.0;
             for (Eigen::Index v = 0; v < m.size(); ++v)

@@ -1,6 +1,7 @@
 #include "solvers/dynamic_relaxation.h"
 #include "solvers/dynamics.h"
 #include "solvers/statics.h"
+#include "solvers/time_step_policy.h"
 #include "test_problems.h"
 
 #include <catch2/catch.hpp>
@@ -350,14 +351,14 @@ TEST_CASE("dynamics: the Newton correction test does not judge an iterate whose 
 TEST_CASE("dynamics: the error left after a Newton correction is estimated from Newton's contraction") {
   // Deuflhard's estimate from the simplified Newton correction s: s / (1 − θ), θ = s / correction.
   CHECK(simplifiedErrorEstimate(1e-4, 4e-4) == Approx(1e-4 / 0.75));
+  CHECK(simplifiedErrorEstimate(1e-5, 4e-4) == Approx(1e-5 / (1.0 - 1.0 / 40.0)));
   CHECK(simplifiedErrorEstimate(0.0, 4e-4) == 0.0);
+  // Only in Newton's local regime, θ ≤ 1/4: the 2,601-vertex cloth's passes at θ 0.27–0.42 left up to 2.7 times
+  // their threshold (BENCHMARKS.md, Dynamics, session 64).
+  CHECK(std::isinf(simplifiedErrorEstimate(0.28 * 4e-4, 4e-4)));
   CHECK(std::isinf(simplifiedErrorEstimate(4e-4, 4e-4)));  // no contraction: no estimate
   CHECK(std::isinf(simplifiedErrorEstimate(1e-3, 4e-4)));
   CHECK_FALSE(simplifiedErrorEstimate(std::nan(""), 4e-4) <= 1.0);
-  // From the last two corrections: the correction itself once it is at most half the last one.
-  CHECK(contractionErrorEstimate(1e-4, 2e-4) == 1e-4);
-  CHECK(std::isinf(contractionErrorEstimate(1.5e-4, 2e-4)));
-  CHECK(std::isinf(contractionErrorEstimate(1e-4, 0.0)));  // no last correction
 }
 
 namespace {
@@ -404,8 +405,13 @@ TEST_CASE("dynamics: the membrane wave's edges a step are c dt / l, with c the p
   CHECK(std::isinf(massless.membraneWaveRate()[0]));
 }
 
-TEST_CASE("dynamics: a membrane far stiffer than a step's inertia starts its steps without the extrapolated "
-          "acceleration, in a fraction of the Newton iterations") {
+TEST_CASE("dynamics: a membrane far stiffer than a step's inertia steps through its drape with or without the "
+          "extrapolated acceleration") {
+  // Until session 64 the start from the inertial predictor took under half the Newton iterations of the
+  // extrapolated one here (the limit's reason, solvers/dynamics.h); that saving came with correction-test passes
+  // that left up to 5.8 times their threshold. With the error left judged (θ ≤ 1/4) the two starts cost about the
+  // same: 412 without and 483 with it in these 30 steps (BENCHMARKS.md, Dynamics, session 64). What is held here is
+  // that both complete, finite, within 20 iterations a step.
   testing::SingleThread single;
   const ShellProblem p = hangingFoil(10);
   auto iterations = [&p](double waveLimit) {
@@ -423,8 +429,8 @@ TEST_CASE("dynamics: a membrane far stiffer than a step's inertia starts its ste
   const int extrapolated = iterations(std::numeric_limits<double>::infinity());
   const int inertial = iterations(DynamicsOptions{}.extrapolationWaveLimit);
   INFO("Newton iterations over 30 steps: " << extrapolated << " with the acceleration, " << inertial << " without");
-  CHECK(inertial <= 30 * 6);
-  CHECK(2 * inertial <= extrapolated);
+  CHECK(inertial <= 30 * 20);
+  CHECK(extrapolated <= 30 * 20);
   // The limit is checked where the solver is built.
   ShellSystem system(p, AnalysisKind::Dynamics);
   DynamicsOptions bad;
@@ -436,43 +442,50 @@ TEST_CASE("dynamics: a membrane far stiffer than a step's inertia starts its ste
 
 TEST_CASE("dynamics: a stiff sheet's loosely solved steps end within their error bound of the fully solved "
           "step (the Newton correction test judges the error left, not the last correction)") {
-  // A 2 mm sheet of E 1e10 Pa hanging from two corners: Newton wanders before it contracts, and a first
-  // correction that happened to be short passed while the error left was up to 2.7 times the threshold
-  // (BENCHMARKS.md, Dynamics, session 63). Each step of the loose run (η = 0.1) is solved again to η = 1e-6 from
-  // the same state; the loose step's distance from it is held to the bound the rule promises, η ‖x − x̃‖_M.
+  // A 2 mm sheet of E 1e10 Pa hanging from two corners: Newton wanders before it contracts. A first correction
+  // that happened to be short passed while the error left was up to 2.7 times the threshold (session 63), and
+  // two corrections that halved passed while it was up to 48 times (BENCHMARKS.md, Dynamics, session 64). Each
+  // step of a loose run (η = 0.1, 0.01) is solved again to η = 1e-6 from the same state, both solvers starting
+  // it without the Newton solver's history so they take the same iterates up to the loose pass; the loose step's
+  // distance from it is held to the bound the rule promises, η ‖x − x̃‖_M.
   testing::SingleThread single;
-  ShellProblem p = hangingFoil(16);
+  ShellProblem p = hangingFoil(20);
   p.material = ShellMaterialParamsFrom3dIsotropic(1e10, 0.25, 1000.0, 0.002);
-  ShellSystem looseSystem(p, AnalysisKind::Dynamics), tightSystem(p, AnalysisKind::Dynamics);
-  DynamicsOptions o;
-  o.timeStep = 1.0 / 60.0;
-  DynamicsSolver loose(looseSystem, o);
-  o.updateTolerance = 1e-6;
-  DynamicsSolver tight(tightSystem, o);
-  const Eigen::VectorXd& m = looseSystem.vertexMass();
-  auto massNorm = [&m](const Eigen::VectorXd& u) {
-    double sq = 0.0;
-    for (Eigen::Index v = 0; v < m.size(); ++v) sq += m[v] * u.segment<3>(3 * v).squaredNorm();
-    return std::sqrt(sq / m.sum());
-  };
-  double worst = 0.0;
-  int worstStep = -1;
-  for (int step = 0; step < 60; ++step) {
-    const DynamicsSolver::Snapshot start = loose.snapshot();
-    tight.restore(start);
-    const StepReport a = loose.step(), b = tight.step();
-    INFO("step " << step << ": " << a.message << b.message);
-    REQUIRE(a.success);
-    REQUIRE(b.success);
-    if (a.cuts > 0 || b.cuts > 0) continue;  // the bound is a whole step's
-    const Eigen::VectorXd predictor = start.x + o.timeStep * start.v;
-    const double ratio = massNorm(loose.positions() - tight.positions()) /
-                         (DynamicsOptions{}.updateTolerance * massNorm(tight.positions() - predictor));
-    if (ratio > worst) {
-      worst = ratio;
-      worstStep = step;
+  for (const double eta : {0.1, 0.01}) {
+    ShellSystem looseSystem(p, AnalysisKind::Dynamics), tightSystem(p, AnalysisKind::Dynamics);
+    DynamicsOptions o;
+    applyTimeStepPolicy(TimeStepPolicy::Jetshell, o);  // the exact-first Newton of `jetshell run`
+    o.timeStep = 1.0 / 60.0;
+    o.updateTolerance = eta;
+    DynamicsSolver loose(looseSystem, o);
+    o.updateTolerance = 1e-6;
+    DynamicsSolver tight(tightSystem, o);
+    const Eigen::VectorXd& m = looseSystem.vertexMass();
+    auto massNorm = [&m](const Eigen::VectorXd& u) {
+      double sq = 0.0;
+      for (Eigen::Index v = 0; v < m.size(); ++v) sq += m[v] * u.segment<3>(3 * v).squaredNorm();
+      return std::sqrt(sq / m.sum());
+    };
+    double worst = 0.0;
+    int worstStep = -1;
+    for (int step = 0; step < 60; ++step) {
+      const DynamicsSolver::Snapshot start = loose.snapshot();
+      loose.forgetSolverHistory();
+      tight.restore(start);
+      const StepReport a = loose.step(), b = tight.step();
+      INFO("eta " << eta << ", step " << step << ": " << a.message << b.message);
+      REQUIRE(a.success);
+      REQUIRE(b.success);
+      if (a.cuts > 0 || b.cuts > 0) continue;  // the bound is a whole step's
+      const Eigen::VectorXd predictor = start.x + o.timeStep * start.v;
+      const double ratio =
+          massNorm(loose.positions() - tight.positions()) / (eta * massNorm(tight.positions() - predictor));
+      if (ratio > worst) {
+        worst = ratio;
+        worstStep = step;
+      }
     }
+    INFO("eta " << eta << ": largest error left over its bound: " << worst << " at step " << worstStep);
+    CHECK(worst <= 1.0);
   }
-  INFO("largest error left over its bound: " << worst << " at step " << worstStep);
-  CHECK(worst <= 1.0);
 }
