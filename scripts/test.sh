@@ -51,12 +51,12 @@ sanitizeTargets=(jetshell_tests obj_replay scene_replay sdf_replay vtu_replay fi
 # JETSHELL_LONG_ONLY_TESTS or JETSHELL_LONG_MIXED_TESTS (coveredOnce below fails otherwise).
 sanitizeExclude="^(check_derivatives|check_parameter_derivatives|hostile_cli|interrupt_during_cut_step|stress_quick"
 sanitizeExclude+="|accuracy: .*|contact dynamics: .*|tshirt: .*|run: every example .*"
+sanitizeExclude+="|dynamics: a stiff sheet.s loosely solved steps .*"
 # The Euler column relaxes for 943 steps (2 s in Release); the relaxation's saddle test covers the same code.
 sanitizeExclude+="|scene accuracy: the Euler column .*"
 # Whole solves repeated many times (7-24 s each in Release, 12-23 s under the sanitizers); the shorter fit and
 # Newton tests still run here and cover the same code.
 sanitizeExclude+="|newton: every line search .*|fit: the adjoint gradient of a shell fit .*"
-sanitizeExclude+="|dynamics: a stiff sheet.s loosely solved steps .*"
 sanitizeExclude+="|fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta .*|fit: the cloth overhang.s fitted .*)$"
 # Leak detection is off: the OpenMP and OpenBLAS thread pools keep their memory until exit, which LeakSanitizer
 # reports as leaks of the runtime, not of jetshell. Addresses are checked in full, undefined behaviour with the

@@ -85,6 +85,19 @@ inline ShellProblem crumpledSheet() {
   return p;
 }
 
+/// A 1 m square sheet of `material` on n × n squares in the z = 0 plane, held at the two corners of its y = 1
+/// edge, falling under gravity −z into a drape.
+inline ShellProblem hangingSheet(int n, const ShellMaterialParams& material) {
+  ShellProblem p;
+  p.mesh = makeRectangleGrid(1.0, 1.0, n, n);
+  p.material = material;
+  p.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  const int topLeft = n * (n + 1), topRight = topLeft + n;
+  p.prescribed.fixVertex(topLeft, p.mesh.V.row(topLeft).transpose());
+  p.prescribed.fixVertex(topRight, p.mesh.V.row(topRight).transpose());
+  return p;
+}
+
 /// A cloth [0, w] × [0, h] in the z = 0 plane hanging in its own plane: gravity −y, the two top corners
 /// (y = h) fixed. Material: the spec's defaults (a light cloth).
 inline ShellProblem hangingCloth(double w, double h, int nx, int ny) {
