@@ -152,16 +152,14 @@ LinearSolveReport LinearSolver::solve(const Eigen::SparseMatrix<double>& upper, 
 }
 
 bool LinearSolver::solveWithLastFactor(std::uint64_t patternVersion, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  if (!factorValid_ || patternVersion != analyzedVersion_ || !b.allFinite()) return false;
+  if (!lastFactorApplies(patternVersion, b)) return false;
   return solveWithFactor(b, x) && x.allFinite();
 }
 
 bool LinearSolver::solveLastSystem(const Eigen::SparseMatrix<double>& upper, std::uint64_t patternVersion,
                                    const Eigen::VectorXd& b, Eigen::VectorXd& x, double relativeTolerance,
                                    LinearSolveReport& report) {
-  if (!factorValid_ || factorShift_ != 0.0 || patternVersion != analyzedVersion_ || !b.allFinite() ||
-      upper.rows() != b.size())
-    return false;
+  if (!lastFactorApplies(patternVersion, b) || factorShift_ != 0.0 || upper.rows() != b.size()) return false;
   const Timer timer;
   const bool solved =
       solveWithFactor(b, x) || iterateWithLastPreconditioner(upper, b, x, relativeTolerance, report);

@@ -203,6 +203,11 @@ class LinearSolver {
   }
 
  private:
+  /// The last solve() succeeded on the pattern patternVersion, and b is finite: its factor may be applied to b.
+  bool lastFactorApplies(std::uint64_t patternVersion, const Eigen::VectorXd& b) const {
+    return factorValid_ && patternVersion == analyzedVersion_ && b.allFinite();
+  }
+
   LinearSolverOptions options_;
   std::uint64_t analyzedVersion_ = 0;
   std::uint64_t solvingVersion_ = 0;

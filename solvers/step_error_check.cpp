@@ -1,0 +1,39 @@
+#include "solvers/step_error_check.h"
+
+#include <cmath>
+
+namespace jetshell {
+
+double massWeightedRms(const Eigen::VectorXd& mass, const Eigen::VectorXd& u) {
+  double sq = 0.0;
+  for (Eigen::Index v = 0; v < mass.size(); ++v) sq += mass[v] * u.segment<3>(3 * v).squaredNorm();
+  const double total = mass.sum();
+  return total > 0.0 ? std::sqrt(sq / total) : 0.0;
+}
+
+namespace {
+
+/// One Newton solve over the whole Δt: no cut, no part, nothing solved again from x_n.
+bool wholeStep(const StepReport& r) {
+  return r.success && r.cuts == 0 && r.substeps == 1 && r.parts == 1 && r.solves.size() == 1;
+}
+
+}  // namespace
+
+StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, DynamicsSolver& tight,
+                              const DynamicsSolver::Snapshot& before) {
+  StepErrorCheck c;
+  if (!wholeStep(taken)) return c;  // the passes are of its parts: no one solve to compare
+  tight.restore(before);
+  c.tight = tight.step();
+  c.solvedAgain = true;
+  if (!wholeStep(c.tight)) return c;
+  const Eigen::VectorXd& m = run.system().vertexMass();
+  const Eigen::VectorXd predictor = before.x + taken.timeStep * before.v;
+  c.error = massWeightedRms(m, run.positions() - tight.positions());
+  c.change = massWeightedRms(m, tight.positions() - predictor);
+  c.checked = true;
+  return c;
+}
+
+}  // namespace jetshell

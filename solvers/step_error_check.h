@@ -1,0 +1,32 @@
+// A time step's Newton error, measured: the step a run just took, solved again from the same state by a second
+// solver on its own system to a tight tolerance, and the distance between the two ends. The time stepper's
+// iterate test promises that a passed step ends within its threshold of the solution; this measures the promise
+// (`jetshell bench dynamics --newton-error`, tests/solvers/dynamics_error_bound_test.cpp).
+#pragma once
+
+#include "solvers/dynamics.h"
+
+#include <Eigen/Core>
+
+namespace jetshell {
+
+/// The mass-weighted RMS vertex length of u (3N) [m]: sqrt(Σ_v m_v |u_v|² / Σ_v m_v), as the time stepper's
+/// error estimates measure it.
+double massWeightedRms(const Eigen::VectorXd& mass, const Eigen::VectorXd& u);
+
+struct StepErrorCheck {
+  bool checked = false;  // false: the step taken, or the tight one, was not one Newton solve over the whole Δt
+  double error = 0.0;    // ‖x_run − x_tight‖_M [m]
+  double change = 0.0;   // ‖x_tight − (x_n + Δt v_n)‖_M [m]: the step's change against its predictor
+  bool solvedAgain = false;  // the tight solver took the step (only a whole step taken is solved again)
+  StepReport tight;          // its report
+};
+
+/// Checks the whole step `run` just took from `before` (its report `taken`): `tight`, a solver on its own system
+/// with a tight DynamicsOptions::updateTolerance, is restored to `before` and takes the same step. For the two to
+/// follow the same iterates up to the run's pass, the run must have started the step without the Newton solver's
+/// history (DynamicsSolver::forgetSolverHistory; restore() does it for `tight`).
+StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, DynamicsSolver& tight,
+                              const DynamicsSolver::Snapshot& before);
+
+}  // namespace jetshell

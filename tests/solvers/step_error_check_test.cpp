@@ -1,0 +1,57 @@
+// The per-step error check (solvers/step_error_check.h): its norm, and that it measures the step taken.
+#include "solvers/step_error_check.h"
+#include "solvers/time_step_policy.h"
+#include "test_problems.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace jetshell;
+
+TEST_CASE("step error check: the mass-weighted RMS weighs each vertex's length by its mass") {
+  Eigen::VectorXd mass(2), u(6);
+  mass << 1.0, 3.0;
+  u << 3.0, 4.0, 0.0, 0.0, 0.0, 1.0;  // lengths 5 and 1
+  CHECK(massWeightedRms(mass, u) == Approx(std::sqrt((25.0 + 3.0) / 4.0)).epsilon(1e-15));
+  CHECK(massWeightedRms(Eigen::VectorXd::Zero(2), u) == 0.0);
+}
+
+TEST_CASE("step error check: a step solved again with the same settings is at zero distance, a looser one is "
+          "not, and the distance is the one between the two ends") {
+  const ShellProblem p = testing::hangingSheet(6, ShellMaterialParamsFrom3dIsotropic(1e7, 0.3, 1000.0, 0.001));
+  ShellSystem runSystem(p, AnalysisKind::Dynamics), sameSystem(p, AnalysisKind::Dynamics),
+      tightSystem(p, AnalysisKind::Dynamics);
+  DynamicsOptions o;
+  applyTimeStepPolicy(TimeStepPolicy::Jetshell, o);
+  o.timeStep = 1.0 / 60.0;
+  o.updateTolerance = 0.1;
+  DynamicsSolver run(runSystem, o), same(sameSystem, o);
+  o.updateTolerance = 1e-8;
+  DynamicsSolver tight(tightSystem, o);
+  double largest = 0.0;
+  for (int step = 0; step < 5; ++step) {
+    const DynamicsSolver::Snapshot start = run.snapshot();
+    run.forgetSolverHistory();
+    const StepReport taken = run.step();
+    REQUIRE(taken.success);
+    const StepErrorCheck a = checkStepError(taken, run, same, start);
+    REQUIRE(a.checked);
+    REQUIRE(a.solvedAgain);
+    CHECK(a.error == 0.0);  // the same iterates, bit for bit
+    CHECK(a.change > 0.0);  // the sheet falls
+    const StepErrorCheck b = checkStepError(taken, run, tight, start);
+    REQUIRE(b.checked);
+    CHECK(b.error == Approx(massWeightedRms(runSystem.vertexMass(), run.positions() - tight.positions())));
+    largest = std::max(largest, b.error);
+  }
+  CHECK(largest > 0.0);  // η = 0.1 stops short of the η = 1e-8 solution somewhere
+  StepReport cut;
+  cut.success = true;
+  cut.cuts = 1;
+  cut.substeps = 2;
+  const StepErrorCheck c = checkStepError(cut, run, tight, run.snapshot());
+  CHECK_FALSE(c.checked);
+  CHECK_FALSE(c.solvedAgain);
+}
