@@ -85,9 +85,10 @@
 // solved again for the new gradient (a back-substitution, or a few CG iterations with the last preconditioner),
 // with Deuflhard's contraction θ = s/‖x_k − x_{k−1}‖_M and error estimate s/(1 − θ). The estimate is trusted
 // only where Newton shows its local regime: after at least two Newton corrections, and with θ ≤ 1/4 (θ ≈ h/2 in
-// Newton's local theory, h Kantorovich's quantity). Neither condition is idle. The exact-first assembly still
-// projects small blocks (NewtonOptions::exactFirstProjectedDofs), and near the solution these solves contract
-// only linearly, ×0.2 per iteration on that sheet and ×0.37 on the 2,601-vertex cloth, after a global phase in
+// Newton's local theory, h Kantorovich's quantity). Neither condition is idle. The exact-first assembly
+// projected small blocks (NewtonOptions::exactFirstProjectedDofs; near a solution it now tries the unprojected
+// Hessian instead, NewtonOptions::unprojectedNearSolution), and there these solves contracted only linearly,
+// ×0.2 per iteration on that sheet and ×0.37 on the 2,601-vertex cloth, after a global phase in
 // which a short correction can precede long ones: measured by solving every passed step again to η = 1e-6
 // (`jetshell bench dynamics --newton-error`, BENCHMARKS.md, Dynamics, session 64), a pass at θ of 0.27–0.42
 // left up to 2.7 times the threshold on the cloth (8 of 18 passes), and a pass on the first correction 1.45

@@ -82,6 +82,13 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
           ? EvalOptions{o.derivatives, o.projection, o.bendingHessian, o.exactFirstProjectedDofs, o.frictionHessian}
           : EvalOptions{o.derivatives, PsdProjection::None, o.bendingHessian, 0, o.frictionHessian};
   const bool adaptive = o.exactHessianNearSolution && o.projection != PsdProjection::None;
+  // With exactHessianFirst, where the last full step agreed with its model: the whole Hessian as it is
+  // (NewtonOptions::unprojectedNearSolution).
+  const EvalOptions unprojected{o.derivatives, PsdProjection::None, o.bendingHessian, 0, o.frictionHessian};
+  bool twoTier = adaptive && o.exactHessianFirst && o.exactFirstProjectedDofs > 0 && o.unprojectedNearSolution &&
+                 unprojectedSkips_ == 0;
+  if (unprojectedSkips_ > 0) --unprojectedSkips_;
+  bool unprojectedHeld = false;  // an unprojected try of this solve was positive definite
   // The projected assembly an indefinite exact-first try falls back to (NewtonOptions::fallbackBendingHessian).
   EvalOptions fallback = projected;
   if (adaptive && o.exactHessianFirst && o.bendingHessian == HessianModel::Exact)
@@ -97,6 +104,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   bool tryExact = false;     // the last step's full-step model agreed: try the unprojected Hessian
   int exactCooldown = 0;     // iterations to wait before the next try, growing with each fallback
   bool haveExact = false;    // the assembled Hessian is the unprojected one
+  bool haveUnprojected = false;  // twoTier: and nothing of it projected
+  int exactFallbacks = 0;    // exact-first tries that were indefinite
   double decrementThreshold = 0.0;
   // The residual test's tolerance [N]: residualTolerance × F, or a preset's looser one.
   double scaledTolerance = 0.0, forceScale = 0.0;
@@ -130,6 +139,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     s.symbolicAnalyses = linear_->symbolicAnalyses() - analysesBefore;
     const bool passedAtStart = reason == TerminationReason::Converged && s.iterations == 0;
     solvesSinceStartPass_ = passedAtStart ? 0 : std::min(solvesSinceStartPass_ + 1, kStartPassMemory);
+    if (twoTier && unprojectedHeld && unprojectedFailures_ > 0) --unprojectedFailures_;
     linear_->setRelativeTolerance(0.0);
     // A preconditioner prepared for the last assembly belongs to this solve: later solves on the same linear
     // solver (sensitivities) set up their own.
@@ -156,20 +166,22 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   // one: with the first iteration's preconditioner the narrow part alone, no fallback fired and the T-shirt's
   // landing went 8.6 mm below the plane instead of 0.5 mm.
   const bool overlap = o.overlapPreconditioner && omp_get_max_threads() >= 2 && !obj.hasMovingStencils();
-  auto assemble = [&](bool withExact, IterationRecord& rec, bool factorAhead) {
+  auto assemble = [&](bool withExact, bool withUnprojected, IterationRecord& rec, bool factorAhead) {
     const Timer t;
     Objective::NarrowAssembledHook prepare;
     if (overlap)
       prepare = [&](const HessianAssembler& a) {
         return linear_->preparePreconditioner(a.matrix(), a.patternVersion(), factorAhead);
       };
-    E = obj.evaluate(x, &g, true, withExact ? exact : fallback, TermSelection::All, prepare);
+    E = obj.evaluate(x, &g, true, withExact ? (withUnprojected ? unprojected : exact) : fallback, TermSelection::All,
+                     prepare);
     rec.assemblySeconds += t.seconds();
     ++s.energyEvaluations;
     ++s.gradientEvaluations;
     ++s.hessianEvaluations;
     have = Have::Hessian;
     haveExact = withExact;
+    haveUnprojected = withExact && withUnprojected;
   };
 
   // Trial points of the line search; the last one's gradient is reused when it is accepted. The gradient does
@@ -200,6 +212,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.iteration = k;
     const bool useExact = adaptive && (tryExact || o.exactHessianFirst) && exactCooldown == 0;
     if (exactCooldown > 0) --exactCooldown;
+    const bool useUnprojected = twoTier && useExact && tryExact && k >= o.unprojectedFromIteration;
     const bool gradientFirst = k > 0 || (o.gradientFirstStart && solvesSinceStartPass_ < kStartPassMemory);
     const bool mayReuse = o.reuseFactor && factorReusable_;
     if (have == Have::Nothing && ((iterateTest_ && gradientFirst) || mayReuse)) {
@@ -211,7 +224,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       ++s.gradientEvaluations;
       have = Have::Gradient;
     }
-    if (have == Have::Nothing) assemble(useExact, rec, true);
+    if (have == Have::Nothing) assemble(useExact, useUnprojected, rec, true);
     r = infNorm(g);
     if (lastStepReused && !(r <= o.reuseContraction * residualBeforeStep)) factorReusable_ = false;
     lastStepReused = false;
@@ -291,7 +304,8 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       rec.solveSeconds += t.seconds();
       factorReusable_ = reused;
     }
-    if (!reused && (have != Have::Hessian || haveExact != useExact)) assemble(useExact, rec, true);
+    if (!reused && (have != Have::Hessian || haveExact != useExact || haveUnprojected != useUnprojected))
+      assemble(useExact, useUnprojected, rec, true);
     if (!reused) updateFloor();
 
     // Newton direction. An unprojected Hessian gets no regularization: if it is indefinite, the projected one
@@ -327,12 +341,21 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       // unprojected Hessian keeps being indefinite.
       ++s.projectionFallbacks;
       tryExact = false;
-      exactCooldown = 1 << std::min(s.projectionFallbacks, 6);
+      if (haveUnprojected) {
+        // Only the unprojected tries back off (NewtonOptions::unprojectedNearSolution): exact-first goes on.
+        twoTier = false;
+        ++s.unprojectedFallbacks;
+        unprojectedFailures_ = std::min(unprojectedFailures_ + 1, 6);
+        unprojectedSkips_ = 1 << unprojectedFailures_;
+      } else {
+        ++exactFallbacks;
+        exactCooldown = 1 << std::min(exactFallbacks, 6);
+      }
       rec.factorizationSeconds += lin.factorizationSeconds;
       rec.overlappedFactorizationSeconds += lin.preparedSeconds;
       rec.solveSeconds += lin.solveSeconds;
       s.numericFactorizations += lin.numericFactorizations;
-      assemble(false, rec, false);
+      assemble(false, false, rec, false);
       const LinearSolveReport first = lin;
       lin = linear_->solve(obj.assembler(), b, d);
       lin.symbolicAnalysis = lin.symbolicAnalysis || first.symbolicAnalysis;
@@ -342,11 +365,14 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     }
     s.assemblySeconds += rec.assemblySeconds;
     rec.exactHessian = haveExact;  // false after a fallback: its assembly was the projected one
+    rec.unprojected = haveUnprojected;
     rec.factorizationSeconds += lin.factorizationSeconds;
     rec.overlappedFactorizationSeconds += lin.preparedSeconds;
     rec.solveSeconds += lin.solveSeconds;
     rec.regularizations = lin.regularizations;
-    if (!reused) s.lastHessianPositiveDefinite = lin.positiveDefinite && isTrueHessian(haveExact ? exact : fallback);
+    if (!reused)
+      s.lastHessianPositiveDefinite =
+          lin.positiveDefinite && isTrueHessian(haveExact ? (haveUnprojected ? unprojected : exact) : fallback);
     rec.shift = lin.shift;
     rec.cgIterations = lin.cgIterations;
     rec.directFallbacks = lin.directFallbacks;
@@ -362,6 +388,10 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     }
     factorReusable_ = true;
     if (haveExact && !reused) ++s.exactHessianSteps;
+    if (haveUnprojected && !reused) {
+      unprojectedHeld = true;
+      ++s.unprojectedSteps;
+    }
     obj.zeroFixed(d);
     double slope = g.dot(d);
     bool newtonDirection = true;
@@ -470,7 +500,9 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     residualBeforeStep = r;
     // The quadratic model predicts a decrease of −½ gᵀd for the full step (with the H that was solved).
     const double ratio = (E - res.point.energy) / (decrement * bound * (2.0 - bound));
-    tryExact = alpha == 1.0 && ratio >= 0.5 && ratio <= 2.0;
+    // A predicted decrease within the energy's round-off says nothing either way: the full step is judged alone.
+    const bool withinNoise = decrement * bound * (2.0 - bound) <= noise;
+    tryExact = alpha == 1.0 && (withinNoise || (ratio >= 0.5 && ratio <= 2.0));
     if (alpha == trialAlpha) {
       x = xTrial;
     } else {

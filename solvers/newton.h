@@ -72,6 +72,19 @@ struct NewtonOptions {
   /// the back-off of the file comment. Needs exactHessianNearSolution and a projection other than None.
   bool exactHessianFirst = false;
   int exactFirstProjectedDofs = 12;  // 0: no block projected first
+  /// With exactHessianFirst and exactFirstProjectedDofs > 0: an iteration that follows a full step whose energy
+  /// decrease matched its model tries the whole Hessian, nothing projected (as exactHessianNearSolution does
+  /// without exactHessianFirst). The small blocks' projection costs Newton its quadratic rate near a solution
+  /// (measured, session 64: the stiff sheet's corrections shrank ×0.2 an iteration, the cloth's ×0.37). An
+  /// indefinite try is redone with every block projected, the solve tries no more unprojected Hessians, and the
+  /// next 2, 4, ... 64 solves (doubling with each such solve, halving back with each whose tries all held) try
+  /// none (measured: the T-shirt fell back 44 times in 60 steps without this memory, 0.56-0.69x the steps per
+  /// second; 7 times with it, 0.94x, so time steps with contact terms leave it off, solvers/dynamics.cpp).
+  bool unprojectedNearSolution = true;
+  /// The first iteration that may try it: a solve that ends in two (a soft cloth's, most of the time) gains
+  /// nothing, and its tries fell back often enough to cost a 1,681-vertex hanging cloth 1.07-1.27x its wall time
+  /// when they began at the second (BENCHMARKS.md, Dynamics, session 65).
+  int unprojectedFromIteration = 2;
   /// With exactHessianFirst: the bending Hessian of the projected assembly an indefinite try falls back to (and
   /// of the back-off iterations after it). Gauss–Newton, Jᵀ W'' J, is positive semi-definite by construction and
   /// is not projected, so a fallback costs no eigendecompositions of 18×18 bending blocks: the T-shirt ran 1.12×
@@ -186,6 +199,8 @@ class NewtonSolver {
     linear_->forgetPreparationHistory();
     solvesSinceStartPass_ = kStartPassMemory;
     factorReusable_ = false;
+    unprojectedFailures_ = 0;
+    unprojectedSkips_ = 0;
   }
   /// Sets (or, with an empty function, clears) the iterate test of the following minimize() calls.
   void setIterateTest(IterateTest test) { iterateTest_ = std::move(test); }
@@ -198,6 +213,10 @@ class NewtonSolver {
   IterateTest iterateTest_;
   int solvesSinceStartPass_ = kStartPassMemory;  // minimize() calls since one converged without an iteration
   bool factorReusable_ = false;  // reuseFactor: the linear solver's last factor may serve the next direction
+  // unprojectedNearSolution's memory: the recent solves' indefinite unprojected tries (one a solve, less one for
+  // a solve whose tries all held, at most 6), and the solves left before the next try (2^failures after one).
+  int unprojectedFailures_ = 0;
+  int unprojectedSkips_ = 0;
   SymmetricProduct floorProduct_;  // |H| |x| for the round-off floor, on the OpenMP threads
 };
 

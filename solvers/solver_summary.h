@@ -35,6 +35,9 @@ struct IterationRecord {
   int cgIterations = 0;
   int numericFactorizations = 0;
   bool exactHessian = false;  // the step's direction came from the unprojected ("exact") Hessian
+  /// With exact-first (NewtonOptions::exactHessianFirst): and not even its small blocks were projected
+  /// (NewtonOptions::unprojectedNearSolution).
+  bool unprojected = false;
   /// The exact Hessian was tried and found indefinite (or its direction did not descend), so the direction came
   /// from the projected one; cgIterations counts both solves.
   bool projectionFallback = false;
@@ -80,6 +83,9 @@ struct SolverSummary {
   int regularizations = 0;   // diagonal-shift retries during this minimization
   int exactHessianSteps = 0;     // Newton steps taken with the unprojected Hessian
   int projectionFallbacks = 0;   // unprojected Hessians found indefinite and reassembled projected
+  /// Of exactHessianSteps and projectionFallbacks: those of Hessians with nothing projected, tried by exact-first
+  /// near a solution (NewtonOptions::unprojectedNearSolution).
+  int unprojectedSteps = 0, unprojectedFallbacks = 0;
   /// The last Hessian this solve factored was the true one (unprojected, exact model) and a direct solver factored
   /// it unshifted (LinearSolveReport::positiveDefinite): the equilibrium reached next to it is a minimum of the
   /// energy, not a saddle. False when the solve factored nothing (it converged at its start, or only reused an

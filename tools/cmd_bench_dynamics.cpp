@@ -125,14 +125,15 @@ struct RunFigures {
   std::vector<std::pair<std::string, EstimateCheck>> checks;  // --newton-error, by estimate name
 };
 
-/// The Newton iterations on one line: step length, largest move, whether the exact(-first) Hessian or the projected
-/// one gave the direction, and whether it was shifted.
+/// The Newton iterations on one line: step length, largest move, which Hessian gave the direction (exact-first,
+/// unprojected near a solution, or every block projected), and whether it was shifted.
 std::string traceLine(const SolverSummary& s) {
   std::ostringstream o;
   o.precision(3);
   for (const IterationRecord& r : s.trace)
     o << " [" << r.iteration << ": a " << r.stepLength << " move " << r.largestMove
-      << (r.exactHessian ? " exact" : " projected") << (r.shift > 0.0 ? " shifted" : "") << "]";
+      << (r.unprojected ? " unprojected" : r.exactHessian ? " exact" : " projected")
+      << (r.shift > 0.0 ? " shifted" : "") << "]";
   o << " -> " << s.message;
   return o.str();
 }
