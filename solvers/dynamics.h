@@ -187,6 +187,7 @@ bool correctionTestApplies(double residualEstimate, double lastResidualEstimate,
 /// θ > kSimplifiedContractionLimit (Newton not seen in its local regime; see the file comment). Metres,
 /// mass-weighted RMS.
 double simplifiedErrorEstimate(double simplifiedCorrection, double correction);
+/// The largest contraction θ at which simplifiedErrorEstimate trusts Newton to be in its local regime.
 constexpr double kSimplifiedContractionLimit = 0.25;
 
 /// One accepted Newton solve of a step (a whole step, or a part of a cut one), seen before the state moves on:

@@ -93,6 +93,10 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
   EvalOptions fallback = projected;
   if (adaptive && o.exactHessianFirst && o.bendingHessian == HessianModel::Exact)
     fallback.hessianModel = o.fallbackBendingHessian;
+  // The assembly of each tier: exact(-first), with twoTier the unprojected one, else the projected fallback.
+  auto assemblyOptions = [&](bool withExact, bool withUnprojected) -> const EvalOptions& {
+    return withExact ? (withUnprojected ? unprojected : exact) : fallback;
+  };
   Objective& obj = objective_;
 
   Eigen::VectorXd g, d, b, xTrial, gTrial;
@@ -173,8 +177,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
       prepare = [&](const HessianAssembler& a) {
         return linear_->preparePreconditioner(a.matrix(), a.patternVersion(), factorAhead);
       };
-    E = obj.evaluate(x, &g, true, withExact ? (withUnprojected ? unprojected : exact) : fallback, TermSelection::All,
-                     prepare);
+    E = obj.evaluate(x, &g, true, assemblyOptions(withExact, withUnprojected), TermSelection::All, prepare);
     rec.assemblySeconds += t.seconds();
     ++s.energyEvaluations;
     ++s.gradientEvaluations;
@@ -372,7 +375,7 @@ SolverSummary NewtonSolver::minimize(Eigen::VectorXd& x) {
     rec.regularizations = lin.regularizations;
     if (!reused)
       s.lastHessianPositiveDefinite =
-          lin.positiveDefinite && isTrueHessian(haveExact ? (haveUnprojected ? unprojected : exact) : fallback);
+          lin.positiveDefinite && isTrueHessian(assemblyOptions(haveExact, haveUnprojected));
     rec.shift = lin.shift;
     rec.cgIterations = lin.cgIterations;
     rec.directFallbacks = lin.directFallbacks;

@@ -329,6 +329,8 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
   for (const std::string& t : splitList(o.integrators, "--integrators")) integrators.push_back(timeIntegratorFromString(t));
   std::vector<TimeStepPolicy> policies;
   for (const std::string& t : splitList(o.policies, "--policies")) policies.push_back(timeStepPolicyFromString(t));
+  if (o.newtonError && std::find(policies.begin(), policies.end(), TimeStepPolicy::Jetshell) == policies.end())
+    throw InputError("--newton-error: it checks the jetshell policy's runs; add jetshell to --policies");
   std::vector<double> etas{0.0};  // 0: the policy's own η
   if (!o.etas.empty()) {
     etas.clear();
