@@ -13,6 +13,7 @@
 # Usage: bash scripts/test.sh [--all | --sanitize-long] [build-dir]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+root="$(pwd)"
 all=0
 long=0
 [ "${CI:-}" = "true" ] && all=1
@@ -65,11 +66,16 @@ sanitizeExclude+="|fit: Levenberg-Marquardt recovers lambda, mu, alpha, beta .*|
 # checks CMakeLists.txt lists under JETSHELL_SANITIZE.
 sanitizeConfig=(-DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF -DJETSHELL_SANITIZE=ON "${unity[@]}")
 sanitizeEnv=(ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1)
+# The Catch2 test cases run a few to a process (scripts/run-test-shards.sh: the sanitized test program takes about
+# 0.4 s to start, once per test case under CTest), the other tests (the corpus replays) under CTest.
 sanitize() {
   configure "$build-sanitize" "${sanitizeConfig[@]}" &&
     cmake --build "$build-sanitize" -j"$jobs" --target "${sanitizeTargets[@]}" &&
     (cd "$build-sanitize" &&
-      env "${sanitizeEnv[@]}" ctest --output-on-failure -j"$jobs" --timeout 900 -E "$sanitizeExclude")
+      env "${sanitizeEnv[@]}" ctest --output-on-failure -j"$jobs" --timeout 900 -LE catch2 -E "$sanitizeExclude" &&
+      testNames . -L catch2 -E "$sanitizeExclude" >unit-tests.txt &&
+      env "${sanitizeEnv[@]}" OMP_WAIT_POLICY=passive \
+        bash "$root/scripts/run-test-shards.sh" ./jetshell_tests unit-tests.txt "$jobs")
 }
 # The runs the sanitizer pass leaves out, under the sanitizers (--sanitize-long): the test program with every test
 # file, and the `jetshell` program its tests call, in a build directory of their own.
