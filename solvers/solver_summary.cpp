@@ -33,22 +33,24 @@ std::string SolverSummary::fullReport() const {
   if (!message.empty()) s << "  " << message << "\n";
   s << "  iter        energy      residual     decrement   alpha   move [m]  ls  shift  H   assembly    factor     solve  "
        "linesearch\n";
-  char buf[256];
+  char buf[384];
   for (const IterationRecord& r : trace) {
     std::snprintf(buf, sizeof buf,
                   "  %4d  %12.6e  %12.4e  %12.4e  %6.3f  %9.3e  %2d  %5.0e  %c  %8.2fms  %6.2fms  %6.2fms  %8.2fms\n",
                   r.iteration, r.energy, r.residual, r.decrement, r.stepLength, r.largestMove, r.lineSearchEvaluations,
                   r.shift,
-                  r.exactHessian ? 'e' : (r.projectionFallback ? 'f' : 'p'),
+                  r.unprojected ? 'u' : r.exactHessian ? 'e' : (r.projectionFallback ? 'f' : 'p'),
                   1e3 * r.assemblySeconds, 1e3 * r.factorizationSeconds, 1e3 * r.solveSeconds,
                   1e3 * r.lineSearchSeconds);
     s << buf;
   }
   std::snprintf(buf, sizeof buf,
                 "  time: assembly %.1f ms, factorization %.1f ms, solve %.1f ms, line search %.1f ms, total %.1f ms; "
-                "%d symbolic analyses, %d regularizations, %d exact-Hessian steps, %d projection fallbacks\n",
+                "%d symbolic analyses, %d regularizations, %d exact-Hessian steps (%d unprojected), "
+                "%d projection fallbacks (%d unprojected)\n",
                 1e3 * assemblySeconds, 1e3 * factorizationSeconds, 1e3 * solveSeconds, 1e3 * lineSearchSeconds,
-                1e3 * totalSeconds, symbolicAnalyses, regularizations, exactHessianSteps, projectionFallbacks);
+                1e3 * totalSeconds, symbolicAnalyses, regularizations, exactHessianSteps, unprojectedSteps,
+                projectionFallbacks, unprojectedFallbacks);
   s << buf;
   return s.str();
 }
@@ -81,6 +83,8 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                       {"regularizations", m.regularizations},
                       {"exact_hessian_steps", m.exactHessianSteps},
                       {"projection_fallbacks", m.projectionFallbacks},
+                      {"unprojected_steps", m.unprojectedSteps},
+                      {"unprojected_fallbacks", m.unprojectedFallbacks},
                       {"direct_factor_fallbacks", m.directFallbacks},
                       {"non_finite_trials", m.nonFiniteTrials},
                       {"energy_evaluations", m.energyEvaluations},
@@ -101,6 +105,7 @@ nlohmann::json toJson(const SolverSummary& m, bool withTrace) {
                    {"cg_iterations", r.cgIterations},
                    {"numeric_factorizations", r.numericFactorizations},
                    {"exact_hessian", r.exactHessian},
+                   {"unprojected", r.unprojected},
                    {"projection_fallback", r.projectionFallback},
                    {"direct_factor_fallbacks", r.directFallbacks},
                    {"assembly_seconds", r.assemblySeconds},

@@ -99,7 +99,10 @@ struct SolverSummary {
   bool converged() const { return reason == TerminationReason::Converged; }
   /// One line: reason, iterations, residual, energy, time.
   std::string briefReport() const;
-  /// A table of the iterations and the phase times.
+  /// A table of the iterations and the phase times. Its H column names each step's Hessian: u nothing projected
+  /// (NewtonOptions::unprojectedNearSolution), e exact (exact-first keeps blocks of up to
+  /// NewtonOptions::exactFirstProjectedDofs projected), f projected after an exact one was found indefinite,
+  /// p projected.
   std::string fullReport() const;
 };
 

@@ -5,6 +5,7 @@
 #include "test_problems.h"
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cstring>
 #include <sstream>
@@ -16,6 +17,7 @@ namespace {
 
 struct UnprojectedRun {
   int iterations = 0, unprojectedSteps = 0, unprojectedFallbacks = 0, tries = 0;
+  int reportedSteps = 0, reportedFallbacks = 0;  // as each solve's JSON summary gives them
   std::vector<const char*> solves;  // per solve: "-" no try, "held" tries all held, "fell" one fell back
 };
 
@@ -37,6 +39,9 @@ UnprojectedRun runSteps(const ShellProblem& p, double eta, int steps, bool unpro
     for (const SolverSummary& m : s.solves) {
       r.unprojectedSteps += m.unprojectedSteps;
       r.unprojectedFallbacks += m.unprojectedFallbacks;
+      const nlohmann::json j = toJson(m);
+      r.reportedSteps += j.at("unprojected_steps").get<int>();
+      r.reportedFallbacks += j.at("unprojected_fallbacks").get<int>();
       if (m.unprojectedSteps + m.unprojectedFallbacks > 0) ++r.tries;
       r.solves.push_back(m.unprojectedFallbacks > 0 ? "fell" : m.unprojectedSteps > 0 ? "held" : "-");
     }
@@ -59,6 +64,8 @@ TEST_CASE("newton: exact-first takes the unprojected Hessian near a solution, so
   CHECK(off.unprojectedSteps + off.unprojectedFallbacks == 0);
   CHECK(on.unprojectedSteps > 0);
   CHECK(on.iterations < off.iterations);
+  CHECK(on.reportedSteps == on.unprojectedSteps);
+  CHECK(on.reportedFallbacks == on.unprojectedFallbacks);
 }
 
 TEST_CASE("newton: where the unprojected Hessian keeps being indefinite, exact-first stops trying it for "
@@ -75,6 +82,7 @@ TEST_CASE("newton: where the unprojected Hessian keeps being indefinite, exact-f
   for (const char* c : r.solves) sequence << c << " ";
   INFO("solves: " << sequence.str());
   CHECK(r.unprojectedFallbacks > 0);  // the case the memory is for
+  CHECK(r.reportedFallbacks == r.unprojectedFallbacks);
   // A solve that falls back tries no more, and the next 2^f solves try none (f: the failures remembered, one more
   // with each solve that falls back, one fewer with each whose tries held): two fallbacks with no held solve
   // between are 2, then 4, 8, ... solves apart at least.
