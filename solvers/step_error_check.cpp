@@ -27,7 +27,8 @@ StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, Dyna
   tight.restore(before);
   c.tight = tight.step();
   c.solvedAgain = true;
-  if (!wholeStep(c.tight)) return c;
+  // A tight solve accepted at its iteration cap is no reference either.
+  if (!wholeStep(c.tight) || c.tight.movedOn > 0 || !c.tight.solves.front().converged()) return c;
   const Eigen::VectorXd& m = run.system().vertexMass();
   const Eigen::VectorXd predictor = before.x + taken.timeStep * before.v;
   c.error = massWeightedRms(m, run.positions() - tight.positions());

@@ -15,7 +15,8 @@ namespace jetshell {
 double massWeightedRms(const Eigen::VectorXd& mass, const Eigen::VectorXd& u);
 
 struct StepErrorCheck {
-  bool checked = false;  // false: the step taken, or the tight one, was not one Newton solve over the whole Δt
+  bool checked = false;  // false: the step taken, or the tight one, was not one Newton solve over the whole Δt,
+                         // or the tight solve did not converge
   double error = 0.0;    // ‖x_run − x_tight‖_M [m]
   double change = 0.0;   // ‖x_tight − (x_n + Δt v_n)‖_M [m]: the step's change against its predictor
   bool solvedAgain = false;  // the tight solver took the step (only a whole step taken is solved again)

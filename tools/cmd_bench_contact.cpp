@@ -20,6 +20,7 @@
 #include "solvers/fill_ordering.h"
 #include "solvers/shell_system.h"
 #include "tools/bench_cloth.h"
+#include "tools/bench_newton_error.h"
 #include "tools/output/atomic_file.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_edge_rules.h"
@@ -52,6 +53,7 @@ struct ContactBenchOptions {
   std::string solver = "scene";   // scene | direct | both
   bool noOverlap = false;         // NewtonOptions::overlapPreconditioner off
   bool trace = false;             // one line per step
+  bool newtonError = false;       // check every step an iterate test passed (tools/bench_newton_error.h)
   std::string fallbackBending = "exact";  // NewtonOptions::fallbackBendingHessian
   std::string ordering = "auto";          // LinearSolverOptions::ordering
   std::string oneRingParts = "auto";      // LinearSolverOptions::oneRingParts
@@ -63,17 +65,24 @@ struct Variant {
   bool direct = false;    // CHOLMOD on the whole Hessian with every block projected, or the scene's solver
 };
 
+/// The scene's system with its evaluator and boundary-edge rules, as `jetshell run` applies them, and the Hessian
+/// pattern of the variant.
+std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem& problem, bool growOnly) {
+  auto system = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
+  selectSceneEvaluator(scene, *system);
+  addSceneEdgeRules(scene, problem, *system);
+  system->objective().setGrowOnlyPattern(growOnly);
+  return system;
+}
+
 /// One run of the scene in one variant.
 nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const ContactBenchOptions& o, Variant v,
                        bool& failedRun) {
   const bool growOnly = v.growOnly;
   const ShellProblem problem = shellProblemFromScene(scene, model);
-  ShellSystem system(problem, AnalysisKind::Dynamics);
-  // The scene's evaluator and boundary-edge rules, as `jetshell run` applies them.
-  selectSceneEvaluator(scene, system);
-  addSceneEdgeRules(scene, problem, system);
+  const std::unique_ptr<ShellSystem> runSystem = sceneSystem(scene, problem, growOnly);
+  ShellSystem& system = *runSystem;
   Objective& objective = system.objective();
-  objective.setGrowOnlyPattern(growOnly);
   // The scene's integrator, time step and Newton settings, as `jetshell run` takes them.
   DynamicsOptions d = dynamicsOptionsFor(scene);
   if (v.direct) {
@@ -88,6 +97,21 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   DynamicsSolver solver(system, d);
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
               v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
+  // --newton-error: a second solver on its own system takes each step again from the same state, tightly. The
+  // run forgets its Newton history at every step so that both follow the same iterates; its figures are then
+  // not the benchmark's, and the checks' own time is left out of them.
+  std::unique_ptr<ShellSystem> tightSystem;
+  std::unique_ptr<DynamicsSolver> tight;
+  DynamicsSolver::Snapshot before;
+  NewtonErrorTally newtonError;
+  if (o.newtonError) {
+    tightSystem = sceneSystem(scene, problem, growOnly);
+    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightOptions(d));
+    solver.forgetSolverHistory();
+    before = solver.snapshot();
+    std::printf("--newton-error: the run forgets its Newton history at every step; its time is not the "
+                "benchmark's\n");
+  }
   const auto start = std::chrono::steady_clock::now();
   const double cpuStart = processCpuSeconds();
   int iterations = 0, failed = 0, analyses = 0, factorizations = 0, exactSteps = 0, fallbacks = 0, cg = 0;
@@ -121,6 +145,11 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     const auto guardStart = std::chrono::steady_clock::now();
     const double guardCpuStart = processCpuSeconds();
     guards(solver.positions());
+    if (tight) {
+      newtonError.check(r, solver, *tight, before);
+      solver.forgetSolverHistory();
+      before = solver.snapshot();
+    }
     guardWall += std::chrono::duration<double>(std::chrono::steady_clock::now() - guardStart).count();
     guardCpu += processCpuSeconds() - guardCpuStart;
     if (o.trace) {
@@ -201,8 +230,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("guards: deepest sample in a volume %.2f mm (last step %.2f mm), closest pair %.3f x 2r (last step "
               "%.3f x 2r), kinetic energy at the end %.3g J, largest energy gain over the start %.3g J\n",
               1e3 * deepest, 1e3 * lastDeepest, closest, lastClosest, solver.kineticEnergy(), mostGained);
+  if (o.newtonError) newtonError.print("");
   failedRun = failed > 0;
-  return {{"pattern", growOnly ? "grow" : "exact"},
+  nlohmann::json figures = {{"pattern", growOnly ? "grow" : "exact"},
           {"solver", v.direct ? "direct" : "scene"},
           {"linear_solver", toString(d.newton.linear.type)},
           {"ordering", fs.ordering},
@@ -238,6 +268,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                        {"other_terms", otherTerms},
                        {"linear_solve", linear},
                        {"rest", rest}}}};
+  if (o.newtonError) figures["newton_error"] = newtonError.toJson();
+  return figures;
 }
 
 int runContactBench(const ContactBenchOptions& o) {
@@ -320,6 +352,9 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
   cmd->add_flag("--trace", opts->trace,
                 "Per step: Newton and CG iterations, the guards, how it ended; then per Newton iteration: residual, "
                 "step length, CG iterations, largest vertex move");
+  cmd->add_flag("--newton-error", opts->newtonError,
+                "Solve every step an iterate test passed again from the same state to eta 1e-6 and report the "
+                "error left against the test's threshold (the run then forgets its Newton history at every step)");
   cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

@@ -13,9 +13,9 @@
 // include the second solves, and the run's starts differ from a plain run's).
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
-#include "solvers/step_error_check.h"
 #include "solvers/time_step_policy.h"
 #include "tools/bench_cloth.h"
+#include "tools/bench_newton_error.h"
 #include "tools/output/atomic_file.h"
 #include "tools/render/plot.h"
 #include "tools/scene/json_reader.h"
@@ -103,14 +103,6 @@ struct Trajectory {
   std::vector<Eigen::VectorXd> samples;
 };
 
-/// --newton-error: the steps whose iterate test passed, against the same steps solved to η = 1e-6.
-struct EstimateCheck {
-  int passes = 0;       // steps passed by this estimate (and solved again whole, without cuts)
-  int aboveBound = 0;   // of them, error > threshold
-  double worstRatio = 0.0;  // the largest error / threshold
-  int worstStep = 0;
-  std::string worstTrace;   // the worst pass's Newton iterations, and the tight solve's
-};
 
 struct RunFigures {
   std::string integrator, policy, label;
@@ -122,44 +114,8 @@ struct RunFigures {
   double wall = 0.0, cpu = 0.0, loadBefore = 0.0, loadAfter = 0.0;
   double rmsError = 0.0, finalError = 0.0;
   Trajectory trajectory;
-  std::vector<std::pair<std::string, EstimateCheck>> checks;  // --newton-error, by estimate name
+  NewtonErrorTally newtonError;  // --newton-error
 };
-
-/// The Newton iterations on one line: step length, largest move, which Hessian gave the direction (exact-first,
-/// unprojected near a solution, or every block projected), and whether it was shifted.
-std::string traceLine(const SolverSummary& s) {
-  std::ostringstream o;
-  o.precision(3);
-  for (const IterationRecord& r : s.trace)
-    o << " [" << r.iteration << ": a " << r.stepLength << " move " << r.largestMove
-      << (r.unprojected ? " unprojected" : r.exactHessian ? " exact" : " projected")
-      << (r.shift > 0.0 ? " shifted" : "") << "]";
-  o << " -> " << s.message;
-  return o.str();
-}
-
-/// Checks the step just taken (from `before`) against the same step solved to η = 1e-6 by `tight`, if an iterate
-/// test passed it.
-void checkStep(RunFigures& f, const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
-               const DynamicsSolver::Snapshot& before) {
-  if (rep.solves.empty()) return;
-  const SolverSummary& loose = rep.solves.front();
-  if (!loose.converged() || loose.convergenceTest != "iterate" || !(loose.iterateThreshold > 0.0)) return;
-  const StepErrorCheck t = checkStepError(rep, run, tight, before);
-  if (!t.checked) return;
-  const double ratio = t.error / loose.iterateThreshold;
-  auto it = std::find_if(f.checks.begin(), f.checks.end(),
-                         [&](const auto& c) { return c.first == loose.iterateEstimate; });
-  if (it == f.checks.end()) it = f.checks.insert(f.checks.end(), {loose.iterateEstimate, EstimateCheck{}});
-  EstimateCheck& c = it->second;
-  ++c.passes;
-  if (ratio > 1.0) ++c.aboveBound;
-  if (ratio > c.worstRatio) {
-    c.worstRatio = ratio;
-    c.worstStep = rep.step;
-    c.worstTrace = "passed:" + traceLine(loose) + "\n      tight: " + traceLine(t.tight.solves.front());
-  }
-}
 
 RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, TimeIntegrator integrator,
                   TimeStepPolicy policy, double eta, double dt, double sampleInterval, int samples) {
@@ -188,9 +144,7 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
   DynamicsSolver::Snapshot before;
   if (check) {
     tightSystem = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
-    DynamicsOptions td = d;
-    td.updateTolerance = 1e-6;
-    tight = std::make_unique<DynamicsSolver>(*tightSystem, td);
+    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightOptions(d));
     before = solver.snapshot();
   }
   const int stepsPerSample = static_cast<int>(std::lround(sampleInterval / dt));
@@ -200,7 +154,7 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
     for (const SolverSummary& sum : rep.solves) f.factorizations += sum.numericFactorizations;
     if (rep.step % stepsPerSample == 0) f.trajectory.samples.push_back(s.positions());
     if (check) {
-      checkStep(f, rep, s, *tight, before);
+      f.newtonError.check(rep, s, *tight, before);
       before = s.snapshot();
       // Both solvers then start the next step alike (restore() forgets the Newton solver's history), so the
       // second one follows the run's iterates up to its pass and on to the solution they head for.
@@ -242,10 +196,6 @@ std::string seriesLabel(const RunFigures& f) {
 }
 
 nlohmann::json toJson(const RunFigures& f) {
-  nlohmann::json checks = nlohmann::json::object();
-  for (const auto& [name, c] : f.checks)
-    checks[name] = {{"passes", c.passes}, {"above_threshold", c.aboveBound}, {"worst_ratio", c.worstRatio},
-                    {"worst_step", c.worstStep}};
   nlohmann::json j = {{"integrator", f.integrator}, {"policy", f.policy},     {"eta", f.eta},
           {"dt", f.dt},                 {"completed", f.completed}, {"message", f.message},
           {"steps", f.steps},           {"newton_iterations", f.newtonIterations},
@@ -253,7 +203,7 @@ nlohmann::json toJson(const RunFigures& f) {
           {"wall_seconds", f.wall},     {"process_cpu_seconds", f.cpu},
           {"load_before", f.loadBefore}, {"load_after", f.loadAfter},
           {"rms_error_m", f.rmsError},  {"final_error_m", f.finalError}};
-  if (!f.checks.empty()) j["newton_error"] = checks;
+  if (!f.newtonError.empty()) j["newton_error"] = f.newtonError.toJson();
   return j;
 }
 
@@ -408,10 +358,7 @@ int runDynamicsBench(const DynamicsBenchOptions& o) {
                       f.completed ? std::to_string(f.finalError).c_str() : "failed", f.wall, f.cpu,
                       0.5 * (f.loadBefore + f.loadAfter));
           if (!f.completed) std::printf("  (%s)\n", f.message.c_str());
-          for (const auto& [name, c] : f.checks)
-            std::printf("  newton error, %s: %d passes, %d above their threshold, worst %.3g x at step %d\n"
-                        "      %s\n",
-                        name.c_str(), c.passes, c.aboveBound, c.worstRatio, c.worstStep, c.worstTrace.c_str());
+          f.newtonError.print("  ");
           runs.push_back(std::move(f));
         }
   nlohmann::json rows = nlohmann::json::array();

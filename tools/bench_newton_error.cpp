@@ -1,0 +1,104 @@
+#include "tools/bench_newton_error.h"
+
+#include "solvers/step_error_check.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+namespace jetshell::cli {
+
+std::string traceLine(const SolverSummary& s) {
+  std::ostringstream o;
+  o.precision(3);
+  for (const IterationRecord& r : s.trace)
+    o << " [" << r.iteration << ": a " << r.stepLength << " move " << r.largestMove
+      << (r.unprojected ? " unprojected" : r.exactHessian ? " exact" : " projected")
+      << (r.shift > 0.0 ? " shifted" : "") << "]";
+  o << " -> " << s.message;
+  return o.str();
+}
+
+DynamicsOptions tightOptions(const DynamicsOptions& run) {
+  DynamicsOptions t = run;
+  t.updateTolerance = kTightUpdateTolerance;
+  t.contactCorrectionFraction = 0.0;
+  t.newton.maxIterations = std::max(run.newton.maxIterations, 50);
+  t.acceptIterationCap = false;
+  t.maxCuts = 0;
+  t.newton.linear.type = LinearSolverType::Cholmod;
+  t.newton.adaptiveLinearTolerance = false;
+  t.newton.exactFirstProjectedDofs = 0;
+  return t;
+}
+
+void NewtonErrorTally::check(const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
+                             const DynamicsSolver::Snapshot& before) {
+  if (rep.solves.empty()) return;
+  const SolverSummary& loose = rep.solves.front();
+  const bool passed = loose.converged() && loose.convergenceTest == "iterate" && loose.iterateThreshold > 0.0;
+  const bool movedOn = rep.movedOn > 0;
+  if (!passed && !movedOn) return;
+  const StepErrorCheck t = checkStepError(rep, run, tight, before);
+  if (!t.checked) {
+    ++unchecked_[movedOn ? "moved on at the iteration cap" : loose.iterateEstimate];
+    if (firstUnchecked_.empty()) {
+      std::ostringstream why;
+      why << "step " << rep.step << ": ";
+      if (!t.solvedAgain) why << "cut or taken in parts";
+      else if (!t.tight.solves.empty()) why << "tight: " << t.tight.solves.size() << " solves, " << t.tight.cuts
+                                            << " cuts; first:" << traceLine(t.tight.solves.front());
+      firstUnchecked_ = why.str();
+    }
+    return;
+  }
+  if (movedOn) {
+    ++movedOn_.steps;
+    movedOn_.worstError = std::max(movedOn_.worstError, t.error);
+    const double relative = t.change > 0.0 ? t.error / t.change : 0.0;
+    if (relative > movedOn_.worstRelative) {
+      movedOn_.worstRelative = relative;
+      movedOn_.worstStep = rep.step;
+    }
+    return;
+  }
+  const double ratio = t.error / loose.iterateThreshold;
+  auto it = std::find_if(checks_.begin(), checks_.end(), [&](const auto& c) { return c.first == loose.iterateEstimate; });
+  if (it == checks_.end()) it = checks_.insert(checks_.end(), {loose.iterateEstimate, EstimateCheck{}});
+  EstimateCheck& c = it->second;
+  ++c.passes;
+  if (ratio > 1.0) ++c.aboveBound;
+  if (ratio > c.worstRatio) {
+    c.worstRatio = ratio;
+    c.worstStep = rep.step;
+    c.worstTrace = "passed:" + traceLine(loose) + "\n      tight: " + traceLine(t.tight.solves.front());
+  }
+}
+
+nlohmann::json NewtonErrorTally::toJson() const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [name, c] : checks_)
+    j[name] = {{"passes", c.passes}, {"above_threshold", c.aboveBound}, {"worst_ratio", c.worstRatio},
+               {"worst_step", c.worstStep}};
+  j["moved_on_at_cap"] = {{"steps", movedOn_.steps}, {"worst_error_m", movedOn_.worstError},
+                          {"worst_error_over_change", movedOn_.worstRelative}, {"worst_step", movedOn_.worstStep}};
+  j["unchecked"] = unchecked_;  // by kind
+  return j;
+}
+
+void NewtonErrorTally::print(const char* indent) const {
+  for (const auto& [name, c] : checks_)
+    std::printf("%snewton error, %s: %d passes, %d above their threshold, worst %.3g x at step %d\n%s    %s\n",
+                indent, name.c_str(), c.passes, c.aboveBound, c.worstRatio, c.worstStep, indent, c.worstTrace.c_str());
+  if (movedOn_.steps > 0)
+    std::printf("%snewton error, moved on at the iteration cap: %d steps, worst %.3g mm, worst %.3g x the step's "
+                "change (step %d)\n",
+                indent, movedOn_.steps, 1e3 * movedOn_.worstError, movedOn_.worstRelative, movedOn_.worstStep);
+  for (const auto& [kind, n] : unchecked_)
+    std::printf("%snewton error, %s: %d steps not checked (cut or taken in parts, or the tight solve did not "
+                "converge)\n",
+                indent, kind.c_str(), n);
+  if (!unchecked_.empty()) std::printf("%s    the first, %s\n", indent, firstUnchecked_.c_str());
+}
+
+}  // namespace jetshell::cli

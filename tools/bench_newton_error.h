@@ -1,0 +1,78 @@
+// --newton-error of `jetshell bench dynamics` and `jetshell bench contact`: every step whose iterate test passed
+// (solvers/dynamics.h), solved again from the same state to a tight tolerance (solvers/step_error_check.h), and the
+// distance between the two ends against the threshold the test promised, tallied by the estimate that passed it.
+// Steps accepted unconverged at the iteration cap are measured the same way, against their change.
+// Inputs: each step's report, the run's solver, a second solver on its own system, the state the step started
+// from. Outputs: per estimate, the passes checked, how many ended beyond their threshold, the worst ratio with
+// its Newton iterations; the moved-on steps' worst error; and the steps that could not be checked (cut or taken
+// in parts, or whose tight solve did not converge).
+#pragma once
+
+#include "solvers/dynamics.h"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace jetshell::cli {
+
+/// The tight solves' DynamicsOptions::updateTolerance.
+constexpr double kTightUpdateTolerance = 1e-6;
+
+/// The run's options made tight: η = kTightUpdateTolerance; no correction test with contact terms (its threshold
+/// is at least δ/100 whatever η, so the tight solve would end where the run did); the direct solver on a fixed
+/// linear tolerance, exact-first with no block projected first; at least 50 Newton iterations, and a solve at the
+/// cap fails, uncut, instead of moving on (then nothing is checked).
+DynamicsOptions tightOptions(const DynamicsOptions& run);
+
+struct EstimateCheck {
+  int passes = 0;           // steps passed by this estimate (and solved again whole, without cuts)
+  int aboveBound = 0;       // of them, error > threshold
+  double worstRatio = 0.0;  // the largest error / threshold
+  int worstStep = 0;
+  std::string worstTrace;   // the worst pass's Newton iterations, and the tight solve's
+};
+
+/// Steps accepted at the iteration cap without convergence (DynamicsOptions::acceptIterationCap): no test
+/// promised a bound, so the error is set against the step's change (‖x_tight − (x_n + Δt v_n)‖_M).
+struct MovedOnCheck {
+  int steps = 0;               // solved again whole and checked
+  double worstError = 0.0;     // [m]
+  double worstRelative = 0.0;  // the largest error / change
+  int worstStep = 0;           // the step of worstRelative
+};
+
+class NewtonErrorTally {
+ public:
+  /// Checks the step just taken (report `rep`, from `before`) against the same step taken by `tight`
+  /// (tightOptions), if an iterate test passed it or it moved on at the iteration cap. For the two to follow the
+  /// same iterates up to the pass, the run must have started the step without its Newton history
+  /// (DynamicsSolver::forgetSolverHistory).
+  void check(const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
+             const DynamicsSolver::Snapshot& before);
+  bool empty() const { return checks_.empty() && unchecked_.empty() && movedOn_.steps == 0; }
+  /// By estimate name ("residual estimate", "Newton correction").
+  const std::vector<std::pair<std::string, EstimateCheck>>& checks() const { return checks_; }
+  const MovedOnCheck& movedOn() const { return movedOn_; }
+  /// Iterate-test passes (by estimate) and moved-on steps not checked: the step was cut or taken in parts, or
+  /// the tight solve did not converge.
+  const std::map<std::string, int>& unchecked() const { return unchecked_; }
+  nlohmann::json toJson() const;
+  /// One line per estimate (and the worst pass's iterations), each starting with `indent`.
+  void print(const char* indent) const;
+
+ private:
+  std::vector<std::pair<std::string, EstimateCheck>> checks_;
+  MovedOnCheck movedOn_;
+  std::map<std::string, int> unchecked_;
+  std::string firstUnchecked_;  // why the first step not checked was not
+};
+
+/// A solve's Newton iterations on one line: step length, largest move, which Hessian gave the direction
+/// (unprojected near a solution, exact-first, or every block projected), and whether it was shifted.
+std::string traceLine(const SolverSummary& s);
+
+}  // namespace jetshell::cli
