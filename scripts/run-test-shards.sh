@@ -7,7 +7,8 @@
 # - The others are dealt in turn into TEST_SHARDS processes (default 8), so each gets some of every file's tests.
 # - JOBS processes run at a time, each under a time limit of TEST_SHARD_TIMEOUT seconds (default 1800); each logs
 #   the test cases it finished, with their durations.
-# - Before anything runs, the test program must match exactly as many test cases as the list names.
+# - Before anything runs, the test program must match exactly as many test cases as the list names, and the list
+#   must name some.
 # - A process that fails is run again one test case to a process, so the report names each failing test case as
 #   CTest would, and a crash in one test case hides none of the others.
 # The environment (sanitizer options, OMP_WAIT_POLICY) is the caller's.
@@ -31,6 +32,10 @@ trap 'rm -rf "$work"' EXIT
 escape() { sed -E 's/([],[*~\\"#])/\\\1/g' "$1"; }
 
 total="$(grep -c . "$names" || true)"
+if [ "$total" -eq 0 ]; then
+  echo "run-test-shards: $names names no test case" >&2
+  exit 1
+fi
 escape "$names" >"$work/all.spec"
 matched="$("$program" -f "$work/all.spec" --list-test-names-only | grep -c . || true)"
 if [ "$matched" -ne "$total" ]; then
