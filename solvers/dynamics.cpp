@@ -231,8 +231,7 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
     const bool correctionTest = options_.correctionTest && largestMoveBound > 0.0;
     newton_.setIterateTest([&predictor, &extrapolated, &m, &lastIterate, &lastResidualEstimate, &lastCorrection,
                             &simplifiedCorrection, &crushedIterate, eta, floor, totalMass, inertiaCoefficient,
-                            correctionTest, bdf2, largestMoveBound, correctionFloor,
-                            withContact](const IterateView& it) {
+                            correctionTest, bdf2, largestMoveBound, correctionFloor](const IterateView& it) {
       const Eigen::VectorXd& xk = it.x;
       const Eigen::VectorXd& g = it.gradient;
       // The correction x_k − x_{k−1} is a Newton correction only after a full Newton step.
@@ -258,19 +257,15 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       const double correction = haveCorrection ? std::sqrt(correctionSq / totalMass) : 0.0;
       if (!result.passed && haveCorrection && correctionTestApplies(residualEstimate, lastResidualEstimate, bound) &&
           correction <= bound && std::sqrt(largestMoveSq) <= largestMoveBound) {
-        // The error left (see the header). With contact terms the correction itself, under the move bound above.
-        // Without them, from the simplified Newton correction −H_{k−1}⁻¹ g_k, where the last system can be solved
-        // again and the iterate is Newton's second correction or a later one.
-        double errorLeft = correction;
-        if (!withContact) {
-          errorLeft = std::numeric_limits<double>::infinity();
-          if (correction > 0.0 && lastCorrection > 0.0 && it.solveLastSystem &&
-              it.solveLastSystem(-g, simplifiedCorrection)) {
-            double simplifiedSq = 0.0;
-            for (Eigen::Index v = 0; v < m.size(); ++v)
-              if (m[v] > 0.0) simplifiedSq += m[v] * simplifiedCorrection.segment<3>(3 * v).squaredNorm();
-            errorLeft = simplifiedErrorEstimate(std::sqrt(simplifiedSq / totalMass), correction);
-          }
+        // The error left (see the header), from the simplified Newton correction −H_{k−1}⁻¹ g_k, where the last
+        // system can be solved again and the iterate is Newton's second correction or a later one.
+        double errorLeft = std::numeric_limits<double>::infinity();
+        if (correction > 0.0 && lastCorrection > 0.0 && it.solveLastSystem &&
+            it.solveLastSystem(-g, simplifiedCorrection)) {
+          double simplifiedSq = 0.0;
+          for (Eigen::Index v = 0; v < m.size(); ++v)
+            if (m[v] > 0.0) simplifiedSq += m[v] * simplifiedCorrection.segment<3>(3 * v).squaredNorm();
+          errorLeft = simplifiedErrorEstimate(std::sqrt(simplifiedSq / totalMass), correction);
         }
         if (errorLeft <= bound) result = {true, correction, bound, "Newton correction"};
       }

@@ -1,8 +1,22 @@
 #include "solvers/step_error_check.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace jetshell {
+
+DynamicsOptions tightStepOptions(const DynamicsOptions& run) {
+  DynamicsOptions t = run;
+  t.updateTolerance = kTightUpdateTolerance;
+  t.contactCorrectionFraction = 0.0;
+  t.newton.maxIterations = std::max(run.newton.maxIterations, 50);
+  t.acceptIterationCap = false;
+  t.maxCuts = 0;
+  t.newton.linear.type = LinearSolverType::Cholmod;
+  t.newton.adaptiveLinearTolerance = false;
+  t.newton.exactFirstProjectedDofs = 0;
+  return t;
+}
 
 double massWeightedRms(const Eigen::VectorXd& mass, const Eigen::VectorXd& u) {
   double sq = 0.0;
@@ -28,7 +42,7 @@ StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, Dyna
   c.tight = tight.step();
   c.solvedAgain = true;
   // A tight solve accepted at its iteration cap is no reference either.
-  if (!wholeStep(c.tight) || c.tight.movedOn > 0 || !c.tight.solves.front().converged()) return c;
+  if (!wholeStep(c.tight) || !c.tight.solves.front().converged()) return c;
   const Eigen::VectorXd& m = run.system().vertexMass();
   const Eigen::VectorXd predictor = before.x + taken.timeStep * before.v;
   c.error = massWeightedRms(m, run.positions() - tight.positions());

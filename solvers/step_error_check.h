@@ -23,6 +23,15 @@ struct StepErrorCheck {
   StepReport tight;          // its report
 };
 
+/// The tight solves' DynamicsOptions::updateTolerance.
+constexpr double kTightUpdateTolerance = 1e-6;
+
+/// The run's options made tight: η = kTightUpdateTolerance; no correction test with contact terms (its threshold
+/// is at least δ/100 whatever η, so the tight solve would end where the run did); the direct solver on a fixed
+/// linear tolerance, exact-first with no block projected first; at least 50 Newton iterations, and a solve at the
+/// cap fails, uncut, instead of moving on (then nothing is checked).
+DynamicsOptions tightStepOptions(const DynamicsOptions& run);
+
 /// Checks the whole step `run` just took from `before` (its report `taken`): `tight`, a solver on its own system
 /// with a tight DynamicsOptions::updateTolerance, is restored to `before` and takes the same step. For the two to
 /// follow the same iterates up to the run's pass, the run must have started the step without the Newton solver's

@@ -19,19 +19,6 @@ std::string traceLine(const SolverSummary& s) {
   return o.str();
 }
 
-DynamicsOptions tightOptions(const DynamicsOptions& run) {
-  DynamicsOptions t = run;
-  t.updateTolerance = kTightUpdateTolerance;
-  t.contactCorrectionFraction = 0.0;
-  t.newton.maxIterations = std::max(run.newton.maxIterations, 50);
-  t.acceptIterationCap = false;
-  t.maxCuts = 0;
-  t.newton.linear.type = LinearSolverType::Cholmod;
-  t.newton.adaptiveLinearTolerance = false;
-  t.newton.exactFirstProjectedDofs = 0;
-  return t;
-}
-
 void NewtonErrorTally::check(const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
                              const DynamicsSolver::Snapshot& before) {
   if (rep.solves.empty()) return;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "solvers/dynamics.h"
+#include "solvers/step_error_check.h"
 
 #include <nlohmann/json.hpp>
 
@@ -18,15 +19,6 @@
 #include <vector>
 
 namespace jetshell::cli {
-
-/// The tight solves' DynamicsOptions::updateTolerance.
-constexpr double kTightUpdateTolerance = 1e-6;
-
-/// The run's options made tight: η = kTightUpdateTolerance; no correction test with contact terms (its threshold
-/// is at least δ/100 whatever η, so the tight solve would end where the run did); the direct solver on a fixed
-/// linear tolerance, exact-first with no block projected first; at least 50 Newton iterations, and a solve at the
-/// cap fails, uncut, instead of moving on (then nothing is checked).
-DynamicsOptions tightOptions(const DynamicsOptions& run);
 
 struct EstimateCheck {
   int passes = 0;           // steps passed by this estimate (and solved again whole, without cuts)
@@ -48,7 +40,7 @@ struct MovedOnCheck {
 class NewtonErrorTally {
  public:
   /// Checks the step just taken (report `rep`, from `before`) against the same step taken by `tight`
-  /// (tightOptions), if an iterate test passed it or it moved on at the iteration cap. For the two to follow the
+  /// (tightStepOptions), if an iterate test passed it or it moved on at the iteration cap. For the two to follow the
   /// same iterates up to the pass, the run must have started the step without its Newton history
   /// (DynamicsSolver::forgetSolverHistory).
   void check(const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,

@@ -106,7 +106,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   NewtonErrorTally newtonError;
   if (o.newtonError) {
     tightSystem = sceneSystem(scene, problem, growOnly);
-    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightOptions(d));
+    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightStepOptions(d));
     solver.forgetSolverHistory();
     before = solver.snapshot();
     std::printf("--newton-error: the run forgets its Newton history at every step; its time is not the "

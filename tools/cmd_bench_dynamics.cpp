@@ -144,7 +144,7 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
   DynamicsSolver::Snapshot before;
   if (check) {
     tightSystem = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
-    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightOptions(d));
+    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightStepOptions(d));
     before = solver.snapshot();
   }
   const int stepsPerSample = static_cast<int>(std::lround(sampleInterval / dt));

@@ -6,10 +6,13 @@
 #include "core/mesh_generators.h"
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
+#include "solvers/step_error_check.h"
+#include "solvers/time_step_policy.h"
 #include "test_problems.h"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -455,13 +458,61 @@ TEST_CASE("contact dynamics: the Newton correction ends a contact step only when
   };
   const Run on = run(kappa, 0.1, 1), off = run(0.0, 0.1, 1);
   const Run tight = run(0.0, 0.01, 1), tightHalf = run(0.0, 0.01, 2);
-  CHECK(on.correctionStops >= 1);  // measured: 15 of 20 steps
+  CHECK(on.correctionStops >= 1);  // measured: 8 of 20 steps (15 when the correction alone was judged)
   CHECK(off.correctionStops == 0);
   const double discretization = (tight.x - tightHalf.x).lpNorm<Eigen::Infinity>();
   const double newtonError = (on.x - tight.x).lpNorm<Eigen::Infinity>();
   INFO("discretization " << discretization << " m, Newton error " << newtonError << " m (without the rule "
                          << (off.x - tight.x).lpNorm<Eigen::Infinity>() << " m)");
   CHECK(newtonError <= 0.2 * discretization);
+}
+
+TEST_CASE("contact dynamics: the drape's steps passed by the Newton correction end within their threshold of "
+          "the same steps solved tightly (with contact terms too, the correction judges the error left)",
+          "[contact]") {
+  // With contact terms the correction alone used to be judged: the T-shirt's passes ended up to 1.47 times their
+  // threshold from the tightly solved step (BENCHMARKS.md, Contact, session 66), this drape's up to 3.3 times.
+  // Newton's corrections there do not contract steadily, and a short one can precede long ones. Each step of the
+  // drape, taken with the policy `jetshell run` uses, is solved again tightly from the same state (as `jetshell
+  // bench contact --newton-error` does) and held to the threshold its pass promised.
+  testing::SingleThread single;
+  const ShellProblem p = clothOverBall();
+  ShellSystem runSystem(p, AnalysisKind::Dynamics), tightSystem(p, AnalysisKind::Dynamics);
+  DynamicsOptions o;
+  applyTimeStepPolicy(TimeStepPolicy::Jetshell, o);
+  o.timeStep = 1.0 / 60.0;
+  DynamicsSolver run(runSystem, o), tight(tightSystem, tightStepOptions(o));
+  int corrections = 0, residualPasses = 0;
+  double worstCorrection = 0.0, worstResidual = 0.0;
+  for (int step = 0; step < 60; ++step) {
+    const DynamicsSolver::Snapshot start = run.snapshot();
+    run.forgetSolverHistory();
+    const StepReport taken = run.step();
+    INFO("step " << step << ": " << taken.message);
+    REQUIRE(taken.success);
+    const SolverSummary& s = taken.solves.front();
+    if (!(s.converged() && s.convergenceTest == "iterate")) continue;
+    const StepErrorCheck c = checkStepError(taken, run, tight, start);
+    if (!c.checked) continue;
+    const double ratio = c.error / s.iterateThreshold;
+    INFO(s.iterateEstimate << ": error " << c.error << " m, threshold " << s.iterateThreshold << " m");
+    if (s.iterateEstimate == "Newton correction") {
+      ++corrections;
+      worstCorrection = std::max(worstCorrection, ratio);
+      CHECK(ratio <= 1.0);
+    } else {
+      ++residualPasses;
+      worstResidual = std::max(worstResidual, ratio);
+      // The residual estimate bounds the error while the step's Hessian is at least its inertia (solvers/
+      // dynamics.h); a penalty against the ball's curved surface, and compression, take some of that away.
+      // Measured: one pass of 40 at 1.045 times its threshold (step 18), the others within it.
+      CHECK(ratio <= 1.1);
+    }
+  }
+  INFO("passes checked: " << corrections << " by the Newton correction (worst " << worstCorrection << " x), "
+                          << residualPasses << " by the residual estimate (worst " << worstResidual << " x)");
+  CHECK(corrections >= 5);  // measured: 17
+  CHECK(residualPasses >= 5);
 }
 
 TEST_CASE("contact dynamics: the contact correction fraction is validated", "[contact]") {
