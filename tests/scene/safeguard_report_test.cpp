@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -50,7 +51,8 @@ TEST_CASE("safeguards: every kind of safeguard is counted by what fired", "[safe
 
 namespace {
 
-nlohmann::json runCloth(const nlohmann::json& solver, const std::string& name) {
+nlohmann::json runCloth(const nlohmann::json& solver, const std::string& name, std::ostream* log = nullptr,
+                        RunResult* result = nullptr) {
   nlohmann::json scene = nlohmann::json::parse(R"({
     "gravity": [0, 0, -9.81],
     "actors": [{"type": "shell", "shape": {"generator": "rectangle", "width": 1, "height": 1, "nx": 5, "ny": 5},
@@ -63,7 +65,9 @@ nlohmann::json runCloth(const nlohmann::json& solver, const std::string& name) {
   o.outputDirectory = (test::scratchDirectory("safeguard_tests") / name).string();
   fs::remove_all(o.outputDirectory);
   o.pictures = false;
-  runScene(sceneFromJson(scene, "."), o);
+  o.log = log;
+  const RunResult r = runScene(sceneFromJson(scene, "."), o);
+  if (result) *result = r;
   std::ifstream in(fs::path(o.outputDirectory) / "summary.json");
   std::stringstream text;
   text << in.rdbuf();
@@ -80,8 +84,21 @@ TEST_CASE("safeguards: summary.json states the cuts and the iteration-cap outcom
   CHECK(cut["step_cuts_by_reason"]["iteration_cap"].get<int>() > 0);
   CHECK(cut["steps_accepted_at_iteration_cap"] == 0);
   // ... or, as the page's engine does, the last iterate is taken and the run moves on.
-  const nlohmann::json moveOn = runCloth({{"maxIterations", 2}, {"acceptIterationCap", true}, {"threads", 1}}, "move_on");
+  std::ostringstream log;
+  RunResult result;
+  const nlohmann::json moveOn =
+      runCloth({{"maxIterations", 2}, {"acceptIterationCap", true}, {"threads", 1}}, "move_on", &log, &result);
   CHECK(moveOn["iteration_cap_outcome"] == "move_on");
   CHECK(moveOn["step_cuts"] == 0);
-  CHECK(moveOn["steps_accepted_at_iteration_cap"].get<int>() > 0);
+  const int movedOn = moveOn["steps_accepted_at_iteration_cap"].get<int>();
+  CHECK(movedOn > 0);
+  // The log marks each such step, and the run's notes count them.
+  int marked = 0;
+  std::istringstream lines(log.str());
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("(moved on at the iteration cap, not converged)") != std::string::npos) ++marked;
+  CHECK(marked == movedOn);
+  const std::string note = std::to_string(movedOn) + " of 3 steps moved on at the iteration cap without converging";
+  CHECK(std::count_if(result.notes.begin(), result.notes.end(),
+                      [&](const std::string& n) { return n.rfind(note, 0) == 0; }) == 1);
 }

@@ -476,7 +476,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
            << " J  E_kin " << formatNumber("%.6e", d.kineticEnergy()) << " J"
            << (s.parts > 1 ? "  (" + std::to_string(s.parts) + " parts: a moving solid)" : "")
            << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "")
-           << (s.stayRestarts ? "  (solved again from the previous positions)" : "");
+           << (s.stayRestarts ? "  (solved again from the previous positions)" : "")
+           << (s.movedOn ? "  (moved on at the iteration cap, not converged)" : "");
       progress.log(line.str());
       progress.update(d.time() / duration, "t = " + formatNumber("%.3f", d.time()) + " s");
       doneIterations += s.newtonIterations;
@@ -495,6 +496,10 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
     x = solver.positions();
     if (r.steps > 0) recordResidualClaim(summary.extra, lastSolve);
     summary.extra["steps_at_iteration_cap"] = unconvergedSteps;
+    if (unconvergedSteps > 0)
+      result.notes.push_back(std::to_string(unconvergedSteps) + " of " + std::to_string(summary.steps) +
+                             " steps moved on at the iteration cap without converging (the scene's "
+                             "solver.acceptIterationCap; steps_at_iteration_cap in summary.json)");
     summary.extra["worst_residual_over_tolerance"] = worstRatio;
     summary.extra["final_time"] = solver.time();
     summary.extra["step_cuts"] = previousCuts + r.cuts;

@@ -39,7 +39,7 @@ struct RunResult {
   std::string finalPng;    // or "" when not drawn
   std::string probesPng;   // or ""
   std::string contactForcesPng;  // or ""
-  std::vector<std::string> notes;     // unsupported features, picture problems
+  std::vector<std::string> notes;     // unsupported features, steps moved on unconverged, picture problems
   std::vector<std::string> warnings;  // doubts about the result (inverted faces); also in summary.json
 };
 
