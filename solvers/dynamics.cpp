@@ -231,7 +231,8 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
     const bool correctionTest = options_.correctionTest && largestMoveBound > 0.0;
     newton_.setIterateTest([&predictor, &extrapolated, &m, &lastIterate, &lastResidualEstimate, &lastCorrection,
                             &simplifiedCorrection, &crushedIterate, eta, floor, totalMass, inertiaCoefficient,
-                            correctionTest, bdf2, largestMoveBound, correctionFloor](const IterateView& it) {
+                            correctionTest, bdf2, largestMoveBound, correctionFloor,
+                            withContact](const IterateView& it) {
       const Eigen::VectorXd& xk = it.x;
       const Eigen::VectorXd& g = it.gradient;
       // The correction x_k − x_{k−1} is a Newton correction only after a full Newton step.
@@ -252,20 +253,39 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       if (bdf2) changeSq = std::min(changeSq, extrapolationSq);
       const double threshold = eta * std::max(std::sqrt(changeSq / totalMass), floor);
       IterateTestResult result{residualEstimate <= threshold, residualEstimate, threshold, "residual estimate"};
+      // ‖H_{k−1}⁻¹ g_k‖_M, the simplified Newton correction, where the last system can be solved again (once per
+      // iterate); -1 if not.
+      double simplifiedNorm = std::numeric_limits<double>::quiet_NaN();
+      const auto simplified = [&]() {
+        if (std::isnan(simplifiedNorm)) {
+          simplifiedNorm = -1.0;
+          if (it.solveLastSystem && it.solveLastSystem(-g, simplifiedCorrection)) {
+            double simplifiedSq = 0.0;
+            for (Eigen::Index v = 0; v < m.size(); ++v)
+              if (m[v] > 0.0) simplifiedSq += m[v] * simplifiedCorrection.segment<3>(3 * v).squaredNorm();
+            simplifiedNorm = std::sqrt(simplifiedSq / totalMass);
+          }
+        }
+        return simplifiedNorm;
+      };
+      const double correction = haveCorrection ? std::sqrt(correctionSq / totalMass) : 0.0;
+      // With contact terms the residual estimate is no bound where the Hessian falls below the inertia (see the
+      // header). After a Newton correction whose system can be solved again, Newton's own contraction
+      // θ = s / correction must say it too: a pass is refused unless θ < 1 and s / (1 − θ) is within the threshold.
+      if (result.passed && withContact && correction > 0.0) {
+        const double s = simplified();
+        if (s >= 0.0 && !(s < correction && s / (1.0 - s / correction) <= threshold)) result.passed = false;
+      }
       const double bound = std::max(threshold, correctionFloor);  // the correction's
       crushedIterate = !result.passed && residualEstimate > kCorrectionOverstatementLimit * bound;
-      const double correction = haveCorrection ? std::sqrt(correctionSq / totalMass) : 0.0;
       if (!result.passed && haveCorrection && correctionTestApplies(residualEstimate, lastResidualEstimate, bound) &&
           correction <= bound && std::sqrt(largestMoveSq) <= largestMoveBound) {
         // The error left (see the header), from the simplified Newton correction −H_{k−1}⁻¹ g_k, where the last
         // system can be solved again and the iterate is Newton's second correction or a later one.
         double errorLeft = std::numeric_limits<double>::infinity();
-        if (correction > 0.0 && lastCorrection > 0.0 && it.solveLastSystem &&
-            it.solveLastSystem(-g, simplifiedCorrection)) {
-          double simplifiedSq = 0.0;
-          for (Eigen::Index v = 0; v < m.size(); ++v)
-            if (m[v] > 0.0) simplifiedSq += m[v] * simplifiedCorrection.segment<3>(3 * v).squaredNorm();
-          errorLeft = simplifiedErrorEstimate(std::sqrt(simplifiedSq / totalMass), correction);
+        if (correction > 0.0 && lastCorrection > 0.0) {
+          const double s = simplified();
+          if (s >= 0.0) errorLeft = simplifiedErrorEstimate(s, correction);
         }
         if (errorLeft <= bound) result = {true, correction, bound, "Newton correction"};
       }

@@ -467,8 +467,9 @@ TEST_CASE("contact dynamics: the Newton correction ends a contact step only when
   CHECK(newtonError <= 0.2 * discretization);
 }
 
-TEST_CASE("contact dynamics: the drape's steps passed by the Newton correction end within their threshold of "
-          "the same steps solved tightly (with contact terms too, the correction judges the error left)",
+TEST_CASE("contact dynamics: the drape's passed steps end within their threshold of the same steps solved "
+          "tightly (with contact terms the correction judges the error left, and Newton's contraction may refuse a "
+          "residual estimate)",
           "[contact]") {
   // With contact terms the correction alone used to be judged: the T-shirt's passes ended up to 1.47 times their
   // threshold from the tightly solved step (BENCHMARKS.md, Contact, session 66), this drape's up to 3.3 times.
@@ -504,14 +505,15 @@ TEST_CASE("contact dynamics: the drape's steps passed by the Newton correction e
       ++residualPasses;
       worstResidual = std::max(worstResidual, ratio);
       // The residual estimate bounds the error while the step's Hessian is at least its inertia (solvers/
-      // dynamics.h); a penalty against the ball's curved surface, and compression, take some of that away.
-      // Measured: one pass of 40 at 1.045 times its threshold (step 18), the others within it.
-      CHECK(ratio <= 1.1);
+      // dynamics.h); a penalty against the ball's curved surface, and compression, take some of that away, so with
+      // contact terms Newton's contraction may refuse a pass (without that, step 18 passed 1.045 times its
+      // threshold from its tight solve after corrections that shrank ×0.98, ×1.2, ×0.92).
+      CHECK(ratio <= 1.0);
     }
   }
   INFO("passes checked: " << corrections << " by the Newton correction (worst " << worstCorrection << " x), "
                           << residualPasses << " by the residual estimate (worst " << worstResidual << " x)");
-  CHECK(corrections >= 5);  // measured: 17
+  CHECK(corrections >= 5);  // measured: 12
   CHECK(residualPasses >= 5);
 }
 
