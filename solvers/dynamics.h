@@ -80,10 +80,10 @@
 // ×2 is no such evidence where the residual is the stiff membrane's: a 2 mm sheet of E 1e10 Pa hanging at 60 Hz
 // has Newton wander before it contracts, and a first correction that happened to be short passed with the
 // error left (against the step solved to η = 1e-6) up to 2.7 times the threshold on 12 of 36 such passes, for a
-// trajectory 0.07 m from the fully solved one. So the correction must also bound the
-// error left, estimated from the simplified Newton correction s = ‖H_{k−1}⁻¹ g_k‖_M: the last iteration's system
-// solved again for the new gradient (a back-substitution, or a few CG iterations with the last preconditioner),
-// with Deuflhard's contraction θ = s/‖x_k − x_{k−1}‖_M and error estimate s/(1 − θ). The estimate is trusted
+// trajectory 0.07 m from the fully solved one. So the correction must also bound the error left, estimated from
+// the simplified Newton correction s = ‖H_{k−1}⁻¹ g_k‖_M: the last iteration's system solved again for the new
+// gradient (a back-substitution, or a few CG iterations with the last preconditioner), with Deuflhard's
+// contraction θ = s/‖x_k − x_{k−1}‖_M and error estimate s/(1 − θ). The estimate is trusted
 // only where Newton shows its local regime: after at least two Newton corrections, and with θ ≤ 1/4 (θ ≈ h/2 in
 // Newton's local theory, h Kantorovich's quantity). Neither condition is idle. The exact-first assembly
 // projected small blocks (NewtonOptions::exactFirstProjectedDofs; near a solution it now tries the unprojected
@@ -173,8 +173,8 @@ struct DynamicsOptions {
   double updateTolerance = 0.1;
   /// With updateTolerance: also pass an iterate reached by a full Newton step whose correction ‖Δx‖_M is at
   /// most η ‖x − x̃‖_M while the residual estimate fell at least ×2, and the error left estimated from the
-  /// simplified Newton correction is too (see the file comment). Such a solve is converged; its
-  /// summary's message names the "Newton correction". With contact terms it also needs
+  /// simplified Newton correction is too (see the file comment). Such a solve is converged; its summary's message
+  /// names the "Newton correction". With contact terms it also needs
   /// contactCorrectionFraction (see the file comment).
   bool correctionTest = true;
   /// κ of the correction test with contact terms: there the correction must also move no vertex farther than
