@@ -461,7 +461,8 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       if (!s.solves.empty()) {
         lastSolve = s.solves.back();
         lastSolve.trace.clear();
-        if (!lastSolve.converged()) ++unconvergedSteps;
+        // A step taken in parts moved on if any part did, though its last part may have converged.
+        if (s.movedOn > 0) ++unconvergedSteps;
         if (lastSolve.residualThreshold > 0.0)
           worstRatio = std::max(worstRatio, lastSolve.finalResidual / lastSolve.residualThreshold);
       }
