@@ -339,6 +339,10 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   t_ += h;
   ++report.substeps;
   if (movedOn) ++report.movedOn;
+  const SolverSummary& accepted = report.solves.back();
+  if (accepted.residualThreshold > 0.0)
+    report.worstResidualRatio =
+        std::max(report.worstResidualRatio, accepted.finalResidual / accepted.residualThreshold);
   return true;
 }
 
@@ -353,6 +357,7 @@ bool DynamicsSolver::advance(double h, int depth, int planned, bool allowBdf2, S
   const Eigen::VectorXd x0 = x_, v0 = v_;
   const double t0 = t_;
   const int substeps0 = report.substeps, movedOn0 = report.movedOn;
+  const double worstRatio0 = report.worstResidualRatio;
   if (advance(0.5 * h, depth + 1, planned, false, report) && advance(0.5 * h, depth + 1, planned, false, report))
     return true;
   x_ = x0;
@@ -360,6 +365,7 @@ bool DynamicsSolver::advance(double h, int depth, int planned, bool allowBdf2, S
   t_ = t0;
   report.substeps = substeps0;
   report.movedOn = movedOn0;
+  report.worstResidualRatio = worstRatio0;
   return false;
 }
 

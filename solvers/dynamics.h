@@ -227,6 +227,7 @@ struct StepReport {
   bool success = false;
   int substeps = 0;          // Newton solves that were accepted (1 without cuts)
   int movedOn = 0;           // of them, accepted at the iteration cap without convergence (acceptIterationCap)
+  double worstResidualRatio = 0.0;  // the largest final residual / residualThreshold over the accepted solves
   int stayRestarts = 0;      // solves done again from x_n, the first having ended above it or crushed (guardedEnd)
   int cuts = 0;              // halvings
   int parts = 1;             // the equal parts the step was divided into up front for a moving solid (1: none)

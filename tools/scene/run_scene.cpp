@@ -461,10 +461,10 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
       if (!s.solves.empty()) {
         lastSolve = s.solves.back();
         lastSolve.trace.clear();
-        // A step taken in parts moved on if any part did, though its last part may have converged.
+        // A step taken in parts moved on if any part did, though its last part may have converged; the same for
+        // the worst residual.
         if (s.movedOn > 0) ++unconvergedSteps;
-        if (lastSolve.residualThreshold > 0.0)
-          worstRatio = std::max(worstRatio, lastSolve.finalResidual / lastSolve.residualThreshold);
+        worstRatio = std::max(worstRatio, s.worstResidualRatio);
       }
       output.record({s.step, d.time(), rowLoadFactor(d.time()), &d.positions(), &d.velocities()});
       lastVelocity = d.velocities();
