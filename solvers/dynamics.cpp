@@ -43,12 +43,16 @@ constexpr double kCorrectionOverstatementLimit = 1e4;
 /// contact forces resolve.
 constexpr double kContactCorrectionFloor = 0.01;
 
-double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
-  if (!(std::isfinite(o.timeStep) && o.timeStep > 0.0)) {
+void checkTimeStep(double h) {
+  if (!(std::isfinite(h) && h > 0.0)) {
     std::ostringstream s;
-    s << "dynamics: timeStep = " << o.timeStep << ": must be finite and > 0";
+    s << "dynamics: timeStep = " << h << ": must be finite and > 0";
     throw InputError(s.str());
   }
+}
+
+double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
+  checkTimeStep(o.timeStep);
   if (o.maxCuts < 0 || o.maxCuts > 30) throw InputError("dynamics: maxCuts must lie in [0, 30]");
   if (!(o.extrapolationWaveLimit >= 0.0))  // +∞ allowed: every actor extrapolates
     throw InputError("dynamics: extrapolationWaveLimit must be >= 0 (or infinite), not " +
@@ -134,6 +138,7 @@ void DynamicsSolver::setState(const Eigen::VectorXd& x, const Eigen::VectorXd& v
   v_ = v;
   t_ = t;
   historyValid_ = false;
+  nextStart_.resize(0);
   newton_.linearSolver().forgetPreparationHistory();
 }
 
@@ -196,7 +201,13 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
       if (extrapolatesAcceleration(sys, v, h, options_))
         drift.segment<3>(3 * v) += scale * (v_.segment<3>(3 * v) - vPrev_.segment<3>(3 * v));
   }
-  Eigen::VectorXd x = x_ + sys.objective().stepBound(x_, drift) * drift;
+  Eigen::VectorXd x;
+  if (nextStart_.size() > 0) {
+    x = std::move(nextStart_);
+    nextStart_.resize(0);
+  } else {
+    x = x_ + sys.objective().stepBound(x_, drift) * drift;
+  }
   sys.objective().applyPrescribed(t_ + h, x);
   // BDF2's local truncation error is O(Δt³): its time-error scale is the step's change against its own step
   // under constant acceleration (Milne's predictor–corrector difference, see the header).
@@ -333,7 +344,7 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   const Eigen::VectorXd v = bdf2 ? Eigen::VectorXd((3.0 * x - 4.0 * x_ + xPrev_) / (2.0 * h))
                                  : Eigen::VectorXd((x - x_) / h);
   if (!v.allFinite()) return false;
-  if (observer_) observer_({h, bdf2, &x_, &v_, &xPrev_, &vPrev_, &x, &report.solves.back(), movedOn});
+  if (observer_) observer_({h, bdf2, &x_, &v_, &xPrev_, &vPrev_, &x, &report.solves.back(), movedOn, t_});
   x_ = x;
   v_ = v;
   t_ += h;
@@ -383,6 +394,17 @@ int DynamicsSolver::plannedHalvings(double h, StepReport& report) const {
     << "take a time step of at most " << h * most / sweep.parts << " s)";
   report.message = s.str();
   return -1;
+}
+
+void DynamicsSolver::setTimeStep(double h) {
+  checkTimeStep(h);
+  options_.timeStep = h;
+}
+
+void DynamicsSolver::startNextSolveFrom(const Eigen::VectorXd& x) {
+  if (x.size() != x_.size() || !x.allFinite())
+    throw InputError("dynamics: a solve's start must be " + std::to_string(x_.size()) + " finite coordinates");
+  nextStart_ = x;
 }
 
 StepReport DynamicsSolver::step() {

@@ -216,6 +216,7 @@ struct SubstepView {
   const Eigen::VectorXd* x = nullptr;        // x_{n+1}, the accepted iterate
   const SolverSummary* solve = nullptr;
   bool movedOn = false;  // accepted at the iteration cap without convergence (acceptIterationCap)
+  double time = 0.0;     // t_n, the solve's start [s]
 };
 using SubstepObserver = std::function<void(const SubstepView&)>;
 
@@ -256,6 +257,13 @@ class DynamicsSolver {
 
   /// Advances one Δt (cutting it when needed). On failure the state is unchanged.
   StepReport step();
+  /// Sets Δt for the steps that follow (a part of another run's step taken again, solvers/step_error_check.h).
+  /// Throws InputError unless finite and > 0.
+  void setTimeStep(double h);
+  /// The next solve starts from x (3N), prescribed positions applied, instead of the extrapolated or inertial
+  /// start (another run's iterate solved on, solvers/step_error_check.h); one solve only, and setState() or
+  /// restore() forgets it. Throws InputError when the size does not match or a value is not finite.
+  void startNextSolveFrom(const Eigen::VectorXd& x);
 
   /// The whole state, BDF2 history included: restoring it continues the run bit for bit (checkpoints).
   struct Snapshot {
@@ -304,6 +312,7 @@ class DynamicsSolver {
   Eigen::VectorXd xPrev_, vPrev_;
   double historyStep_ = 0.0;
   bool historyValid_ = false;
+  Eigen::VectorXd nextStart_;  // startNextSolveFrom(); empty: none
   SubstepObserver observer_;
 };
 

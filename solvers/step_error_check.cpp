@@ -34,6 +34,8 @@ bool wholeStep(const StepReport& r) {
 
 }  // namespace
 
+bool takenInParts(const StepReport& r) { return r.cuts > 0 || r.parts > 1; }
+
 StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, DynamicsSolver& tight,
                               const DynamicsSolver::Snapshot& before) {
   StepErrorCheck c;
@@ -46,6 +48,25 @@ StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, Dyna
   const Eigen::VectorXd& m = run.system().vertexMass();
   const Eigen::VectorXd predictor = before.x + taken.timeStep * before.v;
   c.error = massWeightedRms(m, run.positions() - tight.positions());
+  c.change = massWeightedRms(m, tight.positions() - predictor);
+  c.checked = true;
+  return c;
+}
+
+StepErrorCheck checkPartError(const SubstepView& part, DynamicsSolver& tight) {
+  StepErrorCheck c;
+  if (part.bdf2) return c;  // not a part: the halves of a step are backward Euler
+  const double h = part.timeStep, own = tight.options().timeStep;
+  tight.restore({*part.xStart, *part.vStart, Eigen::VectorXd(), Eigen::VectorXd(), part.time, 0.0, 0, false});
+  tight.setTimeStep(h);
+  tight.startNextSolveFrom(*part.x);
+  c.tight = tight.step();
+  tight.setTimeStep(own);
+  c.solvedAgain = true;
+  if (!wholeStep(c.tight) || !c.tight.solves.front().converged()) return c;
+  const Eigen::VectorXd& m = tight.system().vertexMass();
+  const Eigen::VectorXd predictor = *part.xStart + h * *part.vStart;
+  c.error = massWeightedRms(m, *part.x - tight.positions());
   c.change = massWeightedRms(m, tight.positions() - predictor);
   c.checked = true;
   return c;

@@ -15,11 +15,11 @@ namespace jetshell {
 double massWeightedRms(const Eigen::VectorXd& mass, const Eigen::VectorXd& u);
 
 struct StepErrorCheck {
-  bool checked = false;  // false: the step taken, or the tight one, was not one Newton solve over the whole Δt,
-                         // or the tight solve did not converge
+  bool checked = false;  // false: the step taken (or part), or the tight one, was not one Newton solve over
+                         // its whole Δt, or the tight solve did not converge
   double error = 0.0;    // ‖x_run − x_tight‖_M [m]
   double change = 0.0;   // ‖x_tight − (x_n + Δt v_n)‖_M [m]: the step's change against its predictor
-  bool solvedAgain = false;  // the tight solver took the step (only a whole step taken is solved again)
+  bool solvedAgain = false;  // the tight solver took the step (or part) again
   StepReport tight;          // its report
 };
 
@@ -38,5 +38,17 @@ DynamicsOptions tightStepOptions(const DynamicsOptions& run);
 /// history (DynamicsSolver::forgetSolverHistory; restore() does it for `tight`).
 StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, DynamicsSolver& tight,
                               const DynamicsSolver::Snapshot& before);
+
+/// Whether a step was taken in parts: cut, or divided up front for a moving solid. Its parts are checked one by
+/// one (checkPartError); the step as a whole is not.
+bool takenInParts(const StepReport& r);
+
+/// Checks one part of a step taken in parts, as the run's substep observer sees it: `tight` is set to the part's
+/// start (t_n, x_n, v_n; no BDF2 history, as parts are backward Euler) and Δt, takes it as one step solved on
+/// from the part's accepted iterate, and is set back to its own Δt. (A part's iterates cannot be followed from
+/// x_n as a whole step's are: it may start from the step's extrapolated acceleration, and with the Newton history
+/// of the step's earlier parts. Solved on from the iterate, the tight solve finds the solution the iterate is
+/// near, not another minimum of a non-convex step.)
+StepErrorCheck checkPartError(const SubstepView& part, DynamicsSolver& tight);
 
 }  // namespace jetshell

@@ -19,20 +19,36 @@ std::string traceLine(const SolverSummary& s) {
   return o.str();
 }
 
+namespace {
+
+bool passedIterateTest(const SolverSummary& s) {
+  return s.converged() && s.convergenceTest == "iterate" && s.iterateThreshold > 0.0;
+}
+
+}  // namespace
+
 void NewtonErrorTally::check(const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
                              const DynamicsSolver::Snapshot& before) {
-  if (rep.solves.empty()) return;
+  if (rep.solves.empty() || takenInParts(rep)) return;  // its parts were checked one by one (checkPart)
   const SolverSummary& loose = rep.solves.front();
-  const bool passed = loose.converged() && loose.convergenceTest == "iterate" && loose.iterateThreshold > 0.0;
   const bool movedOn = rep.movedOn > 0;
-  if (!passed && !movedOn) return;
-  const StepErrorCheck t = checkStepError(rep, run, tight, before);
+  if (!passedIterateTest(loose) && !movedOn) return;
+  record(loose, movedOn, rep.step, false, checkStepError(rep, run, tight, before));
+}
+
+void NewtonErrorTally::checkPart(const SubstepView& part, int step, DynamicsSolver& tight) {
+  if (!passedIterateTest(*part.solve) && !part.movedOn) return;
+  record(*part.solve, part.movedOn, step, true, checkPartError(part, tight));
+}
+
+void NewtonErrorTally::record(const SolverSummary& loose, bool movedOn, int step, bool part,
+                              const StepErrorCheck& t) {
   if (!t.checked) {
     ++unchecked_[movedOn ? "moved on at the iteration cap" : loose.iterateEstimate];
     if (firstUnchecked_.empty()) {
       std::ostringstream why;
-      why << "step " << rep.step << ": ";
-      if (!t.solvedAgain) why << "cut or taken in parts";
+      why << "step " << step << (part ? " (a part of it)" : "") << ": ";
+      if (!t.solvedAgain) why << (part ? "a BDF2 solve" : "solved again from x_n, two solves");
       else if (!t.tight.solves.empty()) why << "tight: " << t.tight.solves.size() << " solves, " << t.tight.cuts
                                             << " cuts; first:" << traceLine(t.tight.solves.front());
       firstUnchecked_ = why.str();
@@ -41,11 +57,12 @@ void NewtonErrorTally::check(const StepReport& rep, DynamicsSolver& run, Dynamic
   }
   if (movedOn) {
     ++movedOn_.steps;
+    if (part) ++movedOn_.parts;
     movedOn_.worstError = std::max(movedOn_.worstError, t.error);
     const double relative = t.change > 0.0 ? t.error / t.change : 0.0;
     if (relative > movedOn_.worstRelative) {
       movedOn_.worstRelative = relative;
-      movedOn_.worstStep = rep.step;
+      movedOn_.worstStep = step;
     }
     return;
   }
@@ -54,20 +71,22 @@ void NewtonErrorTally::check(const StepReport& rep, DynamicsSolver& run, Dynamic
   if (it == checks_.end()) it = checks_.insert(checks_.end(), {loose.iterateEstimate, EstimateCheck{}});
   EstimateCheck& c = it->second;
   ++c.passes;
+  if (part) ++c.parts;
   if (ratio > 1.0) ++c.aboveBound;
   if (ratio > c.worstRatio) {
     c.worstRatio = ratio;
-    c.worstStep = rep.step;
-    c.worstTrace = "passed:" + traceLine(loose) + "\n      tight: " + traceLine(t.tight.solves.front());
+    c.worstStep = step;
+    c.worstTrace = std::string(part ? "passed (a part of the step):" : "passed:") + traceLine(loose) +
+                   "\n      tight: " + traceLine(t.tight.solves.front());
   }
 }
 
 nlohmann::json NewtonErrorTally::toJson() const {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [name, c] : checks_)
-    j[name] = {{"passes", c.passes}, {"above_threshold", c.aboveBound}, {"worst_ratio", c.worstRatio},
-               {"worst_step", c.worstStep}};
-  j["moved_on_at_cap"] = {{"steps", movedOn_.steps}, {"worst_error_m", movedOn_.worstError},
+    j[name] = {{"passes", c.passes},           {"parts", c.parts},           {"above_threshold", c.aboveBound},
+               {"worst_ratio", c.worstRatio}, {"worst_step", c.worstStep}};
+  j["moved_on_at_cap"] = {{"steps", movedOn_.steps}, {"parts", movedOn_.parts}, {"worst_error_m", movedOn_.worstError},
                           {"worst_error_over_change", movedOn_.worstRelative}, {"worst_step", movedOn_.worstStep}};
   j["unchecked"] = unchecked_;  // by kind
   return j;
@@ -75,15 +94,18 @@ nlohmann::json NewtonErrorTally::toJson() const {
 
 void NewtonErrorTally::print(const char* indent) const {
   for (const auto& [name, c] : checks_)
-    std::printf("%snewton error, %s: %d passes, %d above their threshold, worst %.3g x at step %d\n%s    %s\n",
-                indent, name.c_str(), c.passes, c.aboveBound, c.worstRatio, c.worstStep, indent, c.worstTrace.c_str());
+    std::printf("%snewton error, %s: %d passes (%d of them parts of steps), %d above their threshold, worst %.3g x "
+                "at step %d\n%s    %s\n",
+                indent, name.c_str(), c.passes, c.parts, c.aboveBound, c.worstRatio, c.worstStep, indent,
+                c.worstTrace.c_str());
   if (movedOn_.steps > 0)
-    std::printf("%snewton error, moved on at the iteration cap: %d steps, worst %.3g mm, worst %.3g x the step's "
-                "change (step %d)\n",
-                indent, movedOn_.steps, 1e3 * movedOn_.worstError, movedOn_.worstRelative, movedOn_.worstStep);
+    std::printf("%snewton error, moved on at the iteration cap: %d solves (%d of them parts of steps), worst %.3g "
+                "mm, worst %.3g x the solve's change (step %d)\n",
+                indent, movedOn_.steps, movedOn_.parts, 1e3 * movedOn_.worstError, movedOn_.worstRelative,
+                movedOn_.worstStep);
   for (const auto& [kind, n] : unchecked_)
-    std::printf("%snewton error, %s: %d steps not checked (cut or taken in parts, or the tight solve did not "
-                "converge)\n",
+    std::printf("%snewton error, %s: %d solves not checked (the tight solve did not converge, or the step was "
+                "solved again from x_n)\n",
                 indent, kind.c_str(), n);
   if (!unchecked_.empty()) std::printf("%s    the first, %s\n", indent, firstUnchecked_.c_str());
 }

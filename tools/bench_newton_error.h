@@ -1,11 +1,13 @@
 // --newton-error of `jetshell bench dynamics` and `jetshell bench contact`: every step whose iterate test passed
 // (solvers/dynamics.h), solved again from the same state to a tight tolerance (solvers/step_error_check.h), and the
-// distance between the two ends against the threshold the test promised, tallied by the estimate that passed it.
-// Steps accepted unconverged at the iteration cap are measured the same way, against their change.
-// Inputs: each step's report, the run's solver, a second solver on its own system, the state the step started
-// from. Outputs: per estimate, the passes checked, how many ended beyond their threshold, the worst ratio with
-// its Newton iterations; the moved-on steps' worst error; and the steps that could not be checked (cut or taken
-// in parts, or whose tight solve did not converge).
+// distance between the two ends against the threshold the test promised, tallied by the estimate that passed it;
+// a step taken in parts (cut, or divided for a moving solid) part by part. Solves accepted unconverged at the
+// iteration cap are measured the same way, against their change.
+// Inputs: each whole step's report and each part the run's substep observer sees, the run's solver, a second
+// solver on its own system, the state the step started from. Outputs: per estimate, the passes checked (of them,
+// parts), how many ended beyond their threshold, the worst ratio with its Newton iterations; the moved-on solves'
+// worst error; and the solves that could not be checked (the tight solve did not converge, or the step was solved
+// again from x_n).
 #pragma once
 
 #include "solvers/dynamics.h"
@@ -21,7 +23,8 @@
 namespace jetshell::cli {
 
 struct EstimateCheck {
-  int passes = 0;           // steps passed by this estimate (and solved again whole, without cuts)
+  int passes = 0;           // solves passed by this estimate and solved again
+  int parts = 0;            // of them, parts of steps
   int aboveBound = 0;       // of them, error > threshold
   double worstRatio = 0.0;  // the largest error / threshold
   int worstStep = 0;
@@ -31,7 +34,8 @@ struct EstimateCheck {
 /// Steps accepted at the iteration cap without convergence (DynamicsOptions::acceptIterationCap): no test
 /// promised a bound, so the error is set against the step's change (‖x_tight − (x_n + Δt v_n)‖_M).
 struct MovedOnCheck {
-  int steps = 0;               // solved again whole and checked
+  int steps = 0;               // solves solved again and checked
+  int parts = 0;               // of them, parts of steps
   double worstError = 0.0;     // [m]
   double worstRelative = 0.0;  // the largest error / change
   int worstStep = 0;           // the step of worstRelative
@@ -45,18 +49,23 @@ class NewtonErrorTally {
   /// (DynamicsSolver::forgetSolverHistory).
   void check(const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
              const DynamicsSolver::Snapshot& before);
+  /// Checks one part of step `step` (a solve over less than the run's Δt, from the run's substep observer) the
+  /// same way (checkPartError); check() then leaves that step alone.
+  void checkPart(const SubstepView& part, int step, DynamicsSolver& tight);
   bool empty() const { return checks_.empty() && unchecked_.empty() && movedOn_.steps == 0; }
   /// By estimate name ("residual estimate", "Newton correction").
   const std::vector<std::pair<std::string, EstimateCheck>>& checks() const { return checks_; }
   const MovedOnCheck& movedOn() const { return movedOn_; }
-  /// Iterate-test passes (by estimate) and moved-on steps not checked: the step was cut or taken in parts, or
-  /// the tight solve did not converge.
+  /// Iterate-test passes (by estimate) and moved-on solves not checked: the tight solve did not converge, or the
+  /// step was solved again from x_n.
   const std::map<std::string, int>& unchecked() const { return unchecked_; }
   nlohmann::json toJson() const;
   /// One line per estimate (and the worst pass's iterations), each starting with `indent`.
   void print(const char* indent) const;
 
  private:
+  void record(const SolverSummary& loose, bool movedOn, int step, bool part, const StepErrorCheck& t);
+
   std::vector<std::pair<std::string, EstimateCheck>> checks_;
   MovedOnCheck movedOn_;
   std::map<std::string, int> unchecked_;

@@ -146,6 +146,10 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
     tightSystem = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
     tight = std::make_unique<DynamicsSolver>(*tightSystem, tightStepOptions(d));
     before = solver.snapshot();
+    // The parts of a step taken in parts are checked as they are taken.
+    solver.setSubstepObserver([&](const SubstepView& part) {
+      if (part.timeStep < d.timeStep) f.newtonError.checkPart(part, solver.stepCount() + 1, *tight);
+    });
   }
   const int stepsPerSample = static_cast<int>(std::lround(sampleInterval / dt));
   f.loadBefore = loadAverage();
