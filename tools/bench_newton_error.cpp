@@ -72,7 +72,10 @@ void NewtonErrorTally::record(const SolverSummary& loose, bool movedOn, int step
   EstimateCheck& c = it->second;
   ++c.passes;
   if (part) ++c.parts;
-  if (ratio > 1.0) ++c.aboveBound;
+  if (ratio > 1.0) {
+    ++c.aboveBound;
+    if (part) ++c.partsAbove;
+  }
   if (ratio > c.worstRatio) {
     c.worstRatio = ratio;
     c.worstStep = step;
@@ -84,8 +87,8 @@ void NewtonErrorTally::record(const SolverSummary& loose, bool movedOn, int step
 nlohmann::json NewtonErrorTally::toJson() const {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [name, c] : checks_)
-    j[name] = {{"passes", c.passes},           {"parts", c.parts},           {"above_threshold", c.aboveBound},
-               {"worst_ratio", c.worstRatio}, {"worst_step", c.worstStep}};
+    j[name] = {{"passes", c.passes},         {"parts", c.parts},           {"above_threshold", c.aboveBound},
+               {"parts_above", c.partsAbove}, {"worst_ratio", c.worstRatio}, {"worst_step", c.worstStep}};
   j["moved_on_at_cap"] = {{"steps", movedOn_.steps}, {"parts", movedOn_.parts}, {"worst_error_m", movedOn_.worstError},
                           {"worst_error_over_change", movedOn_.worstRelative}, {"worst_step", movedOn_.worstStep}};
   j["unchecked"] = unchecked_;  // by kind
@@ -94,9 +97,9 @@ nlohmann::json NewtonErrorTally::toJson() const {
 
 void NewtonErrorTally::print(const char* indent) const {
   for (const auto& [name, c] : checks_)
-    std::printf("%snewton error, %s: %d passes (%d of them parts of steps), %d above their threshold, worst %.3g x "
-                "at step %d\n%s    %s\n",
-                indent, name.c_str(), c.passes, c.parts, c.aboveBound, c.worstRatio, c.worstStep, indent,
+    std::printf("%snewton error, %s: %d passes (%d of them parts of steps), %d above their threshold (%d parts), "
+                "worst %.3g x at step %d\n%s    %s\n",
+                indent, name.c_str(), c.passes, c.parts, c.aboveBound, c.partsAbove, c.worstRatio, c.worstStep, indent,
                 c.worstTrace.c_str());
   if (movedOn_.steps > 0)
     std::printf("%snewton error, moved on at the iteration cap: %d solves (%d of them parts of steps), worst %.3g "

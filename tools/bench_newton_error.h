@@ -26,6 +26,7 @@ struct EstimateCheck {
   int passes = 0;           // solves passed by this estimate and solved again
   int parts = 0;            // of them, parts of steps
   int aboveBound = 0;       // of them, error > threshold
+  int partsAbove = 0;       // of those, parts of steps
   double worstRatio = 0.0;  // the largest error / threshold
   int worstStep = 0;
   std::string worstTrace;   // the worst pass's Newton iterations, and the tight solve's
