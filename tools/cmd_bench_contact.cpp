@@ -357,8 +357,9 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
                 "Per step: Newton and CG iterations, the guards, how it ended; then per Newton iteration: residual, "
                 "step length, CG iterations, largest vertex move");
   cmd->add_flag("--newton-error", opts->newtonError,
-                "Solve every step an iterate test passed again from the same state to eta 1e-6 and report the "
-                "error left against the test's threshold (the run then forgets its Newton history at every step)");
+                "Solve every step (or part of a step) an iterate test passed again from the same state to eta 1e-6 "
+                "and report the error left against the test's threshold (the run then forgets its Newton history "
+                "at every step)");
   cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

@@ -414,8 +414,8 @@ const RegisterSubcommand registerBenchDynamics("bench dynamics", [](CLI::App& ap
   cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->add_option("--png", opts->png, "Write the error-against-time chart (PNG)")->check(outputFile());
   cmd->add_flag("--newton-error", opts->newtonError,
-               "Solve every step a jetshell run's iterate test passed again to eta 1e-6 and report the error left "
-               "against the threshold claimed");
+               "Solve every step (or part of a cut step) a jetshell run's iterate test passed again to eta 1e-6 "
+               "and report the error left against the threshold claimed");
   cmd->add_option("--replot", opts->replot, "Only redraw --png from the JSON of an earlier run");
   cmd->add_option("--chart-time", opts->chartTime, "Time axis of the chart: wall | cpu (process CPU, steadier on a busy machine)")
       ->check(CLI::IsMember({"wall", "cpu"}));
