@@ -45,10 +45,11 @@ bool takenInParts(const StepReport& r);
 
 /// Checks one part of a step taken in parts, as the run's substep observer sees it: `tight` is set to the part's
 /// start (t_n, x_n, v_n; no BDF2 history, as parts are backward Euler) and Δt, takes it as one step solved on
-/// from the part's accepted iterate, and is set back to its own Δt. (A part's iterates cannot be followed from
-/// x_n as a whole step's are: it may start from the step's extrapolated acceleration, and with the Newton history
-/// of the step's earlier parts. Solved on from the iterate, the tight solve finds the solution the iterate is
-/// near, not another minimum of a non-convex step.)
+/// from the part's accepted iterate, and is set back to its own Δt. A part's iterates cannot be followed from x_n
+/// as a whole step's are (it may start from the step's extrapolated acceleration, and with the Newton history of
+/// the step's earlier parts), so the tight solve starts where the run ended and goes on to the solution near it.
+/// An iterate at a saddle (a flat sheet under in-plane compression) has none near: the tight solve leaves it for
+/// a minimum, and the distance reported is to that minimum.
 StepErrorCheck checkPartError(const SubstepView& part, DynamicsSolver& tight);
 
 }  // namespace jetshell

@@ -52,6 +52,13 @@ TEST_CASE("safeguards: every kind of safeguard is counted by what fired", "[safe
 
 namespace {
 
+nlohmann::json readSummary(const std::string& name) {
+  std::ifstream in(test::scratchDirectory("safeguard_tests") / name / "summary.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  return nlohmann::json::parse(text.str());
+}
+
 // A 1 m cloth hanging from two corners for 0.3 s in steps of 0.1 s; `edit` changes the scene before it runs.
 nlohmann::json runCloth(const nlohmann::json& solver, const std::string& name, std::ostream* log = nullptr,
                         RunResult* result = nullptr, const std::function<void(nlohmann::json&)>& edit = {}) {
@@ -71,17 +78,7 @@ nlohmann::json runCloth(const nlohmann::json& solver, const std::string& name, s
   o.log = log;
   const RunResult r = runScene(sceneFromJson(scene, "."), o);
   if (result) *result = r;
-  std::ifstream in(fs::path(o.outputDirectory) / "summary.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  return nlohmann::json::parse(text.str())["safeguards"];
-}
-
-std::string readSummary(const std::string& name) {
-  std::ifstream in(test::scratchDirectory("safeguard_tests") / name / "summary.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return readSummary(name)["safeguards"];
 }
 
 int countLines(const std::string& text, const std::string& mark) {
@@ -134,7 +131,7 @@ TEST_CASE("safeguards: a step taken in parts counts as moved on when any part mo
                      "velocity": [0, 0, 6]})"));
              scene["analysis"]["duration"] = 0.4;
            });
-  const nlohmann::json summary = nlohmann::json::parse(readSummary("parts_move_on"));
+  const nlohmann::json summary = readSummary("parts_move_on");
   const int steps = summary["steps_at_iteration_cap"].get<int>();
   CHECK(countLines(log.str(), "parts: a moving solid") == 4);
   CHECK(countLines(log.str(), "(moved on at the iteration cap, not converged)") == steps);
