@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 namespace jetshell::cli {
 
@@ -39,6 +40,25 @@ void NewtonErrorTally::check(const StepReport& rep, DynamicsSolver& run, Dynamic
 void NewtonErrorTally::checkPart(const SubstepView& part, int step, DynamicsSolver& tight) {
   if (!passedIterateTest(*part.solve) && !part.movedOn) return;
   record(*part.solve, part.movedOn, step, true, checkPartError(part, tight));
+}
+
+NewtonErrorWatch::NewtonErrorWatch(DynamicsSolver& run, std::unique_ptr<ShellSystem> tightSystem)
+    : run_(run), system_(std::move(tightSystem)), tight_(*system_, tightStepOptions(run.options())) {
+  run_.forgetSolverHistory();
+  before_ = run_.snapshot();
+  const double h = run_.options().timeStep;
+  run_.setSubstepObserver([this, h](const SubstepView& part) {
+    if (part.timeStep < h) tally_.checkPart(part, run_.stepCount() + 1, tight_);
+  });
+}
+
+NewtonErrorWatch::~NewtonErrorWatch() { run_.setSubstepObserver({}); }
+
+void NewtonErrorWatch::afterStep(const StepReport& rep) {
+  tally_.check(rep, run_, tight_, before_);
+  before_ = run_.snapshot();
+  // restore() makes the tight solver forget its Newton history at the next check; the run forgets its own here.
+  run_.forgetSolverHistory();
 }
 
 void NewtonErrorTally::record(const SolverSummary& loose, bool movedOn, int step, bool part,

@@ -11,11 +11,13 @@
 #pragma once
 
 #include "solvers/dynamics.h"
+#include "solvers/shell_system.h"
 #include "solvers/step_error_check.h"
 
 #include <nlohmann/json.hpp>
 
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,6 +73,30 @@ class NewtonErrorTally {
   MovedOnCheck movedOn_;
   std::map<std::string, int> unchecked_;
   std::string firstUnchecked_;  // why the first step not checked was not
+};
+
+/// --newton-error around one run: a tight solver (tightStepOptions) on a system of its own, so the checks leave
+/// the run untouched, the state each step starts from, and the tally. Made before the run's first step, it makes the
+/// run forget its Newton history (afterStep does again at every step), so that the tight solver follows the run's
+/// iterates up to a pass, and it hands each part of a step taken in parts (a solve over less than the run's Δt) to
+/// the tally as the run takes it (the run's substep observer, removed when the watch goes).
+class NewtonErrorWatch {
+ public:
+  NewtonErrorWatch(DynamicsSolver& run, std::unique_ptr<ShellSystem> tightSystem);
+  ~NewtonErrorWatch();
+  NewtonErrorWatch(const NewtonErrorWatch&) = delete;
+  NewtonErrorWatch& operator=(const NewtonErrorWatch&) = delete;
+  /// After each of the run's steps (report `rep`): checks the step (NewtonErrorTally::check), then both solvers
+  /// start the next step alike.
+  void afterStep(const StepReport& rep);
+  const NewtonErrorTally& tally() const { return tally_; }
+
+ private:
+  DynamicsSolver& run_;
+  std::unique_ptr<ShellSystem> system_;  // before tight_, which refers to it
+  DynamicsSolver tight_;
+  DynamicsSolver::Snapshot before_;
+  NewtonErrorTally tally_;
 };
 
 /// A solve's Newton iterations on one line: step length, largest move, which Hessian gave the direction

@@ -100,19 +100,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   // --newton-error: a second solver on its own system takes each step again from the same state, tightly. The
   // run forgets its Newton history at every step so that both follow the same iterates; its figures are then
   // not the benchmark's, and the checks' own time is left out of them.
-  std::unique_ptr<ShellSystem> tightSystem;
-  std::unique_ptr<DynamicsSolver> tight;
-  DynamicsSolver::Snapshot before;
-  NewtonErrorTally newtonError;
+  std::unique_ptr<NewtonErrorWatch> watch;
   if (o.newtonError) {
-    tightSystem = sceneSystem(scene, problem, growOnly);
-    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightStepOptions(d));
-    solver.forgetSolverHistory();
-    before = solver.snapshot();
-    // The parts of a step taken in parts are checked as they are taken.
-    solver.setSubstepObserver([&](const SubstepView& part) {
-      if (part.timeStep < d.timeStep) newtonError.checkPart(part, solver.stepCount() + 1, *tight);
-    });
+    watch = std::make_unique<NewtonErrorWatch>(solver, sceneSystem(scene, problem, growOnly));
     std::printf("--newton-error: the run forgets its Newton history at every step; its time is not the "
                 "benchmark's\n");
   }
@@ -149,11 +139,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     const auto guardStart = std::chrono::steady_clock::now();
     const double guardCpuStart = processCpuSeconds();
     guards(solver.positions());
-    if (tight) {
-      newtonError.check(r, solver, *tight, before);
-      solver.forgetSolverHistory();
-      before = solver.snapshot();
-    }
+    if (watch) watch->afterStep(r);
     guardWall += std::chrono::duration<double>(std::chrono::steady_clock::now() - guardStart).count();
     guardCpu += processCpuSeconds() - guardCpuStart;
     if (o.trace) {
@@ -234,7 +220,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("guards: deepest sample in a volume %.2f mm (last step %.2f mm), closest pair %.3f x 2r (last step "
               "%.3f x 2r), kinetic energy at the end %.3g J, largest energy gain over the start %.3g J\n",
               1e3 * deepest, 1e3 * lastDeepest, closest, lastClosest, solver.kineticEnergy(), mostGained);
-  if (o.newtonError) newtonError.print("");
+  if (watch) watch->tally().print("");
   failedRun = failed > 0;
   nlohmann::json figures = {{"pattern", growOnly ? "grow" : "exact"},
           {"solver", v.direct ? "direct" : "scene"},
@@ -272,7 +258,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                        {"other_terms", otherTerms},
                        {"linear_solve", linear},
                        {"rest", rest}}}};
-  if (o.newtonError) figures["newton_error"] = newtonError.toJson();
+  if (watch) figures["newton_error"] = watch->tally().toJson();
   return figures;
 }
 

@@ -31,6 +31,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace jetshell::cli {
@@ -138,18 +139,10 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
   f.eta = d.updateTolerance;
   DynamicsSolver solver(system, d);
   // --newton-error: a second solver on its own system, so the check leaves the run untouched.
-  const bool check = o.newtonError && policy == TimeStepPolicy::Jetshell;
-  std::unique_ptr<ShellSystem> tightSystem;
-  std::unique_ptr<DynamicsSolver> tight;
-  DynamicsSolver::Snapshot before;
-  if (check) {
-    tightSystem = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
-    tight = std::make_unique<DynamicsSolver>(*tightSystem, tightStepOptions(d));
-    before = solver.snapshot();
-    // The parts of a step taken in parts are checked as they are taken.
-    solver.setSubstepObserver([&](const SubstepView& part) {
-      if (part.timeStep < d.timeStep) f.newtonError.checkPart(part, solver.stepCount() + 1, *tight);
-    });
+  std::unique_ptr<NewtonErrorWatch> watch;
+  if (o.newtonError && policy == TimeStepPolicy::Jetshell) {
+    auto tightSystem = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
+    watch = std::make_unique<NewtonErrorWatch>(solver, std::move(tightSystem));
   }
   const int stepsPerSample = static_cast<int>(std::lround(sampleInterval / dt));
   f.loadBefore = loadAverage();
@@ -157,18 +150,13 @@ RunFigures runOne(const ShellProblem& problem, const DynamicsBenchOptions& o, Ti
   const DynamicsResult r = simulate(solver, samples * sampleInterval, [&](const StepReport& rep, DynamicsSolver& s) {
     for (const SolverSummary& sum : rep.solves) f.factorizations += sum.numericFactorizations;
     if (rep.step % stepsPerSample == 0) f.trajectory.samples.push_back(s.positions());
-    if (check) {
-      f.newtonError.check(rep, s, *tight, before);
-      before = s.snapshot();
-      // Both solvers then start the next step alike (restore() forgets the Newton solver's history), so the
-      // second one follows the run's iterates up to its pass and on to the solution they head for.
-      s.forgetSolverHistory();
-    }
+    if (watch) watch->afterStep(rep);
     return true;
   });
   f.wall = wallSeconds() - w0;
   f.cpu = processCpuSeconds() - c0;
   f.loadAfter = loadAverage();
+  if (watch) f.newtonError = watch->tally();
   f.completed = r.completed && static_cast<int>(f.trajectory.samples.size()) == samples;
   f.message = r.message;
   f.steps = r.steps;
