@@ -35,7 +35,11 @@ DynamicsOptions tightStepOptions(const DynamicsOptions& run);
 /// Checks the whole step `run` just took from `before` (its report `taken`): `tight`, a solver on its own system
 /// with a tight DynamicsOptions::updateTolerance, is restored to `before` and takes the same step. For the two to
 /// follow the same iterates up to the run's pass, the run must have started the step without the Newton solver's
-/// history (DynamicsSolver::forgetSolverHistory; restore() does it for `tight`).
+/// history (DynamicsSolver::forgetSolverHistory; restore() does it for `tight`), and have solved with the options
+/// `tight` has but for η. Where they differ (tightStepOptions projects no block first and takes the direct solver)
+/// the iterates part at once, and in a step that is not convex the two may end at different minima: on a hanging
+/// cloth with BDF2 a Newton correction pass measured 17.2 times its threshold this way, and 0.304 times when the
+/// tight solve went on from the run's iterate instead (BENCHMARKS.md, Dynamics, session 69).
 StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, DynamicsSolver& tight,
                               const DynamicsSolver::Snapshot& before);
 

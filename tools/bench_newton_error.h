@@ -75,11 +75,11 @@ class NewtonErrorTally {
   std::string firstUnchecked_;  // why the first step not checked was not
 };
 
-/// --newton-error around one run: a tight solver (tightStepOptions) on a system of its own, so the checks leave
-/// the run untouched, the state each step starts from, and the tally. Made before the run's first step, it makes the
-/// run forget its Newton history (afterStep does again at every step), so that the tight solver follows the run's
-/// iterates up to a pass, and it hands each part of a step taken in parts (a solve over less than the run's Δt) to
-/// the tally as the run takes it (the run's substep observer, removed when the watch goes).
+/// --newton-error around one run: a tight solver (tightStepOptions) on a system of its own, so the checks leave the run
+/// untouched, the state each step starts from, and the tally. Made before the run's first step, it makes the run forget
+/// its Newton history (afterStep does again at every step), so that the tight solver can follow the run's iterates up
+/// to a pass (where their options agree: checkStepError), and it hands each part of a step taken in parts (a solve over
+/// less than the run's Δt) to the tally as the run takes it (the run's substep observer, removed when the watch goes).
 class NewtonErrorWatch {
  public:
   NewtonErrorWatch(DynamicsSolver& run, std::unique_ptr<ShellSystem> tightSystem);
