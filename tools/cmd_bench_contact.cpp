@@ -98,8 +98,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
               v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
   // --newton-error: a second solver on its own system takes each step again from the same state, tightly. The
-  // run forgets its Newton history at every step so that both follow the same iterates; its figures are then
-  // not the benchmark's, and the checks' own time is left out of them.
+  // run forgets its Newton history at every step so that both can follow the same iterates (where their options
+  // agree: checkStepError); its figures are then not the benchmark's. The whole steps' checks are timed apart
+  // from them; the parts' checks run inside their step (the substep observer).
   std::unique_ptr<NewtonErrorWatch> watch;
   if (o.newtonError) {
     watch = std::make_unique<NewtonErrorWatch>(solver, sceneSystem(scene, problem, growOnly));
