@@ -98,24 +98,25 @@ TEST_CASE("open seams: welding joins a cut mesh, and refuses one whose sides fac
 
 TEST_CASE("open seams: a scene names a shape cut where it may be meant to be joined, not a generator's slit",
           "[scene]") {
-  using Json = nlohmann::json;
-  const Json material = {{"youngsModulus", 1e6}, {"poissonRatio", 0.3}, {"thickness", 0.001}, {"volumeDensity", 300}};
-  const Json square = {{"type", "shell"},
-                       {"name", "square"},
-                       {"shape",
-                        {{"vertices", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}, {1, 1, 0}}},
-                         {"faces", {{0, 1, 2}, {4, 5, 3}}}}},
-                       {"worldFromLocalTransform", {{"translation", {0, 0, 2}}}},
-                       {"material", material},
-                       {"colliderType", "None"}};
-  const Json ring = {{"type", "shell"},
-                     {"name", "ring"},
-                     {"shape", {{"generator", "slitAnnulus"}, {"innerRadius", 6}, {"outerRadius", 10},
-                                {"rings", 3}, {"nodesPerRing", 11}}},
-                     {"material", material},
-                     {"colliderType", "None"}};
-  const Json analysis = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.1}};
-  const Json j = {{"actors", {square, ring}}, {"analysis", analysis}};
+  using SceneJson = nlohmann::json;
+  const SceneJson material = {{"youngsModulus", 1e6}, {"poissonRatio", 0.3}, {"thickness", 0.001},
+                              {"volumeDensity", 300}};
+  const SceneJson square = {{"type", "shell"},
+                            {"name", "square"},
+                            {"shape",
+                             {{"vertices", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}, {1, 1, 0}}},
+                              {"faces", {{0, 1, 2}, {4, 5, 3}}}}},
+                            {"worldFromLocalTransform", {{"translation", {0, 0, 2}}}},
+                            {"material", material},
+                            {"colliderType", "None"}};
+  const SceneJson ring = {{"type", "shell"},
+                          {"name", "ring"},
+                          {"shape", {{"generator", "slitAnnulus"}, {"innerRadius", 6}, {"outerRadius", 10},
+                                     {"rings", 3}, {"nodesPerRing", 11}}},
+                          {"material", material},
+                          {"colliderType", "None"}};
+  const SceneJson analysis = {{"type", "dynamic"}, {"timeStep", 0.01}, {"duration", 0.1}};
+  const SceneJson j = {{"actors", {square, ring}}, {"analysis", analysis}};
   const SceneModel model = buildSceneModel(sceneFromJson(j, "."));
   REQUIRE(model.warnings.size() == 1);
   CHECK(model.warnings[0] ==
@@ -123,9 +124,9 @@ TEST_CASE("open seams: a scene names a shape cut where it may be meant to be joi
         "0.00113807 m, a thousandth of the mean edge), first vertices 0 and 4 (counted from 0) at (0, 0, 2): the "
         "mesh is cut there, and its sides move apart (\"weld\": true in the shape joins them; a slit is meant so)");
   // Welded, the square is one piece: no warning, four vertices, and the source says what was done.
-  Json weldedSquare = square;
+  SceneJson weldedSquare = square;
   weldedSquare["shape"]["weld"] = true;
-  const Json w = {{"actors", {weldedSquare}}, {"analysis", analysis}};
+  const SceneJson w = {{"actors", {weldedSquare}}, {"analysis", analysis}};
   const Scene scene = sceneFromJson(w, ".");
   CHECK(scene.shells[0].shape->source == "arrays, 4 vertices welded into 2");
   const SceneModel welded = buildSceneModel(scene);
