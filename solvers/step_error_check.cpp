@@ -41,6 +41,7 @@ StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, Dyna
   StepErrorCheck c;
   if (!wholeStep(taken)) return c;  // the passes are of its parts: no one solve to compare
   tight.restore(before);
+  tight.startNextSolveFrom(run.positions());
   c.tight = tight.step();
   c.solvedAgain = true;
   // A tight solve accepted at its iteration cap is no reference either.

@@ -1,7 +1,8 @@
 // A time step's Newton error, measured: the step a run just took, solved again from the same state by a second
-// solver on its own system to a tight tolerance, and the distance between the two ends. The time stepper's
-// iterate test promises that a passed step ends within its threshold of the solution; this measures the promise
-// (`jetshell bench dynamics --newton-error`, tests/solvers/dynamics_error_bound_test.cpp).
+// solver on its own system to a tight tolerance, on from the run's accepted iterate, and the distance between
+// the two ends. The time stepper's iterate test promises that a passed step ends within its threshold of the
+// solution; this measures the promise (`jetshell bench dynamics --newton-error`,
+// tests/solvers/dynamics_error_bound_test.cpp).
 #pragma once
 
 #include "solvers/dynamics.h"
@@ -33,13 +34,15 @@ constexpr double kTightUpdateTolerance = 1e-6;
 DynamicsOptions tightStepOptions(const DynamicsOptions& run);
 
 /// Checks the whole step `run` just took from `before` (its report `taken`): `tight`, a solver on its own system
-/// with a tight DynamicsOptions::updateTolerance, is restored to `before` and takes the same step. For the two to
-/// follow the same iterates up to the run's pass, the run must have started the step without the Newton solver's
-/// history (DynamicsSolver::forgetSolverHistory; restore() does it for `tight`), and have solved with the options
-/// `tight` has but for η. Where they differ (tightStepOptions projects no block first and takes the direct solver)
-/// the iterates part at once, and in a step that is not convex the two may end at different minima: on a hanging
-/// cloth with BDF2 a Newton correction pass measured 17.2 times its threshold this way, and 0.304 times when the
-/// tight solve went on from the run's iterate instead (BENCHMARKS.md, Dynamics, session 69).
+/// with a tight DynamicsOptions::updateTolerance, is restored to `before` (BDF2's history with it) and takes the
+/// same step, solved on from the run's accepted iterate to the solution near it, as a part is (checkPartError).
+/// The run's Newton history and options do not matter. Until session 70 the tight solve started from x_n, so
+/// that the two would follow the same iterates up to the pass; they did only where their options agreed, and
+/// where they did not (tightStepOptions projects no block first and takes the direct solver) a step that is not
+/// convex could end at another minimum: on a hanging cloth with BDF2 a Newton correction pass measured 17.2 times
+/// its threshold that way and 0.304 times on from its iterate (BENCHMARKS.md, Dynamics, session 69). An iterate
+/// beside a saddle has no solution near: the tight solve leaves it for a minimum, and the distance reported is to
+/// that minimum.
 StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, DynamicsSolver& tight,
                               const DynamicsSolver::Snapshot& before);
 

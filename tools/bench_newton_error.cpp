@@ -44,7 +44,6 @@ void NewtonErrorTally::checkPart(const SubstepView& part, int step, DynamicsSolv
 
 NewtonErrorWatch::NewtonErrorWatch(DynamicsSolver& run, std::unique_ptr<ShellSystem> tightSystem)
     : run_(run), system_(std::move(tightSystem)), tight_(*system_, tightStepOptions(run.options())) {
-  run_.forgetSolverHistory();
   before_ = run_.snapshot();
   const double h = run_.options().timeStep;
   run_.setSubstepObserver([this, h](const SubstepView& part) {
@@ -57,8 +56,6 @@ NewtonErrorWatch::~NewtonErrorWatch() { run_.setSubstepObserver({}); }
 void NewtonErrorWatch::afterStep(const StepReport& rep) {
   tally_.check(rep, run_, tight_, before_);
   before_ = run_.snapshot();
-  // restore() makes the tight solver forget its Newton history at the next check; the run forgets its own here.
-  run_.forgetSolverHistory();
 }
 
 void NewtonErrorTally::record(const SolverSummary& loose, bool movedOn, int step, bool part,

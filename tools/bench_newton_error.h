@@ -1,6 +1,7 @@
 // --newton-error of `jetshell bench dynamics` and `jetshell bench contact`: every step whose iterate test passed
-// (solvers/dynamics.h), solved again from the same state to a tight tolerance (solvers/step_error_check.h), and the
-// distance between the two ends against the threshold the test promised, tallied by the estimate that passed it;
+// (solvers/dynamics.h), solved again from the same state, on from the accepted iterate, to a tight tolerance
+// (solvers/step_error_check.h), and the distance between the two ends against the threshold the test promised,
+// tallied by the estimate that passed it;
 // a step taken in parts (cut, or divided for a moving solid) part by part. Solves accepted unconverged at the
 // iteration cap are measured the same way, against their change.
 // Inputs: each whole step's report and each part the run's substep observer sees, the run's solver, a second
@@ -47,9 +48,7 @@ struct MovedOnCheck {
 class NewtonErrorTally {
  public:
   /// Checks the step just taken (report `rep`, from `before`) against the same step taken by `tight`
-  /// (tightStepOptions), if an iterate test passed it or it moved on at the iteration cap. For the two to follow the
-  /// same iterates up to the pass, the run must have started the step without its Newton history
-  /// (DynamicsSolver::forgetSolverHistory).
+  /// (tightStepOptions) on from the run's iterate, if an iterate test passed it or it moved on at the iteration cap.
   void check(const StepReport& rep, DynamicsSolver& run, DynamicsSolver& tight,
              const DynamicsSolver::Snapshot& before);
   /// Checks one part of step `step` (a solve over less than the run's Δt, from the run's substep observer) the
@@ -76,18 +75,16 @@ class NewtonErrorTally {
 };
 
 /// --newton-error around one run: a tight solver (tightStepOptions) on a system of its own, so the checks leave the run
-/// untouched, the state each step starts from, and the tally. Made before the run's first step, it makes the run forget
-/// its Newton history (afterStep does again at every step), so that the tight solver can follow the run's iterates up
-/// to a pass (where their options agree: checkStepError), and it hands each part of a step taken in parts (a solve over
-/// less than the run's Δt) to the tally as the run takes it (the run's substep observer, removed when the watch goes).
+/// untouched, the state each step starts from, and the tally. Made before the run's first step, it hands each part of
+/// a step taken in parts (a solve over less than the run's Δt) to the tally as the run takes it (the run's substep
+/// observer, removed when the watch goes).
 class NewtonErrorWatch {
  public:
   NewtonErrorWatch(DynamicsSolver& run, std::unique_ptr<ShellSystem> tightSystem);
   ~NewtonErrorWatch();
   NewtonErrorWatch(const NewtonErrorWatch&) = delete;
   NewtonErrorWatch& operator=(const NewtonErrorWatch&) = delete;
-  /// After each of the run's steps (report `rep`): checks the step (NewtonErrorTally::check), then both solvers
-  /// start the next step alike.
+  /// After each of the run's steps (report `rep`): checks the step (NewtonErrorTally::check).
   void afterStep(const StepReport& rep);
   const NewtonErrorTally& tally() const { return tally_; }
 

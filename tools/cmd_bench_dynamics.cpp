@@ -7,10 +7,9 @@
 // (markdown), writes --json and a log-log PNG chart of RMS error against wall (or, --chart-time cpu, process CPU)
 // time (--png); --replot redraws the chart from an earlier --json without running anything.
 // --newton-error also checks every step a jetshell run's iterate test passed: the step is solved again from the
-// same state, by a second solver on its own system, to η = 1e-6, and the passed iterate's mass-weighted RMS
-// distance from that solution is compared with the threshold the test claimed to meet. Both solvers start each
-// step without the Newton solver's history, so they take the same iterates up to the pass (wall times then
-// include the second solves, and the run's starts differ from a plain run's).
+// same state, by a second solver on its own system, on from the passed iterate to η = 1e-6, and the iterate's
+// mass-weighted RMS distance from that solution is compared with the threshold the test claimed to meet (wall
+// times then include the second solves; the run itself is the plain run's).
 #include "solvers/dynamics.h"
 #include "solvers/shell_system.h"
 #include "solvers/time_step_policy.h"
