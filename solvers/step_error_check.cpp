@@ -32,44 +32,42 @@ bool wholeStep(const StepReport& r) {
   return r.success && r.cuts == 0 && r.substeps == 1 && r.parts == 1 && r.solves.size() == 1;
 }
 
+/// `tight`, already set to the step's (or part's) start and Δt = h, solves on from the run's accepted iterate x to
+/// its tight tolerance; the distance between x and that solution, and the solution's change against the
+/// predictor x_n + h v_n. A tight solve that is not one converged Newton solve (cut, moved on at its cap, or done
+/// again from x_n) is no reference: nothing is checked.
+StepErrorCheck solveOnFrom(DynamicsSolver& tight, const Eigen::VectorXd& x, const Eigen::VectorXd& xStart,
+                           const Eigen::VectorXd& vStart, double h) {
+  StepErrorCheck c;
+  tight.startNextSolveFrom(x);
+  c.tight = tight.step();
+  c.solvedAgain = true;
+  if (!wholeStep(c.tight) || !c.tight.solves.front().converged()) return c;
+  const Eigen::VectorXd& m = tight.system().vertexMass();
+  c.error = massWeightedRms(m, x - tight.positions());
+  c.change = massWeightedRms(m, tight.positions() - (xStart + h * vStart));
+  c.checked = true;
+  return c;
+}
+
 }  // namespace
 
 bool takenInParts(const StepReport& r) { return r.cuts > 0 || r.parts > 1; }
 
 StepErrorCheck checkStepError(const StepReport& taken, DynamicsSolver& run, DynamicsSolver& tight,
                               const DynamicsSolver::Snapshot& before) {
-  StepErrorCheck c;
-  if (!wholeStep(taken)) return c;  // the passes are of its parts: no one solve to compare
+  if (!wholeStep(taken)) return {};  // the passes are of its parts: no one solve to compare
   tight.restore(before);
-  tight.startNextSolveFrom(run.positions());
-  c.tight = tight.step();
-  c.solvedAgain = true;
-  // A tight solve accepted at its iteration cap is no reference either.
-  if (!wholeStep(c.tight) || !c.tight.solves.front().converged()) return c;
-  const Eigen::VectorXd& m = run.system().vertexMass();
-  const Eigen::VectorXd predictor = before.x + taken.timeStep * before.v;
-  c.error = massWeightedRms(m, run.positions() - tight.positions());
-  c.change = massWeightedRms(m, tight.positions() - predictor);
-  c.checked = true;
-  return c;
+  return solveOnFrom(tight, run.positions(), before.x, before.v, taken.timeStep);
 }
 
 StepErrorCheck checkPartError(const SubstepView& part, DynamicsSolver& tight) {
-  StepErrorCheck c;
-  if (part.bdf2) return c;  // not a part: the halves of a step are backward Euler
-  const double h = part.timeStep, own = tight.options().timeStep;
+  if (part.bdf2) return {};  // not a part: the halves of a step are backward Euler
+  const double own = tight.options().timeStep;
   tight.restore({*part.xStart, *part.vStart, Eigen::VectorXd(), Eigen::VectorXd(), part.time, 0.0, 0, false});
-  tight.setTimeStep(h);
-  tight.startNextSolveFrom(*part.x);
-  c.tight = tight.step();
+  tight.setTimeStep(part.timeStep);
+  const StepErrorCheck c = solveOnFrom(tight, *part.x, *part.xStart, *part.vStart, part.timeStep);
   tight.setTimeStep(own);
-  c.solvedAgain = true;
-  if (!wholeStep(c.tight) || !c.tight.solves.front().converged()) return c;
-  const Eigen::VectorXd& m = tight.system().vertexMass();
-  const Eigen::VectorXd predictor = *part.xStart + h * *part.vStart;
-  c.error = massWeightedRms(m, *part.x - tight.positions());
-  c.change = massWeightedRms(m, tight.positions() - predictor);
-  c.checked = true;
   return c;
 }
 

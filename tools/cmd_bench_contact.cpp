@@ -98,8 +98,8 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
               v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
   // --newton-error: a second solver on its own system takes each step again from the same state, tightly, on from
-  // the run's accepted iterate (checkStepError). The run is the plain run; the whole steps' checks are timed apart
-  // from it, the parts' checks run inside their step (the substep observer), so its time is not the benchmark's.
+  // the run's accepted iterate (checkStepError). The run is the plain run, but its time is not the benchmark's:
+  // the whole steps' checks are timed apart from it, the parts' checks run inside their step (the substep observer).
   std::unique_ptr<NewtonErrorWatch> watch;
   if (o.newtonError) {
     watch = std::make_unique<NewtonErrorWatch>(solver, sceneSystem(scene, problem, growOnly));
