@@ -50,7 +50,7 @@ configure() {
 # are not compiled in this pass either (CMakeLists.txt, JETSHELL_SANITIZE).
 sanitizeTargets=(jetshell_tests obj_replay scene_replay sdf_replay vtu_replay fit_replay checkpoint_replay)
 # With --all the main pass runs these; a test named here must be in a file CMakeLists.txt lists in
-# JETSHELL_LONG_ONLY_TESTS or JETSHELL_LONG_MIXED_TESTS (coveredOnce below fails otherwise).
+# JETSHELL_LONG_ONLY_TESTS (coveredOnce below fails otherwise).
 sanitizeExclude="^(check_derivatives|check_parameter_derivatives|hostile_cli|interrupt_during_cut_step|stress_quick"
 sanitizeExclude+="|accuracy: .*|contact dynamics: .*|tshirt: .*|run: every example .*"
 sanitizeExclude+="|dynamics: a stiff sheet.s loosely solved steps .*"
@@ -146,7 +146,7 @@ coveredOnce() {
   missing="$(LC_ALL=C comm -23 <(testNames "$build-sanitize" -R "$sanitizeExclude") <(testNames "$build"))"
   if [ -n "$missing" ]; then
     echo "test.sh: these tests run in neither pass (the sanitizer pass leaves them out, and the main pass's program"
-    echo "does not hold their file: add it to JETSHELL_LONG_MIXED_TESTS in CMakeLists.txt):"
+    echo "does not hold their file: move them to a file JETSHELL_LONG_ONLY_TESTS in CMakeLists.txt lists):"
     echo "$missing"
     return 1
   fi

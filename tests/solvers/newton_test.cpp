@@ -1,5 +1,4 @@
 #include "solvers/dynamics.h"
-#include "solvers/lbfgs.h"
 #include "solvers/newton.h"
 #include "test_problems.h"
 #include "wells_term.h"
@@ -58,32 +57,6 @@ TEST_CASE("newton: converges quadratically near a solution") {
     CHECK(order > 1.8);
   }
   CHECK((x - solution).lpNorm<Eigen::Infinity>() < 1e-8 * tip);
-}
-
-TEST_CASE("newton: every line search and the L-BFGS alternative reach the same equilibrium") {
-  ShellSystem system(testing::cantileverPlate(6, 2, 0.01), AnalysisKind::Statics);
-  const Eigen::VectorXd reference = solvedCantilever(system);
-  const double tip = (reference - system.restPositions()).lpNorm<Eigen::Infinity>();
-  for (LineSearchType ls : {LineSearchType::None, LineSearchType::ResidualNorm, LineSearchType::StrongWolfe}) {
-    NewtonOptions o;
-    o.lineSearch = ls;
-    o.maxIterations = 200;
-    NewtonSolver newton(system.objective(), o);
-    Eigen::VectorXd x = system.restPositions();
-    const SolverSummary s = newton.minimize(x);
-    INFO(toString(ls) << "\n" << s.fullReport());
-    CHECK(s.converged());
-    CHECK((x - reference).lpNorm<Eigen::Infinity>() < 1e-4 * tip);
-  }
-  // L-BFGS stalls on the ill-conditioned shell problem well above Newton's tolerance (measured: ~2e-5 of the
-  // force scale on this plate), so it is asked for less.
-  LbfgsOptions lo;
-  lo.residualTolerance = 1e-4;
-  Eigen::VectorXd x = system.restPositions();
-  const SolverSummary s = minimizeLbfgs(system.objective(), x, lo);
-  INFO(s.briefReport());
-  CHECK(s.converged());
-  CHECK((x - reference).lpNorm<Eigen::Infinity>() < 1e-2 * tip);
 }
 
 TEST_CASE("newton: the symbolic analysis runs once per pattern") {

@@ -2,68 +2,19 @@
 // end-shear cantilever on 40x4 quads in 10 load steps, against the inextensible elastica at every level. The
 // bound is the error measured with the current defaults rounded up (an improvement never fails it), well inside
 // the 1% target; it fails if the scene's clamp, free-edge rule, load distribution or statics path regresses.
+#include "example_run.h"
 #include "tests/test_util.h"
-#include "tools/scene/run_scene.h"
-#include "tools/scene/scene_json.h"
 #include "validation/reference_table.h"
-#include "tests/scratch_directory.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <functional>
-#include <sstream>
 #include <string>
 #include <vector>
 
 using namespace jetshell;
-namespace fs = std::filesystem;
-
-namespace {
-
-/// probes.csv's rows after the header, as numbers.
-std::vector<std::vector<double>> readCsv(const fs::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header: step,time,load_factor,tip_ux,tip_uy,tip_uz
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
-
-/// An example scene run whole as `jetshell run` would, without frames or pictures, and its probes.csv rows.
-struct ExampleRun {
-  RunResult result;
-  std::vector<std::vector<double>> probes;
-};
-
-/// `edit` changes the scene before the run (its output directory is named after the stem and `variant`).
-ExampleRun runExample(const std::string& stem, const std::function<void(Scene&)>& edit = {},
-                      const std::string& variant = "") {
-  Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/" + stem + ".json");
-  scene.outputs.frameStride = 1;  // a probes.csv row per step
-  scene.outputs.vtu = false;
-  if (edit) edit(scene);
-  const fs::path dir = test::scratchDirectory("scene_accuracy") / (stem + variant);
-  fs::remove_all(dir);
-  RunOptions o;
-  o.outputDirectory = dir.string();
-  o.pictures = false;
-  ExampleRun run;
-  run.result = runScene(scene, o);
-  run.probes = readCsv(dir / "probes.csv");
-  return run;
-}
-
-}  // namespace
+using test::ExampleRun;
+using test::runExample;
 
 TEST_CASE("scene accuracy: the end-shear scene is within 0.05% of the elastica at every level", "[validation]") {
   const test::ScopedThreads serial(1);  // 205 vertices: threads only add barriers
@@ -108,71 +59,4 @@ TEST_CASE("scene accuracy: the end-moment scene rolls the strip into a circle, w
     CHECK(std::abs(rows[k][4]) < 0.25);  // measured at most 0.222 (λ = 1; 0.081 on 96×8)
   }
   CHECK(rows.back()[2] == Approx(1.0).margin(1e-12));
-}
-
-namespace {
-
-/// The inextensible elastica's tip deflection for examples/euler_column.json (P = 1.6 P_cr, L 10): the modulus k
-/// with K(k) = (π/2)·√1.6 (bisection on std::comp_ellint_1, which rises with k), and δ = 2 k L / K(k) = 8.0085.
-double eulerColumnElastica() {
-  const double K = 0.5 * M_PI * std::sqrt(1.6);
-  double lo = 0.0, hi = 1.0 - 1e-12;
-  for (int i = 0; i < 100; ++i) (std::comp_ellint_1(0.5 * (lo + hi)) < K ? lo : hi) = 0.5 * (lo + hi);
-  return 2.0 * lo * 10.0 / K;
-}
-
-/// A static run of the Euler column that switched branches once at the critical load and reached the elastica.
-void checkSwitchedToElastica(const ExampleRun& run, double elastica) {
-  const RunResult& r = run.result;
-  REQUIRE(r.summary.converged);
-  const nlohmann::json& switches = r.summary.extra.at("branch_switches");
-  REQUIRE(switches.size() == 1);
-  // The critical load π² EI / 4L² = 2.467, λ = 0.617 of the end force 4; the mesh's own within 0.2%.
-  CHECK(switches[0].at("stable_load_factor").get<double>() == Approx(0.6169).epsilon(0.002));
-  REQUIRE(run.probes.size() >= 10);
-  CHECK(run.probes.back()[2] == Approx(1.0).margin(1e-12));  // the last row is λ = 1
-  const double w = std::abs(run.probes.back()[5]);
-  INFO("tip deflection " << w << ", elastica " << elastica);
-  CHECK(std::abs(w - elastica) / elastica < 0.003);  // measured 0.17% (8.0224)
-}
-
-}  // namespace
-
-TEST_CASE("scene accuracy: the Euler column leaves the straight saddle and buckles to the elastica within 0.3%",
-          "[validation]") {
-  const test::ScopedThreads serial(1);
-  const double elastica = eulerColumnElastica();
-  REQUIRE(elastica == Approx(8.0085).epsilon(1e-4));
-  SECTION("by dynamic relaxation (the example)") {
-    const ExampleRun run = runExample("euler_column");
-    const RunResult& r = run.result;
-    REQUIRE(r.summary.converged);
-    CHECK(r.summary.extra.at("saddle_escapes").get<int>() >= 1);  // the relaxation reached the straight saddle
-    CHECK(r.summary.extra.at("unstable_equilibria").get<int>() == 0);
-    REQUIRE(!run.probes.empty());
-    const double w = std::abs(run.probes.back()[5]);
-    INFO("tip deflection " << w << ", elastica " << elastica);
-    CHECK(std::abs(w - elastica) / elastica < 0.003);  // measured 0.17% (8.0224)
-  }
-  // The example as a static analysis in 10 load steps under `control`.
-  auto staticColumn = [](const std::string& control) {
-    return runExample(
-        "euler_column",
-        [&](Scene& s) {
-          s.analysis.type = AnalysisType::Static;
-          s.analysis.loadSteps = 10;
-          s.analysis.pathControl.type = control;
-        },
-        "_" + control);
-  };
-  SECTION("by load control, switching branches at the bifurcation") {
-    const ExampleRun run = staticColumn("load");
-    checkSwitchedToElastica(run, elastica);
-    CHECK(run.result.summary.extra.at("unstable_equilibria").get<int>() == 0);
-  }
-  SECTION("by arc length, switching branches at the bifurcation") {
-    const ExampleRun run = staticColumn("arcLength");
-    checkSwitchedToElastica(run, elastica);
-    CHECK(run.result.summary.extra.at("bifurcation_points").empty());  // switched, not passed
-  }
 }
