@@ -65,6 +65,12 @@ double checkedMassDamping(const ShellSystem& system, const DynamicsOptions& o) {
   if (!(std::isfinite(o.contactCorrectionFraction) && o.contactCorrectionFraction >= 0.0 &&
         o.contactCorrectionFraction <= 1.0))
     throw InputError("dynamics: contactCorrectionFraction must be in [0, 1]");
+  if (o.contactGuardSolves < 0 || o.contactGuardSolves > 100)
+    throw InputError("dynamics: contactGuardSolves must lie in [0, 100]");
+  if (!(std::isfinite(o.contactGuardDepth) && o.contactGuardDepth >= 0.0))
+    throw InputError("dynamics: contactGuardDepth must be finite and >= 0 (a fraction of the activation distance)");
+  if (!(std::isfinite(o.contactGuardPairRatio) && o.contactGuardPairRatio >= 0.0 && o.contactGuardPairRatio <= 1.0))
+    throw InputError("dynamics: contactGuardPairRatio must be in [0, 1] (a fraction of the contact distance 2r)");
   if (system.kind() == AnalysisKind::Statics)
     throw InputError("dynamics: the system was built for statics (no inertia)");
   const double alpha = o.massDampingOverride >= 0.0 ? o.massDampingOverride
@@ -318,20 +324,32 @@ bool DynamicsSolver::attempt(double h, bool bdf2, StepReport& report) {
   SolverSummary summary = newton_.minimize(x);
   addTimes(report, summary);
   bool movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
+  // The solve set aside (kept in the report, discarded) for another from x, with the iterate test's history reset.
+  const auto solveAgain = [&]() {
+    summary.discarded = true;
+    report.solves.push_back(std::move(summary));
+    lastIterate.resize(0);
+    lastResidualEstimate = 0.0;
+    lastCorrection = 0.0;
+    summary = newton_.minimize(x);
+    addTimes(report, summary);
+    movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
+  };
   if (guarded && (summary.converged() || movedOn)) {
     // Solved again from x_n: above staying put, or moved on from a crushed iterate.
     if (!(summary.finalEnergy <= stayEnergy + stayNoise) || (movedOn && crushedIterate)) {
       ++report.stayRestarts;
-      summary.discarded = true;
-      report.solves.push_back(std::move(summary));
-      lastIterate.resize(0);
-      lastResidualEstimate = 0.0;
-      lastCorrection = 0.0;
       x = std::move(stay);
-      summary = newton_.minimize(x);
-      addTimes(report, summary);
-      movedOn = options_.acceptIterationCap && summary.reason == TerminationReason::IterationCap;
+      solveAgain();
     }
+  }
+  // A solve that would move on at the cap with its contact guards broken solves on from its iterate (see the
+  // header): at the cap the contact forces can be far from their solution, and a landing presses samples deep.
+  for (int more = 0; movedOn && more < options_.contactGuardSolves && !sys.contact.empty() &&
+                     sys.contact.guardsBroken(x, options_.contactGuardDepth, options_.contactGuardPairRatio);
+       ++more) {
+    ++report.guardSolves;
+    solveAgain();
   }
   const bool ok = summary.converged() || movedOn;
   if (!ok) {
@@ -451,6 +469,7 @@ DynamicsResult simulate(DynamicsSolver& solver, double duration, const StepCallb
     result.cuts += r.cuts;
     result.movedOn += r.movedOn;
     result.stayRestarts += r.stayRestarts;
+    result.guardSolves += r.guardSolves;
     result.time = solver.time();
     if (!r.success) {
       result.message = r.message;
@@ -470,6 +489,8 @@ DynamicsResult simulate(DynamicsSolver& solver, double duration, const StepCallb
   if (result.movedOn > 0) s << "; moved on unconverged at the iteration cap in " << result.movedOn << " solves";
   if (result.stayRestarts > 0)
     s << "; " << result.stayRestarts << " solves done again from the previous positions, the first having ended above them";
+  if (result.guardSolves > 0)
+    s << "; " << result.guardSolves << " solves on from the iteration cap, a contact guard broken there";
   s << ")";
   result.message = s.str();
   return result;

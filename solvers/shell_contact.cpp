@@ -32,6 +32,12 @@ std::vector<std::string> ShellContact::solidNames() const {
   return names;
 }
 
+bool ShellContact::guardsBroken(const Eigen::VectorXd& x, double depthFraction, double pairFraction) const {
+  for (const VolumeContactTerms& v : volume)
+    if (v.state->minDistance(x) < -depthFraction * v.state->params.activationDistance) return true;
+  return pointCloud.state && pointCloud.state->minDistanceRatio(x) < pairFraction;
+}
+
 std::vector<std::pair<std::string, Eigen::Vector3d>> ShellContact::solidForces(const Eigen::VectorXd& x,
                                                                                double t) const {
   std::vector<std::pair<std::string, Eigen::Vector3d>> forces;

@@ -86,6 +86,10 @@ struct ShellContact {
   std::vector<std::pair<std::string, Eigen::Vector3d>> solidForces(const Eigen::VectorXd& x, double t) const;
   /// The volume actors solidForces names, in its order.
   std::vector<std::string> solidNames() const;
+  /// The contact guards of a step's end (DynamicsOptions::contactGuardSolves): true when a sample lies deeper below
+  /// a volume's surface than depthFraction × that pair's activation distance, or two interacting samples of the
+  /// point cloud are closer than pairFraction × their contact distance 2r. x: 3N positions.
+  bool guardsBroken(const Eigen::VectorXd& x, double depthFraction, double pairFraction) const;
   /// Seconds spent in the point-cloud broad phase so far.
   double broadPhaseSeconds() const { return pointCloud.state ? pointCloud.state->broadPhaseSeconds() : 0.0; }
 };

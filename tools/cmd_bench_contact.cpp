@@ -113,6 +113,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   // correction (solvers/dynamics.h), or moved on at the iteration cap.
   int endedResidual = 0, endedEstimate = 0, endedCorrection = 0, endedAtCap = 0;
   int stayRestarts = 0;  // steps solved again from x_n, the first solve having ended above it (guardedEnd)
+  int guardSolves = 0;   // solves on from the iteration cap, a contact guard broken there (contactGuardSolves)
   double factorSeconds = 0.0;
   double linear = 0.0;
   // The guards of the T-shirt's checks: the deepest sample in a volume collider (signed distance, m) and the
@@ -176,6 +177,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     }
     endedAtCap += r.movedOn;
     stayRestarts += r.stayRestarts;
+    guardSolves += r.guardSolves;
     if (!r.success) {
       ++failed;
       std::printf("step %d failed: %s\n", s + 1, r.message.c_str());
@@ -210,8 +212,9 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               "finished with the whole Hessian's factor\n",
               exactSteps, fallbacks, directFallbacks);
   std::printf("solves ended: %d by Newton's residual test, %d by the residual estimate, %d by the Newton correction, "
-              "%d moved on at the iteration cap; %d solved again from x_n (the first solve ended above it, or crushed)\n",
-              endedResidual, endedEstimate, endedCorrection, endedAtCap, stayRestarts);
+              "%d moved on at the iteration cap; %d solved again from x_n (the first solve ended above it, or "
+              "crushed); %d solved on from the cap, a contact guard broken there\n",
+              endedResidual, endedEstimate, endedCorrection, endedAtCap, stayRestarts, guardSolves);
   std::printf("time split: broad phase %.1f%% and pattern rebuilds %.1f%% (both within contact), contact terms "
               "%.1f%%, other terms %.1f%%, linear solve %.1f%%, rest %.1f%%\n",
               pct(broad), pct(pattern), pct(contactTerms), pct(otherTerms), pct(linear), pct(rest));
@@ -247,6 +250,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                             {"newton_correction", endedCorrection},
                             {"moved_on_at_cap", endedAtCap}}},
           {"solved_again_from_previous_positions", stayRestarts},
+          {"solved_on_for_contact_guards", guardSolves},
           {"deepest_in_volume_m", deepest},
           {"closest_pair_ratio", closest},
           {"final_kinetic_energy", solver.kineticEnergy()},

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -78,6 +79,29 @@ ShellProblem onTurntable(TriMesh sheet) {
   ContactParams c;
   c.frictionCoefficient = 0.5;
   p.volumes = {{std::make_shared<VolumeCollider>("tray", makeBoxShape({0.4, 0.01, 0.4}), path), c}};
+  return p;
+}
+
+/// Two cloths stacked into one problem, actors "lower" and "upper" (point clouds of radius 1.5 cm), over the
+/// floor.
+ShellProblem twoClothsOverFloor(const TriMesh& lower, const TriMesh& upper) {
+  ShellProblem p;
+  const int n = lower.numVertices();
+  p.mesh.V.resize(2 * n, 3);
+  p.mesh.V << lower.V, upper.V;
+  p.mesh.F.resize(2 * lower.numFaces(), 3);
+  p.mesh.F << lower.F, (upper.F.array() + n).matrix();
+  for (int a = 0; a < 2; ++a) {
+    ShellActorPart part;
+    part.name = a == 0 ? "lower" : "upper";
+    part.mesh = a == 0 ? lower : upper;  // its own vertices, the stacked mesh's block from firstVertex
+    part.firstVertex = a == 0 ? 0 : n;
+    part.material = cloth();
+    part.pointCloudCollider.radius = 0.015;
+    p.actors.push_back(part);
+  }
+  p.volumes = {collider("floor", makePlaneShape(), Eigen::Vector3d::Zero(),
+                        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY()))};
   return p;
 }
 
@@ -383,23 +407,8 @@ TEST_CASE("contact dynamics: a cloth dropped on the edge of a box slides off it"
 TEST_CASE("contact dynamics: two cloths dropped on each other do not interpenetrate", "[contact]") {
   // 2 cm spacing, r = 1.5 cm: the samples of a layer overlap, so the other layer cannot pass between them.
   const TriMesh lower = square(0.2, 10, {0.0, 0.012, 0.0}), upper = square(0.2, 10, {0.03, 0.07, 0.02});
-  ShellProblem p;
   const int n = lower.numVertices();
-  p.mesh.V.resize(2 * n, 3);
-  p.mesh.V << lower.V, upper.V;
-  p.mesh.F.resize(2 * lower.numFaces(), 3);
-  p.mesh.F << lower.F, (upper.F.array() + n).matrix();
-  for (int a = 0; a < 2; ++a) {
-    ShellActorPart part;
-    part.name = a == 0 ? "lower" : "upper";
-    part.mesh = a == 0 ? lower : upper;  // its own vertices, the stacked mesh's block from firstVertex
-    part.firstVertex = a == 0 ? 0 : n;
-    part.material = cloth();
-    part.pointCloudCollider.radius = 0.015;
-    p.actors.push_back(part);
-  }
-  p.volumes = {collider("floor", makePlaneShape(), Eigen::Vector3d::Zero(),
-                        Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY()))};
+  const ShellProblem p = twoClothsOverFloor(lower, upper);
   ShellSystem system(p, AnalysisKind::Dynamics);
   REQUIRE(system.contact.pointCloud.state);
   DynamicsSolver solver(system, options());
@@ -514,6 +523,57 @@ TEST_CASE("contact dynamics: the drape's passed steps end within their threshold
                           << residualPasses << " by the residual estimate (worst " << worstResidual << " x)");
   CHECK(corrections >= 5);  // measured: 12
   CHECK(residualPasses >= 5);
+}
+
+TEST_CASE("contact dynamics: the contact guards break at half the activation distance below a volume and at half "
+          "the contact distance between samples",
+          "[contact]") {
+  // ShellContact::guardsBroken, which decides whether a solve at the iteration cap solves on
+  // (DynamicsOptions::contactGuardSolves): two 0.2 m cloths 5.8 cm apart (r = 1.5 cm) over the floor.
+  const TriMesh lower = square(0.2, 4, {0.0, 0.012, 0.0}), upper = square(0.2, 4, {0.0, 0.07, 0.0});
+  const int n = lower.numVertices();
+  const ShellProblem p = twoClothsOverFloor(lower, upper);
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  REQUIRE(system.contact.pointCloud.state);
+  const double eps = system.contact.volume.at(0).state->params.activationDistance;
+  Eigen::VectorXd x(3 * 2 * n);
+  for (int v = 0; v < 2 * n; ++v) x.segment<3>(3 * v) = p.mesh.V.row(v).transpose();
+  system.contact.pointCloud.state->refresh(x);
+  CHECK_FALSE(system.contact.guardsBroken(x, 0.5, 0.5));
+  x[1] = -0.4 * eps;  // lower's vertex 0 below the floor, within half the activation distance
+  CHECK_FALSE(system.contact.guardsBroken(x, 0.5, 0.5));
+  x[1] = -0.6 * eps;
+  CHECK(system.contact.guardsBroken(x, 0.5, 0.5));
+  CHECK_FALSE(system.contact.guardsBroken(x, 0.7, 0.5));
+  x[1] = 0.012;
+  // upper's vertex 0 brought 1.2 cm above lower's (0.4 × 2r): the pair guard breaks at 0.5, not at 0.3.
+  x.segment<3>(3 * n) = x.segment<3>(0) + Eigen::Vector3d(0.0, 0.012, 0.0);
+  system.contact.pointCloud.state->refresh(x);
+  CHECK(system.contact.guardsBroken(x, 0.5, 0.5));
+  CHECK_FALSE(system.contact.guardsBroken(x, 0.5, 0.3));
+}
+
+TEST_CASE("contact dynamics: the contact guard options are validated", "[contact]") {
+  ShellProblem p;
+  p.mesh = square(0.2, 4, {0, 1, 0});
+  p.material = cloth();
+  ShellSystem system(p, AnalysisKind::Dynamics);
+  DynamicsOptions o = options();
+  o.contactGuardSolves = -1;
+  CHECK_THROWS_WITH(DynamicsSolver(system, o), Catch::Contains("contactGuardSolves"));
+  o = options();
+  o.contactGuardSolves = 101;
+  CHECK_THROWS_WITH(DynamicsSolver(system, o), Catch::Contains("contactGuardSolves"));
+  for (double bad : {-0.1, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    o = options();
+    o.contactGuardDepth = bad;
+    CHECK_THROWS_WITH(DynamicsSolver(system, o), Catch::Contains("contactGuardDepth"));
+  }
+  for (double bad : {-0.1, 1.5, std::nan("")}) {
+    o = options();
+    o.contactGuardPairRatio = bad;
+    CHECK_THROWS_WITH(DynamicsSolver(system, o), Catch::Contains("contactGuardPairRatio"));
+  }
 }
 
 TEST_CASE("contact dynamics: the contact correction fraction is validated", "[contact]") {

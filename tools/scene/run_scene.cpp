@@ -478,6 +478,7 @@ RunResult runScene(const Scene& scene, const RunOptions& options) {
            << (s.parts > 1 ? "  (" + std::to_string(s.parts) + " parts: a moving solid)" : "")
            << (s.cuts ? "  (" + std::to_string(s.cuts) + " cuts)" : "")
            << (s.stayRestarts ? "  (solved again from the previous positions)" : "")
+           << (s.guardSolves ? "  (solved on from the iteration cap: a contact guard broken there)" : "")
            << (s.movedOn ? "  (moved on at the iteration cap, not converged)" : "");
       progress.log(line.str());
       progress.update(d.time() / duration, "t = " + formatNumber("%.3f", d.time()) + " s");
