@@ -181,59 +181,49 @@ int runBench(const BenchOptions& o) {
     std::sort(times.begin(), times.end());
     return times[times.size() / 2];
   };
-  // The AD / analytic ratio of value + gradient + exact Hessian from interleaved single evaluations, 1 thread: on a
-  // shared host the speed drifts between the figures of the table (measured one after the other), so each pair
-  // is timed back to back, in the order AD, analytic, analytic, AD (drift within a pair cancels), and the
-  // median of the pairs' ratios is reported with their range.
+  // Two variants of one evaluation compared on a shared host, whose speed drifts between the figures of the table
+  // (measured one after the other): each pair is timed back to back in the order a, b, b, a (drift within a pair
+  // cancels), and the median of the pairs' ratios a / b is reported with their range.
   struct PairedRatio {
     double median = std::nan(""), low = std::nan(""), high = std::nan("");
     int pairs = 0;
   };
+  auto interleaved = [&](auto&& a, auto&& b) {
+    a();  // warm-up
+    b();
+    std::vector<double> ratios;
+    for (int r = 0; r < std::max(o.repeats, 5); ++r) {
+      const double a1 = a(), b1 = b();
+      const double b2 = b(), a2 = a();
+      ratios.push_back((a1 + a2) / (b1 + b2));
+    }
+    std::sort(ratios.begin(), ratios.end());
+    return PairedRatio{ratios[ratios.size() / 2], ratios.front(), ratios.back(), static_cast<int>(ratios.size())};
+  };
+  // The AD / analytic ratio of value + gradient + exact Hessian, 1 thread (CPU time of the thread).
   auto pairedRatio = [&](const std::vector<std::pair<EnergyTerm*, int>>& terms) {
     omp_set_num_threads(1);
     EvalOptions ad, an;
     ad.path = DerivativePath::AutoDiff;
     an.path = DerivativePath::Analytic;
-    measure(terms, ad, true, true);  // warm-up
-    measure(terms, an, true, true);
-    std::vector<double> ratios;
-    for (int r = 0; r < std::max(o.repeats, 5); ++r) {
-      const double a1 = measure(terms, ad, true, true), n1 = measure(terms, an, true, true);
-      const double n2 = measure(terms, an, true, true), a2 = measure(terms, ad, true, true);
-      ratios.push_back((a1 + a2) / (n1 + n2));
-    }
-    std::sort(ratios.begin(), ratios.end());
-    PairedRatio p;
-    p.median = ratios[ratios.size() / 2];
-    p.low = ratios.front();
-    p.high = ratios.back();
-    p.pairs = static_cast<int>(ratios.size());
+    const PairedRatio p = interleaved([&] { return measure(terms, ad, true, true); },
+                                      [&] { return measure(terms, an, true, true); });
     omp_set_num_threads(maxThreads);
     return p;
   };
-
-  // The speed-up of all threads over one from interleaved evaluations, both on the wall clock: the table's speed-up
-  // divides a one-thread CPU time by a wall time measured seconds later, so the host's drift and the time it takes
-  // from the process (counted by the wall clock only) enter the ratio. Each pair is timed back to back in the order
-  // 1, all, all, 1; the median of the pairs' ratios is reported with their range.
+  // The speed-up of all threads over one, both on the wall clock: the table's speed-up divides a one-thread CPU
+  // time by a wall time measured seconds later, so the host's drift and the time it takes from the process (counted
+  // by the wall clock only) enter the ratio.
   auto pairedSpeedup = [&](const std::vector<std::pair<EnergyTerm*, int>>& terms, const EvalOptions& opt) {
     wallClock = true;
     auto at = [&](int threads) {
       omp_set_num_threads(threads);
       return measure(terms, opt, true, true);
     };
-    at(1);  // warm-up
-    at(maxThreads);
-    std::vector<double> ratios;
-    for (int r = 0; r < std::max(o.repeats, 5); ++r) {
-      const double one1 = at(1), many1 = at(maxThreads);
-      const double many2 = at(maxThreads), one2 = at(1);
-      ratios.push_back((one1 + one2) / (many1 + many2));
-    }
-    std::sort(ratios.begin(), ratios.end());
+    const PairedRatio p = interleaved([&] { return at(1); }, [&] { return at(maxThreads); });
     wallClock = false;
     omp_set_num_threads(maxThreads);
-    return PairedRatio{ratios[ratios.size() / 2], ratios.front(), ratios.back(), static_cast<int>(ratios.size())};
+    return p;
   };
 
   struct Case {
