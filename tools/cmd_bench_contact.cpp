@@ -15,6 +15,9 @@
 // `--trace` prints them, the Newton and CG iterations and how the solve ended for every step, and then each
 // Newton iteration of the step: the residual it started from, its accepted step length α, its CG iterations and
 // the largest vertex move of its step (how far Newton still moved some vertex when the step ended).
+// `--reference-iterations N` first runs the scene with up to N Newton iterations a step (untimed as a reference,
+// though its own figures are printed), keeps its positions every few steps, and gives each timed run's distance
+// from them: the error a run's iteration budget costs, beside its steps per second.
 // Wall time: run it on a quiet machine and quote `uptime`'s load beside the figures.
 #include "solvers/dynamics.h"
 #include "solvers/fill_ordering.h"
@@ -35,12 +38,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <limits>
 #include <memory>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace jetshell::cli {
 namespace {
@@ -57,13 +63,47 @@ struct ContactBenchOptions {
   std::string fallbackBending = "exact";  // NewtonOptions::fallbackBendingHessian
   std::string ordering = "auto";          // LinearSolverOptions::ordering
   std::string oneRingParts = "auto";      // LinearSolverOptions::oneRingParts
+  int referenceIterations = 0;            // > 0: a reference run with up to this many Newton iterations a step
   std::string json;
 };
 
 struct Variant {
   bool growOnly = false;  // the Hessian pattern grow-only, or exact (rebuilt to the current contacts)
   bool direct = false;    // CHOLMOD on the whole Hessian with every block projected, or the scene's solver
+  int maxIterations = 0;  // > 0: Newton iterations a step instead of the scene's (the reference run)
 };
+
+/// The positions of a reference run at every `stride`-th step and at the last (1-based step numbers), and where it
+/// started; the timed runs are compared with it at those steps.
+struct Trajectory {
+  int stride = 1;
+  Eigen::VectorXd start;
+  std::vector<int> steps;
+  std::vector<Eigen::VectorXd> positions;
+};
+
+/// Every how many steps a reference run keeps its positions: about a hundred snapshots, and at most 5e7 doubles
+/// in all (400 MB), whatever the scene's size.
+int trajectoryStride(int steps, Eigen::Index dofs) {
+  const double cap = 5e7;
+  const double byMemory = std::ceil(static_cast<double>(steps) * static_cast<double>(dofs) / cap);
+  return std::max({1, steps / 100, static_cast<int>(byMemory)});
+}
+
+/// Whether step `step` (1-based) of a run of `steps` is one a reference keeps.
+bool keptStep(int step, int steps, int stride) { return step % stride == 0 || step == steps; }
+
+/// RMS and largest vertex distance between two position vectors (3 per vertex), in m.
+std::pair<double, double> vertexDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  const Eigen::Index n = a.size() / 3;
+  double sum = 0.0, largest = 0.0;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const double d = (a.segment<3>(3 * v) - b.segment<3>(3 * v)).norm();
+    sum += d * d;
+    largest = std::max(largest, d);
+  }
+  return {n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0, largest};
+}
 
 /// The scene's system with its evaluator and boundary-edge rules, as `jetshell run` applies them, and the Hessian
 /// pattern of the variant.
@@ -76,8 +116,10 @@ std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem&
 }
 
 /// One run of the scene in one variant.
+/// `record`: keep the run's positions as a reference trajectory; `reference`: compare the run with one (both
+/// untimed).
 nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const ContactBenchOptions& o, Variant v,
-                       bool& failedRun) {
+                       bool& failedRun, Trajectory* record = nullptr, const Trajectory* reference = nullptr) {
   const bool growOnly = v.growOnly;
   const ShellProblem problem = shellProblemFromScene(scene, model);
   const std::unique_ptr<ShellSystem> runSystem = sceneSystem(scene, problem, growOnly);
@@ -90,18 +132,32 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     d.newton.adaptiveLinearTolerance = false;
     d.newton.exactHessianFirst = false;
   }
+  if (v.maxIterations > 0) d.newton.maxIterations = v.maxIterations;
   if (o.noOverlap) d.newton.overlapPreconditioner = false;
   d.newton.fallbackBendingHessian = hessianModelFromString(o.fallbackBending);
   d.newton.linear.ordering = fillOrderingFromString(o.ordering);
   d.newton.linear.oneRingParts = oneRingPartsFromString(o.oneRingParts);
   DynamicsSolver solver(system, d);
-  std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
-              v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
+  if (v.maxIterations > 0)
+    std::printf("-- reference: up to %d Newton iterations a step (the timed runs are compared with it) --\n",
+                v.maxIterations);
+  else
+    std::printf("-- %s pattern, %s --\n", growOnly ? "grow-only" : "exact",
+                v.direct ? "direct solver (CHOLMOD, every block projected)" : "the scene's solver");
+  if (record != nullptr) {
+    record->stride = trajectoryStride(o.steps, solver.positions().size());
+    record->start = solver.positions();
+  }
+  // Against the reference, at its kept steps: the RMS and largest vertex distance at the last step compared, and
+  // the largest RMS over the run.
+  double lastRms = 0.0, lastLargest = 0.0, worstRms = 0.0, referenceMoved = 0.0;
+  int lastCompared = 0, worstStep = 0;
+  std::size_t nextReference = 0;
   // --newton-error: a second solver on its own system takes each step again from the same state, tightly, on from
   // the run's accepted iterate (checkStepError). The run is the plain run, but its time is not the benchmark's:
   // the whole steps' checks are timed apart from it, the parts' checks run inside their step (the substep observer).
   std::unique_ptr<NewtonErrorWatch> watch;
-  if (o.newtonError) {
+  if (o.newtonError && v.maxIterations == 0) {
     watch = std::make_unique<NewtonErrorWatch>(solver, sceneSystem(scene, problem, growOnly));
     std::printf("--newton-error: the parts' checks run inside their steps; the time is not the benchmark's\n");
   }
@@ -140,6 +196,22 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
     const double guardCpuStart = processCpuSeconds();
     guards(solver.positions());
     if (watch) watch->afterStep(r);
+    if (record != nullptr && keptStep(s + 1, o.steps, record->stride)) {
+      record->steps.push_back(s + 1);
+      record->positions.push_back(solver.positions());
+    }
+    if (reference != nullptr && nextReference < reference->steps.size() && reference->steps[nextReference] == s + 1) {
+      const std::pair<double, double> gap = vertexDistance(solver.positions(), reference->positions[nextReference]);
+      lastRms = gap.first;
+      lastLargest = gap.second;
+      lastCompared = s + 1;
+      referenceMoved = vertexDistance(reference->positions[nextReference], reference->start).first;
+      if (gap.first >= worstRms) {
+        worstRms = gap.first;
+        worstStep = s + 1;
+      }
+      ++nextReference;
+    }
     guardWall += std::chrono::duration<double>(std::chrono::steady_clock::now() - guardStart).count();
     guardCpu += processCpuSeconds() - guardCpuStart;
     if (o.trace) {
@@ -223,6 +295,10 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               "%.3f x 2r), kinetic energy at the end %.3g J, largest energy gain over the start %.3g J\n",
               1e3 * deepest, 1e3 * lastDeepest, closest, lastClosest, solver.kineticEnergy(), mostGained);
   if (watch) watch->tally().print("");
+  if (reference != nullptr && lastCompared > 0)
+    std::printf("against the reference: at step %d the positions are %.2f mm RMS and at most %.1f mm from it (it "
+                "moved %.1f mm RMS from the start); the largest RMS over the steps compared %.2f mm, at step %d\n",
+                lastCompared, 1e3 * lastRms, 1e3 * lastLargest, 1e3 * referenceMoved, 1e3 * worstRms, worstStep);
   failedRun = failed > 0;
   nlohmann::json figures = {{"pattern", growOnly ? "grow" : "exact"},
           {"solver", v.direct ? "direct" : "scene"},
@@ -262,6 +338,14 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                        {"linear_solve", linear},
                        {"rest", rest}}}};
   if (watch) figures["newton_error"] = watch->tally().toJson();
+  if (v.maxIterations > 0) figures["max_iterations"] = v.maxIterations;
+  if (reference != nullptr && lastCompared > 0)
+    figures["against_reference"] = {{"step", lastCompared},
+                                    {"rms_m", lastRms},
+                                    {"largest_m", lastLargest},
+                                    {"reference_moved_rms_m", referenceMoved},
+                                    {"largest_rms_m", worstRms},
+                                    {"largest_rms_step", worstStep}};
   return figures;
 }
 
@@ -285,12 +369,21 @@ int runContactBench(const ContactBenchOptions& o) {
   }
   nlohmann::json runs = nlohmann::json::array();
   bool failed = false;
+  std::unique_ptr<Trajectory> reference;
+  nlohmann::json referenceRun;
+  if (o.referenceIterations > 0) {
+    reference = std::make_unique<Trajectory>();
+    Variant r;
+    r.maxIterations = o.referenceIterations;
+    referenceRun = runOnce(scene, model, o, r, failed, reference.get());
+  }
   for (const Variant& v : variants) {
     bool f = false;
-    runs.push_back(runOnce(scene, model, o, v, f));
+    runs.push_back(runOnce(scene, model, o, v, f, nullptr, reference.get()));
     failed = failed || f;
   }
   nlohmann::json out = runs.back();
+  if (reference) out["reference_run"] = referenceRun;
   out["scene"] = o.scene;
   out["vertices"] = model.numVertices();
   out["threads"] = omp_get_max_threads();
@@ -348,6 +441,10 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
   cmd->add_flag("--newton-error", opts->newtonError,
                 "Solve every step (or part of a step) an iterate test passed again from the same state, on from its "
                 "iterate, to eta 1e-6, and report the error left against the test's threshold");
+  cmd->add_option("--reference-iterations", opts->referenceIterations,
+                  "First run the scene with up to N Newton iterations a step, and give each timed run's distance from "
+                  "its positions (every few steps and at the last)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });
