@@ -24,6 +24,7 @@
 #include "solvers/shell_system.h"
 #include "tools/bench_cloth.h"
 #include "tools/bench_newton_error.h"
+#include "tools/bench_trajectory.h"
 #include "tools/output/atomic_file.h"
 #include "tools/scene/run_scene.h"
 #include "tools/scene/scene_edge_rules.h"
@@ -45,7 +46,6 @@
 #include <memory>
 #include <set>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace jetshell::cli {
@@ -75,7 +75,7 @@ struct Variant {
 
 /// The positions of a reference run at every `stride`-th step and at the last (1-based step numbers), and where it
 /// started; the timed runs are compared with it at those steps.
-struct Trajectory {
+struct ReferenceRun {
   int stride = 1;
   Eigen::VectorXd start;
   std::vector<int> steps;
@@ -93,18 +93,6 @@ int trajectoryStride(int steps, Eigen::Index dofs) {
 /// Whether step `step` (1-based) of a run of `steps` is one a reference keeps.
 bool keptStep(int step, int steps, int stride) { return step % stride == 0 || step == steps; }
 
-/// RMS and largest vertex distance between two position vectors (3 per vertex), in m.
-std::pair<double, double> vertexDistance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  const Eigen::Index n = a.size() / 3;
-  double sum = 0.0, largest = 0.0;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    const double d = (a.segment<3>(3 * v) - b.segment<3>(3 * v)).norm();
-    sum += d * d;
-    largest = std::max(largest, d);
-  }
-  return {n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0, largest};
-}
-
 /// The scene's system with its evaluator and boundary-edge rules, as `jetshell run` applies them, and the Hessian
 /// pattern of the variant.
 std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem& problem, bool growOnly) {
@@ -119,7 +107,7 @@ std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem&
 /// `record`: keep the run's positions as a reference trajectory; `reference`: compare the run with one (both
 /// untimed).
 nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const ContactBenchOptions& o, Variant v,
-                       bool& failedRun, Trajectory* record = nullptr, const Trajectory* reference = nullptr) {
+                       bool& failedRun, ReferenceRun* record = nullptr, const ReferenceRun* reference = nullptr) {
   const bool growOnly = v.growOnly;
   const ShellProblem problem = shellProblemFromScene(scene, model);
   const std::unique_ptr<ShellSystem> runSystem = sceneSystem(scene, problem, growOnly);
@@ -201,13 +189,13 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
       record->positions.push_back(solver.positions());
     }
     if (reference != nullptr && nextReference < reference->steps.size() && reference->steps[nextReference] == s + 1) {
-      const std::pair<double, double> gap = vertexDistance(solver.positions(), reference->positions[nextReference]);
-      lastRms = gap.first;
-      lastLargest = gap.second;
+      const VertexDistance gap = vertexDistance(solver.positions(), reference->positions[nextReference]);
+      lastRms = gap.rms;
+      lastLargest = gap.largest;
       lastCompared = s + 1;
-      referenceMoved = vertexDistance(reference->positions[nextReference], reference->start).first;
-      if (gap.first >= worstRms) {
-        worstRms = gap.first;
+      referenceMoved = vertexDistance(reference->positions[nextReference], reference->start).rms;
+      if (gap.rms >= worstRms) {
+        worstRms = gap.rms;
         worstStep = s + 1;
       }
       ++nextReference;
@@ -369,10 +357,10 @@ int runContactBench(const ContactBenchOptions& o) {
   }
   nlohmann::json runs = nlohmann::json::array();
   bool failed = false;
-  std::unique_ptr<Trajectory> reference;
+  std::unique_ptr<ReferenceRun> reference;
   nlohmann::json referenceRun;
   if (o.referenceIterations > 0) {
-    reference = std::make_unique<Trajectory>();
+    reference = std::make_unique<ReferenceRun>();
     Variant r;
     r.maxIterations = o.referenceIterations;
     referenceRun = runOnce(scene, model, o, r, failed, reference.get());

@@ -15,6 +15,7 @@
 #include "solvers/time_step_policy.h"
 #include "tools/bench_cloth.h"
 #include "tools/bench_newton_error.h"
+#include "tools/bench_trajectory.h"
 #include "tools/output/atomic_file.h"
 #include "tools/render/plot.h"
 #include "tools/scene/json_reader.h"
@@ -171,8 +172,8 @@ void measureErrors(RunFigures& f, const Trajectory& reference) {
   double sum = 0.0;
   double last = 0.0;
   for (std::size_t i = 0; i < k; ++i) {
-    const Eigen::VectorXd diff = f.trajectory.samples[i] - reference.samples[i];
-    last = diff.squaredNorm() / static_cast<double>(diff.size() / 3);
+    const double rms = vertexDistance(f.trajectory.samples[i], reference.samples[i]).rms;
+    last = rms * rms;
     sum += last;
   }
   f.rmsError = std::sqrt(sum / static_cast<double>(k));
