@@ -67,7 +67,8 @@ TEST_CASE("tshirt: falls on the plane, stays above it and out of itself, and com
   // No vertex below the plane by more than half the activation distance (2.5 mm: with the example's cloth-scale
   // stiffness, 1e6 Pa/m, a landing at 2 m/s presses about 7 mm into the 5 mm band; measured 2.09 mm below the
   // plane at the example's 2 Newton iterations a step, 2.14 mm at 4, where a step that moved on at the iteration
-  // cap went 3.47 mm below it before such steps solved on, DynamicsOptions::contactGuardSolves); no two interacting samples closer than half their contact distance 2r;
+  // cap went 3.47 mm below it before such steps solved on, DynamicsOptions::contactGuardSolves); no two
+  // interacting samples closer than half their contact distance 2r;
   // the kinetic energy decays to below 1% of its peak; potential + kinetic energy never rises above its start (the
   // run dissipates; a step that moves on at the iteration cap far from its solution would show a gain: measured
   // −0.024 J of 5.56 J at most, while a full-size shirt with a Gauss–Newton fallback gained up to 330 J,

@@ -18,24 +18,25 @@ if [ -z "$cap" ]; then
   exit 1
 fi
 
-# run N JSON: the bench on 16 steps with a reference of up to N iterations a step; prints the line of its distance.
+# run N NAME: the bench on 16 steps with a reference of up to N iterations a step, into NAME.json and NAME.log.
 run() {
   if ! "$js" bench contact --scene "$dir/tshirt.json" --steps 16 --threads 1 --reference-iterations "$1" \
-    --json "$dir/$2" >"$dir/$2.log" 2>&1; then
+    --json "$dir/$2.json" >"$dir/$2.log" 2>&1; then
     echo "FAIL: bench contact --reference-iterations $1 exited non-zero:"
     tail -n 20 "$dir/$2.log"
     failures=$((failures + 1))
   fi
-  grep "against the reference" "$dir/$2.log"
 }
 
-same="$(run "$cap" same.json)"
+run "$cap" same
+same="$(grep "against the reference" "$dir/same.log")"
 if [[ "$same" != *"at step 16 the positions are 0.00 mm RMS and at most 0.0 mm from it"* ]] ||
   ! grep -q '"rms_m": 0.0,' "$dir/same.json"; then
   echo "FAIL: a reference with the scene's own cap ($cap) is not the run itself: $same"
   failures=$((failures + 1))
 fi
-more="$(run 30 more.json)"
+run 30 more
+more="$(grep "against the reference" "$dir/more.log")"
 if [[ "$more" != *"at step 16 the positions are"* ]] || grep -q '"rms_m": 0.0,' "$dir/more.json" ||
   ! grep -q '"rms_m": ' "$dir/more.json"; then
   echo "FAIL: a reference of 30 iterations a step is no distance from a run capped at $cap: $more"
