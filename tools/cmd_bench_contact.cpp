@@ -193,7 +193,6 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
       lastRms = gap.rms;
       lastLargest = gap.largest;
       lastCompared = s + 1;
-      referenceMoved = vertexDistance(reference->positions[nextReference], reference->start).rms;
       if (gap.rms >= worstRms) {
         worstRms = gap.rms;
         worstStep = s + 1;
@@ -283,10 +282,14 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
               "%.3f x 2r), kinetic energy at the end %.3g J, largest energy gain over the start %.3g J\n",
               1e3 * deepest, 1e3 * lastDeepest, closest, lastClosest, solver.kineticEnergy(), mostGained);
   if (watch) watch->tally().print("");
-  if (reference != nullptr && lastCompared > 0)
+  // How far the reference itself moved by the last step compared (nextReference is one past it): the scale of
+  // the distances.
+  if (reference != nullptr && lastCompared > 0) {
+    referenceMoved = vertexDistance(reference->positions[nextReference - 1], reference->start).rms;
     std::printf("against the reference: at step %d the positions are %.2f mm RMS and at most %.1f mm from it (it "
                 "moved %.1f mm RMS from the start); the largest RMS over the steps compared %.2f mm, at step %d\n",
                 lastCompared, 1e3 * lastRms, 1e3 * lastLargest, 1e3 * referenceMoved, 1e3 * worstRms, worstStep);
+  }
   failedRun = failed > 0;
   nlohmann::json figures = {{"pattern", growOnly ? "grow" : "exact"},
           {"solver", v.direct ? "direct" : "scene"},
