@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <tuple>
 #include <vector>
 
@@ -55,6 +56,20 @@ class StageGraphEvaluator {
 
   explicit StageGraphEvaluator(Graph& graph) : graph_(graph) {}
 
+  /// The element's Hessian over its working slots, as an element projector receives it.
+  using WorkBlock = Eigen::Matrix<double, Dw, Dw>;
+  /// An optional projection that knows the structure of the term's element blocks (as the membrane's splits its
+  /// block into an in-plane and a normal part, energies/shell/membrane_projection.h): project(x, e, ids, block,
+  /// mode) receives element e's Hessian over its working slots (a translation-invariant graph: the corner over
+  /// the differences x_k − x_0, before the base's row and column follow from it, which keeps it positive
+  /// semi-definite exactly when the corner is) and returns true when it left that block positive
+  /// semi-definite under `mode` (projected, or proved so); false hands the element's whole block to the generic
+  /// projection (core/psd_projection.h). Called only when a projection is asked, from the element loop's
+  /// threads: it must not write shared state.
+  using ElementProjector =
+      std::function<bool(const Eigen::VectorXd& x, int e, const int* ids, WorkBlock& block, PsdProjection mode)>;
+  void setElementProjector(ElementProjector projector) { projector_ = std::move(projector); }
+
   /// The energy at x; gradient and Hessian as requested (see the file comment).
   double evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options,
                   const ElementSchedule& schedule, std::vector<double>& elementEnergy) {
@@ -80,9 +95,12 @@ class StageGraphEvaluator {
         if constexpr (Shape<I>::kShared) gatherAdjoints<I>(mode);
       });
     }
-    return runElementLoop<K>(graph_.elements(), schedule, x, request, options.projection, elementEnergy,
-                             [&](int e, const int*, bool g_, bool h_, Gradient& g, Hessian& H) {
-                               return element(x, e, mode, g_, h_, g, H);
+    // With an element projector the element projects its own block; the loop then projects nothing.
+    const PsdProjection own = projector_ && mode.full ? options.projection : PsdProjection::None;
+    return runElementLoop<K>(graph_.elements(), schedule, x, request,
+                             own == PsdProjection::None ? options.projection : PsdProjection::None, elementEnergy,
+                             [&](int e, const int* ids, bool g_, bool h_, Gradient& g, Hessian& H) {
+                               return element(x, e, ids, mode, own, g_, h_, g, H);
                              });
   }
 
@@ -761,24 +779,39 @@ class StageGraphEvaluator {
   }
 
   // ---- one element ----
-  JETSHELL_FLATTEN_SWEEP double element(const Eigen::VectorXd& x, int e, const Mode& mode, bool wantG, bool wantH,
-                                   Gradient& gradient, Hessian& hessian) {
+  /// `own`: the projection the element applies itself through the term's projector (None: the loop's, if any).
+  JETSHELL_FLATTEN_SWEEP double element(const Eigen::VectorXd& x, int e, const int* ids, const Mode& mode,
+                                        PsdProjection own, bool wantG, bool wantH, Gradient& gradient,
+                                        Hessian& hessian) {
     ElementState s;
     forwardLocals<kRoot>(x, e, mode, s);
     LocalNode<kRoot>& root = std::get<kRoot>(s.nodes);
     if (!wantH) return root.d.value[0];  // a gradient alone is gradientSweep's
     if (wantG) expandGradient(root.total, gradient);
+    bool projected = own == PsdProjection::None;
     if constexpr (kReduced) {
       // Only the corner accumulates; expandHessian writes the base's row and column whole.
       WorkHessian work = hessian.template bottomRightCorner<Dw, Dw>();
       work.setZero();
       addCurvatures(x, e, mode, s, work);
+      if (!projected) projected = projectOwn(x, e, ids, own, work);
       expandHessian(mode.full, hessian);
     } else {
       hessian.setZero();
       addCurvatures(x, e, mode, s, hessian);
+      if (!projected) projected = projectOwn(x, e, ids, own, hessian);
     }
+    if (!projected) projectPsd<D>(hessian, own);
     return root.d.value[0];
+  }
+
+  /// The term's projector on the element's working block (whole: a projection makes every block).
+  template <typename Block>
+  bool projectOwn(const Eigen::VectorXd& x, int e, const int* ids, PsdProjection own, Block& work) const {
+    WorkBlock block = work;
+    const bool done = projector_(x, e, ids, block, own);
+    work = block;
+    return done;
   }
 
   /// The element's curvature terms into `work` (its Hessian over the working slots).
@@ -966,6 +999,7 @@ class StageGraphEvaluator {
   }
 
   Graph& graph_;
+  ElementProjector projector_;  // optional (setElementProjector)
   typename Tuples<Seq>::Shared shared_;
   typename Tuples<Seq>::Sent sent_;  // per Local layer: per element, Jᵀw over its N inputs (contracted mode)
 };

@@ -24,6 +24,11 @@ class StageGraphTerm : public FixedStencilTerm {
     if (!graph_->finalized()) throw std::logic_error(name_ + ": the stage graph is not finalized");
   }
 
+  /// A projection that knows the term's element blocks (StageGraphEvaluator::setElementProjector).
+  void setElementProjector(typename StageGraphEvaluator<Graph>::ElementProjector projector) {
+    evaluator_.setElementProjector(std::move(projector));
+  }
+
   Graph& graph() { return *graph_; }
   const Graph& graph() const { return *graph_; }
 

@@ -31,6 +31,14 @@ void MembraneTerm::setStaged(bool staged) {
   }
   graph_->finalize();
   graphEvaluator_ = std::make_unique<StageGraphEvaluator<Graph>>(*graph_);
+  // The graph's elements are translation invariant, so a block reaches the projector over (e0, e1): the split
+  // into in-plane and normal parts applies as in the hand-chained element.
+  graphEvaluator_->setElementProjector([](const Eigen::VectorXd& x, int, const int* ids, Eigen::Matrix<double, 6, 6>& He,
+                                          PsdProjection mode) {
+    const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]);
+    return projectMembraneEdgeBlock(He, x.segment<3>(3 * ids[1]) - x0, x.segment<3>(3 * ids[2]) - x0, mode) !=
+           MembraneProjection::Degenerate;
+  });
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <type_traits>
 #include <vector>
@@ -194,6 +195,45 @@ TEST_CASE("stage graph: a graph of differences only gives the same derivatives i
       CHECK(sums.norm() <= 1e-13 * r.graph.norm());
       if (model == HessianModel::Exact) CHECK((r.graph - r.reference).norm() <= 1e-13 * r.reference.norm());
     }
+}
+
+TEST_CASE("stage graph: an element projector projects the blocks it takes, the generic projection the rest", "[stages]") {
+  Case c;
+  StageGraphTerm<DifferenceGraph> graph("graph", buildGraph<DifferenceGraph>(c.mesh, c.topo, c.l));
+  using Evaluator = StageGraphEvaluator<DifferenceGraph>;
+  const int elements = c.l.table.size();
+  EvalOptions opt;
+  opt.projection = PsdProjection::Clamp;
+  Eigen::VectorXd gGeneric, g;
+  double eGeneric, e;
+  const Eigen::MatrixXd generic = denseHessian(graph, c.x, opt, gGeneric, eGeneric);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> unprojected(denseHessian(graph, c.x, EvalOptions{}, g, e));
+  REQUIRE(unprojected.eigenvalues().minCoeff() < -1e-6 * unprojected.eigenvalues().maxCoeff());  // something to project
+
+  // Declining every block: each goes to the generic projection, and the result is the same to the bit.
+  std::atomic<int> calls{0};
+  graph.setElementProjector([&](const Eigen::VectorXd&, int, const int*, Evaluator::WorkBlock&, PsdProjection mode) {
+    CHECK(mode == PsdProjection::Clamp);
+    ++calls;
+    return false;
+  });
+  CHECK(denseHessian(graph, c.x, opt, g, e) == generic);
+  CHECK(calls == elements);
+  // Without a projection asked, the projector is never called.
+  calls = 0;
+  denseHessian(graph, c.x, EvalOptions{}, g, e);
+  CHECK(calls == 0);
+
+  // Taking every block: the generic projection stays out, and the base's row and column follow the block it
+  // leaves (here zero: the whole Hessian is zero, the gradient and energy unchanged).
+  graph.setElementProjector([&](const Eigen::VectorXd&, int, const int* ids, Evaluator::WorkBlock& block, PsdProjection) {
+    CHECK(ids[0] >= 0);
+    block.setZero();
+    return true;
+  });
+  CHECK(denseHessian(graph, c.x, opt, g, e).norm() == 0.0);
+  CHECK(g == gGeneric);
+  CHECK(e == eGeneric);
 }
 
 TEST_CASE("stage graph: Gauss-Newton keeps the energy stage's curvature only", "[stages]") {

@@ -241,3 +241,36 @@ TEST_CASE("shell terms: the stage framework gives the hand-chained energies, gra
     }
   }
 }
+
+TEST_CASE("membrane: the stage framework projects its blocks as the hand-chained element does") {
+  // The staged membrane hands its blocks to the membrane's own projection (in-plane and normal parts,
+  // energies/shell/membrane_projection.h) through the evaluator's element projector.
+  TriMesh mesh = makeRectangleGrid(1.0, 0.8, 4, 3);
+  const Topology topo = buildTopology(mesh);
+  const ShellReference ref = computeReference(mesh, topo);
+  Eigen::VectorXd x = 0.7 * flatten(mesh.V);  // compressed: the exact blocks are indefinite
+  srand(5);
+  x += 0.05 * Eigen::VectorXd::Random(x.size());
+  MembraneTerm hand(mesh, ref, 3.0, 4.0), staged(mesh, ref, 3.0, 4.0);
+  staged.setStaged(true);
+  Eigen::VectorXd g;
+  double e;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> unprojected(denseHessian(hand, x, EvalOptions{}, g, e));
+  REQUIRE(unprojected.eigenvalues().minCoeff() < -1e-6 * unprojected.eigenvalues().maxCoeff());
+  for (const PsdProjection projection : {PsdProjection::Clamp, PsdProjection::Abs}) {
+    for (const DerivativePath path : {DerivativePath::AutoDiff, DerivativePath::Analytic}) {
+      INFO(toString(projection) << (path == DerivativePath::Analytic ? " analytic" : " AD"));
+      EvalOptions opt;
+      opt.projection = projection;
+      opt.path = path;
+      Eigen::VectorXd gHand, gStaged;
+      double eHand, eStaged;
+      const Eigen::MatrixXd HHand = denseHessian(hand, x, opt, gHand, eHand);
+      const Eigen::MatrixXd HStaged = denseHessian(staged, x, opt, gStaged, eStaged);
+      CHECK((HStaged - HHand).norm() <= 1e-12 * HHand.norm());
+      CHECK((gStaged - gHand).norm() <= 1e-12 * gHand.norm());
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> projected(HStaged);
+      CHECK(projected.eigenvalues().minCoeff() >= -1e-12 * projected.eigenvalues().maxCoeff());
+    }
+  }
+}
