@@ -4,7 +4,8 @@
 // Input:  positions x (3N), the request (gradient and Hessian sinks), the options (derivative path, projection,
 //         Gauss–Newton), the term's element schedule (core/assembly.h).
 // Output: the energy; the gradient added into *request.gradient; element blocks into *request.hessian through
-//         the coloured element loop (core/element_loop.h), projected there when the options ask.
+//         the coloured element loop (core/element_loop.h), projected there when the options ask (or by the
+//         term's own element projector, setElementProjector).
 // Which sweep runs for which request is described at the top of core/stage_graph.h. A gradient without a
 // Hessian comes from a reverse sweep over each element's nodes (adjoints through the local Jacobians, no total
 // Jacobians formed); with a Hessian, from the root's total Jacobian. An element's curvature goes in 3×3 blocks
