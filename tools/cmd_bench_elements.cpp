@@ -158,7 +158,7 @@ int runBench(const BenchOptions& o) {
   // Hessian unprojected, so its summary then names no target.
   const PsdProjection projection = psdProjectionFromString(o.projection);
   const bool projected = projection != PsdProjection::None;
-  const char* targetMet = projected ? "" : "; target <= 1.2";
+  const char* ratioTarget = projected ? "" : "; target <= 1.2";
   if (projected) std::printf("every element Hessian projected (%s); the figures are not the issue's targets\n", toString(projection));
 
   Eigen::VectorXd g(x.size());
@@ -307,9 +307,9 @@ int runBench(const BenchOptions& o) {
   }
   PairedRatio handRatio, stagedRatio;
   const bool bothPaths = o.path.empty() && (o.threads <= 1);
-  auto printPaired = [targetMet](const char* what, const PairedRatio& p) {
+  auto printPaired = [ratioTarget](const char* what, const PairedRatio& p) {
     std::printf("  %s, 1 thread: %.2f (median of %d interleaved pairs, range %.2f-%.2f%s)\n", what, p.median, p.pairs,
-                p.low, p.high, targetMet);
+                p.low, p.high, ratioTarget);
   };
   auto termsOf = [&](const std::string& name) {
     for (const Case& c : cases)
@@ -376,14 +376,15 @@ int runBench(const BenchOptions& o) {
       if (r.what != "hessian") continue;
       if (r.term.rfind("membrane", 0) != 0 && r.hessian != "exact") continue;
       out.push_back({{"term", r.term}, {"path", r.path}, {"threads", r.threads}, {"ns_per_face", r.nsPerFace},
-                     {"measures", "value+gradient+hessian"}, {"bending_hessian", r.hessian}});
+                     {"measures", "value+gradient+hessian"}, {"bending_hessian", r.hessian},
+                     {"projection", toString(projection)}});
     }
     for (const Row& r : rows) {
       if (r.what == "hessian" && r.term.rfind("membrane", 0) != 0 && r.hessian == "exact") continue;
       out.push_back({{"term", r.term}, {"path", r.path}, {"threads", r.threads}, {"ns_per_face", r.nsPerFace},
                      {"measures", r.what == "value" ? "value" : r.what == "gradient" ? "value+gradient"
                                                                                    : "value+gradient+hessian"},
-                     {"bending_hessian", r.hessian}, {"variant", true}});
+                     {"bending_hessian", r.hessian}, {"projection", toString(projection)}, {"variant", true}});
     }
     out.push_back({{"peak_rss_mb", peakRssMb()}, {"faces", mesh.numFaces()}, {"projection", toString(projection)}});
     for (const auto& [name, p] : {std::pair<const char*, PairedRatio>{"shell", handRatio}, {"shell_staged", stagedRatio}})

@@ -244,7 +244,9 @@ TEST_CASE("shell terms: the stage framework gives the hand-chained energies, gra
 
 TEST_CASE("membrane: the stage framework projects its blocks as the hand-chained element does") {
   // The staged membrane hands its blocks to the membrane's own projection (in-plane and normal parts,
-  // energies/shell/membrane_projection.h) through the evaluator's element projector.
+  // energies/shell/membrane_projection.h) through the evaluator's element projector. Both projections give the
+  // same matrix, so this checks the wiring (the block, its edges, the mode), not which projection ran: the hook's
+  // own test (tests/core/stage_graph_test.cpp) checks that.
   TriMesh mesh = makeRectangleGrid(1.0, 0.8, 4, 3);
   const Topology topo = buildTopology(mesh);
   const ShellReference ref = computeReference(mesh, topo);
