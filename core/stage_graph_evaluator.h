@@ -213,7 +213,7 @@ class StageGraphEvaluator {
   /// The stage input z of node `entity` of layer I: leaves from x, From groups from their nodes' values (a
   /// Local input from the element's state).
   template <int I>
-  void gather(const Eigen::VectorXd& x, int entity, const ElementState* s, double* z) {
+  JETSHELL_INLINE void gather(const Eigen::VectorXd& x, int entity, const ElementState* s, double* z) {
     const InputRef* in = inputs<I>(entity);
     forEachGroup<I>([&](auto group) {
       constexpr int g = decltype(group)::value;
@@ -245,7 +245,7 @@ class StageGraphEvaluator {
   /// slots; a From group's is its node's T, the node's support slots mapped by `slot`.
   /// A Local layer's T is over the element's working slots (workSlot); a Shared layer's over its own support.
   template <int I, typename Jac, typename Total>
-  void addTotals(const Jac& J, const InputRef* in, const std::int8_t* slot, const ElementState* s, Total& T) {
+  JETSHELL_INLINE void addTotals(const Jac& J, const InputRef* in, const std::int8_t* slot, const ElementState* s, Total& T) {
     constexpr bool reduce = kReduced && !Shape<I>::kShared;
     T.setZero();
     forEachGroup<I>([&](auto group) {
@@ -344,7 +344,7 @@ class StageGraphEvaluator {
   /// triangle's, M going to (c, r) transposed when r > c. `mirror`: the block stands for its transpose at
   /// (c, r) too (added as Mᵀ there).
   template <bool Full>
-  static void addBlock(int r, int c, const Eigen::Matrix3d& M, bool mirror, WorkHessian& H) {
+  JETSHELL_INLINE static void addBlock(int r, int c, const Eigen::Matrix3d& M, bool mirror, WorkHessian& H) {
     if constexpr (Full) {
       H.template block<3, 3>(3 * r, 3 * c) += M;
       if (mirror) H.template block<3, 3>(3 * c, 3 * r) += M.transpose();
@@ -394,7 +394,7 @@ class StageGraphEvaluator {
   /// Y = C_ab Z_b over b's support slots: a leaf's Z is ±I (its columns are ±C_ab); a From group's T scaled by
   /// rows when the block is diagonal.
   template <int I, int a, int b, typename Cab, typename Totals, typename Y>
-  static void curvatureColumns(const Cab& C, BlockKind kind, Totals&& total, Y& out) {
+  JETSHELL_INLINE static void curvatureColumns(const Cab& C, BlockKind kind, Totals&& total, Y& out) {
     using S = Shape<I>;
     if constexpr (S::Groups::layer[b] < 0) {
       if constexpr (S::Groups::isDifference[b]) {
@@ -420,7 +420,7 @@ class StageGraphEvaluator {
   /// with the later groups through its strip (addLeafStrip). `slot[g]` maps group g's support slots to the
   /// element's (−1: none); `total(group)` gives a From group's T.
   template <int I, bool Full, typename Totals>
-  static void addCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
+  JETSHELL_INLINE static void addCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
                            const std::array<Slots, Shape<I>::G>& slot, Totals&& total, WorkHessian& H) {
     using S = Shape<I>;
     const auto& kinds = blockKinds<I>();
@@ -493,7 +493,7 @@ class StageGraphEvaluator {
   /// per row and column block instead of once per pair and support slot (a bilinear stage such as the second
   /// fundamental form couples each edge vector with several normals).
   template <int I, int a, bool Full, typename Totals>
-  static void addLeafStrip(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
+  JETSHELL_INLINE static void addLeafStrip(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
                            const std::array<Slots, Shape<I>::G>& slot, Totals&& total, WorkHessian& H) {
     using S = Shape<I>;
     constexpr int na = S::Groups::size[a], oa = S::offset(a);
@@ -566,7 +566,7 @@ class StageGraphEvaluator {
   /// C = Σ_k w_k ∇²y_k from the node's Hessians (a stage with constant Hessians: from their nonzero entries);
   /// false when there is no curvature (an affine stage, a zero adjoint).
   template <int I>
-  static bool contract(const double* w, const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
+  JETSHELL_INLINE static bool contract(const double* w, const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
                        Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C) {
     using Stage = typename Shape<I>::Stage;
     bool any = false;
@@ -593,7 +593,7 @@ class StageGraphEvaluator {
   /// The element slots of every group of Local node I of element e; `reduced`: the working slots (workSlot; a
   /// Local group's are 0 … Kw−1).
   template <int I, bool reduced>
-  std::array<Slots, Shape<I>::G> localSlots(int e) const {
+  JETSHELL_INLINE std::array<Slots, Shape<I>::G> localSlots(int e) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(e);
     for (int g = 0; g < Shape<I>::G; ++g) {
@@ -609,7 +609,7 @@ class StageGraphEvaluator {
   /// The element slots of every group of Shared node `entity` of layer I, given the node's own slots in the
   /// element (`nodeSlot`, W entries); `reduced`: the working slots.
   template <int I, bool reduced>
-  std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot) const {
+  JETSHELL_INLINE std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(entity);
     for (int g = 0; g < Shape<I>::G; ++g) {
@@ -627,7 +627,7 @@ class StageGraphEvaluator {
   /// element slots (when g is given), Local inputs into their nodes, Shared inputs into the element's copies
   /// (when toShared; `index(g)` gives the input's place in the element's list).
   template <int I, typename Index>
-  void sendAdjoint(const Eigen::Matrix<double, Shape<I>::N, 1>& zbar, const std::array<Slots, Shape<I>::G>& slot,
+  JETSHELL_INLINE void sendAdjoint(const Eigen::Matrix<double, Shape<I>::N, 1>& zbar, const std::array<Slots, Shape<I>::G>& slot,
                    Index&& index, bool toShared, ElementState& s, Gradient* g) {
     using S = Shape<I>;
     forEachGroup<I>([&](auto group) {
@@ -657,7 +657,7 @@ class StageGraphEvaluator {
   /// path (weightedStageHessian, core/stage.h: a composed stage contracts inside the composition, a stage with a
   /// weighted-Hessian twin takes it on the analytic path). False when w is zero (no curvature).
   template <int I>
-  bool contractShared(const Eigen::VectorXd& x, int entity, const double* w, const Mode& mode,
+  JETSHELL_INLINE bool contractShared(const Eigen::VectorXd& x, int entity, const double* w, const Mode& mode,
                       Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C) {
     using S = Shape<I>;
     if (Eigen::Map<const Eigen::Matrix<double, S::M, 1>>(w).isZero(0.0)) return false;
@@ -671,7 +671,7 @@ class StageGraphEvaluator {
   /// C = Σ_k w_k ∇²y_k given (contracted: by the owner, from the total adjoint), or formed from the adjoint w and the stage
   /// Hessians h (per element: those kept by the forward sweep; null for a stage with constant ones).
   template <int I>
-  void addSharedCurvature(int entity, const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>* given, const double* w,
+  JETSHELL_INLINE void addSharedCurvature(int entity, const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>* given, const double* w,
                           const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
                           const std::int8_t* nodeSlot, const Mode& mode, WorkHessian& H) {
     using S = Shape<I>;
