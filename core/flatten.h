@@ -29,8 +29,8 @@
 #endif
 // JETSHELL_INLINE: a helper of the stage graph's sweeps (a 3×3 block add, a node's slots, a node's curvature)
 // inlined into each sweep that calls it. Left to the unit-wide inlining budget, g++ kept several of them as calls
-// (one per block or per node); inlined, the staged bending term's exact Hessian costs 5–10% less at no cost in
-// compile time (BENCHMARKS.md, Elements, "Session 77"). The sanitizer build leaves them to the compiler.
+// (one per block or per node); inlined, the staged shell's exact Hessian costs about 5% less at 80,000 faces, at no
+// cost in compile time (BENCHMARKS.md, Elements, "Session 77"). The sanitizer build leaves them to the compiler.
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(JETSHELL_NO_FLATTEN)
 #define JETSHELL_INLINE __attribute__((always_inline)) inline
 #else
