@@ -158,7 +158,8 @@ int runBench(const BenchOptions& o) {
   // Hessian unprojected, so its summary then names no target.
   const PsdProjection projection = psdProjectionFromString(o.projection);
   const bool projected = projection != PsdProjection::None;
-  const char* ratioTarget = projected ? "" : "; target <= 1.2";
+  // A target named in the summary, or nothing for a projected run.
+  const auto target = [projected](const char* text) { return projected ? "" : text; };
   if (projected) std::printf("every element Hessian projected (%s); the figures are not the issue's targets\n", toString(projection));
 
   Eigen::VectorXd g(x.size());
@@ -295,10 +296,10 @@ int runBench(const BenchOptions& o) {
   // as nan.
   if (std::isfinite(an1))
     std::printf("  hand-chained analytic, 1 thread: %.0f ns/face%s\n", an1,
-                projected ? "" : " (target <= 1000 on the stage framework)");
+                target(" (target <= 1000 on the stage framework)"));
   const double stagedAn1 = find("shell_staged", "analytic", "exact", 1);
   if (std::isfinite(stagedAn1))
-    std::printf("  stage framework analytic, 1 thread: %.0f ns/face%s\n", stagedAn1, projected ? "" : " (target <= 1000)");
+    std::printf("  stage framework analytic, 1 thread: %.0f ns/face%s\n", stagedAn1, target(" (target <= 1000)"));
   if (std::isfinite(an1) && std::isfinite(ad1))
     std::printf("  AD / analytic, 1 thread, ratio of the table's medians: %.2f\n", ad1 / an1);
   for (int t : threadCounts) {
@@ -307,9 +308,9 @@ int runBench(const BenchOptions& o) {
   }
   PairedRatio handRatio, stagedRatio;
   const bool bothPaths = o.path.empty() && (o.threads <= 1);
-  auto printPaired = [ratioTarget](const char* what, const PairedRatio& p) {
+  auto printPaired = [&target](const char* what, const PairedRatio& p) {
     std::printf("  %s, 1 thread: %.2f (median of %d interleaved pairs, range %.2f-%.2f%s)\n", what, p.median, p.pairs,
-                p.low, p.high, ratioTarget);
+                p.low, p.high, target("; target <= 1.2"));
   };
   auto termsOf = [&](const std::string& name) {
     for (const Case& c : cases)
@@ -346,7 +347,7 @@ int runBench(const BenchOptions& o) {
         speedups.push_back({term, pathName, p});
         std::printf("  speed-up %d threads vs 1 (%s, %s), wall clock, interleaved: %.2fx (median of %d pairs, range "
                     "%.2f-%.2f%s)\n", maxThreads, term, pathName, p.median, p.pairs, p.low, p.high,
-                    projected ? "" : "; target >= 1.8");
+                    target("; target >= 1.8"));
       }
   // Only when --term ran the bending term on its own (a ratio of absent rows would print nan).
   const double gnBending = find("bending", "analytic", "gauss_newton", 1), exactBending = find("bending", "analytic", "exact", 1);
