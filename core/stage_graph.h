@@ -100,6 +100,14 @@ struct GroupKind<From<L>> {
   static constexpr bool kDifference = false;
 };
 
+/// s[g] = Σ_{i<g} v[i], for g = 0 … n.
+template <std::size_t n>
+constexpr std::array<int, n + 1> prefixSums(const std::array<int, n>& v) {
+  std::array<int, n + 1> s{};
+  for (std::size_t i = 0; i < n; ++i) s[i + 1] = s[i] + v[i];
+  return s;
+}
+
 }  // namespace stage_graph_detail
 
 /// The compile-time shape of layer I of a graph of layers Ls... over K-vertex elements.
@@ -154,16 +162,12 @@ struct LayerShape {
     static constexpr std::array<bool, sizeof...(In)> fromShared{{fromSharedOf<In>()...}};
   };
   using Groups = Table<typename Layer::Inputs>;
-  static constexpr int offset(int g) {
-    int o = 0;
-    for (int i = 0; i < g; ++i) o += Groups::size[static_cast<std::size_t>(i)];
-    return o;
-  }
-  static constexpr int slotOffset(int g) {
-    int o = 0;
-    for (int i = 0; i < g; ++i) o += Groups::support[static_cast<std::size_t>(i)];
-    return o;
-  }
+  // Where each group starts in the stage's inputs and in a node's slot map: tables, so that a group index known
+  // only at run time (a reader's group) costs one lookup, not a loop.
+  static constexpr auto kOffsets = stage_graph_detail::prefixSums(Groups::size);
+  static constexpr auto kSlotOffsets = stage_graph_detail::prefixSums(Groups::support);
+  static constexpr int offset(int g) { return kOffsets[static_cast<std::size_t>(g)]; }
+  static constexpr int slotOffset(int g) { return kSlotOffsets[static_cast<std::size_t>(g)]; }
   static constexpr int kSlots = slotOffset(G);  // slot-map entries per node
   static_assert(offset(G) == N, "the layer's input groups must fill its stage's inputs");
   static constexpr bool readsLocal() {

@@ -534,11 +534,10 @@ class StageGraphEvaluator {
     }
   }
 
-  /// A constant-Hessian stage's entries in the blocks C_ab with a ≤ b, and those blocks.
+  /// A constant-Hessian stage's entries in the blocks C_ab with a ≤ b.
   template <int I>
   struct UpperEntries {
     std::vector<typename ConstantStageHessians<typename Shape<I>::Stage>::Entry> entries;
-    std::vector<std::pair<int, int>> blocks;
   };
   template <int I>
   static const UpperEntries<I>& upperEntries() {
@@ -556,7 +555,6 @@ class StageGraphEvaluator {
         const int a = groupOf(t.i), b = groupOf(t.j);
         if (a > b) continue;
         r.entries.push_back(t);
-        if (std::find(r.blocks.begin(), r.blocks.end(), std::make_pair(a, b)) == r.blocks.end()) r.blocks.emplace_back(a, b);
       }
       return r;
     }();
@@ -578,7 +576,16 @@ class StageGraphEvaluator {
       // Only the blocks addCurvature reads (a ≤ b, possibly nonzero) are formed.
       const UpperEntries<I>& u = upperEntries<I>();
       if (u.entries.empty()) return false;
-      for (const auto& [a, b] : u.blocks) C.block(Shape<I>::offset(a), Shape<I>::offset(b), Shape<I>::Groups::size[static_cast<std::size_t>(a)], Shape<I>::Groups::size[static_cast<std::size_t>(b)]).setZero();
+      const auto& kinds = blockKinds<I>();
+      forEachGroup<I>([&](auto groupA) {
+        constexpr int a = decltype(groupA)::value;
+        forEachGroup<I>([&](auto groupB) {
+          constexpr int b = decltype(groupB)::value;
+          if constexpr (a <= b)
+            if (kinds[static_cast<std::size_t>(a * Shape<I>::G + b)] != BlockKind::Zero)
+              C.template block<Shape<I>::Groups::size[a], Shape<I>::Groups::size[b]>(Shape<I>::offset(a), Shape<I>::offset(b)).setZero();
+        });
+      });
       for (const auto& t : u.entries) C(t.i, t.j) += w[t.k] * t.h;
       return true;
     } else {
@@ -596,14 +603,15 @@ class StageGraphEvaluator {
   JETSHELL_INLINE std::array<Slots, Shape<I>::G> localSlots(int e) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(e);
-    for (int g = 0; g < Shape<I>::G; ++g) {
-      const auto k = static_cast<std::size_t>(g);
-      const bool local = Shape<I>::Groups::layer[k] >= 0 && !Shape<I>::Groups::fromShared[k];
-      const int w = Shape<I>::Groups::support[k];
+    // Per group at compile time: its width and its place in the slot map are constants.
+    forEachGroup<I>([&](auto group) {
+      constexpr int g = decltype(group)::value;
+      constexpr bool local = Shape<I>::Groups::layer[g] >= 0 && !Shape<I>::Groups::fromShared[g];
+      constexpr int w = Shape<I>::Groups::support[g], offset = Shape<I>::slotOffset(g);
       for (int t = 0; t < w; ++t)
-        out[k][static_cast<std::size_t>(t)] =
-            static_cast<std::int8_t>(reduced && local ? (t < Kw ? t : -1) : workSlot(sl[Shape<I>::slotOffset(g) + t], reduced));
-    }
+        out[g][static_cast<std::size_t>(t)] =
+            static_cast<std::int8_t>(reduced && local ? (t < Kw ? t : -1) : workSlot(sl[offset + t], reduced));
+    });
     return out;
   }
   /// The element slots of every group of Shared node `entity` of layer I, given the node's own slots in the
@@ -612,14 +620,14 @@ class StageGraphEvaluator {
   JETSHELL_INLINE std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot) const {
     std::array<Slots, Shape<I>::G> out{};
     const std::int8_t* sl = slots<I>(entity);
-    for (int g = 0; g < Shape<I>::G; ++g) {
-      const int w = Shape<I>::Groups::support[static_cast<std::size_t>(g)];
+    forEachGroup<I>([&](auto group) {
+      constexpr int g = decltype(group)::value;
+      constexpr int w = Shape<I>::Groups::support[g], offset = Shape<I>::slotOffset(g);
       for (int t = 0; t < w; ++t) {
-        const int s = sl[Shape<I>::slotOffset(g) + t];
-        out[static_cast<std::size_t>(g)][static_cast<std::size_t>(t)] =
-            static_cast<std::int8_t>(s >= 0 ? workSlot(nodeSlot[s], reduced) : -1);
+        const int s = sl[offset + t];
+        out[g][static_cast<std::size_t>(t)] = static_cast<std::int8_t>(s >= 0 ? workSlot(nodeSlot[s], reduced) : -1);
       }
-    }
+    });
     return out;
   }
 
