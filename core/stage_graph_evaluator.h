@@ -89,7 +89,9 @@ class StageGraphEvaluator {
       if constexpr (Shape<I>::kShared) forwardShared<I>(x, mode);
     });
     if (wantG && !wantH) return gradientSweep(x, request, schedule, elementEnergy, mode);
-    if (mode.contracted) {
+    // Without Shared layers (every node the element's own, as the membrane's) the contracted Hessian is the
+    // per-element one: no first sweep to send adjoints.
+    if (mode.contracted && kHasShared) {
       sendLocalAdjoints(x, mode);
       forEachLayerBackwards([&](auto layer) {
         constexpr int I = decltype(layer)::value;
@@ -173,6 +175,10 @@ class StageGraphEvaluator {
     using Sent = std::tuple<StageGraphEvaluator::Sent<Is>...>;
   };
   using Seq = std::make_integer_sequence<int, kLayers>;
+  template <int... Is>
+  static constexpr bool anyShared(std::integer_sequence<int, Is...>) { return (Shape<Is>::kShared || ...); }
+  /// Whether any layer is Shared: only then do the sweeps send adjoints across elements (sent_, gatherAdjoints).
+  static constexpr bool kHasShared = anyShared(Seq());
   using Slots = std::array<std::int8_t, K>;
 
   /// The state of one element: its Local nodes, and (per-element reverse sweeps) the adjoints of the Shared
@@ -881,16 +887,17 @@ class StageGraphEvaluator {
   /// first, then every vertex's share of the Shared nodes' leaf adjoints.
   double gradientSweep(const Eigen::VectorXd& x, const EvalRequest& request, const ElementSchedule& schedule,
                        std::vector<double>& elementEnergy, const Mode& mode) {
-    keepSent(graph_.numElements());
+    if constexpr (kHasShared) keepSent(graph_.numElements());
     const double energy = runElementLoop<K>(
         graph_.elements(), schedule, x, request, PsdProjection::None, elementEnergy,
         [&](int e, const int*, bool, bool, Gradient& g, Hessian&) {
           ElementState s;
           forwardLocals<kRoot>(x, e, mode, s);
           g.setZero();
-          reverse(e, mode, false, s, &g, nullptr, true);
+          reverse(e, mode, false, s, &g, nullptr, kHasShared);
           return std::get<kRoot>(s.nodes).d.value[0];
         });
+    if constexpr (!kHasShared) return energy;  // every leaf adjoint went into the element gradients
     forEachLayerBackwards([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       if constexpr (Shape<I>::kShared) gatherAdjoints<I>(mode);
