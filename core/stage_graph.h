@@ -35,12 +35,16 @@
 //       Shared nodes it reads; a reverse sweep over the Shared layers sums each node's adjoint over all its
 //       readers; each Shared node's curvature is then contracted and added once, by the one element that reads
 //       it as its owner (whose stencil holds the node's support), into that element's block: nothing is kept per
-//       node but its adjoint. The same Hessian, each term in another block.
+//       node but its adjoint. The same Hessian, each term in another block. On a mesh of two lanes or more
+//       (core/stage_window_plan.h, built by finalize()) these four sweeps run window by window, each node
+//       forwarded, gathered and used while its neighbourhood is in cache; the same terms, summed in the order the
+//       plan fixes.
 // Each fact lives in one place: a node's inputs and support in its layer's tables; its value, Jacobians and
 // adjoint in the layer's per-evaluation buffers; the element's slots in the stencil table.
 #pragma once
 
 #include "core/stage.h"
+#include "core/stage_window_plan.h"
 #include "core/stencil.h"
 
 #include <algorithm>
@@ -232,6 +236,22 @@ class StageGraph {
   const StencilTable& elements() const { return elements_; }
   int numElements() const { return elements_.size(); }
   bool finalized() const { return finalized_; }
+  /// The order of the contracted exact Hessian's sweeps on a large mesh (core/stage_window_plan.h), built by
+  /// finalize() with the default sizes; empty on a mesh too small for two lanes.
+  const StageWindowPlan& windowPlan() const { return windowPlan_; }
+  /// Builds the window plan again with other sizes (laneElements ≤ 0: none), for tests and measurements.
+  void replanWindows(int laneElements, int window = kWindowPlanWindow) {
+    if (!finalized_) throw std::logic_error("stage graph: finalize() before planning its windows");
+    std::vector<StageWindowPlan::SharedReads> shared;
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) {
+        const LayerTables& t = tables_[I];
+        shared.push_back({I, t.count, &t.elementStart, &t.elementNode, &t.ownedStart, &t.ownedIndex});
+      }
+    });
+    windowPlan_ = planWindows(elements_, numVertices_, kLayers, shared, laneElements, window);
+  }
 
   /// Sizes Shared layer I for `count` entities (their inputs unset).
   template <int I>
@@ -312,6 +332,7 @@ class StageGraph {
   std::array<LayerTables, kLayers> tables_;
   StencilTable elements_{K, {}};
   bool finalized_ = false;
+  StageWindowPlan windowPlan_;
 };
 
 // ---- set-up ------------------------------------------------------------------------------------------------
@@ -536,6 +557,7 @@ void StageGraph<K, Ls...>::finalize() {
     vertexReaderStart_.push_back(static_cast<int>(vertexReaders_.size()));
   }
   finalized_ = true;
+  replanWindows(kWindowPlanLaneElements);
 }
 
 }  // namespace jetshell

@@ -11,7 +11,9 @@
 // Jacobians formed); with a Hessian, from the root's total Jacobian. An element's curvature goes in 3×3 blocks
 // of its slots: only the upper triangle's unless a projection needs the whole block.
 // Buffers per Shared layer (value, local Jacobian, total Jacobian, stage Hessians, adjoint) are sized on first
-// use and reused; an element's Local nodes live on its thread's stack.
+// use and reused; an element's Local nodes live on its thread's stack. The contracted exact Hessian of a graph
+// with a window plan (core/stage_window_plan.h) runs its sweeps lane by lane and window by window
+// (contractedInWindows) instead of each over the whole mesh.
 #pragma once
 
 #include "core/element_loop.h"
@@ -84,6 +86,10 @@ class StageGraphEvaluator {
     mode.full = wantH && options.projection != PsdProjection::None;
     mode.contracted = wantH && mode.exact && !mode.full;
     mode.sharedHessians = wantH && mode.exact && mode.full;
+    if constexpr (kHasShared) {
+      // A large mesh: the contracted Hessian's sweeps in windows, while their data are in cache.
+      if (mode.contracted && !graph_.windowPlan().empty()) return contractedInWindows(x, request, mode, elementEnergy);
+    }
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       if constexpr (Shape<I>::kShared) forwardShared<I>(x, mode);
@@ -284,34 +290,40 @@ class StageGraphEvaluator {
 
   // ---- forward over a Shared layer ----
   template <int I>
-  void forwardShared(const Eigen::VectorXd& x, const Mode& mode) {
+  bool resizeShared(const Mode& mode) {
     using S = Shape<I>;
     SharedBuffers<I>& b = buffers<I>();
-    const int count = graph_.tables(I).count;
-    const auto n = static_cast<std::size_t>(count);
+    const auto n = static_cast<std::size_t>(graph_.tables(I).count);
     b.value.resize(n);
     if (mode.order >= 1) b.jacobian.resize(n);
     if (mode.totals) b.total.resize(n);
     const bool hessians = mode.sharedHessians && !HasConstantHessian<typename S::Stage>::value &&
                           !IsAffineStage<typename S::Stage>::value;
     if (hessians) b.hessian.resize(n);
-    const auto& stage = std::get<I>(graph_.stages());
+    return hessians;
+  }
+  template <int I>
+  JETSHELL_INLINE void forwardSharedNode(const Eigen::VectorXd& x, const Mode& mode, bool hessians, int i) {
+    using S = Shape<I>;
+    SharedBuffers<I>& b = buffers<I>();
+    double z[S::N];
+    gather<I>(x, i, nullptr, z);
+    StageDerivatives<S::N, S::M> d;
+    derivatives<I>(std::get<I>(graph_.stages()), z, i, hessians ? 2 : std::min(mode.order, 1), mode.path, d);
+    const auto k = static_cast<std::size_t>(i);
+    b.value[k] = d.value;
+    if (mode.order < 1) return;
+    b.jacobian[k] = d.jacobian;
+    if (mode.totals) addTotals<I>(d.jacobian, inputs<I>(i), slots<I>(i), nullptr, b.total[k]);
+    if (hessians) b.hessian[k] = d.hessians;
+  }
+  template <int I>
+  void forwardShared(const Eigen::VectorXd& x, const Mode& mode) {
+    const bool hessians = resizeShared<I>(mode);
+    const int count = graph_.tables(I).count;
     ParallelErrors errors;
 #pragma omp parallel for schedule(static) if (count >= kParallelMinElements)
-    for (int i = 0; i < count; ++i) {
-      errors.run([&] {
-        double z[S::N];
-        gather<I>(x, i, nullptr, z);
-        StageDerivatives<S::N, S::M> d;
-        derivatives<I>(stage, z, i, hessians ? 2 : std::min(mode.order, 1), mode.path, d);
-        const auto k = static_cast<std::size_t>(i);
-        b.value[k] = d.value;
-        if (mode.order < 1) return;
-        b.jacobian[k] = d.jacobian;
-        if (mode.totals) addTotals<I>(d.jacobian, inputs<I>(i), slots<I>(i), nullptr, b.total[k]);
-        if (hessians) b.hessian[k] = d.hessians;
-      });
-    }
+    for (int i = 0; i < count; ++i) errors.run([&] { forwardSharedNode<I>(x, mode, hessians, i); });
     errors.rethrow();
   }
 
@@ -942,76 +954,213 @@ class StageGraphEvaluator {
   void sendLocalAdjoints(const Eigen::VectorXd& x, const Mode& mode) {
     const int ne = graph_.numElements();
     keepSent(ne);
-    Mode first = mode;
-    first.order = 1;
-    first.totals = false;
+    Mode first = firstOrder(mode);
     ParallelErrors errors;
 #pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
-    for (int e = 0; e < ne; ++e) {
-      errors.run([&] {
-        ElementState s;
-        forwardLocals<kRoot>(x, e, first, s);
-        forEachLayer([&](auto layer) {
-          constexpr int I = decltype(layer)::value;
-          if constexpr (!Shape<I>::kShared) std::get<I>(s.nodes).adjoint.setZero();
-        });
-        std::get<kRoot>(s.nodes).adjoint[0] = 1.0;
-        forEachLayerBackwards([&](auto layer) {
-          constexpr int I = decltype(layer)::value;
-          using S = Shape<I>;
-          if constexpr (!S::kShared) {
-            LocalNode<I>& node = std::get<I>(s.nodes);
-            const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
-            Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
-            forEachGroup<I>([&](auto group) {
-              constexpr int gi = decltype(group)::value;
-              constexpr int l = S::Groups::layer[gi];
-              if constexpr (l >= 0 && !S::Groups::fromShared[gi])
-                std::get<l>(s.nodes).adjoint += zbar.template segment<Shape<l>::M>(S::offset(gi));
-            });
-          }
-        });
-      });
-    }
+    for (int e = 0; e < ne; ++e) errors.run([&] { sendLocalAdjoint(x, first, e); });
     errors.rethrow();
+  }
+  static Mode firstOrder(Mode mode) {
+    mode.order = 1;
+    mode.totals = false;
+    return mode;
+  }
+  /// Element e's share of sendLocalAdjoints (`first`: firstOrder(mode)).
+  JETSHELL_INLINE void sendLocalAdjoint(const Eigen::VectorXd& x, const Mode& first, int e) {
+    ElementState s;
+    forwardLocals<kRoot>(x, e, first, s);
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (!Shape<I>::kShared) std::get<I>(s.nodes).adjoint.setZero();
+    });
+    std::get<kRoot>(s.nodes).adjoint[0] = 1.0;
+    forEachLayerBackwards([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      using S = Shape<I>;
+      if constexpr (!S::kShared) {
+        LocalNode<I>& node = std::get<I>(s.nodes);
+        const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
+        Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
+        forEachGroup<I>([&](auto group) {
+          constexpr int gi = decltype(group)::value;
+          constexpr int l = S::Groups::layer[gi];
+          if constexpr (l >= 0 && !S::Groups::fromShared[gi])
+            std::get<l>(s.nodes).adjoint += zbar.template segment<Shape<l>::M>(S::offset(gi));
+        });
+      }
+    });
   }
 
   /// Each node of Shared layer I: its adjoint, summed over its readers (later Shared layers, whose adjoints
   /// are complete, and the elements' Local nodes).
   template <int I>
   void gatherAdjoints(const Mode& mode) {
+    const auto& t = graph_.tables(I);
+    const bool inputs = resizeAdjoints<I>(mode);
+#pragma omp parallel for schedule(static) if (t.count >= kParallelMinElements)
+    for (int n = 0; n < t.count; ++n) gatherNode<I>(inputs, n);
+  }
+  template <int I>
+  bool resizeAdjoints(const Mode& mode) {
+    SharedBuffers<I>& b = buffers<I>();
+    const auto n = static_cast<std::size_t>(graph_.tables(I).count);
+    b.adjoint.resize(n);
+    const bool inputs = !mode.contracted;  // the gradient sweep: Jᵀw̄ for the vertices' gather
+    if (inputs) b.inputAdjoint.resize(n);
+    return inputs;
+  }
+  template <int I>
+  JETSHELL_INLINE void gatherNode(bool inputs, int n) {
     using S = Shape<I>;
     SharedBuffers<I>& b = buffers<I>();
     const auto& t = graph_.tables(I);
-    b.adjoint.resize(static_cast<std::size_t>(t.count));
-    const bool inputs = !mode.contracted;  // the gradient sweep: Jᵀw̄ for the vertices' gather
-    if (inputs) b.inputAdjoint.resize(static_cast<std::size_t>(t.count));
-#pragma omp parallel for schedule(static) if (t.count >= kParallelMinElements)
-    for (int n = 0; n < t.count; ++n) {
-      Eigen::Matrix<double, S::M, 1> w = Eigen::Matrix<double, S::M, 1>::Zero();
-      // Readers come sorted by layer: each layer's run is summed with that layer's sizes known at compile time.
-      int r = t.readerStart[static_cast<std::size_t>(n)];
-      const int end = t.readerStart[static_cast<std::size_t>(n) + 1];
-      forEachLayer([&](auto layer) {
-        constexpr int J = decltype(layer)::value;
-        if constexpr (J > I) {
-          for (; r < end && t.readers[static_cast<std::size_t>(r)][0] == J; ++r) {
-            const auto& reader = t.readers[static_cast<std::size_t>(r)];
-            const int off = Shape<J>::offset(reader[2]);
-            const auto k = static_cast<std::size_t>(reader[1]);
-            if constexpr (Shape<J>::kShared) {
-              const auto& bj = buffers<J>();
-              w.noalias() += bj.jacobian[k].transpose().template middleRows<S::M>(off) * bj.adjoint[k];
-            } else {
-              const double* sent = std::get<J>(sent_).data() + k * Shape<J>::N + off;
-              for (int c = 0; c < S::M; ++c) w[c] += sent[c];
-            }
+    Eigen::Matrix<double, S::M, 1> w = Eigen::Matrix<double, S::M, 1>::Zero();
+    // Readers come sorted by layer: each layer's run is summed with that layer's sizes known at compile time.
+    int r = t.readerStart[static_cast<std::size_t>(n)];
+    const int end = t.readerStart[static_cast<std::size_t>(n) + 1];
+    forEachLayer([&](auto layer) {
+      constexpr int J = decltype(layer)::value;
+      if constexpr (J > I) {
+        for (; r < end && t.readers[static_cast<std::size_t>(r)][0] == J; ++r) {
+          const auto& reader = t.readers[static_cast<std::size_t>(r)];
+          const int off = Shape<J>::offset(reader[2]);
+          const auto k = static_cast<std::size_t>(reader[1]);
+          if constexpr (Shape<J>::kShared) {
+            const auto& bj = buffers<J>();
+            w.noalias() += bj.jacobian[k].transpose().template middleRows<S::M>(off) * bj.adjoint[k];
+          } else {
+            const double* sent = std::get<J>(sent_).data() + k * Shape<J>::N + off;
+            for (int c = 0; c < S::M; ++c) w[c] += sent[c];
           }
         }
-      });
-      b.adjoint[static_cast<std::size_t>(n)] = w;
-      if (inputs) b.inputAdjoint[static_cast<std::size_t>(n)].noalias() = b.jacobian[static_cast<std::size_t>(n)].transpose() * w;
+      }
+    });
+    b.adjoint[static_cast<std::size_t>(n)] = w;
+    if (inputs) b.inputAdjoint[static_cast<std::size_t>(n)].noalias() = b.jacobian[static_cast<std::size_t>(n)].transpose() * w;
+  }
+
+  // ---- contracted mode on a large mesh: the sweeps in windows (core/stage_window_plan.h) ----
+  double contractedInWindows(const Eigen::VectorXd& x, const EvalRequest& request, const Mode& mode,
+                             std::vector<double>& elementEnergy) {
+    const StageWindowPlan& plan = graph_.windowPlan();
+    const int ne = graph_.numElements();
+    std::array<bool, kLayers> hessians{};
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) {
+        hessians[I] = resizeShared<I>(mode);
+        resizeAdjoints<I>(mode);
+        // A node no element reads adds J_nᵀ 0 to its inputs' adjoints.
+        SharedBuffers<I>& b = buffers<I>();
+        for (int n : plan.unread[I]) {
+          b.adjoint[static_cast<std::size_t>(n)].setZero();
+          b.jacobian[static_cast<std::size_t>(n)].setZero();
+        }
+      }
+    });
+    keepSent(ne);
+    elementEnergy.resize(static_cast<std::size_t>(ne));
+    const bool parallel = ne >= kParallelMinElements;
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) forwardNodes<I>(x, mode, hessians[I], plan.cross[I], parallel);
+    });
+    const Mode first = firstOrder(mode);
+    // The even lanes, then the odd ones: lanes of one phase write no common entry.
+    const int lanes = static_cast<int>(plan.lanes.size());
+    ParallelErrors errors;
+    for (int phase = 0; phase < 2; ++phase) {
+      const int count = (lanes + 1 - phase) / 2;
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+      for (int i = 0; i < count; ++i)
+        errors.run([&] {
+          runLane(x, request, mode, first, hessians, plan.lanes[static_cast<std::size_t>(2 * i + phase)], plan.window,
+                  elementEnergy);
+        });
+      errors.rethrow();
     }
+    forEachLayerBackwards([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) gatherNodes<I>(plan.cross[I], parallel);
+    });
+    // The deferred elements, colour by colour (blocks of one colour share no vertex).
+#pragma omp parallel if (parallel)
+    for (const std::vector<ElementRange>& color : plan.deferredSchedule.colors) {
+      const int n = static_cast<int>(color.size());
+#pragma omp for schedule(dynamic, 1)
+      for (int i = 0; i < n; ++i)
+        errors.run([&] {
+          for (int p = color[static_cast<std::size_t>(i)].begin; p < color[static_cast<std::size_t>(i)].end; ++p)
+            assemble(x, request, mode, plan.deferred[static_cast<std::size_t>(p)], elementEnergy);
+        });
+    }
+    errors.rethrow();
+    double total = 0.0;
+    for (double v : elementEnergy) total += v;
+    return total;
+  }
+
+  /// One lane of the window plan: per window, its nodes forward, its elements' adjoints, its nodes' gathered
+  /// adjoints, and the elements whose owned nodes are now complete assembled.
+  void runLane(const Eigen::VectorXd& x, const EvalRequest& request, const Mode& mode, const Mode& first,
+               const std::array<bool, kLayers>& hessians, const StageWindowPlan::Lane& lane, int window,
+               std::vector<double>& elementEnergy) {
+    const int windows = static_cast<int>(lane.readyStart.size()) - 1;
+    for (int w = 0; w < windows; ++w) {
+      const auto ww = static_cast<std::size_t>(w);
+      forEachLayer([&](auto layer) {
+        constexpr int I = decltype(layer)::value;
+        if constexpr (Shape<I>::kShared)
+          for (int k = lane.forwardStart[I][ww]; k < lane.forwardStart[I][ww + 1]; ++k)
+            forwardSharedNode<I>(x, mode, hessians[I], lane.forward[I][static_cast<std::size_t>(k)]);
+      });
+      const int end = std::min(lane.end, lane.begin + (w + 1) * window);
+      for (int e = lane.begin + w * window; e < end; ++e) sendLocalAdjoint(x, first, e);
+      forEachLayerBackwards([&](auto layer) {
+        constexpr int I = decltype(layer)::value;
+        if constexpr (Shape<I>::kShared)
+          for (int k = lane.gatherStart[I][ww]; k < lane.gatherStart[I][ww + 1]; ++k)
+            gatherNode<I>(false, lane.gather[I][static_cast<std::size_t>(k)]);
+      });
+      for (int k = lane.readyStart[ww]; k < lane.readyStart[ww + 1]; ++k)
+        assemble(x, request, mode, lane.ready[static_cast<std::size_t>(k)], elementEnergy);
+    }
+  }
+
+  /// The listed nodes of Shared layer I forward, in parallel when asked.
+  template <int I>
+  void forwardNodes(const Eigen::VectorXd& x, const Mode& mode, bool hessians, const std::vector<int>& nodes,
+                    bool parallel) {
+    const int n = static_cast<int>(nodes.size());
+    ParallelErrors errors;
+#pragma omp parallel for schedule(static) if (parallel && n >= kParallelMinElements)
+    for (int i = 0; i < n; ++i) errors.run([&] { forwardSharedNode<I>(x, mode, hessians, nodes[static_cast<std::size_t>(i)]); });
+    errors.rethrow();
+  }
+  /// The listed nodes of Shared layer I: their adjoints gathered (contracted mode).
+  template <int I>
+  void gatherNodes(const std::vector<int>& nodes, bool parallel) {
+    const int n = static_cast<int>(nodes.size());
+#pragma omp parallel for schedule(static) if (parallel && n >= kParallelMinElements)
+    for (int i = 0; i < n; ++i) gatherNode<I>(false, nodes[static_cast<std::size_t>(i)]);
+  }
+
+  /// Element e's energy, curvature and gradient, added into the request (what the element loop does for it).
+  void assemble(const Eigen::VectorXd& x, const EvalRequest& request, const Mode& mode, int e,
+                std::vector<double>& elementEnergy) {
+    Gradient g;
+    Hessian H;
+    const int* ids = graph_.elements().element(e);
+    const bool wantG = request.gradient != nullptr;
+    elementEnergy[static_cast<std::size_t>(e)] = element(x, e, ids, mode, PsdProjection::None, wantG, true, g, H);
+    if (wantG) {
+      double* G = request.gradient->data();
+      for (int k = 0; k < K; ++k) {
+        if (ids[k] < 0) continue;
+        for (int c = 0; c < 3; ++c) G[3 * ids[k] + c] += g[3 * k + c];
+      }
+    }
+    request.hessian->addElementHessian(request.hessianSlot, e, H.data());
   }
 
   Graph& graph_;

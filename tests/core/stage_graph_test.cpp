@@ -292,6 +292,54 @@ TEST_CASE("stage graph: the same bits with 1 and 2 threads", "[stages]") {
   }
 }
 
+TEST_CASE("stage graph: the contracted Hessian in windows equals the whole-mesh sweeps, with the same bits on 1 and 2 threads",
+          "[stages]") {
+  TriMesh mesh = makeRectangleGrid(1.0, 1.0, 24, 24);
+  for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.1 * std::sin(3.0 * mesh.V(v, 0) + mesh.V(v, 1));
+  const Topology topo = buildTopology(mesh);
+  const HingeStencils l = hingeStencils(mesh, topo);
+  Eigen::VectorXd x = flatten(mesh.V);
+  srand(11);
+  x += 0.02 * Eigen::VectorXd::Random(x.size());
+  TestGraph sweeps = buildGraph(mesh, topo, l);
+  sweeps.replanWindows(0);
+  REQUIRE(sweeps.windowPlan().empty());
+  StageGraphTerm<TestGraph> a("sweeps", std::move(sweeps));
+  const int threads = omp_get_max_threads();
+  // Lanes of about four rows of hinges (nothing deferred), and of half a row (nodes read from three lanes, owners
+  // deferred).
+  for (const auto& [laneElements, window] : {std::pair{300, 50}, std::pair{30, 7}}) {
+    TestGraph windows = buildGraph(mesh, topo, l);
+    windows.replanWindows(laneElements, window);
+    const StageWindowPlan& plan = windows.windowPlan();
+    REQUIRE(plan.lanes.size() >= 4);
+    REQUIRE_FALSE(plan.unread[1].empty());  // the boundary edges' nodes: no element reads them
+    if (laneElements == 30) {
+      REQUIRE_FALSE(plan.cross[0].empty());
+      REQUIRE_FALSE(plan.deferred.empty());
+    }
+    StageGraphTerm<TestGraph> b("windows", std::move(windows));
+    const DerivativePath path = laneElements == 300 ? DerivativePath::AutoDiff : DerivativePath::Analytic;
+    EvalOptions opt;  // exact, no projection: the contracted Hessian
+    opt.path = path;
+    Eigen::VectorXd gA, g1, g2;
+    double eA, e1, e2;
+    const Eigen::MatrixXd HA = denseHessian(a, x, opt, gA, eA);
+    omp_set_num_threads(1);
+    const Eigen::MatrixXd H1 = denseHessian(b, x, opt, g1, e1);
+    omp_set_num_threads(2);
+    const Eigen::MatrixXd H2 = denseHessian(b, x, opt, g2, e2);
+    omp_set_num_threads(threads);
+    // The same terms summed in another order.
+    CHECK(e1 == Approx(eA).epsilon(1e-14));
+    CHECK((g1 - gA).norm() <= 1e-14 * gA.norm());
+    CHECK((H1 - HA).norm() <= 1e-14 * HA.norm());
+    CHECK(e1 == e2);
+    CHECK(g1 == g2);
+    CHECK(H1 == H2);
+  }
+}
+
 TEST_CASE("stage graph: set-up rejects inputs that do not fit, naming the layer and the entity", "[stages]") {
   Case c;
   {

@@ -1,0 +1,191 @@
+#include "core/stage_window_plan.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+
+namespace jetshell {
+namespace {
+
+/// Counting sort of items 0 … key.size()−1 by key (in [0, buckets), or −1: left out), ascending within a bucket.
+void bucketByKey(const std::vector<int>& key, int buckets, std::vector<int>& start, std::vector<int>& items) {
+  start.assign(static_cast<std::size_t>(buckets) + 1, 0);
+  for (int k : key)
+    if (k >= 0) ++start[static_cast<std::size_t>(k) + 1];
+  for (int b = 0; b < buckets; ++b) start[static_cast<std::size_t>(b) + 1] += start[static_cast<std::size_t>(b)];
+  items.assign(static_cast<std::size_t>(start.back()), 0);
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < key.size(); ++i)
+    if (key[i] >= 0) items[static_cast<std::size_t>(fill[static_cast<std::size_t>(key[i])]++)] = static_cast<int>(i);
+}
+
+constexpr int kNone = -1;      // a node's or element's lane: not set
+constexpr int kCross = -2;     // a node forwarded before the phases and gathered after them
+constexpr int kUnread = -3;    // a node no element reads
+constexpr int kDeferred = -2;  // an element assembled after the phases
+
+/// Where a node is forwarded or gathered: a lane and a window of it, or kCross / kUnread in `lane`.
+struct Place {
+  int lane = kNone, window = 0;
+};
+
+}  // namespace
+
+StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int numLayers,
+                            const std::vector<StageWindowPlan::SharedReads>& shared, int laneElements,
+                            int window) {
+  StageWindowPlan plan;
+  const int ne = elements.size();
+  if (laneElements <= 0) return plan;
+  const int numLanes = ne / laneElements / 4 * 4;  // an even number of lanes in each phase
+  if (numLanes < 4) return plan;
+  if (window <= 0) throw std::invalid_argument("stage window plan: the window must hold at least one element");
+  plan.window = window;
+  plan.lanes.resize(static_cast<std::size_t>(numLanes));
+  std::vector<int> laneOf(static_cast<std::size_t>(ne));
+  for (int k = 0; k < numLanes; ++k) {
+    StageWindowPlan::Lane& lane = plan.lanes[static_cast<std::size_t>(k)];
+    lane.begin = static_cast<int>(static_cast<std::int64_t>(k) * ne / numLanes);
+    lane.end = static_cast<int>(static_cast<std::int64_t>(k + 1) * ne / numLanes);
+    std::fill(laneOf.begin() + lane.begin, laneOf.begin() + lane.end, k);
+    lane.forwardStart.resize(static_cast<std::size_t>(numLayers));
+    lane.forward.resize(static_cast<std::size_t>(numLayers));
+    lane.gatherStart.resize(static_cast<std::size_t>(numLayers));
+    lane.gather.resize(static_cast<std::size_t>(numLayers));
+  }
+  const auto lane = [&](int e) { return laneOf[static_cast<std::size_t>(e)]; };
+  const auto windowOf = [&](int e) { return (e - plan.lanes[static_cast<std::size_t>(lane(e))].begin) / window; };
+  const auto even = [](int k) { return k % 2 == 0; };
+
+  // Per Shared layer, per node: where it is forwarded and gathered. Its readers are elements of one lane (that
+  // lane does both), of two neighbouring lanes (the even one forwards it in the first phase, at its first reader
+  // there; the odd one gathers it in the second phase, at its last reader there, when the even lane's readers
+  // are done), of more lanes (a cross node), or of none.
+  plan.cross.resize(static_cast<std::size_t>(numLayers));
+  plan.unread.resize(static_cast<std::size_t>(numLayers));
+  std::vector<std::vector<Place>> forwardAt(static_cast<std::size_t>(numLayers)), gatherAt(static_cast<std::size_t>(numLayers));
+  for (const StageWindowPlan::SharedReads& s : shared) {
+    if (s.layer < 0 || s.layer >= numLayers) throw std::invalid_argument("stage window plan: layer out of range");
+    const auto L = static_cast<std::size_t>(s.layer);
+    const std::vector<int>& start = *s.elementStart;
+    const std::vector<int>& node = *s.elementNode;
+    const auto count = static_cast<std::size_t>(s.count);
+    // first and last readers, the last reader in the first reader's lane, the first in the last reader's lane
+    std::vector<int> first(count, -1), last(count, -1), lastInLow(count, -1), firstInHigh(count, -1);
+    for (int e = 0; e < ne; ++e)
+      for (int l = start[static_cast<std::size_t>(e)]; l < start[static_cast<std::size_t>(e) + 1]; ++l) {
+        const auto n = static_cast<std::size_t>(node[static_cast<std::size_t>(l)]);
+        if (first[n] < 0) first[n] = e;
+        if (last[n] < 0 || lane(last[n]) != lane(e)) firstInHigh[n] = e;
+        last[n] = e;
+        if (lane(e) == lane(first[n])) lastInLow[n] = e;
+      }
+    forwardAt[L].resize(count);
+    gatherAt[L].resize(count);
+    for (std::size_t n = 0; n < count; ++n) {
+      Place& f = forwardAt[L][n];
+      Place& g = gatherAt[L][n];
+      if (first[n] < 0) {
+        f.lane = g.lane = kUnread;
+        plan.unread[L].push_back(static_cast<int>(n));
+        continue;
+      }
+      const int low = lane(first[n]), high = lane(last[n]);
+      if (low == high) {
+        f = {low, windowOf(first[n])};
+        g = {low, windowOf(last[n])};
+      } else if (high == low + 1) {
+        const int e0 = even(low) ? first[n] : firstInHigh[n];
+        const int e1 = even(low) ? last[n] : lastInLow[n];
+        f = {lane(e0), windowOf(e0)};
+        g = {lane(e1), windowOf(e1)};
+      } else {
+        f.lane = g.lane = kCross;
+        plan.cross[L].push_back(static_cast<int>(n));
+      }
+    }
+  }
+
+  // Per element: the lane that assembles it, once its owned nodes are gathered: its own lane, or the odd lane
+  // that gathers an owned node it shares with a neighbouring lane; deferred when it owns a cross node or nodes
+  // gathered by two other lanes.
+  std::vector<Place> assembleAt(static_cast<std::size_t>(ne));
+  for (int e = 0; e < ne; ++e) {
+    Place& a = assembleAt[static_cast<std::size_t>(e)];
+    a = {lane(e), windowOf(e)};
+    int other = kNone, otherWindow = 0;
+    for (const StageWindowPlan::SharedReads& s : shared) {
+      const auto L = static_cast<std::size_t>(s.layer);
+      const std::vector<int>& start = *s.elementStart;
+      for (int o = (*s.ownedStart)[static_cast<std::size_t>(e)]; o < (*s.ownedStart)[static_cast<std::size_t>(e) + 1]; ++o) {
+        const auto n = static_cast<std::size_t>((*s.elementNode)[static_cast<std::size_t>(
+            start[static_cast<std::size_t>(e)] + (*s.ownedIndex)[static_cast<std::size_t>(o)])]);
+        const Place& g = gatherAt[L][n];
+        if (g.lane == kCross) {
+          a.lane = kDeferred;
+        } else if (g.lane == lane(e)) {
+          a.window = std::max(a.window, g.window);
+        } else if (other == kNone || other == g.lane) {
+          other = g.lane;
+          otherWindow = std::max(otherWindow, g.window);
+        } else {
+          a.lane = kDeferred;
+        }
+      }
+    }
+    if (a.lane != kDeferred && other != kNone) a = {other, otherWindow};  // the owned nodes of its own (even)
+                                                                           // lane are gathered in the first phase
+  }
+  // Lanes of one phase run at the same time: an element whose vertex another lane of its phase also writes is
+  // deferred (both are).
+  std::vector<int> writer[2] = {std::vector<int>(static_cast<std::size_t>(numVertices), kNone),
+                                std::vector<int>(static_cast<std::size_t>(numVertices), kNone)};
+  const int K = elements.width;
+  for (int e = 0; e < ne; ++e) {
+    const Place& a = assembleAt[static_cast<std::size_t>(e)];
+    if (a.lane < 0) continue;
+    for (int k = 0; k < K; ++k) {
+      const int v = elements.element(e)[k];
+      if (v < 0) continue;
+      int& w = writer[a.lane % 2][static_cast<std::size_t>(v)];
+      w = w == kNone || w == a.lane ? a.lane : kDeferred;
+    }
+  }
+  for (int e = 0; e < ne; ++e) {
+    Place& a = assembleAt[static_cast<std::size_t>(e)];
+    if (a.lane < 0) continue;
+    for (int k = 0; k < K; ++k) {
+      const int v = elements.element(e)[k];
+      if (v >= 0 && writer[a.lane % 2][static_cast<std::size_t>(v)] == kDeferred) a.lane = kDeferred;
+    }
+  }
+
+  // Each lane's windows: per layer the nodes it forwards and gathers, and the elements it assembles.
+  for (int k = 0; k < numLanes; ++k) {
+    StageWindowPlan::Lane& l = plan.lanes[static_cast<std::size_t>(k)];
+    const int windows = (l.end - l.begin + window - 1) / window;
+    const auto keys = [&](const std::vector<Place>& at) {
+      std::vector<int> key(at.size(), -1);
+      for (std::size_t i = 0; i < at.size(); ++i)
+        if (at[i].lane == k) key[i] = at[i].window;
+      return key;
+    };
+    for (const StageWindowPlan::SharedReads& s : shared) {
+      const auto L = static_cast<std::size_t>(s.layer);
+      bucketByKey(keys(forwardAt[L]), windows, l.forwardStart[L], l.forward[L]);
+      bucketByKey(keys(gatherAt[L]), windows, l.gatherStart[L], l.gather[L]);
+    }
+    bucketByKey(keys(assembleAt), windows, l.readyStart, l.ready);
+  }
+  // The deferred elements, in a coloured schedule of their own (blocks sharing no vertex run in parallel).
+  StencilTable table{K, {}};
+  for (int e = 0; e < ne; ++e)
+    if (assembleAt[static_cast<std::size_t>(e)].lane == kDeferred) {
+      plan.deferred.push_back(e);
+      table.ids.insert(table.ids.end(), elements.element(e), elements.element(e) + K);
+    }
+  plan.deferredSchedule = scheduleElements(table, numVertices);
+  return plan;
+}
+
+}  // namespace jetshell

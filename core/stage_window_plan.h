@@ -1,0 +1,73 @@
+// The order in which the contracted exact Hessian of a stage graph (core/stage_graph_evaluator.h) visits its
+// Shared nodes and its elements on a large mesh, so that what one sweep writes is still in cache when the next
+// reads it.
+//
+// Without a plan the contracted Hessian runs four sweeps, each over the whole mesh: the Shared nodes forward,
+// the elements' adjoints, the Shared nodes' adjoints, the elements' curvature and assembly. Past about 10,000
+// elements the Shared buffers the first sweep writes have left the cache when the last one reads them. With a
+// plan the elements are cut into lanes (contiguous ranges; their number depends on the mesh alone, never on the
+// thread count) and each lane into windows. The even lanes run in parallel, then the odd ones; a lane runs its
+// windows in order, and in each window:
+//   1. forwards the nodes it forwards whose first reader there is in the window (layers in order);
+//   2. runs the adjoint sweep of its elements in the window;
+//   3. gathers the adjoints of the nodes it gathers whose last reader there is in the window (last layer first);
+//   4. assembles the elements whose owned nodes are now complete (their curvature and blocks).
+// A node read from one lane is that lane's. A node read from two neighbouring lanes is forwarded by the even
+// one (first phase) and gathered by the odd one (second phase, when the even lane's readers are done), which
+// also assembles its owner. A node read from more lanes (a cross node) is forwarded before the phases and
+// gathered after them; a node no element reads contributes nothing, and only its adjoint and Jacobian are set
+// (to zero). An element that owns a cross node, or whose vertex another lane of its phase also writes, is
+// deferred to after the phases and runs in a coloured schedule of its own. Each gradient and matrix entry thus
+// receives its terms in an order fixed by the mesh: the same bits for every thread count. The plan is topology
+// only; the graph builds it in finalize() (core/stage_graph.h).
+#pragma once
+
+#include "core/assembly.h"
+#include "core/stencil.h"
+
+#include <vector>
+
+namespace jetshell {
+
+/// Elements per lane, at least: the lanes are a multiple of four (an even number per phase), and a mesh of
+/// fewer than four lanes' elements gets no plan (it is nearly in cache, and its elements run through the
+/// ordinary coloured loop with every thread busy).
+inline constexpr int kWindowPlanLaneElements = 4096;
+/// Elements per window: the Shared data of a window and its neighbours stay within a core's cache.
+inline constexpr int kWindowPlanWindow = 1024;
+
+struct StageWindowPlan {
+  /// What the plan reads of one Shared layer (StageGraph::LayerTables): its node count, per element the nodes
+  /// it reads (CSR, every layer the element reads, directly or not) and the ones it owns.
+  struct SharedReads {
+    int layer = 0, count = 0;
+    const std::vector<int>* elementStart = nullptr;
+    const std::vector<int>* elementNode = nullptr;
+    const std::vector<int>* ownedStart = nullptr;
+    const std::vector<int>* ownedIndex = nullptr;
+  };
+  /// One lane: its elements [begin, end), and per window (CSR over the lane's windows) what it does. The
+  /// per-layer vectors are indexed by layer (empty for Local layers).
+  struct Lane {
+    int begin = 0, end = 0;
+    std::vector<std::vector<int>> forwardStart, forward;  // nodes forwarded in the window
+    std::vector<std::vector<int>> gatherStart, gather;    // nodes whose adjoints are gathered in the window
+    std::vector<int> readyStart, ready;                   // elements assembled in the window (a neighbour's too)
+  };
+  int window = 0;
+  std::vector<Lane> lanes;               // none: no plan; else a multiple of four
+  std::vector<std::vector<int>> cross;   // per layer: nodes forwarded before the lanes and gathered after them
+  std::vector<std::vector<int>> unread;  // per layer: nodes no element reads (a zero adjoint, set before the lanes)
+  std::vector<int> deferred;             // elements run after the lanes, ascending
+  ElementSchedule deferredSchedule;      // over positions in `deferred`
+
+  bool empty() const { return lanes.empty(); }
+};
+
+/// The plan for `elements` (K vertex ids each) over `numLayers` layers, `shared` naming the Shared ones.
+/// laneElements ≤ 0, or a mesh of fewer than 4 × laneElements elements: no plan.
+StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int numLayers,
+                            const std::vector<StageWindowPlan::SharedReads>& shared,
+                            int laneElements = kWindowPlanLaneElements, int window = kWindowPlanWindow);
+
+}  // namespace jetshell
