@@ -25,6 +25,20 @@ inline constexpr int kParallelMinElements = 512;
 /// instructions each): a few dozen of them already outweigh a parallel region's start-up and barriers.
 inline constexpr int kParallelMinCostlyElements = 32;
 
+/// Adds element e's gradient g (3K, when the request has a gradient) and Hessian H (3K×3K, column-major, when it
+/// has a Hessian) into the request: what every element loop does with an element's result.
+template <int K>
+void addElementResult(const EvalRequest& request, int e, const int* ids, const double* g, const double* H) {
+  if (request.gradient != nullptr) {
+    double* G = request.gradient->data();
+    for (int k = 0; k < K; ++k) {
+      if (ids[k] < 0) continue;
+      for (int c = 0; c < 3; ++c) G[3 * ids[k] + c] += g[3 * k + c];
+    }
+  }
+  if (request.hessian != nullptr) request.hessian->addElementHessian(request.hessianSlot, e, H);
+}
+
 /// Element kernel: kernel(e, ids, wantGradient, wantHessian, g, H) returns the element energy and fills the
 /// local gradient g (3K) and Hessian H (3K×3K) when asked. K is the stencil width.
 /// parallelMinElements: the element count from which the loop runs in parallel (kParallelMinCostlyElements for
@@ -44,17 +58,8 @@ double runElementLoop(const StencilTable& table, const ElementSchedule& schedule
     Eigen::Matrix<double, M, M> H;
     const int* ids = table.element(e);
     elementEnergy[e] = kernel(e, ids, wantG, wantH, g, H);
-    if (wantG) {
-      double* G = request.gradient->data();
-      for (int k = 0; k < K; ++k) {
-        if (ids[k] < 0) continue;
-        for (int c = 0; c < 3; ++c) G[3 * ids[k] + c] += g[3 * k + c];
-      }
-    }
-    if (wantH) {
-      projectPsd<M>(H, projection);
-      request.hessian->addElementHessian(request.hessianSlot, e, H.data());
-    }
+    if (wantH) projectPsd<M>(H, projection);
+    addElementResult<K>(request, e, ids, g.data(), H.data());
   };
   ParallelErrors errors;
   if (wantG || wantH) {

@@ -35,7 +35,7 @@
 //       Shared nodes it reads; a reverse sweep over the Shared layers sums each node's adjoint over all its
 //       readers; each Shared node's curvature is then contracted and added once, by the one element that reads
 //       it as its owner (whose stencil holds the node's support), into that element's block: nothing is kept per
-//       node but its adjoint. The same Hessian, each term in another block. On a mesh of two lanes or more
+//       node but its adjoint. The same Hessian, each term in another block. On a mesh of four lanes or more
 //       (core/stage_window_plan.h, built by finalize()) these four sweeps run window by window, each node
 //       forwarded, gathered and used while its neighbourhood is in cache; the same terms, summed in the order the
 //       plan fixes.
@@ -237,7 +237,7 @@ class StageGraph {
   int numElements() const { return elements_.size(); }
   bool finalized() const { return finalized_; }
   /// The order of the contracted exact Hessian's sweeps on a large mesh (core/stage_window_plan.h), built by
-  /// finalize() with the default sizes; empty on a mesh too small for two lanes.
+  /// finalize() with the default sizes; empty on a mesh too small for four lanes.
   const StageWindowPlan& windowPlan() const { return windowPlan_; }
   /// Builds the window plan again with other sizes (laneElements ≤ 0: none), for tests and measurements.
   void replanWindows(int laneElements, int window = kWindowPlanWindow) {

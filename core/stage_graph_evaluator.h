@@ -1153,14 +1153,7 @@ class StageGraphEvaluator {
     const int* ids = graph_.elements().element(e);
     const bool wantG = request.gradient != nullptr;
     elementEnergy[static_cast<std::size_t>(e)] = element(x, e, ids, mode, PsdProjection::None, wantG, true, g, H);
-    if (wantG) {
-      double* G = request.gradient->data();
-      for (int k = 0; k < K; ++k) {
-        if (ids[k] < 0) continue;
-        for (int c = 0; c < 3; ++c) G[3 * ids[k] + c] += g[3 * k + c];
-      }
-    }
-    request.hessian->addElementHessian(request.hessianSlot, e, H.data());
+    addElementResult<K>(request, e, ids, g.data(), H.data());
   }
 
   Graph& graph_;

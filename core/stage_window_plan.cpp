@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 
 namespace jetshell {
 namespace {
@@ -160,23 +161,36 @@ StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int n
     }
   }
 
-  // Each lane's windows: per layer the nodes it forwards and gathers, and the elements it assembles.
+  // Each lane's windows: per layer the nodes it forwards and gathers, and the elements it assembles. One
+  // counting sort per list over all lanes' windows (numbered lane by lane), then each lane takes its range.
+  std::vector<int> windowBase(static_cast<std::size_t>(numLanes) + 1, 0);
   for (int k = 0; k < numLanes; ++k) {
-    StageWindowPlan::Lane& l = plan.lanes[static_cast<std::size_t>(k)];
-    const int windows = (l.end - l.begin + window - 1) / window;
-    const auto keys = [&](const std::vector<Place>& at) {
-      std::vector<int> key(at.size(), -1);
-      for (std::size_t i = 0; i < at.size(); ++i)
-        if (at[i].lane == k) key[i] = at[i].window;
-      return key;
-    };
-    for (const StageWindowPlan::SharedReads& s : shared) {
-      const auto L = static_cast<std::size_t>(s.layer);
-      bucketByKey(keys(forwardAt[L]), windows, l.forwardStart[L], l.forward[L]);
-      bucketByKey(keys(gatherAt[L]), windows, l.gatherStart[L], l.gather[L]);
-    }
-    bucketByKey(keys(assembleAt), windows, l.readyStart, l.ready);
+    const StageWindowPlan::Lane& l = plan.lanes[static_cast<std::size_t>(k)];
+    windowBase[static_cast<std::size_t>(k) + 1] =
+        windowBase[static_cast<std::size_t>(k)] + (l.end - l.begin + window - 1) / window;
   }
+  // Lane k's share of `at`, by window: start (its windows + 1 offsets into items) and items.
+  const auto split = [&](const std::vector<Place>& at, const auto& lists) {
+    std::vector<int> key(at.size(), -1);
+    for (std::size_t i = 0; i < at.size(); ++i)
+      if (at[i].lane >= 0) key[i] = windowBase[static_cast<std::size_t>(at[i].lane)] + at[i].window;
+    std::vector<int> start, items;
+    bucketByKey(key, windowBase.back(), start, items);
+    for (int k = 0; k < numLanes; ++k) {
+      auto [laneStart, laneItems] = lists(plan.lanes[static_cast<std::size_t>(k)]);
+      const auto first = start.begin() + windowBase[static_cast<std::size_t>(k)];
+      const auto last = start.begin() + windowBase[static_cast<std::size_t>(k) + 1] + 1;
+      laneItems->assign(items.begin() + *first, items.begin() + *(last - 1));
+      laneStart->assign(first, last);
+      for (int& s : *laneStart) s -= *first;
+    }
+  };
+  for (const StageWindowPlan::SharedReads& s : shared) {
+    const auto L = static_cast<std::size_t>(s.layer);
+    split(forwardAt[L], [L](StageWindowPlan::Lane& l) { return std::pair{&l.forwardStart[L], &l.forward[L]}; });
+    split(gatherAt[L], [L](StageWindowPlan::Lane& l) { return std::pair{&l.gatherStart[L], &l.gather[L]}; });
+  }
+  split(assembleAt, [](StageWindowPlan::Lane& l) { return std::pair{&l.readyStart, &l.ready}; });
   // The deferred elements, in a coloured schedule of their own (blocks sharing no vertex run in parallel).
   StencilTable table{K, {}};
   for (int e = 0; e < ne; ++e)
