@@ -2,7 +2,7 @@
 # Installs the dependencies, builds jetshell (portable Release) and runs the whole test suite with CTest.
 # With --all (the default when CI=true) the main pass runs only the test files with the long numerical runs and the
 # tests of the `jetshell` program, and two more passes follow, each in a build directory of its own:
-#   <build-dir>-sanitize  the unit suites built with AddressSanitizer + UndefinedBehaviorSanitizer (g++ -O1),
+#   <build-dir>-sanitize  the unit suites built with AddressSanitizer + UndefinedBehaviorSanitizer (g++ -Og),
 #                         without the long numerical runs (sanitizeExclude below), which the main pass runs;
 #   <build-dir>-fuzz      the libFuzzer harnesses of tests/fuzz (clang 14, scripts/install-fuzz-deps.sh), each
 #                         run for FUZZ_SECONDS (default 30) from the committed seed corpus.
