@@ -4,6 +4,8 @@
 // --staged adds *_staged rows: the same energies on the stage framework (BendingTerm/MembraneTerm::setStaged),
 // measured in the same run, so that their ratio to the hand-chained evaluators means something on a busy machine.
 // With more than one thread, the speed-up of the shell rows is also timed in interleaved pairs on the wall clock.
+// --straight-line adds the row shell_straight (1 thread, exact Hessian): the same stages with the chain rule
+// written out for this one graph (tools/bench/straight_line_shell.h), what the stage framework is measured against.
 #include "tools/output/atomic_file.h"
 #include "core/assembly.h"
 #include "core/mesh_generators.h"
@@ -13,6 +15,7 @@
 #include "energies/examples/hinge_bending.h"
 #include "energies/shell/bending_term.h"
 #include "energies/shell/shell_terms.h"
+#include "tools/bench/straight_line_shell.h"
 #include "tools/bench_cloth.h"
 #include "tools/subcommand.h"
 
@@ -25,6 +28,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <vector>
 
 namespace jetshell::cli {
@@ -38,6 +42,7 @@ struct BenchOptions {
   std::string path;  // empty = both
   int threads = 0;   // 0 = 1 and all
   bool staged = false;  // also the *_staged rows (the stage framework), in the same run
+  bool straightLine = false;  // also the shell_straight row (tools/bench/straight_line_shell.h)
   std::string projection = "none";  // every element Hessian projected so (the targets: none)
 };
 
@@ -125,6 +130,11 @@ int runBench(const BenchOptions& o) {
     }
     return runNestedBench(o);
   }
+  if (o.straightLine && o.projection != "none") {
+    std::fprintf(stderr, "--straight-line: not with --projection %s (the reference element projects nothing)\n",
+                 o.projection.c_str());
+    return kUsage;
+  }
   const double pi = 3.14159265358979323846;
   const TriMesh mesh = makeRectangleGrid(1.0, 1.0, o.n, o.n);
   const Topology topo = buildTopology(mesh);
@@ -146,6 +156,10 @@ int runBench(const BenchOptions& o) {
     bendingStaged = std::make_shared<BendingTerm>(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
     bendingStaged->setStaged(true);
   }
+  std::unique_ptr<StraightLineShell> straight;
+  if (o.straightLine)
+    straight = std::make_unique<StraightLineShell>(mesh, topo, ref, mat.membraneLambda, mat.membraneMu, mat.bendingAlpha,
+                                                   mat.bendingBeta, bending->stencils());
   HessianAssembler assembler;
   const int slotM = assembler.addStencils(membrane->stencils());
   const int slotB = assembler.addStencils(bending->stencils());
@@ -170,6 +184,7 @@ int runBench(const BenchOptions& o) {
   if (o.threads > 0) threadCounts = {o.threads};
 
   bool wallClock = false;  // set by pairedSpeedup: both thread counts on the wall clock
+  // terms empty: the straight-line reference.
   auto measure = [&](const std::vector<std::pair<EnergyTerm*, int>>& terms, const EvalOptions& opt, bool wantG,
                      bool wantH) {
     // One thread: CPU time of this thread (robust on a shared machine). More threads: wall time.
@@ -186,6 +201,7 @@ int runBench(const BenchOptions& o) {
       EvalRequest req{wantG ? &g : nullptr, wantH ? &assembler : nullptr, slot};
       term->evaluate(x, req, opt);
     }
+    if (terms.empty()) straight->evaluate(x, opt.path, wantG ? &g : nullptr, wantH ? &assembler : nullptr, slotB);
     return (now() - t0) / faces;
   };
   auto measureMedian = [&](const std::vector<std::pair<EnergyTerm*, int>>& terms, const EvalOptions& opt, bool wantG,
@@ -254,16 +270,20 @@ int runBench(const BenchOptions& o) {
     cases.push_back({"bending_staged", {{bendingStaged.get(), slotB}}});
     cases.push_back({"shell_staged", {{membraneStaged.get(), slotM}, {bendingStaged.get(), slotB}}});
   }
+  if (straight) cases.push_back({"shell_straight", {}});
   std::printf("\n%-15s %-9s %-13s %7s %12s %12s %12s\n", "term", "path", "bending H", "threads", "value ns",
               "+grad ns", "+Hessian ns");
   for (int threads : threadCounts) {
     omp_set_num_threads(threads);
     for (const Case& c : cases) {
-      if (!o.term.empty() && o.term != c.term && o.term + "_staged" != c.term) continue;
+      const bool isStraight = c.terms.empty();
+      if (!o.term.empty() && o.term != c.term && o.term + "_staged" != c.term && !(isStraight && o.term == "shell"))
+        continue;
+      if (isStraight && threads != 1) continue;  // the reference runs on one thread
       for (DerivativePath path : {DerivativePath::Analytic, DerivativePath::AutoDiff}) {
         if (!o.path.empty() && o.path != (path == DerivativePath::AutoDiff ? "ad" : "analytic")) continue;
         for (HessianModel bh : {HessianModel::Exact, HessianModel::GaussNewton}) {
-          if (bh == HessianModel::GaussNewton && std::string(c.term).rfind("membrane", 0) == 0) continue;
+          if (bh == HessianModel::GaussNewton && (std::string(c.term).rfind("membrane", 0) == 0 || isStraight)) continue;
           EvalOptions opt;
           opt.path = path;
           opt.hessianModel = bh;
@@ -359,6 +379,22 @@ int runBench(const BenchOptions& o) {
       std::printf("  stage framework / hand-chained, %s, 1 thread: %.2f (%.0f vs %.0f ns/face)\n", path, staged / hand,
                   staged, hand);
   }
+  // The framework against the same stages chained by hand for this graph, interleaved (CPU time of the thread).
+  std::vector<std::pair<std::string, PairedRatio>> straightRatios;
+  for (const char* path : {"analytic", "ad"}) {
+    const double staged = find("shell_staged", path, "exact", 1), reference = find("shell_straight", path, "exact", 1);
+    if (!std::isfinite(staged) || !std::isfinite(reference)) continue;
+    omp_set_num_threads(1);
+    EvalOptions opt;
+    opt.path = std::string(path) == "ad" ? DerivativePath::AutoDiff : DerivativePath::Analytic;
+    const PairedRatio p = interleaved([&] { return measure(termsOf("shell_staged"), opt, true, true); },
+                                      [&] { return measure({}, opt, true, true); });
+    omp_set_num_threads(maxThreads);
+    straightRatios.emplace_back(path, p);
+    std::printf("  stage framework / straight-line element, %s, 1 thread: %.2f (median of %d interleaved pairs, range "
+                "%.2f-%.2f; the table: %.0f vs %.0f ns/face)\n", path, p.median, p.pairs, p.low, p.high, staged,
+                reference);
+  }
   const double stagedAd = find("shell_staged", "ad", "exact", 1), stagedAn = find("shell_staged", "analytic", "exact", 1);
   if (std::isfinite(stagedAd) && std::isfinite(stagedAn)) {
     std::printf("  stage framework, AD / analytic twins, 1 thread, ratio of the table's medians: %.2f\n",
@@ -392,6 +428,9 @@ int runBench(const BenchOptions& o) {
       if (p.pairs > 0)
         out.push_back({{"term", name}, {"ad_over_analytic_interleaved", p.median}, {"low", p.low}, {"high", p.high},
                        {"pairs", p.pairs}, {"threads", 1}});
+    for (const auto& [path, p] : straightRatios)
+      out.push_back({{"term", "shell_staged"}, {"path", path}, {"over_straight_line_interleaved", p.median},
+                     {"low", p.low}, {"high", p.high}, {"pairs", p.pairs}, {"threads", 1}});
     for (const Speedup& sp : speedups)
       out.push_back({{"term", sp.term}, {"path", sp.path}, {"speedup_interleaved", sp.ratio.median},
                      {"low", sp.ratio.low}, {"high", sp.ratio.high}, {"pairs", sp.ratio.pairs},
@@ -416,6 +455,9 @@ const RegisterSubcommand registerBenchElements("bench elements", [](CLI::App& ap
   el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));
   el->add_flag("--staged", opts->staged,
                "Also the same energies on the stage framework (rows *_staged), with their ratio to the default");
+  el->add_flag("--straight-line", opts->straightLine,
+               "Also the shell as one straight-line element per face on the same stages (row shell_straight, 1 "
+               "thread, exact Hessian): the reference the stage framework is measured against");
   el->add_option("--threads", opts->threads, "Only this thread count (default: 1 and all)")->check(CLI::Range(1, 256));
   el->add_option("--projection", opts->projection,
                  "Project every element Hessian as a Newton step with projection does (clamp, abs); default none, the "
