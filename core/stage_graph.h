@@ -38,7 +38,8 @@
 //       node but its adjoint. The same Hessian, each term in another block. On a mesh of four lanes or more
 //       (core/stage_window_plan.h, built by finalize()) these four sweeps run window by window, each node
 //       forwarded, gathered and used while its neighbourhood is in cache; the same terms, summed in the order the
-//       plan fixes.
+//       plan fixes. When every leaf is a Difference, the Shared nodes keep no T: each element forms the T of the
+//       nodes it reads from their Jacobians, by coordinate (the evaluator's elementWhole).
 // Each fact lives in one place: a node's inputs and support in its layer's tables; its value, Jacobians and
 // adjoint in the layer's per-evaluation buffers; the element's slots in the stencil table.
 #pragma once

@@ -9,7 +9,11 @@
 // Which sweep runs for which request is described at the top of core/stage_graph.h. A gradient without a
 // Hessian comes from a reverse sweep over each element's nodes (adjoints through the local Jacobians, no total
 // Jacobians formed); with a Hessian, from the root's total Jacobian. An element's curvature goes in 3×3 blocks
-// of its slots: only the upper triangle's unless a projection needs the whole block.
+// of its slots: only the upper triangle's unless a projection needs the whole block. The contracted exact Hessian
+// of a translation-invariant graph (kWhole, the shell's terms) is formed by whole elements instead (elementWhole):
+// the Shared layers keep their Jacobians only, and each element forms the totals of the nodes it reads stored by
+// coordinate (one row per working coordinate, padded to whole vectors) and adds every curvature term as products
+// of those into one full block (BENCHMARKS.md, session 88).
 // Buffers per Shared layer (value, local Jacobian, total Jacobian, stage Hessians, adjoint) are sized on first
 // use and reused; an element's Local nodes live on its thread's stack. The contracted exact Hessian of a graph
 // with a window plan (core/stage_window_plan.h) runs its sweeps lane by lane and window by window
@@ -53,6 +57,9 @@ class StageGraphEvaluator {
   static constexpr bool kReduced = K >= 2 && Graph::leavesAreDifferences();
   static constexpr int Kw = kReduced ? K - 1 : K;  // the element's working slots (reduced: slots 1 … K−1)
   static constexpr int Dw = 3 * Kw;
+  /// The working coordinates padded to whole vectors (a multiple of 4 rows): the row count of an element's totals
+  /// stored by coordinate in the whole-element path (elementWhole).
+  static constexpr int Rw = (Dw + 3) / 4 * 4;
   /// Where the sweeps add curvature: the element's block over its working slots (reduced: the corner of slots
   /// 1 … K−1, the base's row and column following in expandHessian).
   using WorkHessian = std::conditional_t<kReduced, Eigen::Block<Hessian, Dw, Dw>, Hessian>;
@@ -86,6 +93,9 @@ class StageGraphEvaluator {
     mode.full = wantH && options.projection != PsdProjection::None;
     mode.contracted = wantH && mode.exact && !mode.full;
     mode.sharedHessians = wantH && mode.exact && mode.full;
+    // The contracted Hessian by whole elements forms every total inside the element (elementWhole): the Shared
+    // layers keep their Jacobians only.
+    if (kWhole && mode.contracted) mode.totals = false;
     if constexpr (kHasShared) {
       // A large mesh: the contracted Hessian's sweeps in windows, while their data are in cache.
       if (mode.contracted && !graph_.windowPlan().empty()) return contractedInWindows(x, request, mode, elementEnergy);
@@ -185,6 +195,10 @@ class StageGraphEvaluator {
   static constexpr bool anyShared(std::integer_sequence<int, Is...>) { return (Shape<Is>::kShared || ...); }
   /// Whether any layer is Shared: only then do the sweeps send adjoints across elements (sent_, gatherAdjoints).
   static constexpr bool kHasShared = anyShared(Seq());
+  /// The contracted exact Hessian of a translation-invariant graph runs by whole elements (elementWhole): every
+  /// total by coordinate over the element's padded working rows, every curvature a product of those, one full
+  /// symmetric block.
+  static constexpr bool kWhole = kReduced;
   using Slots = std::array<std::int8_t, K>;
 
   /// The state of one element: its Local nodes, and (per-element reverse sweeps) the adjoints of the Shared
@@ -810,6 +824,9 @@ class StageGraphEvaluator {
   JETSHELL_FLATTEN_SWEEP double element(const Eigen::VectorXd& x, int e, const int* ids, const Mode& mode,
                                         PsdProjection own, bool wantG, bool wantH, Gradient& gradient,
                                         Hessian& hessian) {
+    if constexpr (kWhole) {
+      if (wantH && mode.contracted) return elementWhole(x, e, mode, wantG, gradient, hessian);
+    }
     ElementState s;
     forwardLocals<kRoot>(x, e, mode, s);
     LocalNode<kRoot>& root = std::get<kRoot>(s.nodes);
@@ -830,6 +847,300 @@ class StageGraphEvaluator {
     }
     if (!projected) projectPsd<D>(hessian, own);
     return root.d.value[0];
+  }
+
+  /// The element's Local adjoints: zero, the root's 1 (the energy's own).
+  JETSHELL_INLINE static void seedLocalAdjoints(ElementState& s) {
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (!Shape<I>::kShared) std::get<I>(s.nodes).adjoint.setZero();
+    });
+    std::get<kRoot>(s.nodes).adjoint[0] = 1.0;
+  }
+  /// Adds a Local node's input adjoint zbar = Jᵀw to the Local nodes it reads (its Shared inputs' go elsewhere).
+  template <int I>
+  JETSHELL_INLINE static void sendToLocalInputs(const Eigen::Matrix<double, Shape<I>::N, 1>& zbar, ElementState& s) {
+    using S = Shape<I>;
+    forEachGroup<I>([&](auto group) {
+      constexpr int gi = decltype(group)::value;
+      constexpr int l = S::Groups::layer[gi];
+      if constexpr (l >= 0 && !S::Groups::fromShared[gi])
+        std::get<l>(s.nodes).adjoint += zbar.template segment<Shape<l>::M>(S::offset(gi));
+    });
+  }
+
+  // ---- the contracted exact Hessian by whole elements ----
+  template <int M>
+  using RowTotal = Eigen::Matrix<double, Rw, M>;  // a node's total, transposed: one row per working coordinate
+  using WholeBlock = Eigen::Matrix<double, Rw, Rw>;
+  template <int I>
+  using WholeSlot = std::conditional_t<Shape<I>::kShared, std::array<RowTotal<Shape<I>::M>, Graph::kMaxElementNodes>,
+                                       RowTotal<Shape<I>::M>>;
+  /// User-provided constructor: std::tuple value-initializes its elements, which would zero every layer's totals
+  /// (kilobytes) for every element.
+  template <int I>
+  struct WholeBox {
+    WholeBox() {}
+    WholeSlot<I> v;
+  };
+  template <typename Seq_>
+  struct WholeTuples;
+  template <int... Is>
+  struct WholeTuples<std::integer_sequence<int, Is...>> {
+    using Type = std::tuple<WholeBox<Is>...>;
+  };
+  /// Per layer: the totals by coordinate of the element's nodes (Shared: of each node in the element's list).
+  using WholeTotals = typename WholeTuples<Seq>::Type;
+
+  /// T += sign · Jᵀ in the rows of working slot w (a leaf's part of a total stored by coordinate).
+  template <typename JBlock, typename Total>
+  JETSHELL_INLINE static void addLeafRows(int w, double sign, const JBlock& J, Total& T) {
+    if (w < 0) return;
+    for (int c = 0; c < Total::ColsAtCompileTime; ++c)
+      for (int r = 0; r < 3; ++r) T(3 * w + r, c) += sign * J(c, r);
+  }
+
+  /// The total by coordinate of a node of layer I: T = Σ_g (leaf: ±J_gᵀ in its slots' rows; From: T_g J_gᵀ).
+  /// `slot` gives each group's working slots, `input(group)` a From group's total.
+  template <int I, typename Jac, typename Inputs>
+  JETSHELL_INLINE static void wholeTotal(const Jac& J, const std::array<Slots, Shape<I>::G>& slot, Inputs&& input,
+                                         RowTotal<Shape<I>::M>& T) {
+    using S = Shape<I>;
+    T.setZero();
+    forEachGroup<I>([&](auto group) {
+      constexpr int g = decltype(group)::value;
+      constexpr int l = S::Groups::layer[g], off = S::offset(g);
+      if constexpr (l < 0) {
+        const auto Jg = J.template middleCols<3>(off);
+        if constexpr (S::Groups::isDifference[g]) {
+          addLeafRows(slot[g][1], 1.0, Jg, T);
+          addLeafRows(slot[g][0], -1.0, Jg, T);
+        } else {
+          addLeafRows(slot[g][0], 1.0, Jg, T);
+        }
+      } else {
+        constexpr int Ml = Shape<l>::M;
+        T.noalias() += input(group).lazyProduct(J.template middleCols<Ml>(off).transpose());
+      }
+    });
+  }
+
+  /// H += Σ over the group pairs of C = Σ_k w_k ∇²y_k of a node of layer I, its groups' totals by coordinate given
+  /// by total(group) (From groups) and its leaves' working slots by slot: From–From pairs as products of totals,
+  /// each leaf's pairs with the From groups as one strip R = Σ_b T_b C_(b, leaf) added to the leaf's columns and,
+  /// transposed, rows, leaf–leaf pairs as 3×3 blocks. Full and symmetric. Only the blocks C_ab with a ≤ b are read
+  /// (contract() forms no others).
+  template <int I, typename Totals>
+  JETSHELL_INLINE static void addWholeCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
+                                                const std::array<Slots, Shape<I>::G>& slot, Totals&& total,
+                                                WholeBlock& H) {
+    using S = Shape<I>;
+    const auto& kinds = blockKinds<I>();
+    forEachGroup<I>([&](auto groupA) {
+      constexpr int a = decltype(groupA)::value;
+      constexpr int na = S::Groups::size[a], oa = S::offset(a);
+      constexpr bool leafA = S::Groups::layer[a] < 0;
+      if constexpr (leafA) {
+        // The leaf's strip over every From group b (C_(b, a) = C_abᵀ read from the block with the smaller index).
+        RowTotal<3> R;
+        bool any = false;
+        forEachGroup<I>([&](auto groupB) {
+          constexpr int b = decltype(groupB)::value;
+          if constexpr (S::Groups::layer[b] >= 0) {
+            constexpr int lo = a < b ? a : b, hi = a < b ? b : a;
+            const BlockKind kind = kinds[static_cast<std::size_t>(lo * S::G + hi)];
+            if (kind == BlockKind::Zero) return;
+            constexpr int nb = S::Groups::size[b];
+            static_assert(nb == 3 || !(S::Groups::layer[b] < 0), "a leaf is three coordinates");
+            const auto Cba = [&] {
+              if constexpr (b < a) {
+                return C.template block<nb, 3>(S::offset(b), oa);
+              } else {
+                return C.template block<3, nb>(oa, S::offset(b)).transpose();
+              }
+            }();
+            if (!any) R.setZero();
+            any = true;
+            if constexpr (nb == 3) {
+              if (kind == BlockKind::Diagonal) {
+                for (int j = 0; j < 3; ++j) R.col(j) += Cba(j, j) * total(groupB).col(j);
+                return;
+              }
+            }
+            R.noalias() += total(groupB).lazyProduct(Cba);
+          }
+        });
+        if (any) {
+          constexpr int rows = S::Groups::isDifference[a] ? 2 : 1;
+          for (int t = 0; t < rows; ++t) {
+            const int w = slot[a][static_cast<std::size_t>(t)];
+            if (w < 0) continue;
+            const double sign = S::Groups::isDifference[a] && t == 0 ? -1.0 : 1.0;
+            H.template middleCols<3>(3 * w) += sign * R;
+            H.template middleRows<3>(3 * w) += sign * R.transpose();
+          }
+        }
+      }
+      forEachGroup<I>([&](auto groupB) {
+        constexpr int b = decltype(groupB)::value;
+        constexpr bool leafB = S::Groups::layer[b] < 0;
+        if constexpr (b >= a && leafA == leafB) {
+          const BlockKind kind = kinds[static_cast<std::size_t>(a * S::G + b)];
+          if (kind == BlockKind::Zero) return;
+          constexpr int nb = S::Groups::size[b], ob = S::offset(b);
+          const auto Cab = C.template block<na, nb>(oa, ob);
+          if constexpr (!leafA) {
+            // Z_aᵀ C_ab Z_b with Z_g = T_gᵀ: (T_a C_ab) T_bᵀ, and its transpose for a ≠ b.
+            RowTotal<nb> P;
+            if (kind == BlockKind::Diagonal) {
+              for (int j = 0; j < nb; ++j) P.col(j) = Cab(j, j) * total(groupA).col(j);
+            } else {
+              P.noalias() = total(groupA).lazyProduct(Cab);
+            }
+            if constexpr (a == b) {
+              H.noalias() += P.lazyProduct(total(groupB).transpose());
+            } else {
+              const WholeBlock X = P.lazyProduct(total(groupB).transpose());
+              H += X + X.transpose();
+            }
+          } else {
+            // Two leaves: ±C_ab at each pair of their slots (and its transpose for a ≠ b).
+            constexpr int ra = S::Groups::isDifference[a] ? 2 : 1, rb = S::Groups::isDifference[b] ? 2 : 1;
+            const Eigen::Matrix3d M = Cab;
+            for (int i = 0; i < ra; ++i) {
+              const int wa = slot[a][static_cast<std::size_t>(i)];
+              if (wa < 0) continue;
+              const double sa = S::Groups::isDifference[a] && i == 0 ? -1.0 : 1.0;
+              for (int j = 0; j < rb; ++j) {
+                const int wb = slot[b][static_cast<std::size_t>(j)];
+                if (wb < 0) continue;
+                const double sb = S::Groups::isDifference[b] && j == 0 ? -1.0 : 1.0;
+                H.template block<3, 3>(3 * wa, 3 * wb) += (sa * sb) * M;
+                if constexpr (a != b) H.template block<3, 3>(3 * wb, 3 * wa) += (sa * sb) * M.transpose();
+              }
+            }
+          }
+        }
+      });
+    });
+  }
+
+  /// Element e's energy, gradient and contracted exact Hessian (Shared adjoints gathered) by whole element: the
+  /// totals of the Shared nodes it reads and of its Local nodes by coordinate over the padded working rows, each
+  /// Local node's curvature (its own adjoint) and each owned Shared node's (its total adjoint) added as products
+  /// of those into one full Rw × Rw block, expanded to the base slot at the end.
+  double elementWhole(const Eigen::VectorXd& x, int e, const Mode& mode, bool wantG, Gradient& gradient,
+                      Hessian& hessian) {
+    Mode local = mode;
+    local.totals = false;
+    ElementState s;
+    forwardLocals<kRoot>(x, e, local, s);
+    WholeTotals T;
+    // The Shared nodes the element reads, layer by layer, then its Local nodes.
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      using S = Shape<I>;
+      if constexpr (S::kShared) {
+        const auto& t = graph_.tables(I);
+        const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
+        for (int listed = begin; listed < end; ++listed) {
+          const int entity = t.elementNode[static_cast<std::size_t>(listed)];
+          const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * S::W;
+          const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
+          wholeTotal<I>(buffers<I>().jacobian[static_cast<std::size_t>(entity)], sharedSlots<I, true>(entity, nodeSlot),
+                        [&](auto group) -> const auto& {
+                          constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
+                          return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[decltype(group)::value])];
+                        },
+                        std::get<I>(T).v[static_cast<std::size_t>(listed - begin)]);
+        }
+      } else {
+        const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
+        wholeTotal<I>(std::get<I>(s.nodes).d.jacobian, localSlots<I, true>(e),
+                      [&](auto group) -> const auto& { return localInputTotal<I>(T, inputIndex, group); },
+                      std::get<I>(T).v);
+      }
+    });
+    const RowTotal<1>& rootTotal = std::get<kRoot>(T).v;
+    if (wantG) {
+      gradient.template tail<Dw>() = rootTotal.template topRows<Dw>();
+      Eigen::Vector3d base = Eigen::Vector3d::Zero();
+      for (int k = 0; k < Kw; ++k) base -= rootTotal.template middleRows<3>(3 * k);
+      gradient.template head<3>() = base;
+    }
+    WholeBlock H = WholeBlock::Zero();
+    // The Local nodes, root first, each with its adjoint in the element.
+    seedLocalAdjoints(s);
+    forEachLayerBackwards([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      using S = Shape<I>;
+      if constexpr (!S::kShared) {
+        LocalNode<I>& node = std::get<I>(s.nodes);
+        const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
+        Eigen::Matrix<double, S::N, S::N> C;
+        if (contract<I>(node.adjoint.data(), &node.d.hessians, C))
+          addWholeCurvature<I>(C, localSlots<I, true>(e),
+                               [&](auto group) -> const auto& { return localInputTotal<I>(T, inputIndex, group); }, H);
+        const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
+        sendToLocalInputs<I>(zbar, s);
+      }
+    });
+    // The Shared nodes the element owns, each with its total adjoint.
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      using S = Shape<I>;
+      using Stage = typename S::Stage;
+      if constexpr (S::kShared && !IsAffineStage<Stage>::value) {
+        const auto& t = graph_.tables(I);
+        const int begin = t.elementStart[static_cast<std::size_t>(e)];
+        for (int o = t.ownedStart[static_cast<std::size_t>(e)]; o < t.ownedStart[static_cast<std::size_t>(e) + 1]; ++o) {
+          const int listed = begin + t.ownedIndex[static_cast<std::size_t>(o)];
+          const int entity = t.elementNode[static_cast<std::size_t>(listed)];
+          const double* w = buffers<I>().adjoint[static_cast<std::size_t>(entity)].data();
+          const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * S::W;
+          const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
+          Eigen::Matrix<double, S::N, S::N> C;
+          bool any;
+          if constexpr (HasConstantHessian<Stage>::value) {
+            any = contract<I>(w, nullptr, C);
+          } else {
+            any = contractShared<I>(x, entity, w, mode, C);
+          }
+          if (!any) continue;
+          addWholeCurvature<I>(C, sharedSlots<I, true>(entity, nodeSlot),
+                               [&](auto group) -> const auto& {
+                                 constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
+                                 return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[decltype(group)::value])];
+                               },
+                               H);
+        }
+      }
+    });
+    // The block over slots 1 … K−1, then the base's row and column (a common translation changes nothing): the
+    // base's block in column c is minus column c's sum (by symmetry, the sum of H's rows over the column block),
+    // its own block the sum of all.
+    hessian.template bottomRightCorner<Dw, Dw>() = H.template topLeftCorner<Dw, Dw>();
+    Eigen::Matrix<double, Dw, 3> base = -H.template block<Dw, 3>(0, 0);
+    for (int c = 1; c < Kw; ++c) base -= H.template block<Dw, 3>(0, 3 * c);
+    hessian.template block<Dw, 3>(3, 0) = base;
+    hessian.template block<3, Dw>(0, 3) = base.transpose();
+    Eigen::Matrix3d corner = -base.template topRows<3>();
+    for (int r = 1; r < Kw; ++r) corner -= base.template middleRows<3>(3 * r);
+    hessian.template topLeftCorner<3, 3>() = corner;
+    return std::get<kRoot>(s.nodes).d.value[0];
+  }
+
+  /// A From group's total by coordinate for Local node I of the element: a Shared input's from its layer's list, a
+  /// Local input's the node's own.
+  template <int I, typename Group>
+  JETSHELL_INLINE static const auto& localInputTotal(const WholeTotals& T, const std::int8_t* inputIndex, Group) {
+    constexpr int g = Group::value;
+    constexpr int l = std::max(Shape<I>::Groups::layer[g], 0);
+    if constexpr (Shape<l>::kShared) {
+      return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[g])];
+    } else {
+      return std::get<l>(T).v;
+    }
   }
 
   /// The term's projector on the element's working block (whole: a projection makes every block).
@@ -969,11 +1280,7 @@ class StageGraphEvaluator {
   JETSHELL_INLINE void sendLocalAdjoint(const Eigen::VectorXd& x, const Mode& first, int e) {
     ElementState s;
     forwardLocals<kRoot>(x, e, first, s);
-    forEachLayer([&](auto layer) {
-      constexpr int I = decltype(layer)::value;
-      if constexpr (!Shape<I>::kShared) std::get<I>(s.nodes).adjoint.setZero();
-    });
-    std::get<kRoot>(s.nodes).adjoint[0] = 1.0;
+    seedLocalAdjoints(s);
     forEachLayerBackwards([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       using S = Shape<I>;
@@ -981,12 +1288,7 @@ class StageGraphEvaluator {
         LocalNode<I>& node = std::get<I>(s.nodes);
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
         Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
-        forEachGroup<I>([&](auto group) {
-          constexpr int gi = decltype(group)::value;
-          constexpr int l = S::Groups::layer[gi];
-          if constexpr (l >= 0 && !S::Groups::fromShared[gi])
-            std::get<l>(s.nodes).adjoint += zbar.template segment<Shape<l>::M>(S::offset(gi));
-        });
+        sendToLocalInputs<I>(zbar, s);
       }
     });
   }
