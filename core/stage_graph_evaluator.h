@@ -951,7 +951,6 @@ class StageGraphEvaluator {
             const BlockKind kind = kinds[static_cast<std::size_t>(lo * S::G + hi)];
             if (kind == BlockKind::Zero) return;
             constexpr int nb = S::Groups::size[b];
-            static_assert(nb == 3 || !(S::Groups::layer[b] < 0), "a leaf is three coordinates");
             const auto Cba = [&] {
               if constexpr (b < a) {
                 return C.template block<nb, 3>(S::offset(b), oa);
