@@ -799,11 +799,8 @@ class StageGraphEvaluator {
       using S = Shape<I>;
       if constexpr (S::kShared) {
         const auto& t = graph_.tables(I);
-        const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
-        for (int listed = begin; listed < end; ++listed) {
-          const int entity = t.elementNode[static_cast<std::size_t>(listed)];
-          const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * S::W;
-          const double* w = s.sharedAdjoint[I].data() + S::M * (listed - begin);
+        forEachListedNode<I>(e, [&](int k, int listed, int entity, const std::int8_t* nodeSlot) {
+          const double* w = s.sharedAdjoint[I].data() + S::M * k;
           if (curvature) {
             constexpr bool stored = !HasConstantHessian<typename S::Stage>::value && !IsAffineStage<typename S::Stage>::value;
             addSharedCurvature<I>(entity, nullptr, w, stored ? &buffers<I>().hessian[static_cast<std::size_t>(entity)] : nullptr,
@@ -814,7 +811,7 @@ class StageGraphEvaluator {
           const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
           sendAdjoint<I>(zbar, curvature ? sharedSlots<I, kReduced>(entity, nodeSlot) : sharedSlots<I, false>(entity, nodeSlot),
                          [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); }, true, s, g);
-        }
+        });
       }
     });
   }
@@ -847,6 +844,28 @@ class StageGraphEvaluator {
     }
     if (!projected) projectPsd<D>(hessian, own);
     return root.d.value[0];
+  }
+
+  /// f(k, listed, entity, nodeSlot) for each node of Shared layer I that element e reads: k its place in the
+  /// element's list, listed its index in the layer's element lists, nodeSlot its W element slots.
+  template <int I, typename F>
+  JETSHELL_INLINE void forEachListedNode(int e, F&& f) const {
+    const auto& t = graph_.tables(I);
+    const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
+    for (int listed = begin; listed < end; ++listed)
+      f(listed - begin, listed, t.elementNode[static_cast<std::size_t>(listed)],
+        t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W);
+  }
+  /// The same for the nodes of Shared layer I that element e owns (whose curvature its block takes).
+  template <int I, typename F>
+  JETSHELL_INLINE void forEachOwnedNode(int e, F&& f) const {
+    const auto& t = graph_.tables(I);
+    const int begin = t.elementStart[static_cast<std::size_t>(e)];
+    for (int o = t.ownedStart[static_cast<std::size_t>(e)]; o < t.ownedStart[static_cast<std::size_t>(e) + 1]; ++o) {
+      const int k = t.ownedIndex[static_cast<std::size_t>(o)], listed = begin + k;
+      f(k, listed, t.elementNode[static_cast<std::size_t>(listed)],
+        t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W);
+    }
   }
 
   /// The element's Local adjoints: zero, the root's 1 (the energy's own).
@@ -1040,19 +1059,11 @@ class StageGraphEvaluator {
       constexpr int I = decltype(layer)::value;
       using S = Shape<I>;
       if constexpr (S::kShared) {
-        const auto& t = graph_.tables(I);
-        const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
-        for (int listed = begin; listed < end; ++listed) {
-          const int entity = t.elementNode[static_cast<std::size_t>(listed)];
-          const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * S::W;
-          const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
+        forEachListedNode<I>(e, [&](int k, int listed, int entity, const std::int8_t* nodeSlot) {
           wholeTotal<I>(buffers<I>().jacobian[static_cast<std::size_t>(entity)], sharedSlots<I, true>(entity, nodeSlot),
-                        [&](auto group) -> const auto& {
-                          constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
-                          return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[decltype(group)::value])];
-                        },
-                        std::get<I>(T).v[static_cast<std::size_t>(listed - begin)]);
-        }
+                        [&](auto group) -> const auto& { return sharedInputTotal<I>(T, listed, group); },
+                        std::get<I>(T).v[static_cast<std::size_t>(k)]);
+        });
       } else {
         const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
         wholeTotal<I>(std::get<I>(s.nodes).d.jacobian, localSlots<I, true>(e),
@@ -1061,12 +1072,7 @@ class StageGraphEvaluator {
       }
     });
     const RowTotal<1>& rootTotal = std::get<kRoot>(T).v;
-    if (wantG) {
-      gradient.template tail<Dw>() = rootTotal.template topRows<Dw>();
-      Eigen::Vector3d base = Eigen::Vector3d::Zero();
-      for (int k = 0; k < Kw; ++k) base -= rootTotal.template middleRows<3>(3 * k);
-      gradient.template head<3>() = base;
-    }
+    if (wantG) expandGradient(rootTotal.template topRows<Dw>().transpose(), gradient);
     WholeBlock H = WholeBlock::Zero();
     // The Local nodes, root first, each with its adjoint in the element.
     seedLocalAdjoints(s);
@@ -1090,14 +1096,8 @@ class StageGraphEvaluator {
       using S = Shape<I>;
       using Stage = typename S::Stage;
       if constexpr (S::kShared && !IsAffineStage<Stage>::value) {
-        const auto& t = graph_.tables(I);
-        const int begin = t.elementStart[static_cast<std::size_t>(e)];
-        for (int o = t.ownedStart[static_cast<std::size_t>(e)]; o < t.ownedStart[static_cast<std::size_t>(e) + 1]; ++o) {
-          const int listed = begin + t.ownedIndex[static_cast<std::size_t>(o)];
-          const int entity = t.elementNode[static_cast<std::size_t>(listed)];
+        forEachOwnedNode<I>(e, [&](int, int listed, int entity, const std::int8_t* nodeSlot) {
           const double* w = buffers<I>().adjoint[static_cast<std::size_t>(entity)].data();
-          const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * S::W;
-          const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
           Eigen::Matrix<double, S::N, S::N> C;
           bool any;
           if constexpr (HasConstantHessian<Stage>::value) {
@@ -1105,30 +1105,27 @@ class StageGraphEvaluator {
           } else {
             any = contractShared<I>(x, entity, w, mode, C);
           }
-          if (!any) continue;
+          if (!any) return;
           addWholeCurvature<I>(C, sharedSlots<I, true>(entity, nodeSlot),
-                               [&](auto group) -> const auto& {
-                                 constexpr int l = std::max(S::Groups::layer[decltype(group)::value], 0);
-                                 return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[decltype(group)::value])];
-                               },
-                               H);
-        }
+                               [&](auto group) -> const auto& { return sharedInputTotal<I>(T, listed, group); }, H);
+        });
       }
     });
-    // The block over slots 1 … K−1, then the base's row and column (a common translation changes nothing): the
-    // base's block in column c is minus column c's sum (by symmetry, the sum of H's rows over the column block),
-    // its own block the sum of all.
+    // The block over slots 1 … K−1, then the base's row and column (a common translation changes nothing).
     hessian.template bottomRightCorner<Dw, Dw>() = H.template topLeftCorner<Dw, Dw>();
-    Eigen::Matrix<double, Dw, 3> base = -H.template block<Dw, 3>(0, 0);
-    for (int c = 1; c < Kw; ++c) base -= H.template block<Dw, 3>(0, 3 * c);
-    hessian.template block<Dw, 3>(3, 0) = base;
-    hessian.template block<3, Dw>(0, 3) = base.transpose();
-    Eigen::Matrix3d corner = -base.template topRows<3>();
-    for (int r = 1; r < Kw; ++r) corner -= base.template middleRows<3>(3 * r);
-    hessian.template topLeftCorner<3, 3>() = corner;
+    completeTranslationInvariant(hessian);
     return std::get<kRoot>(s.nodes).d.value[0];
   }
 
+  /// A From group's total by coordinate for the Shared node of layer I at `listed` in the layer's element lists: its
+  /// input's, found in the input layer's list.
+  template <int I, typename Group>
+  JETSHELL_INLINE const auto& sharedInputTotal(const WholeTotals& T, int listed, Group) const {
+    constexpr int g = Group::value;
+    constexpr int l = std::max(Shape<I>::Groups::layer[g], 0);
+    const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(listed) * Shape<I>::G;
+    return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[g])];
+  }
   /// A From group's total by coordinate for Local node I of the element: a Shared input's from its layer's list, a
   /// Local input's the node's own.
   template <int I, typename Group>
@@ -1160,13 +1157,8 @@ class StageGraphEvaluator {
       forEachLayer([&](auto layer) {
         constexpr int I = decltype(layer)::value;
         if constexpr (Shape<I>::kShared) {
-          const auto& t = graph_.tables(I);
-          const int begin = t.elementStart[static_cast<std::size_t>(e)];
-          for (int o = t.ownedStart[static_cast<std::size_t>(e)]; o < t.ownedStart[static_cast<std::size_t>(e) + 1]; ++o) {
-            const int listed = begin + t.ownedIndex[static_cast<std::size_t>(o)];
-            const int entity = t.elementNode[static_cast<std::size_t>(listed)];
+          forEachOwnedNode<I>(e, [&](int, int, int entity, const std::int8_t* nodeSlot) {
             const double* w = buffers<I>().adjoint[static_cast<std::size_t>(entity)].data();
-            const std::int8_t* nodeSlot = t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W;
             using Stage = typename Shape<I>::Stage;
             if constexpr (!HasConstantHessian<Stage>::value && !IsAffineStage<Stage>::value) {
               // The node's curvature with its total adjoint, contracted here by its one owner (not kept).
@@ -1175,7 +1167,7 @@ class StageGraphEvaluator {
             } else {
               addSharedCurvature<I>(entity, nullptr, w, nullptr, nodeSlot, mode, work);
             }
-          }
+          });
         }
       });
     }
