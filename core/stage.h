@@ -32,6 +32,14 @@
 // J(z) = J(0) + [∇²y_k z]_k (no Jets per element). constantHessianDiscrepancy() checks the declaration
 // (Hessians and Jacobian) against the Jets at any z.
 //
+// Optional per-entity quadratic, detected at compile time: a stage of one output that is a quadratic in z for each
+// entity (its Hessian depends on the entity and the stage's data, never on z: an energy density quadratic in its
+// strain) may declare
+//     bool quadraticHessian(int entity, Eigen::Matrix<double, N, N>& H) const;
+// returning true with H = ∇²y when its term keeps that Hessian, taken from Jets (never written by hand), up to date.
+// Derivatives of order 2 on the Jets then cost those of order 1 (first-order Jets) and the copy; false, or order
+// < 2, leaves the stage to its Jets. quadraticHessianDiscrepancy() checks the kept Hessian against the Jets' at z.
+//
 // Optional declaration `static constexpr bool kAffine = true;`: for each entity the stage is affine in z (its
 // coefficients may depend on the entity, e.g. a boundary edge's rule): its Hessians are zero, so derivatives of
 // order 2 cost those of order 1 (first-order Jets or the twin) and a chain adds no curvature for it.
@@ -97,6 +105,14 @@ template <typename S, typename = void>
 struct HasConstantHessian : std::false_type {};
 template <typename S>
 struct HasConstantHessian<S, std::void_t<decltype(S::kConstantHessian)>> : std::bool_constant<S::kConstantHessian> {};
+
+/// True when stage S declares `quadraticHessian(entity, H)` (a per-entity quadratic, see the top of this file).
+template <typename S, typename = void>
+struct HasQuadraticHessian : std::false_type {};
+template <typename S>
+struct HasQuadraticHessian<S, std::void_t<decltype(std::declval<const S&>().quadraticHessian(
+                                  0, std::declval<Eigen::Matrix<double, S::kInputs, S::kInputs>&>()))>>
+    : std::bool_constant<S::kOutputs == 1> {};
 
 /// True when stage S declares kAffine = true.
 template <typename S, typename = void>
@@ -342,6 +358,12 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
       return;
     }
   }
+  if constexpr (HasQuadraticHessian<S>::value) {
+    if (order >= 2 && s.quadraticHessian(entity, d.hessians[0])) {
+      stageDerivativesFromJetsInlined(s, z, entity, 1, d);
+      return;
+    }
+  }
   if constexpr (HasConstantHessian<S>::value || IsComposedStage<S>::value) {
     stageDerivativesFromJets(s, z, entity, order, d);  // values only (order 0): nothing to differentiate
   } else {
@@ -384,6 +406,22 @@ double affineDiscrepancy(const S& s, const double* z, int entity) {
     stageDerivativesFromJets(s, z, entity, 2, jets);
     double worst = 0.0;
     for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, jets.hessians[k].cwiseAbs().maxCoeff());
+    return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+  }
+}
+
+/// Largest relative difference between the Hessian a per-entity quadratic stage keeps (quadraticHessian) and its
+/// Jets' at z (0 for any other stage, or when it keeps none): a stale or wrong kept Hessian shows here.
+template <typename S>
+double quadraticHessianDiscrepancy(const S& s, const double* z, int entity) {
+  if constexpr (!HasQuadraticHessian<S>::value) {
+    return 0.0;
+  } else {
+    Eigen::Matrix<double, S::kInputs, S::kInputs> kept;
+    if (!s.quadraticHessian(entity, kept)) return 0.0;
+    StageDerivativesOf<S> jets;
+    stageDerivativesFromJets(s, z, entity, 2, jets);
+    const double worst = relativeDifference(kept, jets.hessians[0]);
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }

@@ -56,14 +56,18 @@ void BendingTerm::bindStages() {
   density.scale = energyScale();
   density.minimized = &minimized_;
   density.ruledQuadratic = &ruledQuadratic_;
+  density.everyFaceQuadratic = false;
 }
 
 double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
-  // The analytic twin of a face with moment-free edges reads its ruled quadratic (the Jets differentiate the
-  // minimized density itself).
-  if (options.path != DerivativePath::AutoDiff && (request.gradient != nullptr || request.hessian != nullptr))
-    updateRuledQuadratics(false);
+  // The analytic twin of a face with moment-free edges reads its ruled quadratic. On the Jets, a Hessian takes
+  // every face's density Hessian from its ruled quadratic (itself from Jets, once per α, β and rules: the density
+  // is a quadratic in b), and first-order Jets give the value and gradient (core/stage.h, per-entity quadratic).
+  const bool ad = options.path == DerivativePath::AutoDiff;
+  if (ad ? request.hessian != nullptr : request.gradient != nullptr || request.hessian != nullptr)
+    updateRuledQuadratics(ad);
   bindStages();
+  graph_->stage<4>().everyFaceQuadratic = ad && request.hessian != nullptr;
   return graphEvaluator_->evaluate(x, request, options, schedule_, elementEnergy_);
 }
 

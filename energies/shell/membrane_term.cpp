@@ -5,6 +5,7 @@
 #include "core/element_loop.h"
 #include "core/origin_derivatives.h"
 #include "core/parameter_derivatives.h"
+#include "core/stage_derivatives.h"
 #include "energies/shell/membrane_projection.h"
 #include "energies/shell/shell_geometry.h"
 #include "energies/shell/shell_terms.h"
@@ -43,26 +44,50 @@ void MembraneTerm::setStaged(bool staged) {
 
 namespace {
 
-/// Points a density stage at the term's reference and current parameters (before each evaluation).
-void bindDensity(MembraneDensityStage& density, const ShellReference& ref, double lambda, double mu, double scale) {
+/// Points a density stage at the term's reference, current parameters and kept quadratics (null: none).
+void bindDensity(MembraneDensityStage& density, const ShellReference& ref, double lambda, double mu, double scale,
+                 const std::vector<Eigen::Matrix3d>* quadratic = nullptr) {
   density.ref = &ref;
   density.lambda = lambda;
   density.mu = mu;
   density.scale = scale;
+  density.quadratic = quadratic;
 }
 
 }  // namespace
 
-void MembraneTerm::bindStages() { bindDensity(graph_->stage<1>(), ref_, lambda_, mu_, energyScale()); }
+void MembraneTerm::bindStages(bool quadratic) {
+  bindDensity(graph_->stage<1>(), ref_, lambda_, mu_, energyScale(), quadratic ? &quadratic_ : nullptr);
+}
+
+void MembraneTerm::updateQuadratics() {
+  if (quadraticKept_ && quadraticLambda_ == lambda_ && quadraticMu_ == mu_) return;
+  const std::size_t nf = ref_.inverseMetric.size();
+  quadratic_.resize(nf);
+  const double zero[3] = {0.0, 0.0, 0.0};
+  for (std::size_t f = 0; f < nf; ++f) {
+    const double* P = ref_.inverseMetric[f].data();
+    auto density = [&](const auto* a) { return membraneDensity(a, zero, P, lambda_, mu_); };
+    double W;
+    Eigen::Vector3d w;
+    scalarStageDerivatives<3>(density, zero, W, w, quadratic_[f]);
+  }
+  quadraticLambda_ = lambda_;
+  quadraticMu_ = mu_;
+  quadraticKept_ = true;
+}
 
 double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+  // On the Jets, a Hessian takes each face's density Hessian from the kept quadratics.
+  const bool quadratic = options.path == DerivativePath::AutoDiff && request.hessian != nullptr;
+  if (quadratic) updateQuadratics();
   if (staged_) {
-    bindStages();
+    bindStages(quadratic);
     EvalOptions exact = options;  // the Gauss-Newton option is the bending term's; the membrane stays exact
     exact.hessianModel = HessianModel::Exact;
     return graphEvaluator_->evaluate(x, request, exact, schedule_, elementEnergy_);
   }
-  bindDensity(energy_.outer, ref_, lambda_, mu_, energyScale());
+  bindDensity(energy_.outer, ref_, lambda_, mu_, energyScale(), quadratic ? &quadratic_ : nullptr);
   // The element projects its own block (energies/shell/membrane_projection.h), so the loop projects nothing.
   const PsdProjection projection = options.projection;
   return runElementLoop<3>(table_, schedule_, x, request, PsdProjection::None, elementEnergy_,

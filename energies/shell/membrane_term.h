@@ -56,8 +56,16 @@ class MembraneTerm : public EnergyTerm {
  private:
   /// The membrane energy as a stage graph: per face the metric, then the density.
   using Graph = StageGraph<3, Local<MetricStage, Difference, Difference>, Local<MembraneDensityStage, From<0>>>;
-  /// Points the density stage at this term's reference and current parameters (before each evaluation).
-  void bindStages();
+  /// Points the density stage at this term's reference and current parameters (before each evaluation), and at
+  /// the kept quadratics when `quadratic` (then up to date).
+  void bindStages(bool quadratic = false);
+  /// Brings quadratic_ up to date with λ, μ: each face's W_m'' (without the area scale) from Jets. The density is
+  /// a quadratic in the metric, so a Hessian on the Jets takes it from here and only the value and gradient from
+  /// first-order Jets (core/stage.h, per-entity quadratic); it does not depend on the strain origin.
+  void updateQuadratics();
+  std::vector<Eigen::Matrix3d> quadratic_;
+  double quadraticLambda_ = 0.0, quadraticMu_ = 0.0;
+  bool quadraticKept_ = false;
   bool staged_ = false;
   int numVertices_ = 0;
   std::unique_ptr<Graph> graph_;

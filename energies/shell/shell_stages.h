@@ -185,6 +185,14 @@ struct BendingDensityStage {
   double alpha = 0.0, beta = 0.0, scale = 1.0;
   const std::vector<std::array<bool, 3>>* minimized = nullptr;  // null: no moment-free edge
   const std::vector<Eigen::Matrix3d>* ruledQuadratic = nullptr;
+  bool everyFaceQuadratic = false;  // ruledQuadratic holds every face's matrix (not only the minimized faces')
+  /// The density is a quadratic in b per face: its Hessian, scale · area · the face's ruled quadratic (taken
+  /// from Jets by BendingTerm), when that is kept for every face (core/stage.h, per-entity quadratic).
+  bool quadraticHessian(int f, Eigen::Matrix3d& H) const {
+    if (!everyFaceQuadratic || ruledQuadratic == nullptr) return false;
+    H = (scale * ref->area[f]) * (*ruledQuadratic)[static_cast<std::size_t>(f)];
+    return true;
+  }
   const bool* minimizedEdges(int f) const {
     static constexpr bool kNone[3] = {false, false, false};
     return minimized != nullptr ? (*minimized)[static_cast<std::size_t>(f)].data() : kNone;
@@ -216,6 +224,14 @@ struct MembraneDensityStage {
   static constexpr int kInputs = 3, kOutputs = 1;
   const ShellReference* ref = nullptr;
   double lambda = 0.0, mu = 0.0, scale = 1.0;
+  const std::vector<Eigen::Matrix3d>* quadratic = nullptr;  // per face W_m'' without the area scale, or null
+  /// The density is a quadratic in a per face: its Hessian, scale · area · the face's kept quadratic (taken from
+  /// Jets by MembraneTerm), when one is kept (core/stage.h, per-entity quadratic).
+  bool quadraticHessian(int f, Eigen::Matrix3d& H) const {
+    if (quadratic == nullptr) return false;
+    H = (scale * ref->area[f]) * (*quadratic)[static_cast<std::size_t>(f)];
+    return true;
+  }
   template <typename T>
   void operator()(const T* a, T* w, int f) const {
     w[0] = (scale * ref->area[f]) * membraneDensity(a, ref->metric[f].data(), ref->inverseMetric[f].data(), lambda, mu);

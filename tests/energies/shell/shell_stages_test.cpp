@@ -18,6 +18,65 @@ void randomInput(std::mt19937_64& rng, double* z) {
 
 }  // namespace
 
+TEST_CASE("shell stages: the densities' kept quadratics are their Jets' Hessians at every input", "[stages]") {
+  // The density is a quadratic in b per face: the Hessian its term keeps (from Jets at one b, without the area
+  // scale) must be the Jets' Hessian at any other b, and the stage hands it out only when told it is kept.
+  std::mt19937_64 rng(5);
+  ShellReference ref;
+  ref.area = {0.37};
+  ref.inverseMetric = {{0.95, -0.2, 1.15}};
+  ref.secondFundamentalForm = {{0.3, -0.1, 0.2}};
+  std::vector<std::array<bool, 3>> minimized = {{false, false, false}};
+  std::vector<Eigen::Matrix3d> quadratic(1);
+  BendingDensityStage bending{&ref, 0.3, 0.7, 2.0, &minimized, &quadratic};
+  for (int rule = 0; rule < 2; ++rule) {
+    minimized[0] = {rule == 1, false, false};  // the page's density, then one moment-free edge minimized out
+    StageDerivativesOf<BendingDensityStage> atRest;
+    const double b0[3] = {0.3, -0.1, 0.2};
+    stageDerivativesFromJets(bending, b0, 0, 2, atRest);
+    quadratic[0] = atRest.hessians[0] / (2.0 * 0.37);
+    Eigen::Matrix3d H;
+    bending.everyFaceQuadratic = false;
+    CHECK_FALSE(bending.quadraticHessian(0, H));
+    CHECK(quadraticHessianDiscrepancy(bending, b0, 0) == 0.0);  // nothing kept: nothing to compare
+    bending.everyFaceQuadratic = true;
+    for (int trial = 0; trial < 10; ++trial) {
+      double z[3];
+      randomInput<BendingDensityStage>(rng, z);
+      // Measured <= 3e-16 relative; a stale matrix (other moduli or rule) shows at O(1).
+      CHECK(quadraticHessianDiscrepancy(bending, z, 0) <= 1e-12);
+      // The order-2 derivatives on the Jets then take it: the same as the nested Jets'.
+      StageDerivativesOf<BendingDensityStage> kept, jets;
+      evaluateStage(bending, z, 0, 2, DerivativePath::AutoDiff, kept);
+      stageDerivativesFromJets(bending, z, 0, 2, jets);
+      CHECK(kept.value[0] == Approx(jets.value[0]).epsilon(1e-14).margin(1e-15));  // first- and second-order Jets round apart
+      CHECK((kept.jacobian - jets.jacobian).norm() <= 1e-14 * jets.jacobian.norm());
+      CHECK((kept.hessians[0] - jets.hessians[0]).norm() <= 1e-12 * jets.hessians[0].norm());
+    }
+    BendingDensityStage stale = bending;
+    stale.alpha = 0.6;
+    double z[3] = {0.1, 0.2, -0.3};
+    CHECK(quadraticHessianDiscrepancy(stale, z, 0) > 1e-3);
+  }
+  // The membrane's density, quadratic in the metric, the same way.
+  ref.metric = {{1.1, 0.2, 0.9}};
+  std::vector<Eigen::Matrix3d> membraneQuadratic(1);
+  MembraneDensityStage membrane{&ref, 3.0, 4.0, 2.0};
+  const double a0[3] = {1.0, 0.1, 1.2};
+  StageDerivativesOf<MembraneDensityStage> atA0;
+  stageDerivativesFromJets(membrane, a0, 0, 2, atA0);
+  membraneQuadratic[0] = atA0.hessians[0] / (2.0 * 0.37);
+  CHECK(quadraticHessianDiscrepancy(membrane, a0, 0) == 0.0);  // nothing kept yet
+  membrane.quadratic = &membraneQuadratic;
+  for (int trial = 0; trial < 10; ++trial) {
+    double z[3];
+    randomInput<MembraneDensityStage>(rng, z);
+    CHECK(quadraticHessianDiscrepancy(membrane, z, 0) <= 1e-12);
+  }
+  membrane.mu = 1.0;
+  CHECK(quadraticHessianDiscrepancy(membrane, a0, 0) > 1e-3);
+}
+
 TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian declarations hold", "[stages]") {
   std::mt19937_64 rng(11);
   // A one-face reference for the energy stages, with a moved origin so that the densities' gradients are not 0.
