@@ -56,7 +56,7 @@ void BendingTerm::bindStages() {
   density.scale = energyScale();
   density.minimized = &minimized_;
   density.ruledQuadratic = &ruledQuadratic_;
-  density.everyFaceQuadratic = false;
+  density.quadratic = nullptr;
 }
 
 double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
@@ -67,7 +67,7 @@ double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& 
   if (ad ? request.hessian != nullptr : request.gradient != nullptr || request.hessian != nullptr)
     updateRuledQuadratics(ad);
   bindStages();
-  graph_->stage<4>().everyFaceQuadratic = ad && request.hessian != nullptr;
+  if (ad && request.hessian != nullptr) graph_->stage<4>().quadratic = &ruledQuadratic_;
   return graphEvaluator_->evaluate(x, request, options, schedule_, elementEnergy_);
 }
 

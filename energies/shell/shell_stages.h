@@ -175,6 +175,14 @@ inline void scaledStvkQuadratic(const double P[3], double c1, double c2, const d
   d.hessians[0] *= s;
 }
 
+/// An energy density's Hessian from the per-face quadratics its term keeps: H = s · kept[f], or false when none
+/// are kept (the stage then runs its Jets).
+inline bool keptQuadratic(const std::vector<Eigen::Matrix3d>* kept, double s, int f, Eigen::Matrix3d& H) {
+  if (kept == nullptr) return false;
+  H = s * (*kept)[static_cast<std::size_t>(f)];
+  return true;
+}
+
 /// The energy stages read the face's reference (origin B or A, A⁻¹, area) and scale with `scale`. The bending
 /// density of a face with moment-free boundary edges (`minimized`, per face and edge; energies/shell/edge_rules.h)
 /// is its minimum over those edges' mid-edge normals, a quadratic in b whose matrix the twin reads from
@@ -185,14 +193,10 @@ struct BendingDensityStage {
   double alpha = 0.0, beta = 0.0, scale = 1.0;
   const std::vector<std::array<bool, 3>>* minimized = nullptr;  // null: no moment-free edge
   const std::vector<Eigen::Matrix3d>* ruledQuadratic = nullptr;
-  bool everyFaceQuadratic = false;  // ruledQuadratic holds every face's matrix (not only the minimized faces')
-  /// The density is a quadratic in b per face: its Hessian, scale · area · the face's ruled quadratic (taken
-  /// from Jets by BendingTerm), when that is kept for every face (core/stage.h, per-entity quadratic).
-  bool quadraticHessian(int f, Eigen::Matrix3d& H) const {
-    if (!everyFaceQuadratic || ruledQuadratic == nullptr) return false;
-    H = (scale * ref->area[f]) * (*ruledQuadratic)[static_cast<std::size_t>(f)];
-    return true;
-  }
+  /// The density is a quadratic in b per face: `quadratic` is every face's W'' without the area scale when
+  /// BendingTerm keeps it (its ruled quadratics, from Jets), null otherwise (core/stage.h, per-entity quadratic).
+  const std::vector<Eigen::Matrix3d>* quadratic = nullptr;
+  bool quadraticHessian(int f, Eigen::Matrix3d& H) const { return keptQuadratic(quadratic, scale * ref->area[f], f, H); }
   const bool* minimizedEdges(int f) const {
     static constexpr bool kNone[3] = {false, false, false};
     return minimized != nullptr ? (*minimized)[static_cast<std::size_t>(f)].data() : kNone;
@@ -224,14 +228,10 @@ struct MembraneDensityStage {
   static constexpr int kInputs = 3, kOutputs = 1;
   const ShellReference* ref = nullptr;
   double lambda = 0.0, mu = 0.0, scale = 1.0;
-  const std::vector<Eigen::Matrix3d>* quadratic = nullptr;  // per face W_m'' without the area scale, or null
-  /// The density is a quadratic in a per face: its Hessian, scale · area · the face's kept quadratic (taken from
-  /// Jets by MembraneTerm), when one is kept (core/stage.h, per-entity quadratic).
-  bool quadraticHessian(int f, Eigen::Matrix3d& H) const {
-    if (quadratic == nullptr) return false;
-    H = (scale * ref->area[f]) * (*quadratic)[static_cast<std::size_t>(f)];
-    return true;
-  }
+  /// The density is a quadratic in a per face: `quadratic` is every face's W_m'' without the area scale when
+  /// MembraneTerm keeps it (from Jets), null otherwise (core/stage.h, per-entity quadratic).
+  const std::vector<Eigen::Matrix3d>* quadratic = nullptr;
+  bool quadraticHessian(int f, Eigen::Matrix3d& H) const { return keptQuadratic(quadratic, scale * ref->area[f], f, H); }
   template <typename T>
   void operator()(const T* a, T* w, int f) const {
     w[0] = (scale * ref->area[f]) * membraneDensity(a, ref->metric[f].data(), ref->inverseMetric[f].data(), lambda, mu);

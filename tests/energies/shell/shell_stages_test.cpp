@@ -36,14 +36,15 @@ TEST_CASE("shell stages: the densities' kept quadratics are their Jets' Hessians
     stageDerivativesFromJets(bending, b0, 0, 2, atRest);
     quadratic[0] = atRest.hessians[0] / (2.0 * 0.37);
     Eigen::Matrix3d H;
-    bending.everyFaceQuadratic = false;
+    bending.quadratic = nullptr;
     CHECK_FALSE(bending.quadraticHessian(0, H));
     CHECK(quadraticHessianDiscrepancy(bending, b0, 0) == 0.0);  // nothing kept: nothing to compare
-    bending.everyFaceQuadratic = true;
+    bending.quadratic = &quadratic;
     for (int trial = 0; trial < 10; ++trial) {
       double z[3];
       randomInput<BendingDensityStage>(rng, z);
-      // Measured <= 3e-16 relative; a stale matrix (other moduli or rule) shows at O(1).
+      // Measured 0 (a quadratic's nested Jets give the same Hessian at every input); a stale matrix (other moduli
+      // or rule) shows at O(1).
       CHECK(quadraticHessianDiscrepancy(bending, z, 0) <= 1e-12);
       // The order-2 derivatives on the Jets then take it: the same as the nested Jets'.
       StageDerivativesOf<BendingDensityStage> kept, jets;
