@@ -64,13 +64,33 @@ struct InnerJet : ceres::Jet<double, M> {
 template <int N, int M = N>
 using SecondOrderJet = ceres::Jet<InnerJet<M>, N>;
 
-/// Input i of N with value x, seeded for second derivatives: x + ε_i (inner) + δ_i (outer).
-template <int N>
-inline SecondOrderJet<N> secondOrderVariable(double x, int i) {
-  SecondOrderJet<N> z(InnerJet<N>(x, i));
-  z.v[i] = InnerJet<N>(1.0);
+/// Input i of N with value x, seeded for second derivatives: x + ε_i (inner) + δ_i (outer). M ≥ N inner duals
+/// (the ones past N stay zero: see kJetWidth).
+template <int N, int M = N>
+inline SecondOrderJet<N, M> secondOrderVariable(double x, int i) {
+  static_assert(M >= N, "every input needs an inner dual");
+  SecondOrderJet<N, M> z(InnerJet<M>(x, i));
+  z.v[i] = InnerJet<M>(1.0);
   return z;
 }
+
+/// The dual width of the Jets that differentiate a small function of N inputs (a stage): N, except 3 → 4, one
+/// vector register of doubles, the fourth dual unseeded and always zero. Eigen vectorises a Jet's fixed-size
+/// dual part only when its size is a whole number of packets, so a Jet of 3 runs scalar and a Jet of 4 as one
+/// vector operation: the shell's stages of 3 inputs take 1.2–2.3× less time on first-order Jets and 1.2–1.8× less
+/// on nested ones (inner width 4, outer 3), with the same derivatives to 3e-15 relative (`jetshell bench elements
+/// --term stage-jets`); 6 → 8 was slower (BENCHMARKS.md, session 90). Used by the stage evaluators
+/// (core/stage.h, core/stage_derivatives.h).
+template <int N>
+inline constexpr int kJetWidth = N == 3 ? 4 : N;
+
+/// First-order Jet for a function of N inputs (input i seeded as dual i of kJetWidth<N>).
+template <int N>
+using FirstOrderStageJet = ceres::Jet<double, kJetWidth<N>>;
+
+/// Second-order Jet for a function of N inputs: N outer duals, kJetWidth<N> inner ones.
+template <int N>
+using SecondOrderStageJet = SecondOrderJet<N, kJetWidth<N>>;
 
 // Comparisons of an InnerJet (Ceres' comparisons of the outer Jet reduce to these): by value, like Ceres'.
 #define JETSHELL_INNER_JET_COMPARISON(op)                                                             \

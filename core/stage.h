@@ -8,7 +8,8 @@
 //   };
 // Output of evaluateStage(): StageDerivatives<N, M> = value y (M), Jacobian ∂y/∂z (M×N) and, at order 2, the
 // Hessian ∇²y_k (N×N) of each output. They come from Ceres Jets of size N (Jet<double,N> for order 1,
-// Jet<Jet<double,N>,N> for order 2), so their cost depends on the stage's inputs only, never on a stencil.
+// Jet<Jet<double,N>,N> for order 2; a stage of 3 inputs carries 4 duals, one vector register, kJetWidth in
+// core/jet_arithmetic.h), so their cost depends on the stage's inputs only, never on a stencil.
 //
 // Optional analytic twin, detected at compile time: a stage that also declares
 //     void derivatives(const double* z, int entity, int order, StageDerivatives<N, M>& d) const;
@@ -120,27 +121,29 @@ struct IsAffineStage : std::false_type {};
 template <typename S>
 struct IsAffineStage<S, std::void_t<decltype(S::kAffine)>> : std::bool_constant<S::kAffine> {};
 
-/// Value (order 0), + Jacobian (order 1), + Hessians (order 2) of stage s at z, from Ceres Jets.
-template <typename S>
+/// Value (order 0), + Jacobian (order 1), + Hessians (order 2) of stage s at z, from Ceres Jets of W ≥ N duals
+/// (kJetWidth by default; `jetshell bench elements --term stage-jets` compares it with W = N).
+template <typename S, int W = kJetWidth<S::kInputs>>
 void stageDerivativesFromJets(const S& s, const double* z, int entity, int order, StageDerivativesOf<S>& d) {
   constexpr int N = S::kInputs, M = S::kOutputs;
+  static_assert(W >= N, "every input needs a dual");
   if (order <= 0) {
     double y[M];
     s(z, y, entity);
     for (int k = 0; k < M; ++k) d.value[k] = y[k];
   } else if (order == 1) {
-    using J1 = ceres::Jet<double, N>;
+    using J1 = ceres::Jet<double, W>;
     J1 zj[N], y[M];
     for (int i = 0; i < N; ++i) zj[i] = J1(z[i], i);
     s(static_cast<const J1*>(zj), y, entity);
     for (int k = 0; k < M; ++k) {
       d.value[k] = y[k].a;
-      d.jacobian.row(k) = y[k].v.transpose();
+      d.jacobian.row(k) = y[k].v.template head<N>().transpose();
     }
   } else {
-    using J2 = SecondOrderJet<N>;
+    using J2 = SecondOrderJet<N, W>;
     J2 zj[N], y[M];
-    for (int i = 0; i < N; ++i) zj[i] = secondOrderVariable<N>(z[i], i);
+    for (int i = 0; i < N; ++i) zj[i] = secondOrderVariable<N, W>(z[i], i);
     s(static_cast<const J2*>(zj), y, entity);
     for (int k = 0; k < M; ++k) {
       d.value[k] = y[k].a.a;
@@ -155,10 +158,10 @@ void stageDerivativesFromJets(const S& s, const double* z, int entity, int order
 /// stageDerivativesFromJets with every call in it inlined (core/flatten.h): the per-element path of stages whose
 /// derivatives come from Jets on every evaluation. One-off uses (constant Hessians, the checks) take the plain
 /// function, which compiles several times faster for stages of many inputs.
-template <typename S>
+template <typename S, int W = kJetWidth<S::kInputs>>
 JETSHELL_FLATTEN void stageDerivativesFromJetsInlined(const S& s, const double* z, int entity, int order,
                                                       StageDerivativesOf<S>& d) {
-  stageDerivativesFromJets(s, z, entity, order, d);
+  stageDerivativesFromJets<S, W>(s, z, entity, order, d);
 }
 
 /// The Hessians of a stage that declares kConstantHessian, computed once per stage type (thread-safe static).

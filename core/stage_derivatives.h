@@ -1,6 +1,6 @@
 // Forward-mode derivatives of one small stage of a staged energy (value, Jacobian and Hessians), from its
 // templated function, with nested Ceres Jets whose size is the stage's input count (3 for every nonlinear
-// stage of the shell energies). Between stages the chain rule is applied by the term (energies/*_term.cpp),
+// stage of the shell energies, carried as 4: kJetWidth, core/jet_arithmetic.h). Between stages the chain rule is applied by the term (energies/*_term.cpp),
 // so the cost of nesting never grows with the stencil's dof count.
 #pragma once
 
@@ -18,9 +18,9 @@ namespace jetshell {
 template <int N, typename F>
 JETSHELL_FLATTEN void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient,
                             Eigen::Matrix<double, N, N>& hessian) {
-  using J2 = SecondOrderJet<N>;
+  using J2 = SecondOrderStageJet<N>;
   J2 zj[N];
-  for (int i = 0; i < N; ++i) zj[i] = secondOrderVariable<N>(z[i], i);
+  for (int i = 0; i < N; ++i) zj[i] = secondOrderVariable<N, kJetWidth<N>>(z[i], i);
   const J2 y = f(zj);
   value = y.a.a;
   for (int i = 0; i < N; ++i) {
@@ -33,12 +33,12 @@ JETSHELL_FLATTEN void scalarStageDerivatives(const F& f, const double* z, double
 /// evaluation has no use for the Hessian that scalarStageDerivatives' nested Jets carry).
 template <int N, typename F>
 JETSHELL_FLATTEN void scalarStageGradient(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient) {
-  using J1 = ceres::Jet<double, N>;
+  using J1 = FirstOrderStageJet<N>;
   J1 zj[N];
   for (int i = 0; i < N; ++i) zj[i] = J1(z[i], i);
   const J1 y = f(static_cast<const J1*>(zj));
   value = y.a;
-  gradient = y.v;
+  gradient = y.v.template head<N>();
 }
 
 /// f: V3<T> -> V3<T> (vector stage with 3 inputs). Fills value, Jacobian J(k, i) = ∂y_k/∂z_i and the
@@ -46,9 +46,9 @@ JETSHELL_FLATTEN void scalarStageGradient(const F& f, const double* z, double& v
 template <typename F>
 JETSHELL_FLATTEN void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian,
                             std::array<Eigen::Matrix3d, 3>& hessians) {
-  using J2 = SecondOrderJet<3>;
+  using J2 = SecondOrderStageJet<3>;
   V3<J2> zj;
-  for (int i = 0; i < 3; ++i) zj[i] = secondOrderVariable<3>(z[i], i);
+  for (int i = 0; i < 3; ++i) zj[i] = secondOrderVariable<3, kJetWidth<3>>(z[i], i);
   const V3<J2> y = f(zj);
   for (int k = 0; k < 3; ++k) {
     value[k] = y[k].a.a;
@@ -62,13 +62,13 @@ JETSHELL_FLATTEN void vectorStageDerivatives(const F& f, const Eigen::Vector3d& 
 /// f: V3<T> -> V3<T>: value and Jacobian only, with first-order Jet<double,3>.
 template <typename F>
 JETSHELL_FLATTEN void vectorStageJacobian(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian) {
-  using J1 = ceres::Jet<double, 3>;
+  using J1 = FirstOrderStageJet<3>;
   V3<J1> zj;
   for (int i = 0; i < 3; ++i) zj[i] = J1(z[i], i);
   const V3<J1> y = f(zj);
   for (int k = 0; k < 3; ++k) {
     value[k] = y[k].a;
-    jacobian.row(k) = y[k].v.transpose();
+    jacobian.row(k) = y[k].v.template head<3>().transpose();
   }
 }
 

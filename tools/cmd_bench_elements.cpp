@@ -6,6 +6,7 @@
 // With more than one thread, the speed-up of the shell rows is also timed in interleaved pairs on the wall clock.
 // --straight-line adds the row shell_straight (1 thread, exact Hessian): the same stages with the chain rule
 // written out for this one graph (tools/bench/straight_line_shell.h), what the stage framework is measured against.
+// --term stage-jets times the Jet-differentiated stages alone at two dual widths (tools/bench/stage_jet_width.h).
 #include "tools/output/atomic_file.h"
 #include "core/assembly.h"
 #include "core/mesh_generators.h"
@@ -15,6 +16,7 @@
 #include "energies/examples/hinge_bending.h"
 #include "energies/shell/bending_term.h"
 #include "energies/shell/shell_terms.h"
+#include "tools/bench/stage_jet_width.h"
 #include "tools/bench/straight_line_shell.h"
 #include "tools/bench_cloth.h"
 #include "tools/subcommand.h"
@@ -122,7 +124,36 @@ int runNestedBench(const BenchOptions& o) {
   return kOk;
 }
 
+/// `--term stage-jets`: the shell's Jet-differentiated stages at Ceres' dual width and the framework's, 1 thread.
+int runStageJetBench(const BenchOptions& o) {
+  const std::vector<StageJetWidthRow> rows = benchStageJetWidth(o.n, std::max(o.repeats, 5));
+  std::printf("jetshell bench elements --term stage-jets: each stage's derivatives from Jets over a %dx%d grid's "
+              "faces (edges: Kelvin), 1 thread, median of %d interleaved repeats\n"
+              "%-18s %5s %14s %14s %12s %11s\n", o.n, o.n, std::max(o.repeats, 5), "stage", "order", "N duals ns",
+              "kJetWidth ns", "N / width", "difference");
+  nlohmann::json out = nlohmann::json::array();
+  for (const StageJetWidthRow& r : rows) {
+    std::printf("%-18s %5d %14.1f %14.1f %12.2f %11.1e\n", r.stage.c_str(), r.order, r.nsPlain, r.nsFramework,
+                r.nsPlain / r.nsFramework, r.largestDifference);
+    out.push_back({{"stage", r.stage}, {"order", r.order}, {"ns_plain_width", r.nsPlain},
+                   {"ns_framework_width", r.nsFramework}, {"plain_over_framework", r.nsPlain / r.nsFramework},
+                   {"largest_difference", r.largestDifference}});
+  }
+  if (!o.json.empty()) {
+    writeFileAtomically(o.json, out.dump(2) + "\n");
+    std::printf("wrote %s\n", o.json.c_str());
+  }
+  return kOk;
+}
+
 int runBench(const BenchOptions& o) {
+  if (o.term == "stage-jets") {
+    if (o.projection != "none" || o.straightLine || o.staged || !o.path.empty() || o.threads > 1) {
+      std::fprintf(stderr, "--term stage-jets: takes --n, --repeats and --json only\n");
+      return kUsage;
+    }
+    return runStageJetBench(o);
+  }
   if (o.term == "hinge" || o.term == "midedge") {
     if (o.projection != "none") {
       std::fprintf(stderr, "--projection: not with --term %s, whose figures compare exact Hessians\n", o.term.c_str());
@@ -451,7 +482,7 @@ const RegisterSubcommand registerBenchElements("bench elements", [](CLI::App& ap
       ->check(CLI::Range(1, 100));
   el->add_option("--json", opts->json, "Write the figures as a JSON list")->check(outputFile());
   el->add_option("--term", opts->term, "Only this term and its staged twin (hinge, midedge: a staged term against the same energy as one nested-Jet "
-                 "element)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge", "midedge"}));
+                 "element; stage-jets: the shell's Jet-differentiated stages at two dual widths)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge", "midedge", "stage-jets"}));
   el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));
   el->add_flag("--staged", opts->staged,
                "Also the same energies on the stage framework (rows *_staged), with their ratio to the default");

@@ -1,4 +1,5 @@
 #include "core/stage.h"
+#include "core/stage_derivatives.h"
 
 #include <catch2/catch.hpp>
 
@@ -28,6 +29,28 @@ struct Twinned : Plain {
     d.hessians[1] << -std::sin(z[0]), 0.0, 0.0, 0.0;
   }
 };
+
+/// y = (z0 z1 z2, z2 sin z0): three inputs, carried on Jets of kJetWidth<3> = 4 duals.
+struct ThreeInputs {
+  static constexpr int kInputs = 3, kOutputs = 2;
+  template <typename T>
+  void operator()(const T* z, T* y, int) const {
+    using std::sin;
+    y[0] = z[0] * z[1] * z[2];
+    y[1] = z[2] * sin(z[0]);
+  }
+};
+
+/// ThreeInputs' derivatives by hand.
+StageDerivatives<3, 2> threeInputsByHand(const double* z) {
+  StageDerivatives<3, 2> d;
+  const double s = std::sin(z[0]), c = std::cos(z[0]);
+  d.value << z[0] * z[1] * z[2], z[2] * s;
+  d.jacobian << z[1] * z[2], z[0] * z[2], z[0] * z[1], z[2] * c, 0.0, s;
+  d.hessians[0] << 0.0, z[2], z[1], z[2], 0.0, z[0], z[1], z[0], 0.0;
+  d.hessians[1] << -z[2] * s, 0.0, c, 0.0, 0.0, 0.0, c, 0.0, 0.0;
+  return d;
+}
 
 }  // namespace
 
@@ -129,4 +152,54 @@ TEST_CASE("stage: constant Hessians are computed once and a false declaration sh
   CHECK(d.value == jets.value);
   CHECK(constantHessianDiscrepancy(EntityLinear(), z, 0) == 0.0);
   CHECK(constantHessianDiscrepancy(EntityLinear(), z, 2) >= 1.0);
+}
+
+TEST_CASE("stage: a stage of 3 inputs on Jets of 4 duals (kJetWidth) gives its exact derivatives, as on 3", "[stages]") {
+  STATIC_REQUIRE(kJetWidth<3> == 4);
+  STATIC_REQUIRE(kJetWidth<2> == 2);
+  STATIC_REQUIRE(kJetWidth<6> == 6);
+  const double z[3] = {0.7, -1.3, 2.1};
+  const StageDerivatives<3, 2> hand = threeInputsByHand(z);
+  for (int order = 1; order <= 2; ++order) {
+    StageDerivatives<3, 2> wide, plain;
+    stageDerivativesFromJets(ThreeInputs(), z, 0, order, wide);  // kJetWidth<3> = 4 duals
+    stageDerivativesFromJets<ThreeInputs, 3>(ThreeInputs(), z, 0, order, plain);
+    CHECK(relativeDifference(wide.value, hand.value) <= 1e-15);
+    CHECK(relativeDifference(wide.jacobian, hand.jacobian) <= 1e-15);
+    CHECK(relativeDifference(plain.jacobian, hand.jacobian) <= 1e-15);
+    if (order < 2) continue;
+    for (int k = 0; k < 2; ++k) {
+      CHECK(relativeDifference(wide.hessians[static_cast<std::size_t>(k)], hand.hessians[static_cast<std::size_t>(k)]) <= 1e-15);
+      CHECK(relativeDifference(plain.hessians[static_cast<std::size_t>(k)], hand.hessians[static_cast<std::size_t>(k)]) <= 1e-15);
+    }
+  }
+  // The scalar and vector helpers of core/stage_derivatives.h run on the same width.
+  const auto first = [](const auto* x) { return x[0] * x[1] * x[2]; };
+  double value = 0.0;
+  Eigen::Vector3d gradient;
+  Eigen::Matrix3d hessian;
+  scalarStageDerivatives<3>(first, z, value, gradient, hessian);
+  CHECK(value == Approx(hand.value[0]));
+  CHECK(relativeDifference(gradient.transpose(), hand.jacobian.row(0)) <= 1e-15);
+  CHECK(relativeDifference(hessian, hand.hessians[0]) <= 1e-15);
+  scalarStageGradient<3>(first, z, value, gradient);
+  CHECK(relativeDifference(gradient.transpose(), hand.jacobian.row(0)) <= 1e-15);
+  const auto vector = [](const auto& x) {
+    using std::sin;
+    auto y = x;
+    y[0] = x[0] * x[1] * x[2];
+    y[1] = x[2] * sin(x[0]);
+    y[2] = x[1];
+    return y;
+  };
+  Eigen::Vector3d y;
+  Eigen::Matrix3d jacobian;
+  std::array<Eigen::Matrix3d, 3> hessians;
+  vectorStageDerivatives(vector, Eigen::Vector3d(z[0], z[1], z[2]), y, jacobian, hessians);
+  CHECK(relativeDifference(jacobian.topRows<2>(), hand.jacobian) <= 1e-15);
+  CHECK(relativeDifference(jacobian.row(2), Eigen::RowVector3d(0.0, 1.0, 0.0)) <= 1e-15);
+  CHECK(relativeDifference(hessians[1], hand.hessians[1]) <= 1e-15);
+  CHECK(hessians[2].cwiseAbs().maxCoeff() == 0.0);
+  vectorStageJacobian(vector, Eigen::Vector3d(z[0], z[1], z[2]), y, jacobian);
+  CHECK(relativeDifference(jacobian.topRows<2>(), hand.jacobian) <= 1e-15);
 }

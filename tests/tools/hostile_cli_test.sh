@@ -85,6 +85,7 @@ expect 2 "--png: /dev/null: not a regular file" -- "$js" render x.vtu --png /dev
 expect 2 "--steps: Value 0 not in range 1 to 10000000" -- "$js" run examples/cantilever_strip.json --steps 0
 expect 2 "--reference-iterations: Value 0 not in range 1 to 1000" -- "$js" bench contact --reference-iterations 0
 expect 2 "--projection: not with --term hinge" -- "$js" bench elements --term hinge --projection clamp
+expect 2 "--term stage-jets: takes --n, --repeats and --json only" -- "$js" bench elements --term stage-jets --staged
 expect 2 "--checkpoint-every: Value 99999999999 not in range 1 to 10000000" -- \
   "$js" run examples/cantilever_strip.json --checkpoint-every 99999999999
 expect 3 "cantilever-end-moment, slit-ring-page, slit-ring-page-relaxation, hinged-cylindrical-roof)" -- \
