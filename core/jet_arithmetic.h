@@ -80,17 +80,18 @@ inline SecondOrderJet<N, M> secondOrderVariable(double x, int i) {
 /// vector operation: the shell's stages of 3 inputs take 1.2–2.3× less time on first-order Jets and 1.2–1.8× less
 /// on nested ones (inner width 4, outer 3), with the same derivatives to 3e-15 relative (`jetshell bench elements
 /// --term stage-jets`); 6 → 8 was slower (BENCHMARKS.md, session 90). Used by the stage evaluators
-/// (core/stage.h, core/stage_derivatives.h).
+/// (core/stage.h, core/stage_derivatives.h) and by whole-element Jets (energies/element_energy_term.h: a contact
+/// element of one vertex, or of two in difference coordinates, has 3).
 template <int N>
 inline constexpr int kJetWidth = N == 3 ? 4 : N;
 
 /// First-order Jet for a function of N inputs (input i seeded as dual i of kJetWidth<N>).
 template <int N>
-using FirstOrderStageJet = ceres::Jet<double, kJetWidth<N>>;
+using FirstOrderJetOf = ceres::Jet<double, kJetWidth<N>>;
 
 /// Second-order Jet for a function of N inputs: N outer duals, kJetWidth<N> inner ones.
 template <int N>
-using SecondOrderStageJet = SecondOrderJet<N, kJetWidth<N>>;
+using SecondOrderJetOf = SecondOrderJet<N, kJetWidth<N>>;
 
 // Comparisons of an InnerJet (Ceres' comparisons of the outer Jet reduce to these): by value, like Ceres'.
 #define JETSHELL_INNER_JET_COMPARISON(op)                                                             \

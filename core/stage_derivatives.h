@@ -18,7 +18,7 @@ namespace jetshell {
 template <int N, typename F>
 JETSHELL_FLATTEN void scalarStageDerivatives(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient,
                             Eigen::Matrix<double, N, N>& hessian) {
-  using J2 = SecondOrderStageJet<N>;
+  using J2 = SecondOrderJetOf<N>;
   J2 zj[N];
   for (int i = 0; i < N; ++i) zj[i] = secondOrderVariable<N, kJetWidth<N>>(z[i], i);
   const J2 y = f(zj);
@@ -33,7 +33,7 @@ JETSHELL_FLATTEN void scalarStageDerivatives(const F& f, const double* z, double
 /// evaluation has no use for the Hessian that scalarStageDerivatives' nested Jets carry).
 template <int N, typename F>
 JETSHELL_FLATTEN void scalarStageGradient(const F& f, const double* z, double& value, Eigen::Matrix<double, N, 1>& gradient) {
-  using J1 = FirstOrderStageJet<N>;
+  using J1 = FirstOrderJetOf<N>;
   J1 zj[N];
   for (int i = 0; i < N; ++i) zj[i] = J1(z[i], i);
   const J1 y = f(static_cast<const J1*>(zj));
@@ -46,7 +46,7 @@ JETSHELL_FLATTEN void scalarStageGradient(const F& f, const double* z, double& v
 template <typename F>
 JETSHELL_FLATTEN void vectorStageDerivatives(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian,
                             std::array<Eigen::Matrix3d, 3>& hessians) {
-  using J2 = SecondOrderStageJet<3>;
+  using J2 = SecondOrderJetOf<3>;
   V3<J2> zj;
   for (int i = 0; i < 3; ++i) zj[i] = secondOrderVariable<3, kJetWidth<3>>(z[i], i);
   const V3<J2> y = f(zj);
@@ -62,7 +62,7 @@ JETSHELL_FLATTEN void vectorStageDerivatives(const F& f, const Eigen::Vector3d& 
 /// f: V3<T> -> V3<T>: value and Jacobian only, with first-order Jet<double,3>.
 template <typename F>
 JETSHELL_FLATTEN void vectorStageJacobian(const F& f, const Eigen::Vector3d& z, Eigen::Vector3d& value, Eigen::Matrix3d& jacobian) {
-  using J1 = FirstOrderStageJet<3>;
+  using J1 = FirstOrderJetOf<3>;
   V3<J1> zj;
   for (int i = 0; i < 3; ++i) zj[i] = J1(z[i], i);
   const V3<J1> y = f(zj);

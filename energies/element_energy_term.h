@@ -171,10 +171,10 @@ class ElementEnergyTerm : public FixedStencilTerm {
     constexpr int R = M - S;
     double value;
     if (wantH) {
-      using D2 = SecondOrderJet<R>;
+      using D2 = SecondOrderJetOf<R>;  // R outer duals, kJetWidth<R> inner (core/jet_arithmetic.h)
       D2 xj[M];
       for (int i = 0; i < S; ++i) xj[i] = constant<D2>(xe[i]);
-      for (int i = S; i < M; ++i) xj[i] = secondOrderVariable<R>(xe[i], i - S);
+      for (int i = S; i < M; ++i) xj[i] = secondOrderVariable<R, kJetWidth<R>>(xe[i], i - S);
       const D2 E = energy(static_cast<const D2*>(xj), e);
       Eigen::Matrix<double, R, R> C;
       for (int i = 0; i < R; ++i) {
@@ -185,12 +185,12 @@ class ElementEnergyTerm : public FixedStencilTerm {
       if constexpr (S > 0) completeTranslationInvariant(H);
       value = E.a.a;
     } else if (wantG) {
-      using D1 = ceres::Jet<double, R>;
+      using D1 = FirstOrderJetOf<R>;
       D1 xj[M];
       for (int i = 0; i < S; ++i) xj[i] = constant<D1>(xe[i]);
       for (int i = S; i < M; ++i) xj[i] = D1(xe[i], i - S);
       const D1 E = energy(static_cast<const D1*>(xj), e);
-      g.template tail<R>() = E.v;
+      g.template tail<R>() = E.v.template head<R>();
       value = E.a;
     } else {
       return energy(static_cast<const double*>(xe), e);
