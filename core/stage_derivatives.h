@@ -1,7 +1,8 @@
 // Forward-mode derivatives of one small stage of a staged energy (value, Jacobian and Hessians), from its
 // templated function, with nested Ceres Jets whose size is the stage's input count (3 for every nonlinear
-// stage of the shell energies, carried as 4: kJetWidth, core/jet_arithmetic.h). Between stages the chain rule is applied by the term (energies/*_term.cpp),
-// so the cost of nesting never grows with the stencil's dof count.
+// stage of the shell energies, carried as 4 duals: kJetWidth, core/jet_arithmetic.h). Between stages the chain
+// rule is applied by the term (energies/*_term.cpp), so the cost of nesting never grows with the stencil's dof
+// count.
 #pragma once
 
 #include "core/flatten.h"
