@@ -18,6 +18,7 @@
 #include "energies/shell/shell_terms.h"
 #include "tools/bench/stage_jet_width.h"
 #include "tools/bench/straight_line_shell.h"
+#include "tools/bench/wavy_grid.h"
 #include "tools/bench_cloth.h"
 #include "tools/subcommand.h"
 
@@ -67,14 +68,11 @@ double nowNs() {
 ///   `--term midedge`: the mid-edge bending term on the stage framework (BendingTerm::setStaged, Jets; 18-dof
 ///                     stencils) against its whole-stencil nested-Jet reference (makeBendingTermNestedJet).
 int runNestedBench(const BenchOptions& o) {
-  const double pi = 3.14159265358979323846;
   const bool hinge = o.term == "hinge";
   const TriMesh mesh = makeRectangleGrid(1.0, 1.0, o.n, o.n);
   const Topology topo = buildTopology(mesh);
   const ShellReference ref = computeReference(mesh, topo);
-  Eigen::VectorXd x = flatten(mesh.V);
-  for (int v = 0; v < mesh.numVertices(); ++v)
-    x[3 * v + 2] = 0.05 * std::sin(6.0 * pi * x[3 * v]) * std::cos(4.0 * pi * x[3 * v + 1]);
+  const Eigen::VectorXd x = wavyGridPositions(mesh, false);
   EnergyTermPtr staged, nested;
   if (hinge) {
     staged = makeHingeBendingTerm(mesh, topo, 1.0);
@@ -166,17 +164,11 @@ int runBench(const BenchOptions& o) {
                  o.projection.c_str());
     return kUsage;
   }
-  const double pi = 3.14159265358979323846;
   const TriMesh mesh = makeRectangleGrid(1.0, 1.0, o.n, o.n);
   const Topology topo = buildTopology(mesh);
   const ShellReference ref = computeReference(mesh, topo);
   const ShellMaterialParams mat = ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
-  Eigen::VectorXd x = flatten(mesh.V);
-  for (int v = 0; v < mesh.numVertices(); ++v) {
-    const double px = x[3 * v], py = x[3 * v + 1];
-    x[3 * v + 2] = 0.05 * std::sin(6.0 * pi * px) * std::cos(4.0 * pi * py);
-    x[3 * v] += 0.01 * std::sin(2.0 * pi * py);
-  }
+  const Eigen::VectorXd x = wavyGridPositions(mesh, true);
   auto membrane = makeMembraneTerm(mesh, ref, mat.membraneLambda, mat.membraneMu);
   auto bending = makeBendingTerm(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
   std::shared_ptr<MembraneTerm> membraneStaged;

@@ -1,12 +1,12 @@
 #include "tools/bench/stage_jet_width.h"
 
-#include "core/flatten.h"
 #include "core/mesh_generators.h"
 #include "core/stage.h"
 #include "core/topology.h"
 #include "energies/shell/reference_state.h"
 #include "energies/shell/shell_geometry.h"
 #include "energies/shell/shell_stages.h"
+#include "tools/bench/wavy_grid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -78,13 +78,10 @@ void addRows(const char* name, const S& stage, const std::vector<double>& z, int
 }  // namespace
 
 std::vector<StageJetWidthRow> benchStageJetWidth(int n, int repeats) {
-  const double pi = 3.14159265358979323846;
   const TriMesh mesh = makeRectangleGrid(1.0, 1.0, n, n);
   const Topology topo = buildTopology(mesh);
   const ShellReference ref = computeReference(mesh, topo);
-  Eigen::VectorXd x = flatten(mesh.V);
-  for (int v = 0; v < mesh.numVertices(); ++v)
-    x[3 * v + 2] = 0.05 * std::sin(6.0 * pi * x[3 * v]) * std::cos(4.0 * pi * x[3 * v + 1]);
+  const Eigen::VectorXd x = wavyGridPositions(mesh, false);
   // Per face: c = e0 × e1, the metric a and a second form b near the reference; per edge: the mean of its faces'
   // normals (interior edges).
   const int nf = mesh.numFaces();
