@@ -174,6 +174,17 @@ struct LayerShape {
   static constexpr int offset(int g) { return kOffsets[static_cast<std::size_t>(g)]; }
   static constexpr int slotOffset(int g) { return kSlotOffsets[static_cast<std::size_t>(g)]; }
   static constexpr int kSlots = slotOffset(G);  // slot-map entries per node
+  // The part of a Local node's input adjoint that the Shared layers gather (its From-Shared groups'), where
+  // each such group starts in it, and its length: the rest (leaves, Local inputs) is never read back.
+  static constexpr std::array<int, G> sharedSizes() {
+    std::array<int, G> v{};
+    for (int g = 0; g < G; ++g)
+      v[static_cast<std::size_t>(g)] = Groups::fromShared[static_cast<std::size_t>(g)] ? Groups::size[static_cast<std::size_t>(g)] : 0;
+    return v;
+  }
+  static constexpr auto kSentOffsets = stage_graph_detail::prefixSums(sharedSizes());
+  static constexpr int sentOffset(int g) { return kSentOffsets[static_cast<std::size_t>(g)]; }
+  static constexpr int kSent = sentOffset(G);
   static_assert(offset(G) == N, "the layer's input groups must fill its stage's inputs");
   static constexpr bool readsLocal() {
     for (int g = 0; g < G; ++g)

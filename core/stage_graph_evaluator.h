@@ -327,7 +327,13 @@ class StageGraphEvaluator {
     const auto k = static_cast<std::size_t>(i);
     b.value[k] = d.value;
     if (mode.order < 1) return;
-    b.jacobian[k] = d.jacobian;
+    if constexpr (IsAffineStage<typename S::Stage>::value) {
+      // An affine stage's Jacobian does not depend on x: written only when it changed, its cache lines stay
+      // clean (no write-back each evaluation; BENCHMARKS.md, session 92).
+      if (b.jacobian[k] != d.jacobian) b.jacobian[k] = d.jacobian;
+    } else {
+      b.jacobian[k] = d.jacobian;
+    }
     if (mode.totals) addTotals<I>(d.jacobian, inputs<I>(i), slots<I>(i), nullptr, b.total[k]);
     if (hessians) b.hessian[k] = d.hessians;
   }
@@ -787,7 +793,7 @@ class StageGraphEvaluator {
         }
         if (I == kRoot && curvature && !mode.exact) return;
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
-        if (keep) Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
+        if (keep) keepSentAdjoint<I>(e, zbar);
         sendAdjoint<I>(zbar, slot,
                        [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); },
                        shared, s, g);
@@ -1246,13 +1252,27 @@ class StageGraphEvaluator {
   void keepSent(int ne) {
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
-      if constexpr (!Shape<I>::kShared) std::get<I>(sent_).resize(static_cast<std::size_t>(ne) * Shape<I>::N);
+      if constexpr (!Shape<I>::kShared) std::get<I>(sent_).resize(static_cast<std::size_t>(ne) * Shape<I>::kSent);
     });
+  }
+  /// Keeps the part of Local node I's input adjoint zbar at element e that the Shared layers gather (its
+  /// From-Shared groups', Shape::sentOffset).
+  template <int I>
+  JETSHELL_INLINE void keepSentAdjoint(int e, const Eigen::Matrix<double, Shape<I>::N, 1>& zbar) {
+    using S = Shape<I>;
+    if constexpr (S::kSent > 0) {
+      double* out = std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::kSent;
+      forEachGroup<I>([&](auto group) {
+        constexpr int g = decltype(group)::value;
+        if constexpr (S::Groups::fromShared[g])
+          for (int c = 0; c < S::Groups::size[g]; ++c) out[S::sentOffset(g) + c] = zbar[S::offset(g) + c];
+      });
+    }
   }
 
   // ---- contracted mode: the adjoints of the Shared nodes ----
   /// Per element: the Local nodes' adjoints (values and Jacobians only), and for each Local layer, Jᵀw over its
-  /// N inputs, kept per element for gatherAdjoints.
+  /// From-Shared groups, kept per element for gatherAdjoints.
   void sendLocalAdjoints(const Eigen::VectorXd& x, const Mode& mode) {
     const int ne = graph_.numElements();
     keepSent(ne);
@@ -1278,7 +1298,7 @@ class StageGraphEvaluator {
       if constexpr (!S::kShared) {
         LocalNode<I>& node = std::get<I>(s.nodes);
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
-        Eigen::Map<Eigen::Matrix<double, S::N, 1>>(std::get<I>(sent_).data() + static_cast<std::size_t>(e) * S::N) = zbar;
+        keepSentAdjoint<I>(e, zbar);
         sendToLocalInputs<I>(zbar, s);
       }
     });
@@ -1322,7 +1342,7 @@ class StageGraphEvaluator {
             const auto& bj = buffers<J>();
             w.noalias() += bj.jacobian[k].transpose().template middleRows<S::M>(off) * bj.adjoint[k];
           } else {
-            const double* sent = std::get<J>(sent_).data() + k * Shape<J>::N + off;
+            const double* sent = std::get<J>(sent_).data() + k * Shape<J>::kSent + Shape<J>::sentOffset(reader[2]);
             for (int c = 0; c < S::M; ++c) w[c] += sent[c];
           }
         }
@@ -1452,7 +1472,7 @@ class StageGraphEvaluator {
   Graph& graph_;
   ElementProjector projector_;  // optional (setElementProjector)
   typename Tuples<Seq>::Shared shared_;
-  typename Tuples<Seq>::Sent sent_;  // per Local layer: per element, Jᵀw over its N inputs (contracted mode)
+  typename Tuples<Seq>::Sent sent_;  // per Local layer: per element, Jᵀw over its From-Shared groups (keepSentAdjoint)
 };
 
 }  // namespace jetshell
