@@ -3,7 +3,6 @@
 #include "core/mesh.h"
 
 #include <algorithm>
-#include <cstddef>
 #include <iterator>
 #include <limits>
 #include <stdexcept>
@@ -380,14 +379,10 @@ void HessianAssembler::buildScatter(bool everything) {
 }
 
 void HessianAssembler::setZero() {
-  // In chunks over the threads: zeroing is a pass over the whole matrix (28 MB at 80,000 faces), a serial part of
-  // every assembly otherwise (BENCHMARKS.md, session 92).
   double* v = matrix_.valuePtr();
-  const std::ptrdiff_t nnz = matrix_.nonZeros();
-  constexpr std::ptrdiff_t kChunk = 1 << 15;
-  const std::ptrdiff_t chunks = (nnz + kChunk - 1) / kChunk;
-#pragma omp parallel for schedule(static) if (chunks >= 8)
-  for (std::ptrdiff_t c = 0; c < chunks; ++c) std::fill(v + c * kChunk, v + std::min(nnz, (c + 1) * kChunk), 0.0);
+  const std::int64_t nnz = matrix_.nonZeros();
+#pragma omp parallel for simd schedule(static) if (nnz >= kParallelZeroValues)
+  for (std::int64_t i = 0; i < nnz; ++i) v[i] = 0.0;
   for (std::size_t d = 0; d < fixedDof_.size(); ++d) {
     if (fixedDof_[d]) v[diagonalIndex_[d]] = 1.0;
   }

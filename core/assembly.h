@@ -55,8 +55,10 @@ class HessianAssembler {
   std::int64_t patternPairs() const { return patternPairs_; }
   std::int64_t usedPairs() const { return usedPairs_; }
 
-  /// Zeroes the values (pattern kept). Fixed dofs get their unit diagonal.
+  /// Zeroes the values (pattern kept). Fixed dofs get their unit diagonal. Split over the threads from
+  /// kParallelZeroValues values on (a serial pass over a large matrix otherwise; BENCHMARKS.md, session 92).
   void setZero();
+  static constexpr std::int64_t kParallelZeroValues = 1 << 18;
   /// Adds a dense symmetric element block H (3K×3K, column-major, leading dimension 3K); reads the upper
   /// triangle only. Safe to call concurrently for elements of one colour.
   void addElementHessian(int slot, int element, const double* H);
