@@ -102,20 +102,23 @@ int runNestedBench(const BenchOptions& o) {
     std::sort(times.begin(), times.end());
     return times[times.size() / 2];
   };
+  const double loadStart = loadAverage();
   const double tStaged = measure(*staged), tNested = measure(*nested);
+  const double loadEnd = loadAverage();
   const char* unit = hinge ? "hinge" : "face";
   const int dofs = hinge ? 12 : 18;
   std::printf("jetshell bench elements --term %s: %d stencils of %d dofs, %d thread(s), value + gradient + exact "
               "Hessian with assembly\n  staged (core/stage_graph.h): %10.1f ns/%s\n  one nested-Jet element:      "
-              "%10.1f ns/%s\n  nested / staged: %.1fx (target >= 10)\n",
+              "%10.1f ns/%s\n  nested / staged: %.1fx (target >= 10)\nload average at start %.2f, at end %.2f\n",
               o.term.c_str(), static_cast<int>(stencils), dofs, omp_get_max_threads(), tStaged, unit, tNested, unit,
-              tNested / tStaged);
+              tNested / tStaged, loadStart, loadEnd);
   if (!o.json.empty()) {
     const std::string name = hinge ? "hinge_bending" : "midedge_bending";
     nlohmann::json out = nlohmann::json::array();
     out.push_back({{"term", name}, {"path", "staged"}, {"ns_per_stencil", tStaged}, {"dofs", dofs}});
     out.push_back({{"term", name + "_nested_jet"}, {"path", "nested_jet"}, {"ns_per_stencil", tNested}, {"dofs", dofs}});
-    out.push_back({{"nested_over_staged", tNested / tStaged}, {"stencils", stencils}, {"threads", omp_get_max_threads()}});
+    out.push_back({{"nested_over_staged", tNested / tStaged}, {"stencils", stencils}, {"threads", omp_get_max_threads()},
+                   {"load_average_start", loadStart}, {"load_average_end", loadEnd}});
     writeFileAtomically(o.json, out.dump(2) + "\n");
     std::printf("wrote %s\n", o.json.c_str());
   }
@@ -188,9 +191,11 @@ int runBench(const BenchOptions& o) {
   const int slotB = assembler.addStencils(bending->stencils());
   assembler.finalize(mesh.numVertices());
   const double faces = mesh.numFaces();
-  std::printf("jetshell bench elements: %d faces, %d vertices, Hessian nnz (upper) %ld, pattern+scatter %.1f MB\n",
+  const double loadStart = loadAverage();
+  std::printf("jetshell bench elements: %d faces, %d vertices, Hessian nnz (upper) %ld, pattern+scatter %.1f MB; "
+              "load average at start %.2f\n",
               mesh.numFaces(), mesh.numVertices(), static_cast<long>(assembler.matrix().nonZeros()),
-              static_cast<double>(assembler.memoryBytes()) / 1e6);
+              static_cast<double>(assembler.memoryBytes()) / 1e6, loadStart);
   // A projected run measures what a Newton step with projection pays; the targets are for the exact
   // Hessian unprojected, so its summary then names no target.
   const PsdProjection projection = psdProjectionFromString(o.projection);
@@ -429,6 +434,8 @@ int runBench(const BenchOptions& o) {
   }
   std::printf("  peak resident memory: %.0f MB (target <= 300%s)\n", peakRssMb(),
               o.staged ? "; this run also holds the staged terms and their caches" : "");
+  const double loadEnd = loadAverage();
+  std::printf("load average at end: %.2f\n", loadEnd);
 
   if (!o.json.empty()) {
     nlohmann::json out = nlohmann::json::array();
@@ -446,7 +453,8 @@ int runBench(const BenchOptions& o) {
                                                                                    : "value+gradient+hessian"},
                      {"bending_hessian", r.hessian}, {"projection", toString(projection)}, {"variant", true}});
     }
-    out.push_back({{"peak_rss_mb", peakRssMb()}, {"faces", mesh.numFaces()}, {"projection", toString(projection)}});
+    out.push_back({{"peak_rss_mb", peakRssMb()}, {"faces", mesh.numFaces()}, {"projection", toString(projection)},
+                   {"load_average_start", loadStart}, {"load_average_end", loadEnd}});
     for (const auto& [name, p] : {std::pair<const char*, PairedRatio>{"shell", handRatio}, {"shell_staged", stagedRatio}})
       if (p.pairs > 0)
         out.push_back({{"term", name}, {"ad_over_analytic_interleaved", p.median}, {"low", p.low}, {"high", p.high},
