@@ -16,7 +16,8 @@
 // is evaluated by it on DerivativePath::Analytic; stageTwinDiscrepancy() measures it against the Jets (the
 // conformance tests call it), so a twin is an optimisation that is always checked, never a second truth. The twin
 // of a stage declaring kConstantHessian (below) gives only its value and Jacobian: the framework fills the
-// Hessians (twinDerivatives()).
+// Hessians (twinDerivatives()). A value alone (order 0) is the stage's own call on doubles on every path: a twin
+// is asked only for derivatives.
 //
 // Optional weighted-Hessian twin, detected at compile time: a stage with a twin may also declare
 //     void weightedHessian(const double* z, int entity, const double* w, Eigen::Matrix<double, N, N>& C) const;
@@ -335,6 +336,12 @@ void twinDerivatives(const S& s, const double* z, int entity, int order, StageDe
 /// Analytic, the Jets otherwise (a composed stage: its parts' derivatives, chained).
 template <typename S>
 void evaluateStage(const S& s, const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<S>& d) {
+  if (order <= 0) {
+    // A value alone is the stage itself on doubles, on every path (a twin's or a composition's value is this
+    // call): nothing to differentiate, and nothing between it and the caller's loop.
+    s(z, d.value.data(), entity);
+    return;
+  }
   if constexpr (IsAffineStage<S>::value) {
     if (order >= 2) {
       evaluateStage(s, z, entity, 1, path, d);
@@ -368,7 +375,7 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
     }
   }
   if constexpr (HasConstantHessian<S>::value || IsComposedStage<S>::value) {
-    stageDerivativesFromJets(s, z, entity, order, d);  // values only (order 0): nothing to differentiate
+    stageDerivativesFromJets(s, z, entity, order, d);  // not inlined: these stages' orders 1 and 2 return above
   } else {
     stageDerivativesFromJetsInlined(s, z, entity, order, d);
   }
