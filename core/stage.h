@@ -375,7 +375,9 @@ void evaluateStage(const S& s, const double* z, int entity, int order, Derivativ
     }
   }
   if constexpr (HasConstantHessian<S>::value || IsComposedStage<S>::value) {
-    stageDerivativesFromJets(s, z, entity, order, d);  // not inlined: these stages' orders 1 and 2 return above
+    // Reached by no order of these stages (each returns above); the plain function, as the flattened one would
+    // compile several times slower for them.
+    stageDerivativesFromJets(s, z, entity, order, d);
   } else {
     stageDerivativesFromJetsInlined(s, z, entity, order, d);
   }
