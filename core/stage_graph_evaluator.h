@@ -100,6 +100,7 @@ class StageGraphEvaluator {
       // A large mesh: the contracted Hessian's sweeps in windows, while their data are in cache.
       if (mode.contracted && !graph_.windowPlan().empty()) return contractedInWindows(x, request, mode, elementEnergy);
     }
+    if (!wantG && !wantH) return valueSweep(x, elementEnergy);
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       if constexpr (Shape<I>::kShared) forwardShared<I>(x, mode);
@@ -240,6 +241,13 @@ class StageGraphEvaluator {
   /// Local input from the element's state).
   template <int I>
   JETSHELL_INLINE void gather(const Eigen::VectorXd& x, int entity, const ElementState* s, double* z) {
+    gatherFrom<I>(x, entity, z, [&](auto layer) -> const auto& {
+      return std::get<decltype(layer)::value>(s->nodes).d.value;
+    });
+  }
+  /// gather's body: localValue(integral_constant<int, l>) gives the value of the element's node of Local layer l.
+  template <int I, typename LocalValue>
+  JETSHELL_INLINE void gatherFrom(const Eigen::VectorXd& x, int entity, double* z, LocalValue&& localValue) {
     const InputRef* in = inputs<I>(entity);
     forEachGroup<I>([&](auto group) {
       constexpr int g = decltype(group)::value;
@@ -252,7 +260,7 @@ class StageGraphEvaluator {
         const auto& v = buffers<l>().value[static_cast<std::size_t>(r.a)];
         for (int c = 0; c < Shape<l>::M; ++c) z[off + c] = v[c];
       } else {
-        const auto& v = std::get<l>(s->nodes).d.value;
+        const auto& v = localValue(std::integral_constant<int, l>());
         for (int c = 0; c < Shape<l>::M; ++c) z[off + c] = v[c];
       }
     });
@@ -1199,6 +1207,70 @@ class StageGraphEvaluator {
       for (int c = 1; c < K; ++c)
         for (int r = c + 1; r < K; ++r) H.template block<3, 3>(3 * r, 3 * c) = H.template block<3, 3>(3 * c, 3 * r).transpose();
     completeTranslationInvariant(H);
+  }
+
+  // ---- a value alone: the stages called on doubles, inline ----
+  /// Each Shared layer's node values over the mesh, then each element's Local stages; no derivative buffer is
+  /// touched. The stages are the very calls every other path makes at order 0 (evaluateStage), here inlined into
+  /// one body per node or element, so their inputs and outputs stay in registers instead of being stored and
+  /// reloaded across calls (BENCHMARKS.md, Elements, "Session 96").
+  double valueSweep(const Eigen::VectorXd& x, std::vector<double>& elementEnergy) {
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) sharedValues<I>(x);
+    });
+    const int ne = graph_.numElements();
+    elementEnergy.resize(static_cast<std::size_t>(ne));
+    ParallelErrors errors;
+#pragma omp parallel for schedule(static) if (ne >= kParallelMinElements)
+    for (int e = 0; e < ne; ++e) errors.run([&] { elementEnergy[static_cast<std::size_t>(e)] = elementValue(x, e); });
+    errors.rethrow();
+    double total = 0.0;
+    for (double v : elementEnergy) total += v;
+    return total;
+  }
+  template <int I>
+  void sharedValues(const Eigen::VectorXd& x) {
+    auto& value = buffers<I>().value;
+    const int count = graph_.tables(I).count;
+    value.resize(static_cast<std::size_t>(count));
+    ParallelErrors errors;
+#pragma omp parallel for schedule(static) if (count >= kParallelMinElements)
+    for (int i = 0; i < count; ++i) errors.run([&] { sharedNodeValue<I>(x, i, value[static_cast<std::size_t>(i)].data()); });
+    errors.rethrow();
+  }
+  template <int I>
+  JETSHELL_FLATTEN void sharedNodeValue(const Eigen::VectorXd& x, int i, double* y) {
+    double z[Shape<I>::N];
+    gatherFrom<I>(x, i, z, [](auto) -> const Eigen::Matrix<double, 1, 1>& { return noLocalValue(); });
+    std::get<I>(graph_.stages())(static_cast<const double*>(z), y, i);
+  }
+  /// A Shared node reads no Local node (the graph forbids it); gatherFrom's accessor must still return something.
+  static const Eigen::Matrix<double, 1, 1>& noLocalValue() {
+    static const Eigen::Matrix<double, 1, 1> none = Eigen::Matrix<double, 1, 1>::Zero();
+    return none;
+  }
+  template <typename S>
+  struct LocalValueSlot {
+    using type = Eigen::Matrix<double, S::M, 1>;
+  };
+  template <typename Seq_>
+  struct LocalValueTuple;
+  template <int... Is>
+  struct LocalValueTuple<std::integer_sequence<int, Is...>> {
+    using type = std::tuple<typename LocalValueSlot<Shape<Is>>::type...>;
+  };
+  JETSHELL_FLATTEN double elementValue(const Eigen::VectorXd& x, int e) {
+    typename LocalValueTuple<Seq>::type values;
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (!Shape<I>::kShared) {
+        double z[Shape<I>::N];
+        gatherFrom<I>(x, e, z, [&](auto l) -> const auto& { return std::get<decltype(l)::value>(values); });
+        std::get<I>(graph_.stages())(static_cast<const double*>(z), std::get<I>(values).data(), e);
+      }
+    });
+    return std::get<kRoot>(values)[0];
   }
 
   // ---- a gradient alone: one reverse sweep over the whole graph ----
