@@ -248,8 +248,8 @@ class StageGraph {
   const StencilTable& elements() const { return elements_; }
   int numElements() const { return elements_.size(); }
   bool finalized() const { return finalized_; }
-  /// The order of the contracted exact Hessian's sweeps on a large mesh (core/stage_window_plan.h), built by
-  /// finalize() with the default sizes; empty on a mesh too small for four lanes.
+  /// The order of the contracted exact Hessian's sweeps (core/stage_window_plan.h), built by finalize() with the
+  /// default sizes (windowPlanLaneElements); empty on a mesh of fewer than 4 × kWindowPlanMinLaneElements elements.
   const StageWindowPlan& windowPlan() const { return windowPlan_; }
   /// Builds the window plan again with other sizes (laneElements ≤ 0: none), for tests and measurements.
   void replanWindows(int laneElements, int window = kWindowPlanWindow) {
@@ -569,7 +569,7 @@ void StageGraph<K, Ls...>::finalize() {
     vertexReaderStart_.push_back(static_cast<int>(vertexReaders_.size()));
   }
   finalized_ = true;
-  replanWindows(kWindowPlanLaneElements);
+  replanWindows(windowPlanLaneElements(elements_.size()));
 }
 
 }  // namespace jetshell

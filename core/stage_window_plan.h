@@ -3,7 +3,7 @@
 // reads it.
 //
 // Without a plan the contracted Hessian runs four sweeps, each over the whole mesh: the Shared nodes forward,
-// the elements' adjoints, the Shared nodes' adjoints, the elements' curvature and assembly. Past about 10,000
+// the elements' adjoints, the Shared nodes' adjoints, the elements' curvature and assembly. Past a few thousand
 // elements the Shared buffers the first sweep writes have left the cache when the last one reads them. With a
 // plan the elements are cut into lanes (contiguous ranges; their number depends on the mesh alone, never on the
 // thread count) and each lane into windows. The even lanes run in parallel, then the odd ones; a lane runs its
@@ -29,12 +29,25 @@
 
 namespace jetshell {
 
-/// Elements per lane, at least: the lanes are a multiple of four (an even number per phase), and a mesh of
-/// fewer than four lanes' elements gets no plan (it is nearly in cache, and its elements run through the
-/// ordinary coloured loop with every thread busy).
+/// Elements per lane on a large mesh, at least: the lanes are a multiple of four (an even number per phase).
 inline constexpr int kWindowPlanLaneElements = 4096;
+/// Elements per lane, at least, on a mesh too small for four lanes of kWindowPlanLaneElements: such a mesh gets
+/// four lanes, and one of fewer than four lanes of this many elements gets no plan (its elements run through the
+/// ordinary coloured loop). The whole-mesh sweeps cost the staged bending Hessian 1.2–1.5× the windowed ones on
+/// 1,800 to 11,000 faces at two threads, where it is not in cache and four passes each wait on a parallel
+/// region's slowest thread (BENCHMARKS.md, Elements, "Session 96").
+inline constexpr int kWindowPlanMinLaneElements = 256;
 /// Elements per window: the Shared data of a window and its neighbours stay within a core's cache.
 inline constexpr int kWindowPlanWindow = 1024;
+
+/// The lane size a graph of `elements` elements is planned with (StageGraph::finalize): kWindowPlanLaneElements,
+/// or on a smaller mesh a quarter of it (four lanes), or 0 (no plan) below four lanes of
+/// kWindowPlanMinLaneElements.
+inline int windowPlanLaneElements(int elements) {
+  if (elements >= 4 * kWindowPlanLaneElements) return kWindowPlanLaneElements;
+  if (elements >= 4 * kWindowPlanMinLaneElements) return elements / 4;
+  return 0;
+}
 
 struct StageWindowPlan {
   /// What the plan reads of one Shared layer (StageGraph::LayerTables): its node count, per element the nodes

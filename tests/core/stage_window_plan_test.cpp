@@ -243,3 +243,17 @@ TEST_CASE("stage window plan: none on a mesh smaller than four lanes, or when sw
   CHECK(planWindows(t.elements, nv, 3, t.reads(), ne / 9, 64).lanes.size() == 8);  // a multiple of four
   CHECK_THROWS_WITH(planWindows(t.elements, nv, 3, t.reads(), ne / 4, 0), Catch::Contains("window"));
 }
+
+TEST_CASE("stage window plan: the default lane size plans four lanes on a small mesh and none on a tiny one",
+          "[stages]") {
+  CHECK(windowPlanLaneElements(4 * kWindowPlanMinLaneElements - 1) == 0);
+  CHECK(windowPlanLaneElements(4 * kWindowPlanMinLaneElements) == kWindowPlanMinLaneElements);
+  CHECK(windowPlanLaneElements(11008) == 2752);  // the T-shirt's 11,008 faces: four lanes
+  CHECK(windowPlanLaneElements(4 * kWindowPlanLaneElements - 1) == kWindowPlanLaneElements - 1);
+  CHECK(windowPlanLaneElements(4 * kWindowPlanLaneElements) == kWindowPlanLaneElements);
+  CHECK(windowPlanLaneElements(80000) == kWindowPlanLaneElements);  // 16 lanes, as before
+  const Tables t;
+  const int ne = t.elements.size();
+  REQUIRE(ne >= 4 * kWindowPlanMinLaneElements);
+  CHECK(planWindows(t.elements, t.mesh.numVertices(), 3, t.reads(), windowPlanLaneElements(ne)).lanes.size() == 4);
+}
