@@ -36,3 +36,10 @@
 #else
 #define JETSHELL_INLINE inline
 #endif
+// JETSHELL_LAMBDA_INLINE: the same for a lambda's body, written after its parameter list: a sweep's per-node and
+// per-element lambdas (core/stage_graph_evaluator.h, inWindows) inlined into the loops that call them.
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(JETSHELL_NO_FLATTEN)
+#define JETSHELL_LAMBDA_INLINE __attribute__((always_inline))
+#else
+#define JETSHELL_LAMBDA_INLINE
+#endif

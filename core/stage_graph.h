@@ -40,6 +40,11 @@
 //       forwarded, gathered and used while its neighbourhood is in cache; the same terms, summed in the order the
 //       plan fixes. When every leaf is a Difference, the Shared nodes keep no T: each element forms the T of the
 //       nodes it reads from their Jacobians, by coordinate (the evaluator's elementWhole).
+//   a gradient alone: the Shared layers forward (values and Jacobians), a reverse sweep per element (its leaf
+//     adjoints into its gradient, what it sends to Shared nodes kept), each Shared node's adjoint and Jᵀw̄ gathered
+//     over its readers (last layer first), then each vertex's share of those; with a window plan these passes run
+//     window by window as the contracted Hessian's do.
+//   a value alone: each Shared node's stage, then each element's Local stages, called on doubles (no Jacobian).
 // Each fact lives in one place: a node's inputs and support in its layer's tables; its value, Jacobians and
 // adjoint in the layer's per-evaluation buffers; the element's slots in the stencil table.
 #pragma once
@@ -248,8 +253,9 @@ class StageGraph {
   const StencilTable& elements() const { return elements_; }
   int numElements() const { return elements_.size(); }
   bool finalized() const { return finalized_; }
-  /// The order of the contracted exact Hessian's sweeps (core/stage_window_plan.h), built by finalize() with the
-  /// default sizes (windowPlanLaneElements); empty on a mesh of fewer than 4 × kWindowPlanMinLaneElements elements.
+  /// The order of the contracted exact Hessian's and a gradient's sweeps (core/stage_window_plan.h), built by
+  /// finalize() with the default sizes (windowPlanLaneElements); empty on a mesh of fewer than
+  /// 4 × kWindowPlanMinLaneElements elements.
   const StageWindowPlan& windowPlan() const { return windowPlan_; }
   /// Builds the window plan again with other sizes (laneElements ≤ 0: none), for tests and measurements.
   void replanWindows(int laneElements, int window = kWindowPlanWindow) {

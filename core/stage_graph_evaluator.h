@@ -15,9 +15,10 @@
 // coordinate (one row per working coordinate, padded to whole vectors) and adds every curvature term as products
 // of those into one full block (BENCHMARKS.md, session 88).
 // Buffers per Shared layer (value, local Jacobian, total Jacobian, stage Hessians, adjoint) are sized on first
-// use and reused; an element's Local nodes live on its thread's stack. The contracted exact Hessian of a graph
-// with a window plan (core/stage_window_plan.h) runs its sweeps lane by lane and window by window
-// (contractedInWindows) instead of each over the whole mesh.
+// use and reused; an element's Local nodes live on its thread's stack. The contracted exact Hessian and a gradient
+// alone, on a graph with a window plan (core/stage_window_plan.h), run their sweeps lane by lane and window by
+// window (contractedInWindows, gradientInWindows) instead of each over the whole mesh. A value alone calls the
+// stages on doubles and touches no derivative buffer (valueSweep).
 #pragma once
 
 #include "core/element_loop.h"
@@ -97,8 +98,12 @@ class StageGraphEvaluator {
     // layers keep their Jacobians only.
     if (kWhole && mode.contracted) mode.totals = false;
     if constexpr (kHasShared) {
-      // A large mesh: the contracted Hessian's sweeps in windows, while their data are in cache.
-      if (mode.contracted && !graph_.windowPlan().empty()) return contractedInWindows(x, request, mode, elementEnergy);
+      // A mesh with a window plan: the contracted Hessian's sweeps, or a gradient's, in windows, while their data
+      // are in cache.
+      if (!graph_.windowPlan().empty()) {
+        if (mode.contracted) return contractedInWindows(x, request, mode, elementEnergy);
+        if (wantG && !wantH) return gradientInWindows(x, request, mode, elementEnergy);
+      }
     }
     if (!wantG && !wantH) return valueSweep(x, elementEnergy);
     forEachLayer([&](auto layer) {
@@ -1294,6 +1299,11 @@ class StageGraphEvaluator {
       constexpr int I = decltype(layer)::value;
       if constexpr (Shape<I>::kShared) gatherAdjoints<I>(mode);
     });
+    addSharedLeafAdjoints(request);
+    return energy;
+  }
+  /// Every vertex's share of the Shared nodes' leaf adjoints (their inputAdjoint), into the gradient.
+  void addSharedLeafAdjoints(const EvalRequest& request) {
     const auto& start = graph_.vertexReaderStart();
     const auto& readers = graph_.vertexReaders();
     double* G = request.gradient->data();
@@ -1317,7 +1327,6 @@ class StageGraphEvaluator {
       }
       for (int c = 0; c < 3; ++c) G[3 * v + c] += gv[c];
     }
-    return energy;
   }
 
   /// Sizes the per-element Jᵀw̄ of each Local layer (sent_).
@@ -1424,51 +1433,41 @@ class StageGraphEvaluator {
     if (inputs) b.inputAdjoint[static_cast<std::size_t>(n)].noalias() = b.jacobian[static_cast<std::size_t>(n)].transpose() * w;
   }
 
-  // ---- contracted mode on a large mesh: the sweeps in windows (core/stage_window_plan.h) ----
-  double contractedInWindows(const Eigen::VectorXd& x, const EvalRequest& request, const Mode& mode,
-                             std::vector<double>& elementEnergy) {
+  // ---- the sweeps in windows (core/stage_window_plan.h) ----
+  /// The window plan's schedule, shared by the contracted Hessian and a gradient alone: the cross nodes forward;
+  /// the lanes, even ones then odd ones (lanes of one phase write no common entry), each window by window (its
+  /// nodes forward, its elements' adjoint sweeps, its nodes gathered, the elements now complete finished); the
+  /// cross nodes gathered; the deferred elements colour by colour (blocks of one colour share no vertex).
+  /// forward(layer, n) and gather(layer, n) take a node of a Shared layer (layer: std::integral_constant), sweep(e)
+  /// and finish(e) an element.
+  template <typename Forward, typename Sweep, typename Gather, typename Finish>
+  void inWindows(bool parallel, Forward&& forward, Sweep&& sweep, Gather&& gather, Finish&& finish) {
     const StageWindowPlan& plan = graph_.windowPlan();
-    const int ne = graph_.numElements();
-    std::array<bool, kLayers> hessians{};
-    forEachLayer([&](auto layer) {
-      constexpr int I = decltype(layer)::value;
-      if constexpr (Shape<I>::kShared) {
-        hessians[I] = resizeShared<I>(mode);
-        resizeAdjoints<I>(mode);
-        // A node no element reads adds J_nᵀ 0 to its inputs' adjoints.
-        SharedBuffers<I>& b = buffers<I>();
-        for (int n : plan.unread[I]) {
-          b.adjoint[static_cast<std::size_t>(n)].setZero();
-          b.jacobian[static_cast<std::size_t>(n)].setZero();
-        }
-      }
-    });
-    keepSent(ne);
-    elementEnergy.resize(static_cast<std::size_t>(ne));
-    const bool parallel = ne >= kParallelMinElements;
-    forEachLayer([&](auto layer) {
-      constexpr int I = decltype(layer)::value;
-      if constexpr (Shape<I>::kShared) forwardNodes<I>(x, mode, hessians[I], plan.cross[I], parallel);
-    });
-    const Mode first = firstOrder(mode);
-    // The even lanes, then the odd ones: lanes of one phase write no common entry.
-    const int lanes = static_cast<int>(plan.lanes.size());
     ParallelErrors errors;
+    const auto eachNode = [&](const std::vector<int>& nodes, auto&& f) {
+      const int n = static_cast<int>(nodes.size());
+#pragma omp parallel for schedule(static) if (parallel && n >= kParallelMinElements)
+      for (int i = 0; i < n; ++i) errors.run([&] { f(nodes[static_cast<std::size_t>(i)]); });
+      errors.rethrow();
+    };
+    forEachLayer([&](auto layer) {
+      if constexpr (Shape<decltype(layer)::value>::kShared)
+        eachNode(plan.cross[decltype(layer)::value], [&](int n) { forward(layer, n); });
+    });
+    const int lanes = static_cast<int>(plan.lanes.size());
     for (int phase = 0; phase < 2; ++phase) {
       const int count = (lanes + 1 - phase) / 2;
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
       for (int i = 0; i < count; ++i)
         errors.run([&] {
-          runLane(x, request, mode, first, hessians, plan.lanes[static_cast<std::size_t>(2 * i + phase)], plan.window,
-                  elementEnergy);
+          runLane(plan.lanes[static_cast<std::size_t>(2 * i + phase)], plan.window, forward, sweep, gather, finish);
         });
       errors.rethrow();
     }
     forEachLayerBackwards([&](auto layer) {
-      constexpr int I = decltype(layer)::value;
-      if constexpr (Shape<I>::kShared) gatherNodes<I>(plan.cross[I], parallel);
+      if constexpr (Shape<decltype(layer)::value>::kShared)
+        eachNode(plan.cross[decltype(layer)::value], [&](int n) { gather(layer, n); });
     });
-    // The deferred elements, colour by colour (blocks of one colour share no vertex).
 #pragma omp parallel if (parallel)
     for (const std::vector<ElementRange>& color : plan.deferredSchedule.colors) {
       const int n = static_cast<int>(color.size());
@@ -1476,20 +1475,15 @@ class StageGraphEvaluator {
       for (int i = 0; i < n; ++i)
         errors.run([&] {
           for (int p = color[static_cast<std::size_t>(i)].begin; p < color[static_cast<std::size_t>(i)].end; ++p)
-            assemble(x, request, mode, plan.deferred[static_cast<std::size_t>(p)], elementEnergy);
+            finish(plan.deferred[static_cast<std::size_t>(p)]);
         });
     }
     errors.rethrow();
-    double total = 0.0;
-    for (double v : elementEnergy) total += v;
-    return total;
   }
-
-  /// One lane of the window plan: per window, its nodes forward, its elements' adjoints, its nodes' gathered
-  /// adjoints, and the elements whose owned nodes are now complete assembled.
-  void runLane(const Eigen::VectorXd& x, const EvalRequest& request, const Mode& mode, const Mode& first,
-               const std::array<bool, kLayers>& hessians, const StageWindowPlan::Lane& lane, int window,
-               std::vector<double>& elementEnergy) {
+  /// One lane of the window plan (inWindows).
+  template <typename Forward, typename Sweep, typename Gather, typename Finish>
+  void runLane(const StageWindowPlan::Lane& lane, int window, Forward& forward, Sweep& sweep, Gather& gather,
+               Finish& finish) {
     const int windows = static_cast<int>(lane.readyStart.size()) - 1;
     for (int w = 0; w < windows; ++w) {
       const auto ww = static_cast<std::size_t>(w);
@@ -1497,37 +1491,92 @@ class StageGraphEvaluator {
         constexpr int I = decltype(layer)::value;
         if constexpr (Shape<I>::kShared)
           for (int k = lane.forwardStart[I][ww]; k < lane.forwardStart[I][ww + 1]; ++k)
-            forwardSharedNode<I>(x, mode, hessians[I], lane.forward[I][static_cast<std::size_t>(k)]);
+            forward(layer, lane.forward[I][static_cast<std::size_t>(k)]);
       });
       const int end = std::min(lane.end, lane.begin + (w + 1) * window);
-      for (int e = lane.begin + w * window; e < end; ++e) sendLocalAdjoint(x, first, e);
+      for (int e = lane.begin + w * window; e < end; ++e) sweep(e);
       forEachLayerBackwards([&](auto layer) {
         constexpr int I = decltype(layer)::value;
         if constexpr (Shape<I>::kShared)
           for (int k = lane.gatherStart[I][ww]; k < lane.gatherStart[I][ww + 1]; ++k)
-            gatherNode<I>(false, lane.gather[I][static_cast<std::size_t>(k)]);
+            gather(layer, lane.gather[I][static_cast<std::size_t>(k)]);
       });
-      for (int k = lane.readyStart[ww]; k < lane.readyStart[ww + 1]; ++k)
-        assemble(x, request, mode, lane.ready[static_cast<std::size_t>(k)], elementEnergy);
+      for (int k = lane.readyStart[ww]; k < lane.readyStart[ww + 1]; ++k) finish(lane.ready[static_cast<std::size_t>(k)]);
     }
   }
-
-  /// The listed nodes of Shared layer I forward, in parallel when asked.
-  template <int I>
-  void forwardNodes(const Eigen::VectorXd& x, const Mode& mode, bool hessians, const std::vector<int>& nodes,
-                    bool parallel) {
-    const int n = static_cast<int>(nodes.size());
-    ParallelErrors errors;
-#pragma omp parallel for schedule(static) if (parallel && n >= kParallelMinElements)
-    for (int i = 0; i < n; ++i) errors.run([&] { forwardSharedNode<I>(x, mode, hessians, nodes[static_cast<std::size_t>(i)]); });
-    errors.rethrow();
+  /// The Shared buffers a windowed evaluation writes, sized; a node no element reads gets a zero adjoint and
+  /// Jacobian (and input adjoint, when kept): it sends J_nᵀ 0 to its inputs. Returns per layer whether its stage
+  /// Hessians are kept.
+  std::array<bool, kLayers> prepareWindows(const Mode& mode) {
+    const StageWindowPlan& plan = graph_.windowPlan();
+    std::array<bool, kLayers> hessians{};
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) {
+        hessians[I] = resizeShared<I>(mode);
+        const bool inputs = resizeAdjoints<I>(mode);
+        SharedBuffers<I>& b = buffers<I>();
+        for (int n : plan.unread[I]) {
+          b.adjoint[static_cast<std::size_t>(n)].setZero();
+          b.jacobian[static_cast<std::size_t>(n)].setZero();
+          if (inputs) b.inputAdjoint[static_cast<std::size_t>(n)].setZero();
+        }
+      }
+    });
+    keepSent(graph_.numElements());
+    return hessians;
   }
-  /// The listed nodes of Shared layer I: their adjoints gathered (contracted mode).
-  template <int I>
-  void gatherNodes(const std::vector<int>& nodes, bool parallel) {
-    const int n = static_cast<int>(nodes.size());
-#pragma omp parallel for schedule(static) if (parallel && n >= kParallelMinElements)
-    for (int i = 0; i < n; ++i) gatherNode<I>(false, nodes[static_cast<std::size_t>(i)]);
+
+  /// The contracted exact Hessian in windows: forward with the stages' Hessians where kept, each element's
+  /// first-order adjoint sweep, the nodes' adjoints, each element's curvature and block assembled.
+  double contractedInWindows(const Eigen::VectorXd& x, const EvalRequest& request, const Mode& mode,
+                             std::vector<double>& elementEnergy) {
+    const int ne = graph_.numElements();
+    const std::array<bool, kLayers> hessians = prepareWindows(mode);
+    elementEnergy.resize(static_cast<std::size_t>(ne));
+    const Mode first = firstOrder(mode);
+    inWindows(
+        ne >= kParallelMinElements,
+        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { forwardSharedNode<decltype(layer)::value>(x, mode, hessians[decltype(layer)::value], n); },
+        [&](int e) JETSHELL_LAMBDA_INLINE { sendLocalAdjoint(x, first, e); },
+        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { gatherNode<decltype(layer)::value>(false, n); },
+        [&](int e) JETSHELL_LAMBDA_INLINE { assemble(x, request, mode, e, elementEnergy); });
+    double total = 0.0;
+    for (double v : elementEnergy) total += v;
+    return total;
+  }
+
+  /// A gradient alone in windows: the gradient sweep's passes in the plan's order (forward with Jacobians, each
+  /// element's reverse sweep with its leaf adjoints kept until the plan finishes it, when no other lane of its
+  /// phase writes its vertices; each node's adjoint and Jᵀw̄ gathered), then every vertex's share of the Shared
+  /// nodes' input adjoints. Each gradient entry receives its terms in an order fixed by the mesh: the same bits
+  /// for any thread count.
+  double gradientInWindows(const Eigen::VectorXd& x, const EvalRequest& request, const Mode& mode,
+                           std::vector<double>& elementEnergy) {
+    const int ne = graph_.numElements();
+    prepareWindows(mode);
+    elementGradient_.resize(static_cast<std::size_t>(ne) * D);
+    elementEnergy.resize(static_cast<std::size_t>(ne));
+    inWindows(
+        ne >= kParallelMinElements,
+        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { forwardSharedNode<decltype(layer)::value>(x, mode, false, n); },
+        [&](int e) JETSHELL_LAMBDA_INLINE {
+          ElementState s;
+          forwardLocals<kRoot>(x, e, mode, s);
+          Gradient g = Gradient::Zero();
+          reverse(e, mode, false, s, &g, nullptr, true);
+          Eigen::Map<Gradient>(elementGradient_.data() + static_cast<std::size_t>(e) * D) = g;
+          elementEnergy[static_cast<std::size_t>(e)] = std::get<kRoot>(s.nodes).d.value[0];
+        },
+        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { gatherNode<decltype(layer)::value>(true, n); },
+        [&](int e) JETSHELL_LAMBDA_INLINE {
+          addElementResult<K>(request, e, graph_.elements().element(e),
+                              elementGradient_.data() + static_cast<std::size_t>(e) * D, nullptr);
+        });
+    addSharedLeafAdjoints(request);
+    double total = 0.0;
+    for (double v : elementEnergy) total += v;
+    return total;
   }
 
   /// Element e's energy, curvature and gradient, added into the request (what the element loop does for it).
@@ -1545,6 +1594,7 @@ class StageGraphEvaluator {
   ElementProjector projector_;  // optional (setElementProjector)
   typename Tuples<Seq>::Shared shared_;
   typename Tuples<Seq>::Sent sent_;  // per Local layer: per element, Jᵀw over its From-Shared groups (keepSentAdjoint)
+  std::vector<double> elementGradient_;  // gradientInWindows: per element, its leaf adjoints (D) until assembled
 };
 
 }  // namespace jetshell

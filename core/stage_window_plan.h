@@ -1,6 +1,6 @@
-// The order in which the contracted exact Hessian of a stage graph (core/stage_graph_evaluator.h) visits its
-// Shared nodes and its elements on a large mesh, so that what one sweep writes is still in cache when the next
-// reads it.
+// The order in which the contracted exact Hessian of a stage graph (core/stage_graph_evaluator.h), and a gradient
+// alone, visit its Shared nodes and its elements, so that what one sweep writes is still in cache when the next
+// reads it. (A gradient alone: in step 4 an element adds the leaf adjoints its step 2 kept, no curvature.)
 //
 // Without a plan the contracted Hessian runs four sweeps, each over the whole mesh: the Shared nodes forward,
 // the elements' adjoints, the Shared nodes' adjoints, the elements' curvature and assembly. Past a few thousand

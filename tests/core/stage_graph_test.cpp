@@ -292,7 +292,7 @@ TEST_CASE("stage graph: the same bits with 1 and 2 threads", "[stages]") {
   }
 }
 
-TEST_CASE("stage graph: the contracted Hessian in windows equals the whole-mesh sweeps, with the same bits on 1 and 2 threads",
+TEST_CASE("stage graph: the contracted Hessian and the gradient in windows equal the whole-mesh sweeps, with the same bits on 1 and 2 threads",
           "[stages]") {
   TriMesh mesh = makeRectangleGrid(1.0, 1.0, 24, 24);
   for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.1 * std::sin(3.0 * mesh.V(v, 0) + mesh.V(v, 1));
@@ -337,6 +337,21 @@ TEST_CASE("stage graph: the contracted Hessian in windows equals the whole-mesh 
     CHECK(e1 == e2);
     CHECK(g1 == g2);
     CHECK(H1 == H2);
+    // A gradient without a Hessian: the gradient sweep's passes in the same windows.
+    const auto gradientAlone = [&](EnergyTerm& term, int n, double& energy) {
+      omp_set_num_threads(n);
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+      energy = term.evaluate(x, EvalRequest{&g, nullptr, 0}, opt);
+      omp_set_num_threads(threads);
+      return g;
+    };
+    double fA, f1, f2;
+    const Eigen::VectorXd hA = gradientAlone(a, threads, fA), h1 = gradientAlone(b, 1, f1), h2 = gradientAlone(b, 2, f2);
+    CHECK(f1 == Approx(fA).epsilon(1e-14));
+    CHECK((h1 - hA).norm() <= 1e-14 * hA.norm());
+    CHECK((h1 - gA).norm() <= 1e-13 * gA.norm());  // and the Hessian path's gradient
+    CHECK(f1 == f2);
+    CHECK(h1 == h2);
   }
 }
 
