@@ -130,20 +130,21 @@ class StageGraphEvaluator {
   }
 
   /// The values of Local layer L at every element of x (no derivatives), serially: store(e, y) with y its M
-  /// outputs. From the very stages evaluate() runs, so an origin taken this way cancels to the bit there.
+  /// outputs. The same code as a value-only evaluate() (valueSweep), and the same stages as its derivative
+  /// paths: an origin taken this way cancels there, to the bit on a build that does not fuse multiply-adds (on one
+  /// that does, -march=native, to about 1e-30 of the energy's scale).
   template <int L, typename Store>
   void localValues(const Eigen::VectorXd& x, Store&& store) {
     static_assert(!Shape<L>::kShared, "localValues reads a Local layer");
     if (!graph_.finalized()) throw std::logic_error("stage graph: finalize() before evaluating");
-    Mode mode;
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
-      if constexpr (Shape<I>::kShared) forwardShared<I>(x, mode);
+      if constexpr (Shape<I>::kShared) sharedValues<I>(x);
     });
     for (int e = 0; e < graph_.numElements(); ++e) {
-      ElementState s;
-      forwardLocals<L>(x, e, mode, s);
-      store(e, std::get<L>(s.nodes).d.value.data());
+      LocalValues values;
+      elementValues<L>(x, e, values);
+      store(e, std::get<L>(values).data());
     }
   }
 
@@ -1247,34 +1248,32 @@ class StageGraphEvaluator {
   template <int I>
   JETSHELL_FLATTEN void sharedNodeValue(const Eigen::VectorXd& x, int i, double* y) {
     double z[Shape<I>::N];
-    gatherFrom<I>(x, i, z, [](auto) -> const Eigen::Matrix<double, 1, 1>& { return noLocalValue(); });
+    gather<I>(x, i, nullptr, z);  // a Shared node reads no Local node
     std::get<I>(graph_.stages())(static_cast<const double*>(z), y, i);
   }
-  /// A Shared node reads no Local node (the graph forbids it); gatherFrom's accessor must still return something.
-  static const Eigen::Matrix<double, 1, 1>& noLocalValue() {
-    static const Eigen::Matrix<double, 1, 1> none = Eigen::Matrix<double, 1, 1>::Zero();
-    return none;
-  }
-  template <typename S>
-  struct LocalValueSlot {
-    using type = Eigen::Matrix<double, S::M, 1>;
-  };
   template <typename Seq_>
   struct LocalValueTuple;
   template <int... Is>
   struct LocalValueTuple<std::integer_sequence<int, Is...>> {
-    using type = std::tuple<typename LocalValueSlot<Shape<Is>>::type...>;
+    using type = std::tuple<Eigen::Matrix<double, Shape<Is>::M, 1>...>;
   };
-  JETSHELL_FLATTEN double elementValue(const Eigen::VectorXd& x, int e) {
-    typename LocalValueTuple<Seq>::type values;
+  /// An element's Local values, one per layer (a Shared layer's slot unused).
+  using LocalValues = typename LocalValueTuple<Seq>::type;
+  /// The element's Local layers up to L, on doubles.
+  template <int L>
+  JETSHELL_FLATTEN void elementValues(const Eigen::VectorXd& x, int e, LocalValues& values) {
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
-      if constexpr (!Shape<I>::kShared) {
+      if constexpr (!Shape<I>::kShared && I <= L) {
         double z[Shape<I>::N];
         gatherFrom<I>(x, e, z, [&](auto l) -> const auto& { return std::get<decltype(l)::value>(values); });
         std::get<I>(graph_.stages())(static_cast<const double*>(z), std::get<I>(values).data(), e);
       }
     });
+  }
+  JETSHELL_FLATTEN double elementValue(const Eigen::VectorXd& x, int e) {
+    LocalValues values;
+    elementValues<kRoot>(x, e, values);
     return std::get<kRoot>(values)[0];
   }
 
@@ -1287,13 +1286,7 @@ class StageGraphEvaluator {
     if constexpr (kHasShared) keepSent(graph_.numElements());
     const double energy = runElementLoop<K>(
         graph_.elements(), schedule, x, request, PsdProjection::None, elementEnergy,
-        [&](int e, const int*, bool, bool, Gradient& g, Hessian&) {
-          ElementState s;
-          forwardLocals<kRoot>(x, e, mode, s);
-          g.setZero();
-          reverse(e, mode, false, s, &g, nullptr, kHasShared);
-          return std::get<kRoot>(s.nodes).d.value[0];
-        });
+        [&](int e, const int*, bool, bool, Gradient& g, Hessian&) { return elementGradient(x, e, mode, g); });
     if constexpr (!kHasShared) return energy;  // every leaf adjoint went into the element gradients
     forEachLayerBackwards([&](auto layer) {
       constexpr int I = decltype(layer)::value;
@@ -1301,6 +1294,14 @@ class StageGraphEvaluator {
     });
     addSharedLeafAdjoints(request);
     return energy;
+  }
+  /// Element e's energy, and its leaf adjoints into g; what it sends to Shared nodes kept (keepSentAdjoint).
+  JETSHELL_INLINE double elementGradient(const Eigen::VectorXd& x, int e, const Mode& mode, Gradient& g) {
+    ElementState s;
+    forwardLocals<kRoot>(x, e, mode, s);
+    g.setZero();
+    reverse(e, mode, false, s, &g, nullptr, kHasShared);
+    return std::get<kRoot>(s.nodes).d.value[0];
   }
   /// Every vertex's share of the Shared nodes' leaf adjoints (their inputAdjoint), into the gradient.
   void addSharedLeafAdjoints(const EvalRequest& request) {
@@ -1561,12 +1562,9 @@ class StageGraphEvaluator {
         ne >= kParallelMinElements,
         [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { forwardSharedNode<decltype(layer)::value>(x, mode, false, n); },
         [&](int e) JETSHELL_LAMBDA_INLINE {
-          ElementState s;
-          forwardLocals<kRoot>(x, e, mode, s);
-          Gradient g = Gradient::Zero();
-          reverse(e, mode, false, s, &g, nullptr, true);
+          Gradient g;
+          elementEnergy[static_cast<std::size_t>(e)] = elementGradient(x, e, mode, g);
           Eigen::Map<Gradient>(elementGradient_.data() + static_cast<std::size_t>(e) * D) = g;
-          elementEnergy[static_cast<std::size_t>(e)] = std::get<kRoot>(s.nodes).d.value[0];
         },
         [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { gatherNode<decltype(layer)::value>(true, n); },
         [&](int e) JETSHELL_LAMBDA_INLINE {
