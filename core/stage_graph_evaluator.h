@@ -1461,7 +1461,7 @@ class StageGraphEvaluator {
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
       for (int i = 0; i < count; ++i)
         errors.run([&] {
-          runLane(plan.lanes[static_cast<std::size_t>(2 * i + phase)], plan.window, forward, sweep, gather, finish);
+          runLane(plan, plan.lanes[static_cast<std::size_t>(2 * i + phase)], forward, sweep, gather, finish);
         });
       errors.rethrow();
     }
@@ -1483,8 +1483,9 @@ class StageGraphEvaluator {
   }
   /// One lane of the window plan (inWindows).
   template <typename Forward, typename Sweep, typename Gather, typename Finish>
-  void runLane(const StageWindowPlan::Lane& lane, int window, Forward& forward, Sweep& sweep, Gather& gather,
-               Finish& finish) {
+  void runLane(const StageWindowPlan& plan, const StageWindowPlan::Lane& lane, Forward& forward, Sweep& sweep,
+               Gather& gather, Finish& finish) {
+    const int window = plan.window;
     const int windows = static_cast<int>(lane.readyStart.size()) - 1;
     for (int w = 0; w < windows; ++w) {
       const auto ww = static_cast<std::size_t>(w);
@@ -1495,7 +1496,7 @@ class StageGraphEvaluator {
             forward(layer, lane.forward[I][static_cast<std::size_t>(k)]);
       });
       const int end = std::min(lane.end, lane.begin + (w + 1) * window);
-      for (int e = lane.begin + w * window; e < end; ++e) sweep(e);
+      for (int p = lane.begin + w * window; p < end; ++p) sweep(plan.order[static_cast<std::size_t>(p)]);
       forEachLayerBackwards([&](auto layer) {
         constexpr int I = decltype(layer)::value;
         if constexpr (Shape<I>::kShared)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 namespace jetshell {
@@ -30,32 +31,88 @@ struct Place {
   int lane = kNone, window = 0;
 };
 
-}  // namespace
+/// Lane k's range [begin, end) of `ne` elements cut into `numLanes` lanes.
+std::pair<int, int> laneRange(int k, int ne, int numLanes) {
+  return {static_cast<int>(static_cast<std::int64_t>(k) * ne / numLanes),
+          static_cast<int>(static_cast<std::int64_t>(k + 1) * ne / numLanes)};
+}
 
-StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int numLayers,
-                            const std::vector<StageWindowPlan::SharedReads>& shared, int laneElements,
-                            int window) {
+/// The elements in bands of the mesh's connectivity, cut into `numLanes` lanes: breadth-first over elements that
+/// share a vertex, each connected part from the last element of a breadth-first sweep from its lowest-numbered
+/// one (an end of a longest path, nearly), the parts one after another; each lane's range then ascending.
+std::vector<int> bandOrder(const StencilTable& elements, int numVertices, int numLanes) {
+  const int ne = elements.size(), K = elements.width;
+  std::vector<int> start(static_cast<std::size_t>(numVertices) + 1, 0);
+  for (int v : elements.ids)
+    if (v >= 0) ++start[static_cast<std::size_t>(v) + 1];
+  for (int v = 0; v < numVertices; ++v) start[static_cast<std::size_t>(v) + 1] += start[static_cast<std::size_t>(v)];
+  std::vector<int> readers(static_cast<std::size_t>(start.back()));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int e = 0; e < ne; ++e)
+    for (int k = 0; k < K; ++k) {
+      const int v = elements.element(e)[k];
+      if (v >= 0) readers[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] = e;
+    }
+  std::vector<int> mark(static_cast<std::size_t>(ne), -1), queue, order;
+  queue.reserve(static_cast<std::size_t>(ne));
+  order.reserve(static_cast<std::size_t>(ne));
+  int sweep = 0;
+  const auto breadthFirst = [&](int from) {
+    queue.assign(1, from);
+    mark[static_cast<std::size_t>(from)] = sweep;
+    for (std::size_t h = 0; h < queue.size(); ++h)
+      for (int k = 0; k < K; ++k) {
+        const int v = elements.element(queue[h])[k];
+        if (v < 0) continue;
+        for (int i = start[static_cast<std::size_t>(v)]; i < start[static_cast<std::size_t>(v) + 1]; ++i) {
+          int& m = mark[static_cast<std::size_t>(readers[static_cast<std::size_t>(i)])];
+          if (m != sweep) {
+            m = sweep;
+            queue.push_back(readers[static_cast<std::size_t>(i)]);
+          }
+        }
+      }
+    ++sweep;
+  };
+  std::vector<char> placed(static_cast<std::size_t>(ne), 0);
+  for (int e = 0; e < ne; ++e) {
+    if (placed[static_cast<std::size_t>(e)]) continue;
+    breadthFirst(e);
+    breadthFirst(queue.back());
+    for (int f : queue) placed[static_cast<std::size_t>(f)] = 1;
+    order.insert(order.end(), queue.begin(), queue.end());
+  }
+  for (int k = 0; k < numLanes; ++k) {
+    const auto [begin, end] = laneRange(k, ne, numLanes);
+    std::sort(order.begin() + begin, order.begin() + end);
+  }
+  return order;
+}
+
+/// The plan with the lanes cut in `order` (planWindows' checks done).
+StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int numLayers,
+                            const std::vector<StageWindowPlan::SharedReads>& shared, int numLanes, int window,
+                            std::vector<int> order) {
   StageWindowPlan plan;
   const int ne = elements.size();
-  if (laneElements <= 0) return plan;
-  const int numLanes = ne / laneElements / 4 * 4;  // an even number of lanes in each phase
-  if (numLanes < 4) return plan;
-  if (window <= 0) throw std::invalid_argument("stage window plan: the window must hold at least one element");
   plan.window = window;
+  plan.order = std::move(order);
   plan.lanes.resize(static_cast<std::size_t>(numLanes));
-  std::vector<int> laneOf(static_cast<std::size_t>(ne));
+  std::vector<int> laneOf(static_cast<std::size_t>(ne)), position(static_cast<std::size_t>(ne));
+  for (int p = 0; p < ne; ++p) position[static_cast<std::size_t>(plan.order[static_cast<std::size_t>(p)])] = p;
   for (int k = 0; k < numLanes; ++k) {
     StageWindowPlan::Lane& lane = plan.lanes[static_cast<std::size_t>(k)];
-    lane.begin = static_cast<int>(static_cast<std::int64_t>(k) * ne / numLanes);
-    lane.end = static_cast<int>(static_cast<std::int64_t>(k + 1) * ne / numLanes);
-    std::fill(laneOf.begin() + lane.begin, laneOf.begin() + lane.end, k);
+    std::tie(lane.begin, lane.end) = laneRange(k, ne, numLanes);
+    for (int p = lane.begin; p < lane.end; ++p) laneOf[static_cast<std::size_t>(plan.order[static_cast<std::size_t>(p)])] = k;
     lane.forwardStart.resize(static_cast<std::size_t>(numLayers));
     lane.forward.resize(static_cast<std::size_t>(numLayers));
     lane.gatherStart.resize(static_cast<std::size_t>(numLayers));
     lane.gather.resize(static_cast<std::size_t>(numLayers));
   }
   const auto lane = [&](int e) { return laneOf[static_cast<std::size_t>(e)]; };
-  const auto windowOf = [&](int e) { return (e - plan.lanes[static_cast<std::size_t>(lane(e))].begin) / window; };
+  const auto windowOf = [&](int e) {
+    return (position[static_cast<std::size_t>(e)] - plan.lanes[static_cast<std::size_t>(lane(e))].begin) / window;
+  };
   const auto even = [](int k) { return k % 2 == 0; };
 
   // Per Shared layer, per node: where it is forwarded and gathered. Its readers are elements of one lane (that
@@ -73,7 +130,7 @@ StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int n
     const auto count = static_cast<std::size_t>(s.count);
     // first and last readers, the last reader in the first reader's lane, the first in the last reader's lane
     std::vector<int> first(count, -1), last(count, -1), lastInLow(count, -1), firstInHigh(count, -1);
-    for (int e = 0; e < ne; ++e)
+    for (const int e : plan.order)
       for (int l = start[static_cast<std::size_t>(e)]; l < start[static_cast<std::size_t>(e) + 1]; ++l) {
         const auto n = static_cast<std::size_t>(node[static_cast<std::size_t>(l)]);
         if (first[n] < 0) first[n] = e;
@@ -200,6 +257,25 @@ StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int n
     }
   plan.deferredSchedule = scheduleElements(table, numVertices);
   return plan;
+}
+
+}  // namespace
+
+StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int numLayers,
+                            const std::vector<StageWindowPlan::SharedReads>& shared, int laneElements,
+                            int window) {
+  const int ne = elements.size();
+  if (laneElements <= 0) return {};
+  const int numLanes = ne / laneElements / 4 * 4;  // an even number of lanes in each phase
+  if (numLanes < 4) return {};
+  if (window <= 0) throw std::invalid_argument("stage window plan: the window must hold at least one element");
+  std::vector<int> numbering(static_cast<std::size_t>(ne));
+  for (int e = 0; e < ne; ++e) numbering[static_cast<std::size_t>(e)] = e;
+  StageWindowPlan plan = planInOrder(elements, numVertices, numLayers, shared, numLanes, window, std::move(numbering));
+  if (4 * plan.deferred.size() <= static_cast<std::size_t>(ne)) return plan;
+  StageWindowPlan bands = planInOrder(elements, numVertices, numLayers, shared, numLanes, window,
+                                      bandOrder(elements, numVertices, numLanes));
+  return bands.deferred.size() < plan.deferred.size() ? bands : plan;
 }
 
 }  // namespace jetshell
