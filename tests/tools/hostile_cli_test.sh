@@ -86,6 +86,8 @@ expect 2 "--steps: Value 0 not in range 1 to 10000000" -- "$js" run examples/can
 expect 2 "--reference-iterations: Value 0 not in range 1 to 1000" -- "$js" bench contact --reference-iterations 0
 expect 2 "--projection: not with --term hinge" -- "$js" bench elements --term hinge --projection clamp
 expect 2 "--term stage-jets: takes --n, --repeats and --json only" -- "$js" bench elements --term stage-jets --staged
+expect 2 "--garment: not with --term midedge, which runs on the grid only" -- "$js" bench elements --term midedge --garment 4
+expect 2 "--garment: Value 41 not in range 1 to 40" -- "$js" bench elements --garment 41
 expect 2 "--checkpoint-every: Value 99999999999 not in range 1 to 10000000" -- \
   "$js" run examples/cantilever_strip.json --checkpoint-every 99999999999
 expect 3 "cantilever-end-moment, slit-ring-page, slit-ring-page-relaxation, hinged-cylindrical-roof)" -- \

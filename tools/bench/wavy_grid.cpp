@@ -17,4 +17,14 @@ Eigen::VectorXd wavyGridPositions(const TriMesh& mesh, bool shear) {
   return x;
 }
 
+Eigen::VectorXd wavyPositions(const TriMesh& mesh) {
+  Eigen::VectorXd x = flatten(mesh.V);
+  for (int v = 0; v < mesh.numVertices(); ++v) {
+    const double px = x[3 * v], py = x[3 * v + 1];
+    x[3 * v + 2] += 0.05 * std::sin(6.0 * kPi * px) * std::cos(4.0 * kPi * py);
+    x[3 * v] += 0.01 * std::sin(2.0 * kPi * py);
+  }
+  return x;
+}
+
 }  // namespace jetshell
