@@ -32,6 +32,7 @@ void Objective::addTerm(EnergyTermPtr term, TermRole role) {
   terms_.push_back({std::move(term), role, slot, 3 * table.width, version});
   termEnergies_.push_back(0.0);
   termSeconds_.push_back(0.0);
+  termRequests_.emplace_back();
 }
 
 void Objective::setPrescribed(PrescribedPositions prescribed) {
@@ -96,7 +97,14 @@ double Objective::evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* gradient, 
     if (options.projectionMaxBlockDofs > 0 && e.blockDofs > options.projectionMaxBlockDofs)
       termOptions.projection = PsdProjection::None;
     termEnergies_[i] = e.term->evaluate(x, request, termOptions);
-    termSeconds_[i] += std::chrono::duration<double>(Clock::now() - termStart).count();
+    const double seconds = std::chrono::duration<double>(Clock::now() - termStart).count();
+    termSeconds_[i] += seconds;
+    const RequestKind kind = request.hessian == nullptr ? (gradient != nullptr ? RequestKind::Gradient : RequestKind::Value)
+                             : termOptions.projection != PsdProjection::None ? RequestKind::ProjectedHessian
+                                                                             : RequestKind::Hessian;
+    TermRequests& r = termRequests_[i];
+    ++r.calls[static_cast<std::size_t>(kind)];
+    r.seconds[static_cast<std::size_t>(kind)] += seconds;
     total += termEnergies_[i];
   };
   if (!hessian || !narrowAssembled) {

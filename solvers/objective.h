@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -158,6 +159,17 @@ class Objective {
   /// rebuilding the pattern, since construction: the benchmarks' time split. patternSeconds() is the part of
   /// stencilSeconds() spent rebuilding the pattern (the rest updates the stencils: the contact broad phase).
   const std::vector<double>& termSeconds() const { return termSeconds_; }
+  /// The kinds of request a term's evaluate() answers: a value, with a gradient, with the Hessian (unprojected),
+  /// with the Hessian projected block by block.
+  enum class RequestKind { Value, Gradient, Hessian, ProjectedHessian };
+  static constexpr int kRequestKinds = 4;
+  /// Per term (activeTermNames() order), per RequestKind: the calls and their wall seconds, since construction
+  /// (`jetshell bench contact --term-split`). Their seconds add up to termSeconds().
+  struct TermRequests {
+    std::array<long, kRequestKinds> calls{};
+    std::array<double, kRequestKinds> seconds{};
+  };
+  const std::vector<TermRequests>& termRequests() const { return termRequests_; }
   double stencilSeconds() const { return stencilSeconds_; }
   double patternSeconds() const { return patternSeconds_; }
 
@@ -185,6 +197,7 @@ class Objective {
   std::vector<StepBound> stepBounds_;
   int patternRebuilds_ = 0;
   std::vector<double> termSeconds_;
+  std::vector<TermRequests> termRequests_;
   double stencilSeconds_ = 0.0, patternSeconds_ = 0.0;
   // lastPotentialGradient(): the gradient, where it was taken and how; valid only when potentialGradientValid_.
   Eigen::VectorXd potentialGradient_, potentialGradientX_;

@@ -64,6 +64,8 @@ struct ContactBenchOptions {
   std::string ordering = "auto";          // LinearSolverOptions::ordering
   std::string oneRingParts = "auto";      // LinearSolverOptions::oneRingParts
   int referenceIterations = 0;            // > 0: a reference run with up to this many Newton iterations a step
+  std::string evaluator = "scene";        // scene | handChained | staged | stagedBending
+  bool termSplit = false;                 // each term's time by request kind
   std::string json;
 };
 
@@ -95,9 +97,13 @@ bool keptStep(int step, int steps, int stride) { return step % stride == 0 || st
 
 /// The scene's system with its evaluator and boundary-edge rules, as `jetshell run` applies them, and the Hessian
 /// pattern of the variant.
-std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem& problem, bool growOnly) {
+/// `--evaluator stagedBending` puts the bending terms alone on the stage framework (the membrane on its default).
+std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem& problem, bool growOnly,
+                                         const std::string& evaluator) {
   auto system = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
   selectSceneEvaluator(scene, *system);
+  if (evaluator == "stagedBending")
+    for (const std::shared_ptr<BendingTerm>& t : system->bendingTerms) t->setStaged(true);
   addSceneEdgeRules(scene, problem, *system);
   system->objective().setGrowOnlyPattern(growOnly);
   return system;
@@ -110,7 +116,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                        bool& failedRun, ReferenceRun* record = nullptr, const ReferenceRun* reference = nullptr) {
   const bool growOnly = v.growOnly;
   const ShellProblem problem = shellProblemFromScene(scene, model);
-  const std::unique_ptr<ShellSystem> runSystem = sceneSystem(scene, problem, growOnly);
+  const std::unique_ptr<ShellSystem> runSystem = sceneSystem(scene, problem, growOnly, o.evaluator);
   ShellSystem& system = *runSystem;
   Objective& objective = system.objective();
   // The scene's integrator, time step and Newton settings, as `jetshell run` takes them.
@@ -146,7 +152,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
   // the whole steps' checks are timed apart from it, the parts' checks run inside their step (the substep observer).
   std::unique_ptr<NewtonErrorWatch> watch;
   if (o.newtonError && v.maxIterations == 0) {
-    watch = std::make_unique<NewtonErrorWatch>(solver, sceneSystem(scene, problem, growOnly));
+    watch = std::make_unique<NewtonErrorWatch>(solver, sceneSystem(scene, problem, growOnly, o.evaluator));
     std::printf("--newton-error: the parts' checks run inside their steps; the time is not the benchmark's\n");
   }
   const auto start = std::chrono::steady_clock::now();
@@ -328,6 +334,26 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
                        {"other_terms", otherTerms},
                        {"linear_solve", linear},
                        {"rest", rest}}}};
+  if (o.termSplit) {
+    // Each term's calls and milliseconds per call by request kind: where an evaluator's cost in a step lies.
+    static const char* const kinds[Objective::kRequestKinds] = {"value", "gradient", "hessian", "projected_hessian"};
+    nlohmann::json split = nlohmann::json::object();
+    std::printf("term split (calls, ms per call): value | + gradient | + Hessian | + Hessian projected\n");
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const Objective::TermRequests& r = objective.termRequests()[i];
+      std::printf("  %-32s", names[i].c_str());
+      nlohmann::json term = nlohmann::json::object();
+      for (int k = 0; k < Objective::kRequestKinds; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        const double perCall = r.calls[kk] > 0 ? 1e3 * r.seconds[kk] / static_cast<double>(r.calls[kk]) : 0.0;
+        std::printf("%s %5ld %8.3f", k == 0 ? "" : " |", r.calls[kk], perCall);
+        term[kinds[k]] = {{"calls", r.calls[kk]}, {"seconds", r.seconds[kk]}};
+      }
+      std::printf("\n");
+      split[names[i]] = term;
+    }
+    figures["term_split"] = split;
+  }
   if (watch) figures["newton_error"] = watch->tally().toJson();
   if (v.maxIterations > 0) figures["max_iterations"] = v.maxIterations;
   if (reference != nullptr && lastCompared > 0)
@@ -343,7 +369,10 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
 int runContactBench(const ContactBenchOptions& o) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   if (o.threads > 0) omp_set_num_threads(o.threads);
-  const Scene scene = loadSceneFile(o.scene);
+  Scene scene = loadSceneFile(o.scene);
+  // --evaluator: the membrane's and bending's evaluator instead of the scene's (stagedBending: sceneSystem).
+  if (o.evaluator == "handChained" || o.evaluator == "stagedBending") scene.solver.evaluator = "handChained";
+  if (o.evaluator == "staged") scene.solver.evaluator = "staged";
   if (scene.analysis.type != AnalysisType::Dynamic) throw InputError(o.scene + ": bench contact needs a dynamic scene");
   const SceneModel model = buildSceneModel(scene);
   const char* integrator = toString(dynamicsOptionsFor(scene).integrator);
@@ -436,6 +465,12 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
                   "First run the scene with up to N Newton iterations a step, and give each timed run's distance from "
                   "its positions (every few steps and at the last)")
       ->check(CLI::Range(1, 1000));
+  cmd->add_option("--evaluator", opts->evaluator,
+                  "The membrane's and bending's evaluator: the scene's (default), handChained, staged (both on the stage "
+                  "framework), or stagedBending (the bending alone on it)")
+      ->check(CLI::IsMember({"scene", "handChained", "staged", "stagedBending"}));
+  cmd->add_flag("--term-split", opts->termSplit,
+                "Each term's calls and time per call by request: value, with gradient, with Hessian, projected");
   cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());
   cmd->callback([opts, &exitCode]() { exitCode = runContactBench(*opts); });
 });

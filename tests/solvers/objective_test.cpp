@@ -4,6 +4,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 using namespace jetshell;
 
 TEST_CASE("objective: the potential terms' part of the last gradient is kept for the positions it was taken at",
@@ -49,4 +53,36 @@ TEST_CASE("objective: a second term of the same name is refused, however many te
   obj.addTerm(system.inertia);
   CHECK_THROWS_WITH(obj.addTerm(system.membrane),
                     "objective: duplicate term name '" + system.membrane->name() + "'");
+}
+
+TEST_CASE("objective: each term's calls and time are counted by the kind of request it answered", "[objective]") {
+  ShellProblem problem = testing::cantileverPlate(4, 2, 0.01);
+  ShellSystem system(problem, AnalysisKind::DynamicRelaxation);
+  Objective& obj = system.objective();
+  const Eigen::VectorXd x = system.restPositions();
+  const std::vector<std::string> names = obj.activeTermNames();
+  const auto bending = static_cast<std::size_t>(
+      std::find(names.begin(), names.end(), system.bending->name()) - names.begin());
+  REQUIRE(bending < names.size());
+  using Kind = Objective::RequestKind;
+  const auto calls = [&](Kind k) { return obj.termRequests()[bending].calls[static_cast<std::size_t>(k)]; };
+  Eigen::VectorXd g;
+  EvalOptions projected;
+  projected.projection = PsdProjection::Clamp;
+  obj.evaluate(x, nullptr, false, EvalOptions{});
+  obj.evaluate(x, nullptr, false, EvalOptions{});
+  obj.evaluate(x, &g, false, projected);  // no Hessian: a gradient, whatever the projection
+  obj.evaluate(x, &g, true, EvalOptions{});
+  obj.evaluate(x, &g, true, projected);
+  obj.evaluate(x, &g, true, projected);
+  CHECK(calls(Kind::Value) == 2);
+  CHECK(calls(Kind::Gradient) == 1);
+  CHECK(calls(Kind::Hessian) == 1);
+  CHECK(calls(Kind::ProjectedHessian) == 2);
+  double seconds = 0.0;
+  for (double s : obj.termRequests()[bending].seconds) {
+    CHECK(s >= 0.0);
+    seconds += s;
+  }
+  CHECK(seconds == Approx(obj.termSeconds()[bending]).epsilon(1e-9));
 }
