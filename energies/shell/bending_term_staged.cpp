@@ -72,7 +72,8 @@ double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& 
 }
 
 void BendingTerm::stagedCurvatureOrigin(const Eigen::VectorXd& xOrigin) {
-  // From the very stages evaluateStaged() runs, so that κ vanishes at the origin to the bit.
+  // From the very stages evaluateStaged() runs, so that κ vanishes at the origin: to the bit without fused
+  // multiply-adds, to round-off with them (-march=native; StageGraphEvaluator::localValues).
   bindStages();
   graphEvaluator_->localValues<3>(xOrigin, [&](int f, const double* b) {
     ref_.secondFundamentalForm[static_cast<std::size_t>(f)] = {b[0], b[1], b[2]};

@@ -99,13 +99,15 @@ double MembraneTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& reque
 
 void MembraneTerm::setStrainOrigin(const Eigen::VectorXd& xOrigin, double scale) {
   if (staged_) {
-    // The metric at the origin from the very stage evaluate() runs, so that ε vanishes there to the bit.
+    // The metric at the origin from the very stage evaluate() runs, so that ε vanishes there: to the bit without
+    // fused multiply-adds, to round-off with them (-march=native; StageGraphEvaluator::localValues).
     bindStages();
     graphEvaluator_->localValues<0>(xOrigin, [&](int f, const double* a) {
       ref_.metric[static_cast<std::size_t>(f)] = {a[0], a[1], a[2]};
     });
   } else {
-    // The metric stage element() differentiates, so that ε vanishes at the origin to the bit there too.
+    // The metric stage element() differentiates, so that ε vanishes at the origin there too (to the bit without
+    // fused multiply-adds, to round-off with them).
     for (std::size_t f = 0; f < ref_.metric.size(); ++f) {
       const int* ids = table_.element(static_cast<int>(f));
       const Eigen::Vector3d x0 = xOrigin.segment<3>(3 * ids[0]);
