@@ -5,8 +5,8 @@
 // Without a plan the contracted Hessian runs four sweeps, each over the whole mesh: the Shared nodes forward,
 // the elements' adjoints, the Shared nodes' adjoints, the elements' curvature and assembly. Past a few thousand
 // elements the Shared buffers the first sweep writes have left the cache when the last one reads them. With a
-// plan the elements are cut into lanes (contiguous ranges; their number depends on the mesh alone, never on the
-// thread count) and each lane into windows. The even lanes run in parallel, then the odd ones; a lane runs its
+// plan the elements are cut into lanes (contiguous ranges of the lanes' order, below; their number depends on
+// the mesh alone, never on the thread count) and each lane into windows. The even lanes run in parallel, then the odd ones; a lane runs its
 // windows in order, and in each window:
 //   1. forwards the nodes it forwards whose first reader there is in the window (layers in order);
 //   2. runs the adjoint sweep of its elements in the window;
