@@ -97,13 +97,16 @@ bool keptStep(int step, int steps, int stride) { return step % stride == 0 || st
 
 /// The scene's system with its evaluator and boundary-edge rules, as `jetshell run` applies them, and the Hessian
 /// pattern of the variant.
-/// `--evaluator stagedBending` puts the bending terms alone on the stage framework (the membrane on its default).
+/// `evaluator` (--evaluator) other than "scene" replaces the scene's: handChained, staged (membrane and bending on
+/// the stage framework) or stagedBending (the bending alone on it, the membrane on its default).
 std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem& problem, bool growOnly,
                                          const std::string& evaluator) {
   auto system = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
   selectSceneEvaluator(scene, *system);
-  if (evaluator == "stagedBending")
-    for (const std::shared_ptr<BendingTerm>& t : system->bendingTerms) t->setStaged(true);
+  if (evaluator != "scene") {
+    for (const std::shared_ptr<MembraneTerm>& t : system->membraneTerms) t->setStaged(evaluator == "staged");
+    for (const std::shared_ptr<BendingTerm>& t : system->bendingTerms) t->setStaged(evaluator != "handChained");
+  }
   addSceneEdgeRules(scene, problem, *system);
   system->objective().setGrowOnlyPattern(growOnly);
   return system;
@@ -369,10 +372,7 @@ nlohmann::json runOnce(const Scene& scene, const SceneModel& model, const Contac
 int runContactBench(const ContactBenchOptions& o) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   if (o.threads > 0) omp_set_num_threads(o.threads);
-  Scene scene = loadSceneFile(o.scene);
-  // --evaluator: the membrane's and bending's evaluator instead of the scene's (stagedBending: sceneSystem).
-  if (o.evaluator == "handChained" || o.evaluator == "stagedBending") scene.solver.evaluator = "handChained";
-  if (o.evaluator == "staged") scene.solver.evaluator = "staged";
+  const Scene scene = loadSceneFile(o.scene);
   if (scene.analysis.type != AnalysisType::Dynamic) throw InputError(o.scene + ": bench contact needs a dynamic scene");
   const SceneModel model = buildSceneModel(scene);
   const char* integrator = toString(dynamicsOptionsFor(scene).integrator);

@@ -193,7 +193,7 @@ int runBench(const BenchOptions& o) {
   const Topology topo = buildTopology(mesh);
   const ShellReference ref = computeReference(mesh, topo);
   const ShellMaterialParams mat = ShellMaterialParamsFrom3dIsotropic(1e5, 0.25, 1000.0, 0.002);
-  const Eigen::VectorXd x = o.garment > 0 ? wavyPositions(mesh) : wavyGridPositions(mesh, true);
+  const Eigen::VectorXd x = wavyPositions(mesh, true);
   auto membrane = makeMembraneTerm(mesh, ref, mat.membraneLambda, mat.membraneMu);
   auto bending = makeBendingTerm(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
   std::shared_ptr<MembraneTerm> membraneStaged;

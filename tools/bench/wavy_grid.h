@@ -13,8 +13,9 @@ namespace jetshell {
 /// The deformed positions (3N) of `mesh`, a grid from makeRectangleGrid over the unit square.
 Eigen::VectorXd wavyGridPositions(const TriMesh& mesh, bool shear);
 
-/// Any mesh (`bench elements --garment`): its reference positions moved by the same waves and shear, added to z
-/// and x rather than replacing z, so a curved or folded rest shape (a garment's two panels) keeps its form.
-Eigen::VectorXd wavyPositions(const TriMesh& mesh);
+/// Any mesh (`bench elements --garment`): its reference positions moved by the same waves (and shear), added to
+/// z and x, so a curved or folded rest shape (a garment's two panels) keeps its form; on the flat grid (z = 0)
+/// the same bits as wavyGridPositions, which calls it.
+Eigen::VectorXd wavyPositions(const TriMesh& mesh, bool shear);
 
 }  // namespace jetshell
