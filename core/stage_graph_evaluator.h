@@ -1436,9 +1436,10 @@ class StageGraphEvaluator {
 
   // ---- the sweeps in windows (core/stage_window_plan.h) ----
   /// The window plan's schedule, shared by the contracted Hessian and a gradient alone: the cross nodes forward;
-  /// the lanes, even ones then odd ones (lanes of one phase write no common entry), each window by window (its
-  /// nodes forward, its elements' adjoint sweeps, its nodes gathered, the elements now complete finished); the
-  /// cross nodes gathered; the deferred elements colour by colour (blocks of one colour share no vertex).
+  /// the lanes, the first phase's then the second's (lanes of one phase write no common entry), each window by
+  /// window (its nodes forward, its elements' adjoint sweeps, its nodes gathered, the elements now complete
+  /// finished); the cross nodes gathered; the deferred elements colour by colour (blocks of one colour share no
+  /// vertex).
   /// forward(layer, n) and gather(layer, n) take a node of a Shared layer (layer: std::integral_constant), sweep(e)
   /// and finish(e) an element.
   template <typename Forward, typename Sweep, typename Gather, typename Finish>
@@ -1455,13 +1456,13 @@ class StageGraphEvaluator {
       if constexpr (Shape<decltype(layer)::value>::kShared)
         eachNode(plan.cross[decltype(layer)::value], [&](int n) { forward(layer, n); });
     });
-    const int lanes = static_cast<int>(plan.lanes.size());
-    for (int phase = 0; phase < 2; ++phase) {
-      const int count = (lanes + 1 - phase) / 2;
+    for (const std::vector<int>& phaseLanes : plan.phaseLanes) {
+      const int count = static_cast<int>(phaseLanes.size());
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
       for (int i = 0; i < count; ++i)
         errors.run([&] {
-          runLane(plan, plan.lanes[static_cast<std::size_t>(2 * i + phase)], forward, sweep, gather, finish);
+          runLane(plan, plan.lanes[static_cast<std::size_t>(phaseLanes[static_cast<std::size_t>(i)])], forward, sweep,
+                  gather, finish);
         });
       errors.rethrow();
     }

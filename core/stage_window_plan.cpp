@@ -89,10 +89,73 @@ std::vector<int> bandOrder(const StencilTable& elements, int numVertices, int nu
   return order;
 }
 
-/// The plan with the lanes cut in `order` (planWindows' checks done).
+/// Phases for the lanes cut in `order`, half of the lanes in each, so that few vertices are touched by two lanes
+/// of one phase (each such vertex defers the elements on it): from lanes alternating, the swap of a lane of each
+/// phase that lowers that count most, until none does. Empty when it finds nothing better than alternating. A
+/// mesh numbered row by row keeps its lanes alternating; a mesh numbered part by part (a garment's front panel,
+/// then its back) gets the lanes that meet across a seam in different phases.
+std::vector<int> balancedLanePhases(const StencilTable& elements, int numVertices, const std::vector<int>& order,
+                                    int numLanes) {
+  const int ne = elements.size(), K = elements.width;
+  const auto L = static_cast<std::size_t>(numLanes);
+  // shared[a·L + b]: the vertices lanes a and b both touch (lanesOf: the lanes touching each vertex)
+  std::vector<std::vector<int>> lanesOf(static_cast<std::size_t>(numVertices));
+  for (int k = 0; k < numLanes; ++k) {
+    const auto [begin, end] = laneRange(k, ne, numLanes);
+    for (int p = begin; p < end; ++p)
+      for (int i = 0; i < K; ++i) {
+        const int v = elements.element(order[static_cast<std::size_t>(p)])[i];
+        if (v < 0) continue;
+        std::vector<int>& l = lanesOf[static_cast<std::size_t>(v)];
+        if (l.empty() || l.back() != k) l.push_back(k);
+      }
+  }
+  std::vector<std::int64_t> shared(L * L, 0);
+  for (const std::vector<int>& l : lanesOf)
+    for (std::size_t i = 0; i < l.size(); ++i)
+      for (std::size_t j = i + 1; j < l.size(); ++j) {
+        ++shared[static_cast<std::size_t>(l[i]) * L + static_cast<std::size_t>(l[j])];
+        ++shared[static_cast<std::size_t>(l[j]) * L + static_cast<std::size_t>(l[i])];
+      }
+  std::vector<int> phase(L);
+  for (int k = 0; k < numLanes; ++k) phase[static_cast<std::size_t>(k)] = k % 2;
+  // d[a]: the vertices lane a shares with the other lanes of its phase, less those it shares with the other
+  // phase's lanes; swapping the phases of lanes a and b (of different phases) lowers the within-phase count by
+  // d[a] + d[b] + 2 shared(a, b).
+  const auto at = [&](int a, int b) { return shared[static_cast<std::size_t>(a) * L + static_cast<std::size_t>(b)]; };
+  const auto same = [&](int a, int b) { return phase[static_cast<std::size_t>(a)] == phase[static_cast<std::size_t>(b)]; };
+  std::vector<std::int64_t> d(L);
+  bool improved = false;
+  for (int round = 0; round < numLanes; ++round) {
+    for (int a = 0; a < numLanes; ++a) {
+      d[static_cast<std::size_t>(a)] = 0;
+      for (int c = 0; c < numLanes; ++c)
+        if (c != a) d[static_cast<std::size_t>(a)] += same(a, c) ? at(a, c) : -at(a, c);
+    }
+    int bestA = -1, bestB = -1;
+    std::int64_t best = 0;
+    for (int a = 0; a < numLanes; ++a)
+      for (int b = 0; b < numLanes; ++b)
+        if (phase[static_cast<std::size_t>(a)] == 0 && phase[static_cast<std::size_t>(b)] == 1) {
+          const std::int64_t gain = d[static_cast<std::size_t>(a)] + d[static_cast<std::size_t>(b)] + 2 * at(a, b);
+          if (gain > best) {
+            best = gain;
+            bestA = a;
+            bestB = b;
+          }
+        }
+    if (bestA < 0) break;
+    std::swap(phase[static_cast<std::size_t>(bestA)], phase[static_cast<std::size_t>(bestB)]);
+    improved = true;
+  }
+  if (!improved) return {};
+  return phase;
+}
+
+/// The plan with the lanes cut in `order` (planWindows' checks done), lane k running in phase lanePhase[k].
 StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int numLayers,
                             const std::vector<StageWindowPlan::SharedReads>& shared, int numLanes, int window,
-                            std::vector<int> order) {
+                            std::vector<int> order, const std::vector<int>& lanePhase) {
   StageWindowPlan plan;
   const int ne = elements.size();
   plan.window = window;
@@ -113,12 +176,14 @@ StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int n
   const auto windowOf = [&](int e) {
     return (position[static_cast<std::size_t>(e)] - plan.lanes[static_cast<std::size_t>(lane(e))].begin) / window;
   };
-  const auto even = [](int k) { return k % 2 == 0; };
+  const auto firstPhase = [&](int k) { return lanePhase[static_cast<std::size_t>(k)] == 0; };
+  for (int k = 0; k < numLanes; ++k)
+    plan.phaseLanes[static_cast<std::size_t>(lanePhase[static_cast<std::size_t>(k)])].push_back(k);
 
   // Per Shared layer, per node: where it is forwarded and gathered. Its readers are elements of one lane (that
-  // lane does both), of two neighbouring lanes (the even one forwards it in the first phase, at its first reader
-  // there; the odd one gathers it in the second phase, at its last reader there, when the even lane's readers
-  // are done), of more lanes (a cross node), or of none.
+  // lane does both), of two lanes of different phases (the first phase's lane forwards it, at its first reader
+  // there; the second phase's lane gathers it, at its last reader there, when the other lane's readers are
+  // done), of two lanes of one phase or more lanes (a cross node), or of none.
   plan.cross.resize(static_cast<std::size_t>(numLayers));
   plan.unread.resize(static_cast<std::size_t>(numLayers));
   std::vector<std::vector<Place>> forwardAt(static_cast<std::size_t>(numLayers)), gatherAt(static_cast<std::size_t>(numLayers));
@@ -130,11 +195,15 @@ StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int n
     const auto count = static_cast<std::size_t>(s.count);
     // first and last readers, the last reader in the first reader's lane, the first in the last reader's lane
     std::vector<int> first(count, -1), last(count, -1), lastInLow(count, -1), firstInHigh(count, -1);
+    std::vector<int> lanesRead(count, 0);  // the lanes reading the node (they come one after another)
     for (const int e : plan.order)
       for (int l = start[static_cast<std::size_t>(e)]; l < start[static_cast<std::size_t>(e) + 1]; ++l) {
         const auto n = static_cast<std::size_t>(node[static_cast<std::size_t>(l)]);
         if (first[n] < 0) first[n] = e;
-        if (last[n] < 0 || lane(last[n]) != lane(e)) firstInHigh[n] = e;
+        if (last[n] < 0 || lane(last[n]) != lane(e)) {
+          firstInHigh[n] = e;
+          ++lanesRead[n];
+        }
         last[n] = e;
         if (lane(e) == lane(first[n])) lastInLow[n] = e;
       }
@@ -152,9 +221,9 @@ StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int n
       if (low == high) {
         f = {low, windowOf(first[n])};
         g = {low, windowOf(last[n])};
-      } else if (high == low + 1) {
-        const int e0 = even(low) ? first[n] : firstInHigh[n];
-        const int e1 = even(low) ? last[n] : lastInLow[n];
+      } else if (lanesRead[n] == 2 && firstPhase(low) != firstPhase(high)) {
+        const int e0 = firstPhase(low) ? first[n] : firstInHigh[n];
+        const int e1 = firstPhase(low) ? last[n] : lastInLow[n];
         f = {lane(e0), windowOf(e0)};
         g = {lane(e1), windowOf(e1)};
       } else {
@@ -164,9 +233,9 @@ StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int n
     }
   }
 
-  // Per element: the lane that assembles it, once its owned nodes are gathered: its own lane, or the odd lane
-  // that gathers an owned node it shares with a neighbouring lane; deferred when it owns a cross node or nodes
-  // gathered by two other lanes.
+  // Per element: the lane that assembles it, once its owned nodes are gathered: its own lane, or the second
+  // phase's lane that gathers an owned node it shares with the element's lane (then of the first phase); deferred
+  // when it owns a cross node or nodes gathered by two other lanes.
   std::vector<Place> assembleAt(static_cast<std::size_t>(ne));
   for (int e = 0; e < ne; ++e) {
     Place& a = assembleAt[static_cast<std::size_t>(e)];
@@ -191,8 +260,8 @@ StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int n
         }
       }
     }
-    if (a.lane != kDeferred && other != kNone) a = {other, otherWindow};  // the owned nodes of its own (even)
-                                                                           // lane are gathered in the first phase
+    if (a.lane != kDeferred && other != kNone) a = {other, otherWindow};  // the owned nodes of its own lane
+                                                                           // are gathered in the first phase
   }
   // Lanes of one phase run at the same time: an element whose vertex another lane of its phase also writes is
   // deferred (both are).
@@ -205,7 +274,7 @@ StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int n
     for (int k = 0; k < K; ++k) {
       const int v = elements.element(e)[k];
       if (v < 0) continue;
-      int& w = writer[a.lane % 2][static_cast<std::size_t>(v)];
+      int& w = writer[lanePhase[static_cast<std::size_t>(a.lane)]][static_cast<std::size_t>(v)];
       w = w == kNone || w == a.lane ? a.lane : kDeferred;
     }
   }
@@ -214,7 +283,10 @@ StageWindowPlan planInOrder(const StencilTable& elements, int numVertices, int n
     if (a.lane < 0) continue;
     for (int k = 0; k < K; ++k) {
       const int v = elements.element(e)[k];
-      if (v >= 0 && writer[a.lane % 2][static_cast<std::size_t>(v)] == kDeferred) a.lane = kDeferred;
+      if (v >= 0 && writer[lanePhase[static_cast<std::size_t>(a.lane)]][static_cast<std::size_t>(v)] == kDeferred) {
+        a.lane = kDeferred;
+        break;
+      }
     }
   }
 
@@ -269,12 +341,21 @@ StageWindowPlan planWindows(const StencilTable& elements, int numVertices, int n
   const int numLanes = ne / laneElements / 4 * 4;  // an even number of lanes in each phase
   if (numLanes < 4) return {};
   if (window <= 0) throw std::invalid_argument("stage window plan: the window must hold at least one element");
-  std::vector<int> numbering(static_cast<std::size_t>(ne));
+  std::vector<int> numbering(static_cast<std::size_t>(ne)), alternate(static_cast<std::size_t>(numLanes));
   for (int e = 0; e < ne; ++e) numbering[static_cast<std::size_t>(e)] = e;
-  StageWindowPlan plan = planInOrder(elements, numVertices, numLayers, shared, numLanes, window, std::move(numbering));
+  for (int k = 0; k < numLanes; ++k) alternate[static_cast<std::size_t>(k)] = k % 2;
+  StageWindowPlan plan = planInOrder(elements, numVertices, numLayers, shared, numLanes, window, numbering, alternate);
+  if (!plan.deferred.empty()) {
+    const std::vector<int> phases = balancedLanePhases(elements, numVertices, numbering, numLanes);
+    if (!phases.empty()) {
+      StageWindowPlan other =
+          planInOrder(elements, numVertices, numLayers, shared, numLanes, window, numbering, phases);
+      if (other.deferred.size() < plan.deferred.size()) plan = std::move(other);
+    }
+  }
   if (4 * plan.deferred.size() <= static_cast<std::size_t>(ne)) return plan;
   StageWindowPlan bands = planInOrder(elements, numVertices, numLayers, shared, numLanes, window,
-                                      bandOrder(elements, numVertices, numLanes));
+                                      bandOrder(elements, numVertices, numLanes), alternate);
   return bands.deferred.size() < plan.deferred.size() ? bands : plan;
 }
 

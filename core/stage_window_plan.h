@@ -6,20 +6,20 @@
 // the elements' adjoints, the Shared nodes' adjoints, the elements' curvature and assembly. Past a few thousand
 // elements the Shared buffers the first sweep writes have left the cache when the last one reads them. With a
 // plan the elements are cut into lanes (contiguous ranges of the lanes' order, below; their number depends on
-// the mesh alone, never on the thread count) and each lane into windows. The even lanes run in parallel, then the odd ones; a lane runs its
-// windows in order, and in each window:
+// the mesh alone, never on the thread count) and each lane into windows. The lanes run in two phases, the first
+// phase's lanes in parallel, then the second's (phases below); a lane runs its windows in order, and in each window:
 //   1. forwards the nodes it forwards whose first reader there is in the window (layers in order);
 //   2. runs the adjoint sweep of its elements in the window;
 //   3. gathers the adjoints of the nodes it gathers whose last reader there is in the window (last layer first);
 //   4. assembles the elements whose owned nodes are now complete (their curvature and blocks).
-// A node read from one lane is that lane's. A node read from two neighbouring lanes is forwarded by the even
-// one (first phase) and gathered by the odd one (second phase, when the even lane's readers are done), which
-// also assembles its owner. A node read from more lanes (a cross node) is forwarded before the phases and
-// gathered after them; a node no element reads contributes nothing, and only its adjoint and Jacobian are set
-// (to zero). An element that owns a cross node, or whose vertex another lane of its phase also writes, is
-// deferred to after the phases and runs in a coloured schedule of its own. Each gradient and matrix entry thus
-// receives its terms in an order fixed by the mesh: the same bits for every thread count. The plan is topology
-// only; the graph builds it in finalize() (core/stage_graph.h).
+// A node read from one lane is that lane's. A node read from two lanes of different phases is forwarded by the
+// first phase's lane and gathered by the second phase's (when the first lane's readers are done), which also
+// assembles its owner. A node read from two lanes of one phase, or from more lanes (a cross node), is forwarded
+// before the phases and gathered after them; a node no element reads contributes nothing, and only its adjoint
+// and Jacobian are set (to zero). An element that owns a cross node, or whose vertex another lane of its phase
+// also writes, is deferred to after the phases and runs in a coloured schedule of its own. Each gradient and
+// matrix entry thus receives its terms in an order fixed by the mesh: the same bits for every thread count. The
+// plan is topology only; the graph builds it in finalize() (core/stage_graph.h).
 //
 // The lanes' order. Lanes are cut in the elements' numbering, which suits a mesh numbered row by row: a window's
 // elements and nodes are then contiguous in memory. A mesh numbered without regard to its connectivity (faces
@@ -28,13 +28,22 @@
 // (elements by breadth-first level over shared vertices, from an element at an end of a longest path; within a
 // lane by number) when that defers fewer. Measured on the staged bending Hessian (BENCHMARKS.md, Elements,
 // "Session 97"): a grid with shuffled faces (84% deferred) runs 1.9-2.2x faster on the bands, one numbered in 32
-// blocks in random order (45%) 1.1-1.3x; the T-shirt (12.5% deferred, front panel then back) and a grid in 8
-// blocks (11%) run as fast or faster on the numbering, whose windows read memory in long runs.
+// blocks in random order (45%) 1.1-1.3x; the T-shirt (front panel then back) and a grid in 8 blocks run as fast
+// or faster on the numbering, whose windows read memory in long runs.
+//
+// The phases. Lanes alternate between the phases, which suits lanes that meet only the next and the previous
+// one. Where that defers elements, the lanes' graph (lanes joined when their elements share a vertex) is
+// two-coloured if it can be with half of the lanes in each phase, and the colouring is kept when it defers fewer:
+// a garment numbered panel by panel has its front's lanes meet the back's across the seams, and alternating lanes
+// put a front lane and the back lane it meets in one phase: the T-shirt's 11,008 elements have 1,375 deferred with
+// alternating lanes and 44 with the phases chosen (the same mesh at twice the resolution, eight lanes: 2,719 and
+// 87; BENCHMARKS.md, Elements, "Session 98").
 #pragma once
 
 #include "core/assembly.h"
 #include "core/stencil.h"
 
+#include <array>
 #include <vector>
 
 namespace jetshell {
@@ -80,6 +89,7 @@ struct StageWindowPlan {
   int window = 0;
   std::vector<Lane> lanes;               // none: no plan; else a multiple of four
   std::vector<int> order;                // every element once, lane by lane, ascending within a lane
+  std::array<std::vector<int>, 2> phaseLanes;  // the lanes of each phase, ascending (half of the lanes each)
   std::vector<std::vector<int>> cross;   // per layer: nodes forwarded before the lanes and gathered after them
   std::vector<std::vector<int>> unread;  // per layer: nodes no element reads (a zero adjoint, set before the lanes)
   std::vector<int> deferred;             // elements run after the lanes, ascending
