@@ -218,6 +218,16 @@ int runBench(const BenchOptions& o) {
               "load average at start %.2f\n",
               mesh.numFaces(), mesh.numVertices(), static_cast<long>(assembler.matrix().nonZeros()),
               static_cast<double>(assembler.memoryBytes()) / 1e6, loadStart);
+  if (bendingStaged && !bendingStaged->windowPlan()->empty()) {
+    // The staged bending's window plan: elements deferred to after the lanes and nodes forwarded before them.
+    const StageWindowPlan& plan = *bendingStaged->windowPlan();
+    std::size_t cross = 0;
+    for (const std::vector<int>& nodes : plan.cross) cross += nodes.size();
+    std::printf("staged bending's window plan: %zu lanes (%zu and %zu a phase), %zu of %d elements deferred, %zu "
+                "cross nodes (forwarded before the lanes, gathered after them)\n",
+                plan.lanes.size(), plan.phaseLanes[0].size(), plan.phaseLanes[1].size(), plan.deferred.size(),
+                mesh.numFaces(), cross);
+  }
   // A projected run measures what a Newton step with projection pays; the targets are for the exact
   // Hessian unprojected, so its summary then names no target.
   const PsdProjection projection = psdProjectionFromString(o.projection);

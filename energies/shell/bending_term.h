@@ -86,6 +86,8 @@ class BendingTerm : public EnergyTerm {
   /// Evaluates on the stage framework instead of the hand-chained passes (same energy, to rounding).
   void setStaged(bool staged);
   bool staged() const { return staged_; }
+  /// The staged evaluator's window plan (core/stage_window_plan.h), for the benches; null until setStaged(true).
+  const StageWindowPlan* windowPlan() const { return graph_ ? &graph_->windowPlan() : nullptr; }
 
  private:
   // ---- the staged evaluator (bending_term_staged.cpp) ----
