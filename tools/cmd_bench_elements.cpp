@@ -218,9 +218,10 @@ int runBench(const BenchOptions& o) {
               "load average at start %.2f\n",
               mesh.numFaces(), mesh.numVertices(), static_cast<long>(assembler.matrix().nonZeros()),
               static_cast<double>(assembler.memoryBytes()) / 1e6, loadStart);
-  if (bendingStaged && !bendingStaged->windowPlan()->empty()) {
+  const StageWindowPlan* stagedPlan = bendingStaged ? bendingStaged->windowPlan() : nullptr;
+  if (stagedPlan != nullptr && !stagedPlan->empty()) {
     // The staged bending's window plan: elements deferred to after the lanes and nodes forwarded before them.
-    const StageWindowPlan& plan = *bendingStaged->windowPlan();
+    const StageWindowPlan& plan = *stagedPlan;
     std::size_t cross = 0;
     for (const std::vector<int>& nodes : plan.cross) cross += nodes.size();
     std::printf("staged bending's window plan: %zu lanes (%zu and %zu a phase), %zu of %d elements deferred, %zu "
