@@ -9,9 +9,11 @@
 #include <catch2/catch.hpp>
 #include <omp.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <numeric>
 #include <type_traits>
 #include <vector>
 
@@ -292,66 +294,94 @@ TEST_CASE("stage graph: the same bits with 1 and 2 threads", "[stages]") {
   }
 }
 
-TEST_CASE("stage graph: the contracted Hessian and the gradient in windows equal the whole-mesh sweeps, with the same bits on 1 and 2 threads",
-          "[stages]") {
+/// A 24 × 24 grid, waved; with `halves` its vertices and faces numbered left half first, then right half (a
+/// garment's panels), so that the hinges, numbered by their vertices, follow.
+TriMesh wavedGrid(bool halves) {
   TriMesh mesh = makeRectangleGrid(1.0, 1.0, 24, 24);
   for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.1 * std::sin(3.0 * mesh.V(v, 0) + mesh.V(v, 1));
-  const Topology topo = buildTopology(mesh);
-  const HingeStencils l = hingeStencils(mesh, topo);
-  Eigen::VectorXd x = flatten(mesh.V);
-  srand(11);
-  x += 0.02 * Eigen::VectorXd::Random(x.size());
-  TestGraph sweeps = buildGraph(mesh, topo, l);
-  sweeps.replanWindows(0);
-  REQUIRE(sweeps.windowPlan().empty());
-  StageGraphTerm<TestGraph> a("sweeps", std::move(sweeps));
-  const int threads = omp_get_max_threads();
+  if (!halves) return mesh;
+  const double middle = 0.5 * (mesh.V.col(0).minCoeff() + mesh.V.col(0).maxCoeff());
+  std::vector<int> vertices(static_cast<std::size_t>(mesh.numVertices())), faces(static_cast<std::size_t>(mesh.numFaces()));
+  std::iota(vertices.begin(), vertices.end(), 0);
+  std::iota(faces.begin(), faces.end(), 0);
+  std::stable_partition(vertices.begin(), vertices.end(), [&](int v) { return mesh.V(v, 0) < middle; });
+  std::stable_partition(faces.begin(), faces.end(), [&](int f) {
+    return mesh.V(mesh.F(f, 0), 0) + mesh.V(mesh.F(f, 1), 0) + mesh.V(mesh.F(f, 2), 0) < 3.0 * middle;
+  });
+  std::vector<int> newId(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) newId[static_cast<std::size_t>(vertices[i])] = static_cast<int>(i);
+  TriMesh out = mesh;
+  for (std::size_t i = 0; i < vertices.size(); ++i) out.V.row(static_cast<Eigen::Index>(i)) = mesh.V.row(vertices[i]);
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) out.F(static_cast<Eigen::Index>(i), k) = newId[static_cast<std::size_t>(mesh.F(faces[i], k))];
+  return out;
+}
+
+TEST_CASE("stage graph: the contracted Hessian and the gradient in windows equal the whole-mesh sweeps, with the same bits on 1 and 2 threads",
+          "[stages]") {
   // Lanes of about four rows of hinges (nothing deferred), and of half a row (nodes read from three lanes, owners
-  // deferred).
-  for (const auto& [laneElements, window] : {std::pair{300, 50}, std::pair{30, 7}}) {
-    TestGraph windows = buildGraph(mesh, topo, l);
-    windows.replanWindows(laneElements, window);
-    const StageWindowPlan& plan = windows.windowPlan();
-    REQUIRE(plan.lanes.size() >= 4);
-    REQUIRE_FALSE(plan.unread[1].empty());  // the boundary edges' nodes: no element reads them
-    if (laneElements == 30) {
-      REQUIRE_FALSE(plan.cross[0].empty());
-      REQUIRE_FALSE(plan.deferred.empty());
-    }
-    StageGraphTerm<TestGraph> b("windows", std::move(windows));
-    const DerivativePath path = laneElements == 300 ? DerivativePath::AutoDiff : DerivativePath::Analytic;
-    EvalOptions opt;  // exact, no projection: the contracted Hessian
-    opt.path = path;
-    Eigen::VectorXd gA, g1, g2;
-    double eA, e1, e2;
-    const Eigen::MatrixXd HA = denseHessian(a, x, opt, gA, eA);
-    omp_set_num_threads(1);
-    const Eigen::MatrixXd H1 = denseHessian(b, x, opt, g1, e1);
-    omp_set_num_threads(2);
-    const Eigen::MatrixXd H2 = denseHessian(b, x, opt, g2, e2);
-    omp_set_num_threads(threads);
-    // The same terms summed in another order.
-    CHECK(e1 == Approx(eA).epsilon(1e-14));
-    CHECK((g1 - gA).norm() <= 1e-14 * gA.norm());
-    CHECK((H1 - HA).norm() <= 1e-14 * HA.norm());
-    CHECK(e1 == e2);
-    CHECK(g1 == g2);
-    CHECK(H1 == H2);
-    // A gradient without a Hessian: the gradient sweep's passes in the same windows.
-    const auto gradientAlone = [&](EnergyTerm& term, int n, double& energy) {
-      omp_set_num_threads(n);
-      Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
-      energy = term.evaluate(x, EvalRequest{&g, nullptr, 0}, opt);
+  // deferred), on the grid numbered row by row; four lanes on the grid numbered by halves, whose phases pair each
+  // lane with the lane it does not meet across the middle (lanes not alternating).
+  for (const bool halves : {false, true}) {
+    const TriMesh mesh = wavedGrid(halves);
+    const Topology topo = buildTopology(mesh);
+    const HingeStencils l = hingeStencils(mesh, topo);
+    Eigen::VectorXd x = flatten(mesh.V);
+    srand(11);
+    x += 0.02 * Eigen::VectorXd::Random(x.size());
+    TestGraph sweeps = buildGraph(mesh, topo, l);
+    sweeps.replanWindows(0);
+    REQUIRE(sweeps.windowPlan().empty());
+    StageGraphTerm<TestGraph> a("sweeps", std::move(sweeps));
+    const int threads = omp_get_max_threads();
+    const std::vector<std::pair<int, int>> plans =
+        halves ? std::vector<std::pair<int, int>>{{l.table.size() / 4, 50}} : std::vector<std::pair<int, int>>{{300, 50}, {30, 7}};
+    for (const auto& [laneElements, window] : plans) {
+      TestGraph windows = buildGraph(mesh, topo, l);
+      windows.replanWindows(laneElements, window);
+      const StageWindowPlan& plan = windows.windowPlan();
+      REQUIRE(plan.lanes.size() >= 4);
+      REQUIRE_FALSE(plan.unread[1].empty());  // the boundary edges' nodes: no element reads them
+      if (laneElements == 30) {
+        REQUIRE_FALSE(plan.cross[0].empty());
+        REQUIRE_FALSE(plan.deferred.empty());
+      }
+      if (halves) REQUIRE(plan.phaseLanes[0] != std::vector<int>{0, 2});
+      StageGraphTerm<TestGraph> b("windows", std::move(windows));
+      const DerivativePath path = laneElements == 300 ? DerivativePath::AutoDiff : DerivativePath::Analytic;
+      EvalOptions opt;  // exact, no projection: the contracted Hessian
+      opt.path = path;
+      Eigen::VectorXd gA, g1, g2;
+      double eA, e1, e2;
+      const Eigen::MatrixXd HA = denseHessian(a, x, opt, gA, eA);
+      omp_set_num_threads(1);
+      const Eigen::MatrixXd H1 = denseHessian(b, x, opt, g1, e1);
+      omp_set_num_threads(2);
+      const Eigen::MatrixXd H2 = denseHessian(b, x, opt, g2, e2);
       omp_set_num_threads(threads);
-      return g;
-    };
-    double fA, f1, f2;
-    const Eigen::VectorXd hA = gradientAlone(a, threads, fA), h1 = gradientAlone(b, 1, f1), h2 = gradientAlone(b, 2, f2);
-    CHECK(f1 == Approx(fA).epsilon(1e-14));
-    CHECK((h1 - hA).norm() <= 1e-14 * hA.norm());
-    CHECK((h1 - gA).norm() <= 1e-13 * gA.norm());  // and the Hessian path's gradient
-    CHECK(f1 == f2);
-    CHECK(h1 == h2);
+      // The same terms summed in another order.
+      CHECK(e1 == Approx(eA).epsilon(1e-14));
+      CHECK((g1 - gA).norm() <= 1e-14 * gA.norm());
+      CHECK((H1 - HA).norm() <= 1e-14 * HA.norm());
+      CHECK(e1 == e2);
+      CHECK(g1 == g2);
+      CHECK(H1 == H2);
+      // A gradient without a Hessian: the gradient sweep's passes in the same windows.
+      const auto gradientAlone = [&](EnergyTerm& term, int n, double& energy) {
+        omp_set_num_threads(n);
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+        energy = term.evaluate(x, EvalRequest{&g, nullptr, 0}, opt);
+        omp_set_num_threads(threads);
+        return g;
+      };
+      double fA, f1, f2;
+      const Eigen::VectorXd hA = gradientAlone(a, threads, fA), h1 = gradientAlone(b, 1, f1), h2 = gradientAlone(b, 2, f2);
+      CHECK(f1 == Approx(fA).epsilon(1e-14));
+      CHECK((h1 - hA).norm() <= 1e-14 * hA.norm());
+      CHECK((h1 - gA).norm() <= 1e-13 * gA.norm());  // and the Hessian path's gradient
+      CHECK(f1 == f2);
+      CHECK(h1 == h2);
+    }
   }
 }
 
