@@ -472,7 +472,8 @@ double composedStageDiscrepancy(const S& s, const double* z, int entity, Derivat
 }
 
 /// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
-/// relative to the largest Jet entry of its kind, floor 1), and a weighted-Hessian twin's against the Jets'
+/// relative to the largest Jet entry of its kind, floor 1; the twin's value and Jacobian at order 2 and at order
+/// 1), and a weighted-Hessian twin's against the Jets'
 /// Σ_k w_k ∇²y_k (checkWeightedHessian). 0 for a stage without a twin.
 template <typename S>
 double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
@@ -484,6 +485,10 @@ double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
     twinDerivatives(s, z, entity, 2, twin);
     double worst = std::max(relativeDifference(twin.value, jets.value), relativeDifference(twin.jacobian, jets.jacobian));
     for (int k = 0; k < S::kOutputs; ++k) worst = std::max(worst, relativeDifference(twin.hessians[k], jets.hessians[k]));
+    // A twin may take a shorter way when no Hessian is asked: its first-order value and Jacobian are checked too.
+    StageDerivativesOf<S> first;
+    twinDerivatives(s, z, entity, 1, first);
+    worst = std::max({worst, relativeDifference(first.value, jets.value), relativeDifference(first.jacobian, jets.jacobian)});
     if constexpr (HasWeightedHessianTwin<S>::value) {
       double w[S::kOutputs];
       Eigen::Matrix<double, S::kInputs, S::kInputs> weighted;

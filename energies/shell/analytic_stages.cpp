@@ -21,6 +21,18 @@ void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], d
   hessian = c1 * t * t.transpose() + 2.0 * c2 * G;
 }
 
+void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
+                   Eigen::Vector3d& gradient) {
+  // The rows of P d (as above): pu = u·d = (Pd)00, pv = v·d = (Pd)01, pw = w·d = (Pd)10, pz = z·d = (Pd)11;
+  // G d = u pu + v pw + w pv + z pz and dᵀ G d = pu² + 2 pv pw + pz².
+  const double pu = P[0] * d[0] + P[1] * d[1], pv = P[0] * d[1] + P[1] * d[2];
+  const double pw = P[1] * d[0] + P[2] * d[1], pz = P[1] * d[1] + P[2] * d[2];
+  const double tr = P[0] * d[0] + 2.0 * P[1] * d[1] + P[2] * d[2];
+  const Eigen::Vector3d Gd(P[0] * pu + P[1] * pv, P[1] * pu + P[0] * pw + P[2] * pv + P[1] * pz, P[1] * pw + P[2] * pz);
+  value = 0.5 * c1 * tr * tr + c2 * (pu * pu + 2.0 * pv * pw + pz * pz);
+  gradient = (c1 * tr) * Eigen::Vector3d(P[0], 2.0 * P[1], P[2]) + (2.0 * c2) * Gd;
+}
+
 void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian) {
   const double r = c.norm();
   n = c / r;

@@ -457,9 +457,11 @@ void BendingTerm::faceDensity(int f, const double* b, bool ad, double& W, Vec3& 
     if (Wbb != nullptr) *Wbb = A;
   } else {
     const double d[3] = {b[0] - B[0], b[1] - B[1], b[2] - B[2]};
-    Mat3 A;
-    analytic::stvkQuadratic(ref_.inverseMetric[f].data(), alpha_, 0.5 * beta_, d, W, w, A);
-    if (Wbb != nullptr) *Wbb = A;
+    if (Wbb != nullptr) {
+      analytic::stvkQuadratic(ref_.inverseMetric[f].data(), alpha_, 0.5 * beta_, d, W, w, *Wbb);
+    } else {
+      analytic::stvkQuadratic(ref_.inverseMetric[f].data(), alpha_, 0.5 * beta_, d, W, w);
+    }
   }
 }
 

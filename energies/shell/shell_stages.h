@@ -164,15 +164,20 @@ struct MetricStage {
   }
 };
 
-/// Twin of an energy stage: s · stvkQuadratic(P, c1, c2, d) (energies/shell/analytic_stages.h) as a stage result.
-inline void scaledStvkQuadratic(const double P[3], double c1, double c2, const double d3[3], double s,
+/// Twin of an energy stage: s · stvkQuadratic(P, c1, c2, d) (energies/shell/analytic_stages.h) as a stage result,
+/// its Hessian only at order 2.
+inline void scaledStvkQuadratic(const double P[3], double c1, double c2, const double d3[3], double s, int order,
                                 StageDerivatives<3, 1>& d) {
   double W;
   Eigen::Vector3d w;
-  analytic::stvkQuadratic(P, c1, c2, d3, W, w, d.hessians[0]);
+  if (order >= 2) {
+    analytic::stvkQuadratic(P, c1, c2, d3, W, w, d.hessians[0]);
+    d.hessians[0] *= s;
+  } else {
+    analytic::stvkQuadratic(P, c1, c2, d3, W, w);
+  }
   d.value[0] = s * W;
   d.jacobian = s * w.transpose();
-  d.hessians[0] *= s;
 }
 
 /// An energy density's Hessian from the per-face quadratics its term keeps: H = s · kept[f], or false when none
@@ -220,7 +225,7 @@ struct BendingDensityStage {
       d.hessians[0] = s * Q;
       return;
     }
-    scaledStvkQuadratic(ref->inverseMetric[f].data(), alpha, 0.5 * beta, db, scale * ref->area[f], d);
+    scaledStvkQuadratic(ref->inverseMetric[f].data(), alpha, 0.5 * beta, db, scale * ref->area[f], order, d);
   }
 };
 
@@ -240,7 +245,7 @@ struct MembraneDensityStage {
     if (order <= 0) return (*this)(a, d.value.data(), f);
     const double* A = ref->metric[f].data();
     const double da[3] = {a[0] - A[0], a[1] - A[1], a[2] - A[2]};
-    scaledStvkQuadratic(ref->inverseMetric[f].data(), 0.25 * lambda, 0.25 * mu, da, scale * ref->area[f], d);
+    scaledStvkQuadratic(ref->inverseMetric[f].data(), 0.25 * lambda, 0.25 * mu, da, scale * ref->area[f], order, d);
   }
 };
 
