@@ -1421,8 +1421,14 @@ class StageGraphEvaluator {
           const int off = Shape<J>::offset(reader[2]);
           const auto k = static_cast<std::size_t>(reader[1]);
           if constexpr (Shape<J>::kShared) {
+            // A gradient's reader already holds Jᵀw̄ (its input adjoint, gathered before this node): its rows
+            // for this group, instead of the product again.
             const auto& bj = buffers<J>();
-            w.noalias() += bj.jacobian[k].transpose().template middleRows<S::M>(off) * bj.adjoint[k];
+            if (inputs) {
+              w += bj.inputAdjoint[k].template segment<S::M>(off);
+            } else {
+              w.noalias() += bj.jacobian[k].transpose().template middleRows<S::M>(off) * bj.adjoint[k];
+            }
           } else {
             const double* sent = std::get<J>(sent_).data() + k * Shape<J>::kSent + Shape<J>::sentOffset(reader[2]);
             for (int c = 0; c < S::M; ++c) w[c] += sent[c];
