@@ -6,31 +6,37 @@
 
 namespace jetshell::analytic {
 
-void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
-                   Eigen::Vector3d& gradient, Eigen::Matrix3d& hessian) {
-  // tr_P d = t·d with t = (P00, 2P01, P11); tr(PdPd) = dᵀ G d with G = uuᵀ + vwᵀ + wvᵀ + zzᵀ built from the
-  // rows of P d: (Pd)00 = u·d, (Pd)01 = v·d, (Pd)10 = w·d, (Pd)11 = z·d.
-  const Eigen::Vector3d t(P[0], 2.0 * P[1], P[2]);
-  const Eigen::Vector3d u(P[0], P[1], 0.0), v(0.0, P[0], P[1]), w(P[1], P[2], 0.0), z(0.0, P[1], P[2]);
-  const Eigen::Matrix3d G = u * u.transpose() + v * w.transpose() + w * v.transpose() + z * z.transpose();
-  const Eigen::Vector3d dv(d[0], d[1], d[2]);
-  const double tr = t.dot(dv);
-  const Eigen::Vector3d Gd = G * dv;
-  value = 0.5 * c1 * tr * tr + c2 * dv.dot(Gd);
-  gradient = c1 * tr * t + 2.0 * c2 * Gd;
-  hessian = c1 * t * t.transpose() + 2.0 * c2 * G;
-}
+namespace {
 
-void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
-                   Eigen::Vector3d& gradient) {
-  // The rows of P d (as above): pu = u·d = (Pd)00, pv = v·d = (Pd)01, pw = w·d = (Pd)10, pz = z·d = (Pd)11;
-  // G d = u pu + v pw + w pv + z pz and dᵀ G d = pu² + 2 pv pw + pz².
+/// W and ∇W, one routine for both overloads (kept out of line, so that a gradient does not change in its last bits
+/// with whether a Hessian was asked: a Newton step that skipped its Hessian compares residuals with one that did).
+/// tr_P d = t·d with t = (P00, 2P01, P11); tr(PdPd) = dᵀ G d with G = uuᵀ + vwᵀ + wvᵀ + zzᵀ, u, v, w, z such that
+/// the rows of P d are (Pd)00 = u·d, (Pd)01 = v·d, (Pd)10 = w·d, (Pd)11 = z·d; G d = u (u·d) + v (w·d) + w (v·d) +
+/// z (z·d) and dᵀ G d = (u·d)² + 2 (v·d)(w·d) + (z·d)², formed without G.
+[[gnu::noinline]] void stvkValueGradient(const double P[3], double c1, double c2, const double d[3], double& value,
+                                         Eigen::Vector3d& gradient) {
   const double pu = P[0] * d[0] + P[1] * d[1], pv = P[0] * d[1] + P[1] * d[2];
   const double pw = P[1] * d[0] + P[2] * d[1], pz = P[1] * d[1] + P[2] * d[2];
   const double tr = P[0] * d[0] + 2.0 * P[1] * d[1] + P[2] * d[2];
   const Eigen::Vector3d Gd(P[0] * pu + P[1] * pv, P[1] * pu + P[0] * pw + P[2] * pv + P[1] * pz, P[1] * pw + P[2] * pz);
   value = 0.5 * c1 * tr * tr + c2 * (pu * pu + 2.0 * pv * pw + pz * pz);
   gradient = (c1 * tr) * Eigen::Vector3d(P[0], 2.0 * P[1], P[2]) + (2.0 * c2) * Gd;
+}
+
+}  // namespace
+
+void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
+                   Eigen::Vector3d& gradient, Eigen::Matrix3d& hessian) {
+  stvkValueGradient(P, c1, c2, d, value, gradient);
+  const Eigen::Vector3d t(P[0], 2.0 * P[1], P[2]);
+  const Eigen::Vector3d u(P[0], P[1], 0.0), v(0.0, P[0], P[1]), w(P[1], P[2], 0.0), z(0.0, P[1], P[2]);
+  const Eigen::Matrix3d G = u * u.transpose() + v * w.transpose() + w * v.transpose() + z * z.transpose();
+  hessian = c1 * t * t.transpose() + 2.0 * c2 * G;
+}
+
+void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
+                   Eigen::Vector3d& gradient) {
+  stvkValueGradient(P, c1, c2, d, value, gradient);
 }
 
 void unitNormal(const Eigen::Vector3d& c, Eigen::Vector3d& n, Eigen::Matrix3d& jacobian) {

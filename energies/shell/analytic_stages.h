@@ -21,8 +21,8 @@ inline Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& v) {
 void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
                    Eigen::Vector3d& gradient, Eigen::Matrix3d& hessian);
 
-/// The same W and ∇W without the Hessian (what a value-and-gradient request needs): ∇W = c1 (tr_P d) t + 2 c2 G d,
-/// with G d formed from the four entries of P d instead of G itself.
+/// The same W and ∇W without the Hessian (what a value-and-gradient request needs), to the bit those of the
+/// overload above: ∇W = c1 (tr_P d) t + 2 c2 G d, with G d formed from the four entries of P d, not from G.
 void stvkQuadratic(const double P[3], double c1, double c2, const double d[3], double& value,
                    Eigen::Vector3d& gradient);
 
