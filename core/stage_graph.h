@@ -228,7 +228,10 @@ class StageGraph {
     std::vector<std::int8_t> elementInputs;
     // Shared layers only:
     std::vector<int> elementStart, elementNode;  // per element, the layer's nodes it reads (CSR, ascending)
-    std::vector<std::int8_t> elementSlots;       // per listed node, W entries: the element's slot of each
+    // Per listed node, kSlots entries: per group, per slot of its support, the element's slot (−1: none), read
+    // in list order by the element's sweeps (the node's slot map composed with its support's place in the
+    // stencil, once here).
+    std::vector<std::int8_t> elementGroupSlots;
     std::vector<int> owner;                      // per node: the element whose block takes its curvature (−1: a
                                                  // node no element reads, which adds nothing)
     std::vector<int> ownedStart, ownedIndex;     // per element, its owned nodes as indices into its list
@@ -458,7 +461,7 @@ void StageGraph<K, Ls...>::finalize() {
   for (auto& t : tables_) {
     t.elementStart.assign(1, 0);
     t.elementNode.clear();
-    t.elementSlots.clear();
+    t.elementGroupSlots.clear();
     t.elementInputs.clear();
     t.ownedStart.assign(1, 0);
     t.ownedIndex.clear();
@@ -482,6 +485,7 @@ void StageGraph<K, Ls...>::finalize() {
         for (std::size_t index = 0; index < list.size(); ++index) {
           const int n = list[index];
           t.elementNode.push_back(n);
+          std::array<int, S::W> nodeSlot{};
           for (int s = 0; s < S::W; ++s) {
             const int v = t.support[static_cast<std::size_t>(n) * S::W + s];
             int slot = -1;
@@ -493,8 +497,12 @@ void StageGraph<K, Ls...>::finalize() {
             if (v >= 0 && slot < 0)
               throw std::invalid_argument("stage graph: layer " + std::to_string(I) + ", entity " + std::to_string(n) +
                                           ": its support is not in the stencil of element " + std::to_string(e));
-            t.elementSlots.push_back(static_cast<std::int8_t>(slot));
+            nodeSlot[static_cast<std::size_t>(s)] = slot;
           }
+          const std::int8_t* groupSlot = t.slots.data() + static_cast<std::size_t>(n) * S::kSlots;
+          for (int j = 0; j < S::kSlots; ++j)
+            t.elementGroupSlots.push_back(
+                static_cast<std::int8_t>(groupSlot[j] >= 0 ? nodeSlot[static_cast<std::size_t>(groupSlot[j])] : -1));
           if (t.owner[static_cast<std::size_t>(n)] < 0) {
             t.owner[static_cast<std::size_t>(n)] = e;
             t.ownedIndex.push_back(static_cast<int>(index));

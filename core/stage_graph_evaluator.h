@@ -666,19 +666,18 @@ class StageGraphEvaluator {
     });
     return out;
   }
-  /// The element slots of every group of Shared node `entity` of layer I, given the node's own slots in the
-  /// element (`nodeSlot`, W entries); `reduced`: the working slots.
+  /// The element slots of every group of the Shared node at `listed` in layer I's element lists (the graph's
+  /// elementGroupSlots); `reduced`: the working slots.
   template <int I, bool reduced>
-  JETSHELL_INLINE std::array<Slots, Shape<I>::G> sharedSlots(int entity, const std::int8_t* nodeSlot) const {
+  JETSHELL_INLINE std::array<Slots, Shape<I>::G> sharedSlots(int listed) const {
     std::array<Slots, Shape<I>::G> out{};
-    const std::int8_t* sl = slots<I>(entity);
+    const std::int8_t* sl =
+        graph_.tables(I).elementGroupSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::kSlots;
     forEachGroup<I>([&](auto group) {
       constexpr int g = decltype(group)::value;
       constexpr int w = Shape<I>::Groups::support[g], offset = Shape<I>::slotOffset(g);
-      for (int t = 0; t < w; ++t) {
-        const int s = sl[offset + t];
-        out[g][static_cast<std::size_t>(t)] = static_cast<std::int8_t>(s >= 0 ? workSlot(nodeSlot[s], reduced) : -1);
-      }
+      for (int t = 0; t < w; ++t)
+        out[g][static_cast<std::size_t>(t)] = static_cast<std::int8_t>(workSlot(sl[offset + t], reduced));
     });
     return out;
   }
@@ -727,13 +726,13 @@ class StageGraphEvaluator {
     return true;
   }
 
-  /// The curvature of Shared node `entity` of layer I into H, its support at the element slots `nodeSlot`:
+  /// The curvature of Shared node `entity` of layer I into H, at `listed` in the layer's element lists:
   /// C = Σ_k w_k ∇²y_k given (contracted: by the owner, from the total adjoint), or formed from the adjoint w and the stage
   /// Hessians h (per element: those kept by the forward sweep; null for a stage with constant ones).
   template <int I>
   JETSHELL_INLINE void addSharedCurvature(int entity, const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>* given, const double* w,
                           const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
-                          const std::int8_t* nodeSlot, const Mode& mode, WorkHessian& H) {
+                          int listed, const Mode& mode, WorkHessian& H) {
     using S = Shape<I>;
     if constexpr (IsAffineStage<typename S::Stage>::value) {
       return;
@@ -749,9 +748,9 @@ class StageGraphEvaluator {
         return buffers<l>().total[static_cast<std::size_t>(in[decltype(group)::value].a)];
       };
       if (mode.full) {
-        addCurvature<I, true>(*given, sharedSlots<I, kReduced>(entity, nodeSlot), total, H);
+        addCurvature<I, true>(*given, sharedSlots<I, kReduced>(listed), total, H);
       } else {
-        addCurvature<I, false>(*given, sharedSlots<I, kReduced>(entity, nodeSlot), total, H);
+        addCurvature<I, false>(*given, sharedSlots<I, kReduced>(listed), total, H);
       }
     }
   }
@@ -819,17 +818,17 @@ class StageGraphEvaluator {
       using S = Shape<I>;
       if constexpr (S::kShared) {
         const auto& t = graph_.tables(I);
-        forEachListedNode<I>(e, [&](int k, int listed, int entity, const std::int8_t* nodeSlot) {
+        forEachListedNode<I>(e, [&](int k, int listed, int entity) {
           const double* w = s.sharedAdjoint[I].data() + S::M * k;
           if (curvature) {
             constexpr bool stored = !HasConstantHessian<typename S::Stage>::value && !IsAffineStage<typename S::Stage>::value;
             addSharedCurvature<I>(entity, nullptr, w, stored ? &buffers<I>().hessian[static_cast<std::size_t>(entity)] : nullptr,
-                                  nodeSlot, mode, *H);
+                                  listed, mode, *H);
           }
           const auto& J = buffers<I>().jacobian[static_cast<std::size_t>(entity)];
           const Eigen::Matrix<double, S::N, 1> zbar = J.transpose() * Eigen::Map<const Eigen::Matrix<double, S::M, 1>>(w);
           const std::int8_t* inputIndex = t.elementInputs.data() + static_cast<std::size_t>(listed) * S::G;
-          sendAdjoint<I>(zbar, curvature ? sharedSlots<I, kReduced>(entity, nodeSlot) : sharedSlots<I, false>(entity, nodeSlot),
+          sendAdjoint<I>(zbar, curvature ? sharedSlots<I, kReduced>(listed) : sharedSlots<I, false>(listed),
                          [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); }, true, s, g);
         });
       }
@@ -866,15 +865,14 @@ class StageGraphEvaluator {
     return root.d.value[0];
   }
 
-  /// f(k, listed, entity, nodeSlot) for each node of Shared layer I that element e reads: k its place in the
-  /// element's list, listed its index in the layer's element lists, nodeSlot its W element slots.
+  /// f(k, listed, entity) for each node of Shared layer I that element e reads: k its place in the element's
+  /// list, listed its index in the layer's element lists.
   template <int I, typename F>
   JETSHELL_INLINE void forEachListedNode(int e, F&& f) const {
     const auto& t = graph_.tables(I);
     const int begin = t.elementStart[static_cast<std::size_t>(e)], end = t.elementStart[static_cast<std::size_t>(e) + 1];
     for (int listed = begin; listed < end; ++listed)
-      f(listed - begin, listed, t.elementNode[static_cast<std::size_t>(listed)],
-        t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W);
+      f(listed - begin, listed, t.elementNode[static_cast<std::size_t>(listed)]);
   }
   /// The same for the nodes of Shared layer I that element e owns (whose curvature its block takes).
   template <int I, typename F>
@@ -883,8 +881,7 @@ class StageGraphEvaluator {
     const int begin = t.elementStart[static_cast<std::size_t>(e)];
     for (int o = t.ownedStart[static_cast<std::size_t>(e)]; o < t.ownedStart[static_cast<std::size_t>(e) + 1]; ++o) {
       const int k = t.ownedIndex[static_cast<std::size_t>(o)], listed = begin + k;
-      f(k, listed, t.elementNode[static_cast<std::size_t>(listed)],
-        t.elementSlots.data() + static_cast<std::size_t>(listed) * Shape<I>::W);
+      f(k, listed, t.elementNode[static_cast<std::size_t>(listed)]);
     }
   }
 
@@ -1079,8 +1076,8 @@ class StageGraphEvaluator {
       constexpr int I = decltype(layer)::value;
       using S = Shape<I>;
       if constexpr (S::kShared) {
-        forEachListedNode<I>(e, [&](int k, int listed, int entity, const std::int8_t* nodeSlot) {
-          wholeTotal<I>(buffers<I>().jacobian[static_cast<std::size_t>(entity)], sharedSlots<I, true>(entity, nodeSlot),
+        forEachListedNode<I>(e, [&](int k, int listed, int entity) {
+          wholeTotal<I>(buffers<I>().jacobian[static_cast<std::size_t>(entity)], sharedSlots<I, true>(listed),
                         [&](auto group) -> const auto& { return sharedInputTotal<I>(T, listed, group); },
                         std::get<I>(T).v[static_cast<std::size_t>(k)]);
         });
@@ -1116,7 +1113,7 @@ class StageGraphEvaluator {
       using S = Shape<I>;
       using Stage = typename S::Stage;
       if constexpr (S::kShared && !IsAffineStage<Stage>::value) {
-        forEachOwnedNode<I>(e, [&](int, int listed, int entity, const std::int8_t* nodeSlot) {
+        forEachOwnedNode<I>(e, [&](int, int listed, int entity) {
           const double* w = buffers<I>().adjoint[static_cast<std::size_t>(entity)].data();
           Eigen::Matrix<double, S::N, S::N> C;
           bool any;
@@ -1126,7 +1123,7 @@ class StageGraphEvaluator {
             any = contractShared<I>(x, entity, w, mode, C);
           }
           if (!any) return;
-          addWholeCurvature<I>(C, sharedSlots<I, true>(entity, nodeSlot),
+          addWholeCurvature<I>(C, sharedSlots<I, true>(listed),
                                [&](auto group) -> const auto& { return sharedInputTotal<I>(T, listed, group); }, H);
         });
       }
@@ -1177,15 +1174,15 @@ class StageGraphEvaluator {
       forEachLayer([&](auto layer) {
         constexpr int I = decltype(layer)::value;
         if constexpr (Shape<I>::kShared) {
-          forEachOwnedNode<I>(e, [&](int, int, int entity, const std::int8_t* nodeSlot) {
+          forEachOwnedNode<I>(e, [&](int, int listed, int entity) {
             const double* w = buffers<I>().adjoint[static_cast<std::size_t>(entity)].data();
             using Stage = typename Shape<I>::Stage;
             if constexpr (!HasConstantHessian<Stage>::value && !IsAffineStage<Stage>::value) {
               // The node's curvature with its total adjoint, contracted here by its one owner (not kept).
               Eigen::Matrix<double, Shape<I>::N, Shape<I>::N> C;
-              if (contractShared<I>(x, entity, w, mode, C)) addSharedCurvature<I>(entity, &C, w, nullptr, nodeSlot, mode, work);
+              if (contractShared<I>(x, entity, w, mode, C)) addSharedCurvature<I>(entity, &C, w, nullptr, listed, mode, work);
             } else {
-              addSharedCurvature<I>(entity, nullptr, w, nullptr, nodeSlot, mode, work);
+              addSharedCurvature<I>(entity, nullptr, w, nullptr, listed, mode, work);
             }
           });
         }

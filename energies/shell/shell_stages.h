@@ -222,7 +222,7 @@ struct BendingDensityStage {
       const Eigen::Vector3d e(db[0], db[1], db[2]), q = Q * e;
       d.value[0] = s * 0.5 * e.dot(q);
       d.jacobian = s * q.transpose();
-      d.hessians[0] = s * Q;
+      if (order >= 2) d.hessians[0] = s * Q;
       return;
     }
     scaledStvkQuadratic(ref->inverseMetric[f].data(), alpha, 0.5 * beta, db, scale * ref->area[f], order, d);
