@@ -206,6 +206,28 @@ class StageGraphEvaluator {
   /// total by coordinate over the element's padded working rows, every curvature a product of those, one full
   /// symmetric block.
   static constexpr bool kWhole = kReduced;
+  /// Whether layer J reads layer l through one of its groups.
+  template <int J, int l>
+  static constexpr bool reads() {
+    for (int g = 0; g < Shape<J>::G; ++g)
+      if (Shape<J>::Groups::layer[static_cast<std::size_t>(g)] == l) return true;
+    return false;
+  }
+  template <int l, int... Js>
+  static constexpr bool readForCurvature(std::integer_sequence<int, Js...>) {
+    return ((reads<Js, l>() && !IsAffineStage<typename Shape<Js>::Stage>::value) || ...);
+  }
+  template <int l, int... gs>
+  static constexpr bool leavesOnly(std::integer_sequence<int, gs...>) {
+    return ((Shape<l>::Groups::layer[gs] < 0) && ...);
+  }
+  /// A Shared layer of leaves only that no curvature term reads (its readers are affine, as the face normals'
+  /// edge means): the whole-element path forms no totals for it; each reader composes the node's Jacobian into
+  /// its own group's (M × N products of a few rows) and adds the result as leaf rows, instead of a product over
+  /// every working row with a total formed first (elementWhole; BENCHMARKS.md, session 101).
+  template <int l>
+  static constexpr bool kComposedLeaves =
+      Shape<l>::kShared && leavesOnly<l>(std::make_integer_sequence<int, Shape<l>::G>()) && !readForCurvature<l>(Seq());
   using Slots = std::array<std::int8_t, K>;
 
   /// The state of one element: its Local nodes, and (per-element reverse sweeps) the adjoints of the Shared
@@ -936,8 +958,29 @@ class StageGraphEvaluator {
       for (int r = 0; r < 3; ++r) T(3 * w + r, c) += sign * J(c, r);
   }
 
-  /// The total by coordinate of a node of layer I: T = Σ_g (leaf: ±J_gᵀ in its slots' rows; From: T_g J_gᵀ).
-  /// `slot` gives each group's working slots, `input(group)` a From group's total.
+  /// T += J_gᵀ of leaf group g of a layer-L node in its slots' rows (a Difference: + at its second vertex's, −
+  /// at its first's). J: the node's Jacobian, or a reader's composed with it (any row count).
+  template <int L, int g, typename Jac, typename Total>
+  JETSHELL_INLINE static void addLeafGroup(const Jac& J, const Slots& slot, Total& T) {
+    const auto Jg = J.template middleCols<3>(Shape<L>::offset(g));
+    if constexpr (Shape<L>::Groups::isDifference[g]) {
+      addLeafRows(slot[1], 1.0, Jg, T);
+      addLeafRows(slot[0], -1.0, Jg, T);
+    } else {
+      addLeafRows(slot[0], 1.0, Jg, T);
+    }
+  }
+  /// A From group's input of a kComposedLeaves layer l, whose totals are not formed: its Jacobian and the
+  /// working slots of its groups in the element.
+  template <int l>
+  struct LeafInput {
+    const Eigen::Matrix<double, Shape<l>::M, Shape<l>::N>& jacobian;
+    std::array<Slots, Shape<l>::G> slot;
+  };
+
+  /// The total by coordinate of a node of layer I: T = Σ_g (leaf: ±J_gᵀ in its slots' rows; From: T_g J_gᵀ, or
+  /// for an input of a kComposedLeaves layer (J_g J_in)ᵀ in the input's leaf rows). `slot` gives each group's
+  /// working slots, `input(group)` a From group's total (a LeafInput for a kComposedLeaves layer).
   template <int I, typename Jac, typename Inputs>
   JETSHELL_INLINE static void wholeTotal(const Jac& J, const std::array<Slots, Shape<I>::G>& slot, Inputs&& input,
                                          RowTotal<Shape<I>::M>& T) {
@@ -947,13 +990,15 @@ class StageGraphEvaluator {
       constexpr int g = decltype(group)::value;
       constexpr int l = S::Groups::layer[g], off = S::offset(g);
       if constexpr (l < 0) {
-        const auto Jg = J.template middleCols<3>(off);
-        if constexpr (S::Groups::isDifference[g]) {
-          addLeafRows(slot[g][1], 1.0, Jg, T);
-          addLeafRows(slot[g][0], -1.0, Jg, T);
-        } else {
-          addLeafRows(slot[g][0], 1.0, Jg, T);
-        }
+        addLeafGroup<I, g>(J, slot[g], T);
+      } else if constexpr (kComposedLeaves<l>) {
+        constexpr int Ml = Shape<l>::M;
+        const LeafInput<l> in = input(group);
+        const Eigen::Matrix<double, S::M, Shape<l>::N> Jc = J.template middleCols<Ml>(off).lazyProduct(in.jacobian);
+        forEachGroup<l>([&](auto inner) {
+          constexpr int h = decltype(inner)::value;
+          addLeafGroup<l, h>(Jc, in.slot[h], T);
+        });
       } else {
         constexpr int Ml = Shape<l>::M;
         T.noalias() += input(group).lazyProduct(J.template middleCols<Ml>(off).transpose());
@@ -1076,15 +1121,17 @@ class StageGraphEvaluator {
       constexpr int I = decltype(layer)::value;
       using S = Shape<I>;
       if constexpr (S::kShared) {
-        forEachListedNode<I>(e, [&](int k, int listed, int entity) {
-          wholeTotal<I>(buffers<I>().jacobian[static_cast<std::size_t>(entity)], sharedSlots<I, true>(listed),
-                        [&](auto group) -> const auto& { return sharedInputTotal<I>(T, listed, group); },
-                        std::get<I>(T).v[static_cast<std::size_t>(k)]);
-        });
+        if constexpr (!kComposedLeaves<I>) {
+          forEachListedNode<I>(e, [&](int k, int listed, int entity) {
+            wholeTotal<I>(buffers<I>().jacobian[static_cast<std::size_t>(entity)], sharedSlots<I, true>(listed),
+                          [&](auto group) -> decltype(auto) { return sharedInputTotal<I>(T, e, listed, entity, group); },
+                          std::get<I>(T).v[static_cast<std::size_t>(k)]);
+          });
+        }
       } else {
         const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
         wholeTotal<I>(std::get<I>(s.nodes).d.jacobian, localSlots<I, true>(e),
-                      [&](auto group) -> const auto& { return localInputTotal<I>(T, inputIndex, group); },
+                      [&](auto group) -> decltype(auto) { return localInputTotal<I>(T, e, inputIndex, group); },
                       std::get<I>(T).v);
       }
     });
@@ -1102,7 +1149,7 @@ class StageGraphEvaluator {
         Eigen::Matrix<double, S::N, S::N> C;
         if (contract<I>(node.adjoint.data(), &node.d.hessians, C))
           addWholeCurvature<I>(C, localSlots<I, true>(e),
-                               [&](auto group) -> const auto& { return localInputTotal<I>(T, inputIndex, group); }, H);
+                               [&](auto group) -> const auto& { return localInputTotal<I>(T, e, inputIndex, group); }, H);
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
         sendToLocalInputs<I>(zbar, s);
       }
@@ -1124,36 +1171,65 @@ class StageGraphEvaluator {
           }
           if (!any) return;
           addWholeCurvature<I>(C, sharedSlots<I, true>(listed),
-                               [&](auto group) -> const auto& { return sharedInputTotal<I>(T, listed, group); }, H);
+                               [&](auto group) -> const auto& { return sharedInputTotal<I>(T, e, listed, entity, group); }, H);
         });
       }
     });
-    // The block over slots 1 … K−1, then the base's row and column (a common translation changes nothing).
-    hessian.template bottomRightCorner<Dw, Dw>() = H.template topLeftCorner<Dw, Dw>();
-    completeTranslationInvariant(hessian);
+    expandWholeUpper(H, hessian);
     return std::get<kRoot>(s.nodes).d.value[0];
   }
 
-  /// A From group's total by coordinate for the Shared node of layer I at `listed` in the layer's element lists: its
-  /// input's, found in the input layer's list.
+  /// The element block's upper triangle from the whole block H over slots 1 … K−1: those slots' blocks on and
+  /// above the diagonal as they are, the base's row minus the sums of H's columns of blocks, its own block the sum
+  /// of all (a common translation changes nothing: completeTranslationInvariant, core/psd_projection.h). The lower
+  /// triangle is not written: the assembly reads the upper one, and a projection, which reads the whole block,
+  /// never takes this path (a contracted Hessian has none).
+  static void expandWholeUpper(const WholeBlock& H, Hessian& hessian) {
+    Eigen::Matrix3d all = Eigen::Matrix3d::Zero();
+    for (int c = 0; c < Kw; ++c) {
+      Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+      for (int r = 0; r < Kw; ++r) sum += H.template block<3, 3>(3 * r, 3 * c);
+      for (int r = 0; r <= c; ++r) hessian.template block<3, 3>(3 + 3 * r, 3 + 3 * c) = H.template block<3, 3>(3 * r, 3 * c);
+      hessian.template block<3, 3>(0, 3 + 3 * c) = -sum;
+      all += sum;
+    }
+    hessian.template topLeftCorner<3, 3>() = all;
+  }
+
+  /// A From group's total by coordinate for the Shared node `entity` of layer I at `listed` in the layer's element
+  /// lists (element e's): its input's, found in the input layer's list (for a kComposedLeaves input layer, the
+  /// input's LeafInput).
   template <int I, typename Group>
-  JETSHELL_INLINE const auto& sharedInputTotal(const WholeTotals& T, int listed, Group) const {
+  JETSHELL_INLINE decltype(auto) sharedInputTotal(const WholeTotals& T, int e, int listed, int entity, Group) const {
     constexpr int g = Group::value;
     constexpr int l = std::max(Shape<I>::Groups::layer[g], 0);
     const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(listed) * Shape<I>::G;
-    return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[g])];
+    if constexpr (kComposedLeaves<l>) {
+      return leafInput<l>(e, inputIndex[g], inputs<I>(entity)[g].a);
+    } else {
+      return static_cast<const WholeSlot<l>&>(std::get<l>(T).v)[static_cast<std::size_t>(inputIndex[g])];
+    }
   }
-  /// A From group's total by coordinate for Local node I of the element: a Shared input's from its layer's list, a
-  /// Local input's the node's own.
+  /// A From group's total by coordinate for Local node I of element e: a Shared input's from its layer's list, a
+  /// Local input's the node's own (for a kComposedLeaves input layer, the input's LeafInput).
   template <int I, typename Group>
-  JETSHELL_INLINE static const auto& localInputTotal(const WholeTotals& T, const std::int8_t* inputIndex, Group) {
+  JETSHELL_INLINE decltype(auto) localInputTotal(const WholeTotals& T, int e, const std::int8_t* inputIndex, Group) const {
     constexpr int g = Group::value;
     constexpr int l = std::max(Shape<I>::Groups::layer[g], 0);
-    if constexpr (Shape<l>::kShared) {
-      return std::get<l>(T).v[static_cast<std::size_t>(inputIndex[g])];
+    if constexpr (kComposedLeaves<l>) {
+      return leafInput<l>(e, inputIndex[g], inputs<I>(e)[g].a);
+    } else if constexpr (Shape<l>::kShared) {
+      return static_cast<const WholeSlot<l>&>(std::get<l>(T).v)[static_cast<std::size_t>(inputIndex[g])];
     } else {
-      return std::get<l>(T).v;
+      return static_cast<const WholeSlot<l>&>(std::get<l>(T).v);
     }
+  }
+  /// The node `entity` of kComposedLeaves layer l, at place k of element e's list of that layer: its Jacobian
+  /// and its groups' working slots.
+  template <int l>
+  JETSHELL_INLINE LeafInput<l> leafInput(int e, int k, int entity) const {
+    const int listed = graph_.tables(l).elementStart[static_cast<std::size_t>(e)] + k;
+    return {std::get<l>(shared_).jacobian[static_cast<std::size_t>(entity)], sharedSlots<l, true>(listed)};
   }
 
   /// The term's projector on the element's working block (whole: a projection makes every block).
