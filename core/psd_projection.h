@@ -54,14 +54,24 @@ bool hasTranslationNullSpace(const Eigen::Matrix<double, N, N>& H) {
 /// Completes the block H = Lᵀ H_e L of an energy invariant under a common translation of its K vertices from its
 /// edge-space corner H_e (the rows and columns of vertices 1 … K−1, every block set): vertex 0's block in column c
 /// is minus column c's sum, and its own block the sum of all (L maps positions to the edge vectors x_k − x_0).
+template <int N, typename Corner>
+void completeTranslationInvariantRow(const Corner& E, Eigen::Matrix<double, N, N>& H);
 template <int N>
 void completeTranslationInvariant(Eigen::Matrix<double, N, N>& H) {
+  constexpr int R = N - 3;
+  completeTranslationInvariantRow(H.template bottomRightCorner<R, R>(), H);
+  H.template block<R, 3>(3, 0) = H.template block<3, R>(0, 3).transpose();
+}
+/// The upper part of completeTranslationInvariant: vertex 0's row of blocks and its own block of H from the
+/// edge-space corner E (its top-left (N − 3) × (N − 3) read; E may be H's own corner or a padded copy); the rest
+/// of H is not written.
+template <int N, typename Corner>
+void completeTranslationInvariantRow(const Corner& E, Eigen::Matrix<double, N, N>& H) {
   static_assert(N % 3 == 0 && N >= 6, "blocks of at least two 3-vectors");
   constexpr int R = N - 3;
-  Eigen::Matrix<double, 3, R> column = H.template block<3, R>(3, 3);
-  for (int r = 2; r < N / 3; ++r) column += H.template block<3, R>(3 * r, 3);
+  Eigen::Matrix<double, 3, R> column = E.template block<3, R>(0, 0);
+  for (int r = 1; r < R / 3; ++r) column += E.template block<3, R>(3 * r, 0);
   H.template block<3, R>(0, 3) = -column;
-  H.template block<R, 3>(3, 0) = -column.transpose();
   Eigen::Matrix3d all = column.template leftCols<3>();
   for (int c = 1; c < R / 3; ++c) all += column.template middleCols<3>(3 * c);
   H.template topLeftCorner<3, 3>() = all;

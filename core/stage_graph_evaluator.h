@@ -1182,20 +1182,13 @@ class StageGraphEvaluator {
   }
 
   /// The element block's upper triangle from the whole block H over slots 1 … K−1: those slots' blocks on and
-  /// above the diagonal as they are, the base's row minus the sums of H's columns of blocks, its own block the sum
-  /// of all (a common translation changes nothing: completeTranslationInvariant, core/psd_projection.h). The lower
-  /// triangle is not written: the assembly reads the upper one, and a projection, which reads the whole block,
-  /// never takes this path (a contracted Hessian has none).
+  /// above the diagonal as they are, the base's row and own block from H (completeTranslationInvariantRow,
+  /// core/psd_projection.h). The lower triangle is not written: the assembly reads the upper one, and a
+  /// projection, which reads the whole block, never takes this path (a contracted Hessian has none).
   static void expandWholeUpper(const WholeBlock& H, Hessian& hessian) {
-    Eigen::Matrix3d all = Eigen::Matrix3d::Zero();
-    for (int c = 0; c < Kw; ++c) {
-      Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-      for (int r = 0; r < Kw; ++r) sum += H.template block<3, 3>(3 * r, 3 * c);
+    for (int c = 0; c < Kw; ++c)
       for (int r = 0; r <= c; ++r) hessian.template block<3, 3>(3 + 3 * r, 3 + 3 * c) = H.template block<3, 3>(3 * r, 3 * c);
-      hessian.template block<3, 3>(0, 3 + 3 * c) = -sum;
-      all += sum;
-    }
-    hessian.template topLeftCorner<3, 3>() = all;
+    completeTranslationInvariantRow(H, hessian);
   }
 
   /// A From group's total by coordinate for the Shared node `entity` of layer I at `listed` in the layer's element
