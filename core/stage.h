@@ -26,6 +26,14 @@
 // weightedStageHessian() is the one place that chooses between it and the M Hessians summed;
 // stageTwinDiscrepancy() checks it against the same sum of the Jets' Hessians.
 //
+// Optional pullback twin, detected at compile time: a stage with a twin (or a composed stage whose two parts both
+// declare one) may also declare
+//     void pullback(const double* z, const double* y, int entity, const double* w, double* zbar) const;
+// zbar = J(z)ᵀ w, given the stage's value y at z, without forming J (a unit normal's is (w − n (n·w))/‖c‖). A
+// stage graph's gradient alone on DerivativePath::Analytic pulls each Shared node's adjoint back through it
+// (core/stage_graph_evaluator.h), so that its forward pass computes values only; stageTwinDiscrepancy() and
+// composedStageDiscrepancy() check it against the Jets' Jᵀw.
+//
 // Optional declaration `static constexpr bool kConstantHessian = true;`: the stage is a polynomial of degree
 // at most 2 with fixed coefficients (a bilinear product such as a cross product, a metric or a second
 // fundamental form): its Hessians and its Jacobian at z = 0 do not depend on the input, the entity or the
@@ -100,6 +108,15 @@ template <typename S>
 struct HasWeightedHessianTwin<S, std::void_t<decltype(std::declval<const S&>().weightedHessian(
                                      static_cast<const double*>(nullptr), 0, static_cast<const double*>(nullptr),
                                      std::declval<Eigen::Matrix<double, S::kInputs, S::kInputs>&>()))>>
+    : std::true_type {};
+
+/// True when stage S declares a pullback twin `pullback(z, y, entity, w, zbar)`.
+template <typename S, typename = void>
+struct HasPullbackTwin : std::false_type {};
+template <typename S>
+struct HasPullbackTwin<S, std::void_t<decltype(std::declval<const S&>().pullback(
+                              static_cast<const double*>(nullptr), static_cast<const double*>(nullptr), 0,
+                              static_cast<const double*>(nullptr), static_cast<double*>(nullptr)))>>
     : std::true_type {};
 
 /// True when stage S declares kConstantHessian = true.
@@ -269,6 +286,16 @@ struct ComposedStage {
     T mid[Inner::kOutputs];
     inner(z, mid, entity);
     outer(static_cast<const T*>(mid), y, entity);
+  }
+  /// zbar = J_iᵀ J_oᵀ w by the two parts' pullback twins (declared only when both have one), the inner value
+  /// computed again on doubles.
+  template <typename I = Inner, typename O = Outer,
+            typename = std::enable_if_t<HasPullbackTwin<I>::value && HasPullbackTwin<O>::value>>
+  void pullback(const double* z, const double* y, int entity, const double* w, double* zbar) const {
+    double mid[Inner::kOutputs], midBar[Inner::kOutputs];
+    inner(z, mid, entity);
+    outer.pullback(mid, y, entity, w, midBar);
+    inner.pullback(z, mid, entity, midBar, zbar);
   }
   /// The chain rule over the two stages' local derivatives, up to `order`, each on `path`.
   void chained(const double* z, int entity, int order, DerivativePath path, StageDerivativesOf<ComposedStage>& d) const {
@@ -449,8 +476,25 @@ Eigen::Matrix<double, N, N> checkWeightedHessian(const StageDerivatives<N, M>& j
   return sum;
 }
 
+/// Largest relative difference between a pullback twin's Jᵀw and the Jets' at z, with the checks' weights w
+/// (checkWeightedHessian's: 1, −2, 3, …); 0 for a stage without one. `jets`: the Jets' derivatives at z.
+template <typename S>
+double pullbackDiscrepancy(const S& s, const double* z, int entity, const StageDerivativesOf<S>& jets) {
+  if constexpr (!HasPullbackTwin<S>::value) {
+    return 0.0;
+  } else {
+    double w[S::kOutputs];
+    for (int k = 0; k < S::kOutputs; ++k) w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
+    Eigen::Matrix<double, S::kInputs, 1> pulled;
+    s.pullback(z, jets.value.data(), entity, w, pulled.data());
+    const Eigen::Matrix<double, S::kInputs, 1> reference =
+        jets.jacobian.transpose() * Eigen::Map<const Eigen::Matrix<double, S::kOutputs, 1>>(w);
+    return relativeDifference(pulled, reference);
+  }
+}
+
 /// Largest relative difference between a composed stage's chained derivatives on `path` and its own Jets at z
-/// (value, Jacobian, Hessians, and a contracted Hessian; 0 for any other stage).
+/// (value, Jacobian, Hessians, a contracted Hessian and, when declared, its pullback; 0 for any other stage).
 template <typename S>
 double composedStageDiscrepancy(const S& s, const double* z, int entity, DerivativePath path) {
   if constexpr (!IsComposedStage<S>::value) {
@@ -466,15 +510,15 @@ double composedStageDiscrepancy(const S& s, const double* z, int entity, Derivat
     Eigen::Matrix<double, S::kInputs, S::kInputs> contracted;
     const auto sum = checkWeightedHessian(jets, w);
     s.contractedHessian(z, entity, path, w, contracted);
-    worst = std::max(worst, relativeDifference(contracted, sum));
+    worst = std::max({worst, relativeDifference(contracted, sum), pullbackDiscrepancy(s, z, entity, jets)});
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }
 
 /// Largest relative difference between the twin's and the Jets' value, Jacobian and Hessians at z (each
 /// relative to the largest Jet entry of its kind, floor 1; the twin's value and Jacobian at order 2 and at order
-/// 1), and a weighted-Hessian twin's against the Jets'
-/// Σ_k w_k ∇²y_k (checkWeightedHessian). 0 for a stage without a twin.
+/// 1), a weighted-Hessian twin's against the Jets' Σ_k w_k ∇²y_k (checkWeightedHessian), and a pullback twin's
+/// against their Jᵀw (pullbackDiscrepancy). 0 for a stage without a twin.
 template <typename S>
 double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
   if constexpr (!HasStageTwin<S>::value) {
@@ -496,6 +540,7 @@ double stageTwinDiscrepancy(const S& s, const double* z, int entity) {
       s.weightedHessian(z, entity, w, weighted);
       worst = std::max(worst, relativeDifference(weighted, sum));
     }
+    worst = std::max(worst, pullbackDiscrepancy(s, z, entity, jets));
     return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
   }
 }

@@ -16,7 +16,9 @@
 //   MembraneDensityStage  a                                             -> s·area·W_m(½(a − A)) 3 -> 1, twin
 // The bilinear stages declare kConstantHessian: their Hessians are computed once, not per element; the edge mean
 // declares kAffine: no Hessian is ever computed for it. The unit normal and the Kelvin inversion also declare
-// weighted-Hessian twins (Σ_k w_k ∇²y_k in closed form, core/stage.h) for the exact Hessian's shared nodes.
+// weighted-Hessian twins (Σ_k w_k ∇²y_k in closed form, core/stage.h) for the exact Hessian's shared nodes, and
+// the face normal's two parts, the edge mean, the Kelvin inversion and the second fundamental form pullback twins
+// (Jᵀw without J) for a gradient alone.
 #pragma once
 
 #include "core/stage.h"
@@ -29,6 +31,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace jetshell {
@@ -52,6 +55,12 @@ struct FaceCrossStage {
     d.jacobian << -analytic::crossMatrix(Eigen::Vector3d(z[3], z[4], z[5])),
         analytic::crossMatrix(Eigen::Vector3d(z[0], z[1], z[2]));
   }
+  /// Pullback twin: (∂c/∂e0)ᵀ w = e1 × w, (∂c/∂e1)ᵀ w = w × e0.
+  void pullback(const double* z, const double* /*c*/, int /*face*/, const double* w, double* zbar) const {
+    const V3<double> e0 = load3(z), e1 = load3(z + 3), wv = load3(w);
+    store3(cross(e1, wv), zbar);
+    store3(cross(wv, e0), zbar + 3);
+  }
 };
 
 struct UnitNormalStage {
@@ -64,6 +73,12 @@ struct UnitNormalStage {
     if (order <= 0) return (*this)(c, d.value.data(), face);
     if (order == 1) return analytic::unitNormal(Eigen::Vector3d(c[0], c[1], c[2]), d.value, d.jacobian);
     analytic::unitNormal(Eigen::Vector3d(c[0], c[1], c[2]), d.value, d.jacobian, d.hessians);
+  }
+  /// Pullback twin: Jᵀw = (w − n (n·w))/‖c‖ (J = (I − n nᵀ)/‖c‖ is symmetric).
+  void pullback(const double* c, const double* n, int /*face*/, const double* w, double* cbar) const {
+    const double inv = 1.0 / std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    const double nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+    for (int k = 0; k < 3; ++k) cbar[k] = inv * (w[k] - nw * n[k]);
   }
   void weightedHessian(const double* c, int /*face*/, const double* w, Eigen::Matrix3d& C) const {
     analytic::unitNormalWeightedHessian(Eigen::Vector3d(c[0], c[1], c[2]), Eigen::Vector3d(w[0], w[1], w[2]), C);
@@ -101,6 +116,17 @@ struct EdgeMeanStage {
     if (order < 2) return;
     for (auto& h : d.hessians) h.setZero();
   }
+  /// Pullback twin: on an interior edge (½w, ½w); a boundary edge's from its rule's Jets.
+  void pullback(const double* z, const double* /*m*/, int edge, const double* w, double* zbar) const {
+    if (isBoundary(edge)) {
+      StageDerivatives<6, 3> d;
+      stageDerivativesFromJets(*this, z, edge, 1, d);
+      Eigen::Map<Eigen::Matrix<double, 6, 1>>(zbar).noalias() =
+          d.jacobian.transpose() * Eigen::Map<const Eigen::Vector3d>(w);
+      return;
+    }
+    for (int k = 0; k < 3; ++k) zbar[k] = zbar[3 + k] = 0.5 * w[k];
+  }
 };
 
 struct KelvinStage {
@@ -113,6 +139,12 @@ struct KelvinStage {
     if (order <= 0) return (*this)(m, d.value.data(), edge);
     if (order == 1) return analytic::kelvinInversion(Eigen::Vector3d(m[0], m[1], m[2]), d.value, d.jacobian);
     analytic::kelvinInversion(Eigen::Vector3d(m[0], m[1], m[2]), d.value, d.jacobian, d.hessians);
+  }
+  /// Pullback twin: Jᵀw = w/q − 2 (m·w)/q² m with q = ‖m‖² (J = I/q − 2 m mᵀ/q² is symmetric).
+  void pullback(const double* m, const double* /*nbar*/, int /*edge*/, const double* w, double* mbar) const {
+    const double inv = 1.0 / (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    const double mw = 2.0 * inv * inv * (m[0] * w[0] + m[1] * w[1] + m[2] * w[2]);
+    for (int k = 0; k < 3; ++k) mbar[k] = inv * w[k] - mw * m[k];
   }
   void weightedHessian(const double* m, int /*edge*/, const double* w, Eigen::Matrix3d& C) const {
     analytic::kelvinInversionWeightedHessian(Eigen::Vector3d(m[0], m[1], m[2]), Eigen::Vector3d(w[0], w[1], w[2]), C);
@@ -141,6 +173,18 @@ struct SecondFormStage {
     d.jacobian.block<1, 3>(2, 3) = 2.0 * (n2 - n0).transpose();
     d.jacobian.block<1, 3>(2, 6) = -2.0 * e1.transpose();
     d.jacobian.block<1, 3>(2, 12) = 2.0 * e1.transpose();
+  }
+  /// Pullback twin: the rows above weighted by w, summed per input.
+  void pullback(const double* z, const double* /*b*/, int /*face*/, const double* w, double* zbar) const {
+    const double a = 2.0 * w[0], c = 2.0 * w[1], d = 2.0 * w[2];
+    for (int k = 0; k < 3; ++k) {
+      const double e0 = z[k], e1 = z[3 + k], n0 = z[6 + k], n1 = z[9 + k], n2 = z[12 + k];
+      zbar[k] = a * (n1 - n0);
+      zbar[3 + k] = d * (n2 - n0) - c * n0;
+      zbar[6 + k] = -a * e0 - (c + d) * e1;
+      zbar[9 + k] = a * e0;
+      zbar[12 + k] = d * e1;
+    }
   }
 };
 

@@ -109,6 +109,13 @@ TEST_CASE("shell stages: the twins equal the Jets and the constant-Hessian decla
     // Hessian on the analytic path goes through the unit normal's).
     STATIC_REQUIRE(HasWeightedHessianTwin<UnitNormalStage>::value);
     STATIC_REQUIRE(HasWeightedHessianTwin<KelvinStage>::value);
+    // The pullback twins (Jᵀw) are checked by the same discrepancies; these stages declare them.
+    STATIC_REQUIRE(HasPullbackTwin<FaceCrossStage>::value);
+    STATIC_REQUIRE(HasPullbackTwin<UnitNormalStage>::value);
+    STATIC_REQUIRE(HasPullbackTwin<FaceNormalStage>::value);
+    STATIC_REQUIRE(HasPullbackTwin<EdgeMeanStage>::value);
+    STATIC_REQUIRE(HasPullbackTwin<KelvinStage>::value);
+    STATIC_REQUIRE(HasPullbackTwin<SecondFormStage>::value);
     randomInput<UnitNormalStage>(rng, z);
     CHECK(stageTwinDiscrepancy(UnitNormalStage(), z, 0) <= 1e-12);
     randomInput<FaceNormalStage>(rng, z);
