@@ -8,14 +8,15 @@
 //         term's own element projector, setElementProjector).
 // Which sweep runs for which request is described at the top of core/stage_graph.h. A gradient without a
 // Hessian comes from a reverse sweep over each element's nodes (adjoints through the local Jacobians, no total
-// Jacobians formed); with a Hessian, from the root's total Jacobian. An element's curvature goes in 3×3 blocks
-// of its slots: only the upper triangle's unless a projection needs the whole block. The contracted exact Hessian
-// of a translation-invariant graph (kWhole, the shell's terms) is formed by whole elements instead (elementWhole):
-// the Shared layers keep their Jacobians only, and each element forms the totals of the nodes it reads stored by
-// coordinate (one row per working coordinate, padded to whole vectors; a layer of leaves only that no curvature
-// reads forms none, its readers composing its Jacobian into theirs: kComposedLeaves) and adds every curvature term
-// as products of those into one full block, of which the element's upper triangle is kept (BENCHMARKS.md, sessions
-// 88 and 101).
+// Jacobians formed; on the analytic path through the stages' pullback twins where declared, whose forward passes
+// then compute values only: pulls); with a Hessian, from the root's total Jacobian. An element's curvature goes
+// in 3×3 blocks of its slots: only the upper triangle's unless a projection needs the whole block. The contracted
+// exact Hessian of a translation-invariant graph (kWhole, the shell's terms) is formed by whole elements instead
+// (elementWhole): the Shared layers keep their Jacobians only, and each element forms the totals of the nodes it
+// reads stored by coordinate (one row per working coordinate, padded to whole vectors; a layer of leaves only that
+// no curvature reads forms none, its readers composing its Jacobian into theirs: kComposedLeaves) and adds every
+// curvature term as products of those into one full block, of which the element's upper triangle is kept
+// (BENCHMARKS.md, sessions 88 and 101).
 // Buffers per Shared layer (value, local Jacobian, total Jacobian, stage Hessians, adjoint) are sized on first
 // use and reused; an element's Local nodes live on its thread's stack. The contracted exact Hessian and a gradient
 // alone, on a graph with a window plan (core/stage_window_plan.h), run their sweeps lane by lane and window by
@@ -96,6 +97,7 @@ class StageGraphEvaluator {
     mode.full = wantH && options.projection != PsdProjection::None;
     mode.contracted = wantH && mode.exact && !mode.full;
     mode.sharedHessians = wantH && mode.exact && mode.full;
+    mode.pullback = wantG && !wantH && options.path == DerivativePath::Analytic;
     // The contracted Hessian by whole elements forms every total inside the element (elementWhole): the Shared
     // layers keep their Jacobians only.
     if (kWhole && mode.contracted) mode.totals = false;
@@ -119,7 +121,7 @@ class StageGraphEvaluator {
       sendLocalAdjoints(x, mode);
       forEachLayerBackwards([&](auto layer) {
         constexpr int I = decltype(layer)::value;
-        if constexpr (Shape<I>::kShared) gatherAdjoints<I>(mode);
+        if constexpr (Shape<I>::kShared) gatherAdjoints<I>(x, mode);
       });
     }
     // With an element projector the element projects its own block; the loop then projects nothing.
@@ -159,7 +161,16 @@ class StageGraphEvaluator {
     bool full = false;            // whole element blocks (a projection reads them), not the upper triangle
     bool contracted = false;      // exact, Shared curvature added once per node (no projection)
     bool sharedHessians = false;  // exact per-element Hessian: the Shared stages' Hessians are kept
+    bool pullback = false;        // analytic, and Jacobians read only as Jᵀw̄ (pulls)
   };
+  /// Whether layer I's adjoints are pulled back through its stage's pullback twin (core/stage.h): when the
+  /// stage declares one, on the analytic path, where nothing reads its Jacobian but Jᵀw̄ (a gradient alone; the
+  /// contracted Hessian's first-order sweep of the Local layers). Its forward pass then computes values only; a
+  /// Shared node's gather reads its inputs again for the pullback, a Local node keeps them (LocalNode::input).
+  template <int I>
+  static bool pulls(const Mode& mode) {
+    return HasPullbackTwin<typename Shape<I>::Stage>::value && mode.pullback;
+  }
 
   // ---- per Shared layer: buffers ----
   template <int I>
@@ -183,6 +194,7 @@ class StageGraphEvaluator {
     StageDerivatives<S::N, S::M> d;
     Eigen::Matrix<double, S::M, Dw> total;  // over the element's working slots
     Eigen::Matrix<double, S::M, 1> adjoint;
+    double input[S::N];  // the stage's input z (a pullback's, pulls)
   };
   struct Empty {};
   template <int I>
@@ -361,10 +373,11 @@ class StageGraphEvaluator {
     double z[S::N];
     gather<I>(x, i, nullptr, z);
     StageDerivatives<S::N, S::M> d;
-    derivatives<I>(std::get<I>(graph_.stages()), z, i, hessians ? 2 : std::min(mode.order, 1), mode.path, d);
+    const bool pull = pulls<I>(mode);
+    derivatives<I>(std::get<I>(graph_.stages()), z, i, pull ? 0 : hessians ? 2 : std::min(mode.order, 1), mode.path, d);
     const auto k = static_cast<std::size_t>(i);
     b.value[k] = d.value;
-    if (mode.order < 1) return;
+    if (mode.order < 1 || pull) return;
     if constexpr (IsAffineStage<typename S::Stage>::value) {
       // An affine stage's Jacobian does not depend on x: written only when it changed, its cache lines stay
       // clean (no write-back each evaluation; BENCHMARKS.md, session 92).
@@ -391,14 +404,13 @@ class StageGraphEvaluator {
     forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       if constexpr (!Shape<I>::kShared && I <= L) {
-        using S = Shape<I>;
         LocalNode<I>& node = std::get<I>(s.nodes);
-        double z[S::N];
-        gather<I>(x, e, &s, z);
+        gather<I>(x, e, &s, node.input);
         // Intermediate stages need Hessians only for an exact Hessian; the root always (its curvature is the
-        // Gauss–Newton part).
-        const int order = mode.order == 2 && (mode.exact || I == kRoot) ? 2 : std::min(mode.order, 1);
-        derivatives<I>(std::get<I>(graph_.stages()), z, e, order, mode.path, node.d);
+        // Gauss–Newton part). A node pulled back needs its value only.
+        int order = pulls<I>(mode) ? 0 : std::min(mode.order, 1);
+        if (mode.order == 2 && (mode.exact || I == kRoot)) order = 2;
+        derivatives<I>(std::get<I>(graph_.stages()), node.input, e, order, mode.path, node.d);
         if (mode.totals) addTotals<I>(node.d.jacobian, inputs<I>(e), slots<I>(e), &s, node.total);
       }
     });
@@ -829,7 +841,8 @@ class StageGraphEvaluator {
           }
         }
         if (I == kRoot && curvature && !mode.exact) return;
-        const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
+        Eigen::Matrix<double, S::N, 1> zbar;
+        pullLocal<I>(e, mode, node, zbar);
         if (keep) keepSentAdjoint<I>(e, zbar);
         sendAdjoint<I>(zbar, slot,
                        [&](auto group) { return static_cast<int>(inputIndex[decltype(group)::value]); },
@@ -909,6 +922,19 @@ class StageGraphEvaluator {
     }
   }
 
+  /// zbar = Jᵀw̄ of element e's node of Local layer I: by its stage's pullback twin when pulls<I>(mode), else from
+  /// its Jacobian.
+  template <int I>
+  JETSHELL_INLINE void pullLocal(int e, const Mode& mode, const LocalNode<I>& node,
+                                 Eigen::Matrix<double, Shape<I>::N, 1>& zbar) {
+    if constexpr (HasPullbackTwin<typename Shape<I>::Stage>::value) {
+      if (pulls<I>(mode)) {
+        std::get<I>(graph_.stages()).pullback(node.input, node.d.value.data(), e, node.adjoint.data(), zbar.data());
+        return;
+      }
+    }
+    zbar.noalias() = node.d.jacobian.transpose() * node.adjoint;
+  }
   /// The element's Local adjoints: zero, the root's 1 (the energy's own).
   JETSHELL_INLINE static void seedLocalAdjoints(ElementState& s) {
     forEachLayer([&](auto layer) {
@@ -1358,7 +1384,7 @@ class StageGraphEvaluator {
     if constexpr (!kHasShared) return energy;  // every leaf adjoint went into the element gradients
     forEachLayerBackwards([&](auto layer) {
       constexpr int I = decltype(layer)::value;
-      if constexpr (Shape<I>::kShared) gatherAdjoints<I>(mode);
+      if constexpr (Shape<I>::kShared) gatherAdjoints<I>(x, mode);
     });
     addSharedLeafAdjoints(request);
     return energy;
@@ -1435,6 +1461,7 @@ class StageGraphEvaluator {
   static Mode firstOrder(Mode mode) {
     mode.order = 1;
     mode.totals = false;
+    mode.pullback = mode.path == DerivativePath::Analytic;  // the Local Jacobians are read only as Jᵀw̄
     return mode;
   }
   /// Element e's share of sendLocalAdjoints (`first`: firstOrder(mode)).
@@ -1447,7 +1474,8 @@ class StageGraphEvaluator {
       using S = Shape<I>;
       if constexpr (!S::kShared) {
         LocalNode<I>& node = std::get<I>(s.nodes);
-        const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
+        Eigen::Matrix<double, S::N, 1> zbar;
+        pullLocal<I>(e, first, node, zbar);
         keepSentAdjoint<I>(e, zbar);
         sendToLocalInputs<I>(zbar, s);
       }
@@ -1457,11 +1485,11 @@ class StageGraphEvaluator {
   /// Each node of Shared layer I: its adjoint, summed over its readers (later Shared layers, whose adjoints
   /// are complete, and the elements' Local nodes).
   template <int I>
-  void gatherAdjoints(const Mode& mode) {
+  void gatherAdjoints(const Eigen::VectorXd& x, const Mode& mode) {
     const auto& t = graph_.tables(I);
     const bool inputs = resizeAdjoints<I>(mode);
 #pragma omp parallel for schedule(static) if (t.count >= kParallelMinElements)
-    for (int n = 0; n < t.count; ++n) gatherNode<I>(inputs, n);
+    for (int n = 0; n < t.count; ++n) gatherNode<I>(x, mode, inputs, n);
   }
   template <int I>
   bool resizeAdjoints(const Mode& mode) {
@@ -1472,8 +1500,9 @@ class StageGraphEvaluator {
     if (inputs) b.inputAdjoint.resize(n);
     return inputs;
   }
+  /// `inputs`: also its input adjoint Jᵀw (a gradient's), by the stage's pullback twin when pulls<I>(mode).
   template <int I>
-  JETSHELL_INLINE void gatherNode(bool inputs, int n) {
+  JETSHELL_INLINE void gatherNode(const Eigen::VectorXd& x, const Mode& mode, bool inputs, int n) {
     using S = Shape<I>;
     SharedBuffers<I>& b = buffers<I>();
     const auto& t = graph_.tables(I);
@@ -1504,8 +1533,18 @@ class StageGraphEvaluator {
         }
       }
     });
-    b.adjoint[static_cast<std::size_t>(n)] = w;
-    if (inputs) b.inputAdjoint[static_cast<std::size_t>(n)].noalias() = b.jacobian[static_cast<std::size_t>(n)].transpose() * w;
+    const auto k = static_cast<std::size_t>(n);
+    b.adjoint[k] = w;
+    if (!inputs) return;
+    if constexpr (HasPullbackTwin<typename S::Stage>::value) {
+      if (pulls<I>(mode)) {
+        double z[S::N];
+        gather<I>(x, n, nullptr, z);
+        std::get<I>(graph_.stages()).pullback(z, b.value[k].data(), n, w.data(), b.inputAdjoint[k].data());
+        return;
+      }
+    }
+    b.inputAdjoint[k].noalias() = b.jacobian[k].transpose() * w;
   }
 
   // ---- the sweeps in windows (core/stage_window_plan.h) ----
@@ -1616,7 +1655,7 @@ class StageGraphEvaluator {
         ne >= kParallelMinElements,
         [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { forwardSharedNode<decltype(layer)::value>(x, mode, hessians[decltype(layer)::value], n); },
         [&](int e) JETSHELL_LAMBDA_INLINE { sendLocalAdjoint(x, first, e); },
-        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { gatherNode<decltype(layer)::value>(false, n); },
+        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { gatherNode<decltype(layer)::value>(x, mode, false, n); },
         [&](int e) JETSHELL_LAMBDA_INLINE { assemble(x, request, mode, e, elementEnergy); });
     double total = 0.0;
     for (double v : elementEnergy) total += v;
@@ -1642,7 +1681,7 @@ class StageGraphEvaluator {
           elementEnergy[static_cast<std::size_t>(e)] = elementGradient(x, e, mode, g);
           Eigen::Map<Gradient>(elementGradient_.data() + static_cast<std::size_t>(e) * D) = g;
         },
-        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { gatherNode<decltype(layer)::value>(true, n); },
+        [&](auto layer, int n) JETSHELL_LAMBDA_INLINE { gatherNode<decltype(layer)::value>(x, mode, true, n); },
         [&](int e) JETSHELL_LAMBDA_INLINE {
           addElementResult<K>(request, e, graph_.elements().element(e),
                               elementGradient_.data() + static_cast<std::size_t>(e) * D, nullptr);

@@ -66,10 +66,34 @@ using TestGraph = StageGraph<4, Shared<FaceNormal, 3, Difference, Difference>, S
 using DifferenceGraph = StageGraph<4, Shared<FaceNormal, 3, Difference, Difference>, Shared<EdgeMix, 4, From<0>, From<0>>,
                                    Local<Mix, From<1>, Difference, Difference>, Local<Energy, From<2>>>;
 static_assert(!StageGraphEvaluator<TestGraph>::kReduced && StageGraphEvaluator<DifferenceGraph>::kReduced);
+// The same stages with pullback twins (Jᵀw without J; core/stage.h), a Shared one and a Local one: on the analytic
+// path a gradient alone, and the Local sweep of a contracted Hessian, pull the adjoints back through them.
+struct PulledFaceNormal : FaceNormal {
+  // With c = a × b: c̄ = (w − n (n·w))/‖c‖, ā = b × c̄, b̄ = c̄ × a.
+  void pullback(const double* z, const double* n, int, const double* w, double* zbar) const {
+    const Eigen::Vector3d a = vec3(z), b = vec3(z + 3), nv = vec3(n), wv = vec3(w);
+    const Eigen::Vector3d cbar = (wv - nv * nv.dot(wv)) / a.cross(b).norm();
+    vec3(zbar) = b.cross(cbar);
+    vec3(zbar + 3) = cbar.cross(a);
+  }
+};
+struct PulledMix : Mix {
+  // y0 = m·e + ‖v‖², y1 = (m·v)(1 + m·m).
+  void pullback(const double* z, const double*, int, const double* w, double* zbar) const {
+    const Eigen::Vector3d m = vec3(z), e = vec3(z + 3), v = vec3(z + 6);
+    const double mv = m.dot(v), q = 1.0 + m.dot(m);
+    vec3(zbar) = w[0] * e + w[1] * (q * v + 2.0 * mv * m);
+    vec3(zbar + 3) = w[0] * m;
+    vec3(zbar + 6) = 2.0 * w[0] * v + w[1] * q * m;
+  }
+};
+using PulledGraph = StageGraph<4, Shared<PulledFaceNormal, 3, Difference, Difference>,
+                               Shared<EdgeMix, 4, From<0>, From<0>>, Local<PulledMix, From<1>, Difference, Vertex>,
+                               Local<Energy, From<2>>>;
 
 template <typename Graph = TestGraph>
 Graph buildGraph(const TriMesh& mesh, const Topology& topo, const HingeStencils& l) {
-  constexpr bool vertexInput = std::is_same_v<Graph, TestGraph>;
+  constexpr bool vertexInput = !std::is_same_v<Graph, DifferenceGraph>;
   Graph g(mesh.numVertices());
   g.template resize<0>(mesh.numFaces());
   for (int f = 0; f < mesh.numFaces(); ++f)
@@ -296,6 +320,25 @@ TEST_CASE("stage graph: the same bits with 1 and 2 threads", "[stages]") {
 
 /// A 24 × 24 grid, waved; with `halves` its vertices and faces numbered left half first, then right half (a
 /// garment's panels), so that the hinges, numbered by their vertices, follow.
+/// The term's gradient alone at x on n threads, its energy into `energy`.
+Eigen::VectorXd gradientAlone(EnergyTerm& term, const Eigen::VectorXd& x, const EvalOptions& opt, int n,
+                              double& energy) {
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(n);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+  energy = term.evaluate(x, EvalRequest{&g, nullptr, 0}, opt);
+  omp_set_num_threads(threads);
+  return g;
+}
+
+/// The mesh's positions, each coordinate moved by up to ±amplitude (the same draw every call).
+Eigen::VectorXd perturbed(const TriMesh& mesh, double amplitude) {
+  Eigen::VectorXd x = flatten(mesh.V);
+  srand(11);
+  x += amplitude * Eigen::VectorXd::Random(x.size());
+  return x;
+}
+
 TriMesh wavedGrid(bool halves) {
   TriMesh mesh = makeRectangleGrid(1.0, 1.0, 24, 24);
   for (int v = 0; v < mesh.numVertices(); ++v) mesh.V(v, 2) = 0.1 * std::sin(3.0 * mesh.V(v, 0) + mesh.V(v, 1));
@@ -326,9 +369,7 @@ TEST_CASE("stage graph: the contracted Hessian and the gradient in windows equal
     const TriMesh mesh = wavedGrid(halves);
     const Topology topo = buildTopology(mesh);
     const HingeStencils l = hingeStencils(mesh, topo);
-    Eigen::VectorXd x = flatten(mesh.V);
-    srand(11);
-    x += 0.02 * Eigen::VectorXd::Random(x.size());
+    const Eigen::VectorXd x = perturbed(mesh, 0.02);
     TestGraph sweeps = buildGraph(mesh, topo, l);
     sweeps.replanWindows(0);
     REQUIRE(sweeps.windowPlan().empty());
@@ -367,21 +408,57 @@ TEST_CASE("stage graph: the contracted Hessian and the gradient in windows equal
       CHECK(g1 == g2);
       CHECK(H1 == H2);
       // A gradient without a Hessian: the gradient sweep's passes in the same windows.
-      const auto gradientAlone = [&](EnergyTerm& term, int n, double& energy) {
-        omp_set_num_threads(n);
-        Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
-        energy = term.evaluate(x, EvalRequest{&g, nullptr, 0}, opt);
-        omp_set_num_threads(threads);
-        return g;
-      };
       double fA, f1, f2;
-      const Eigen::VectorXd hA = gradientAlone(a, threads, fA), h1 = gradientAlone(b, 1, f1), h2 = gradientAlone(b, 2, f2);
+      const Eigen::VectorXd hA = gradientAlone(a, x, opt, threads, fA), h1 = gradientAlone(b, x, opt, 1, f1),
+                            h2 = gradientAlone(b, x, opt, 2, f2);
       CHECK(f1 == Approx(fA).epsilon(1e-14));
       CHECK((h1 - hA).norm() <= 1e-14 * hA.norm());
       CHECK((h1 - gA).norm() <= 1e-13 * gA.norm());  // and the Hessian path's gradient
       CHECK(f1 == f2);
       CHECK(h1 == h2);
     }
+  }
+}
+
+TEST_CASE("stage graph: the pullback twins give the Jacobians' gradient and Hessian, whole-mesh and in windows",
+          "[stages]") {
+  STATIC_REQUIRE(HasPullbackTwin<PulledFaceNormal>::value);
+  STATIC_REQUIRE(HasPullbackTwin<PulledMix>::value);
+  STATIC_REQUIRE_FALSE(HasPullbackTwin<FaceNormal>::value);
+  const TriMesh mesh = wavedGrid(false);
+  const Topology topo = buildTopology(mesh);
+  const HingeStencils l = hingeStencils(mesh, topo);
+  // Less noise than the windows' test: no face nearly folds onto its neighbour, whose n_A + n_B near 0 would
+  // amplify the last bits in which a value on doubles (a pulled node's) and on Jets differ.
+  const Eigen::VectorXd x = perturbed(mesh, 0.002);
+  const int threads = omp_get_max_threads();
+  for (const int laneElements : {0, 30}) {
+    INFO("lane elements " << laneElements);
+    PulledGraph g = buildGraph<PulledGraph>(mesh, topo, l);
+    g.replanWindows(laneElements, 7);
+    REQUIRE(g.windowPlan().empty() == (laneElements == 0));
+    StageGraphTerm<PulledGraph> term("pulled", std::move(g));
+    EvalOptions ad, analytic;
+    ad.path = DerivativePath::AutoDiff;
+    analytic.path = DerivativePath::Analytic;
+    // The Jets' path keeps every Jacobian (nothing is pulled on it): the reference.
+    double eJ, e1, e2;
+    const Eigen::VectorXd gJ = gradientAlone(term, x, ad, threads, eJ);
+    const Eigen::VectorXd g1 = gradientAlone(term, x, analytic, 1, e1);
+    const Eigen::VectorXd g2 = gradientAlone(term, x, analytic, 2, e2);
+    CHECK(e1 == Approx(eJ).epsilon(1e-14));
+    CHECK((g1 - gJ).norm() <= 1e-13 * gJ.norm());
+    CHECK(e1 == e2);
+    CHECK(g1 == g2);
+    // The contracted Hessian's first-order sweep pulls the Local adjoints back through PulledMix.
+    Eigen::VectorXd hJ, hA;
+    double fJ, fA;
+    const Eigen::MatrixXd HJ = denseHessian(term, x, ad, hJ, fJ);
+    const Eigen::MatrixXd HA = denseHessian(term, x, analytic, hA, fA);
+    CHECK(fA == Approx(fJ).epsilon(1e-14));
+    CHECK((hA - hJ).norm() <= 1e-13 * hJ.norm());
+    CHECK((HA - HJ).norm() <= 1e-13 * HJ.norm());
+    CHECK((g1 - hJ).norm() <= 1e-13 * hJ.norm());
   }
 }
 

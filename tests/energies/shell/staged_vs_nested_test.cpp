@@ -237,6 +237,10 @@ TEST_CASE("shell terms: the stage framework gives the hand-chained energies, gra
           CHECK((gStaged - gHand).norm() <= 1e-12 * gHand.norm());
           CHECK((HStaged - HHand).norm() <= 1e-12 * HHand.norm());
           CHECK(staged->evaluate(x, EvalRequest{}, opt) == Approx(eHand).epsilon(1e-12));
+          // A gradient alone: the reverse sweep (on the analytic path through the stages' pullback twins).
+          Eigen::VectorXd gAlone = Eigen::VectorXd::Zero(x.size());
+          CHECK(staged->evaluate(x, EvalRequest{&gAlone, nullptr, 0}, opt) == Approx(eHand).epsilon(1e-12));
+          CHECK((gAlone - gHand).norm() <= 1e-12 * gHand.norm());
         }
       }
     }
