@@ -465,26 +465,30 @@ double quadraticHessianDiscrepancy(const S& s, const double* z, int entity) {
   }
 }
 
-/// The checks' output weights w_k = 1, −2, 3, … (into w) and the Jets' Σ_k w_k ∇²y_k with them.
+/// The checks' output weights w_k = 1, −2, 3, … (into w).
+template <int M>
+void checkWeights(double (&w)[M]) {
+  for (int k = 0; k < M; ++k) w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
+}
+
+/// The checks' output weights (checkWeights, into w) and the Jets' Σ_k w_k ∇²y_k with them.
 template <int N, int M>
 Eigen::Matrix<double, N, N> checkWeightedHessian(const StageDerivatives<N, M>& jets, double (&w)[M]) {
+  checkWeights(w);
   Eigen::Matrix<double, N, N> sum = Eigen::Matrix<double, N, N>::Zero();
-  for (int k = 0; k < M; ++k) {
-    w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
-    sum += w[k] * jets.hessians[static_cast<std::size_t>(k)];
-  }
+  for (int k = 0; k < M; ++k) sum += w[k] * jets.hessians[static_cast<std::size_t>(k)];
   return sum;
 }
 
 /// Largest relative difference between a pullback twin's Jᵀw and the Jets' at z, with the checks' weights w
-/// (checkWeightedHessian's: 1, −2, 3, …); 0 for a stage without one. `jets`: the Jets' derivatives at z.
+/// (checkWeights: 1, −2, 3, …); 0 for a stage without one. `jets`: the Jets' derivatives at z.
 template <typename S>
 double pullbackDiscrepancy(const S& s, const double* z, int entity, const StageDerivativesOf<S>& jets) {
   if constexpr (!HasPullbackTwin<S>::value) {
     return 0.0;
   } else {
     double w[S::kOutputs];
-    for (int k = 0; k < S::kOutputs; ++k) w[k] = (k % 2 == 0 ? 1.0 : -1.0) * (k + 1);
+    checkWeights(w);
     Eigen::Matrix<double, S::kInputs, 1> pulled;
     s.pullback(z, jets.value.data(), entity, w, pulled.data());
     const Eigen::Matrix<double, S::kInputs, 1> reference =
