@@ -6,7 +6,7 @@
 set(JETSHELL_HEAVY_SOURCES
   core/psd_projection.cpp
   energies/shell/bending_term.cpp
-  energies/shell/bending_term_staged.cpp
+  energies/shell/bending_graph.cpp
   energies/examples/hinge_bending.cpp
   energies/shell/membrane_term.cpp
   tests/core/stage_graph_test.cpp

@@ -29,11 +29,10 @@ std::vector<char> firstBoundaryEdgeMask(const TermSetup& s) {
   return mask;
 }
 
-/// Bending (on the stage framework when staged), named `name`.
-std::shared_ptr<BendingTerm> makeNamedBending(const TermSetup& s, const char* name, bool staged = false) {
+/// Bending, named `name`.
+std::shared_ptr<BendingTerm> makeNamedBending(const TermSetup& s, const char* name) {
   auto term = std::make_shared<BendingTerm>(s.mesh, s.topology, s.reference, s.material.bendingAlpha,
                                             s.material.bendingBeta);
-  term->setStaged(staged);
   term->setName(name);
   return term;
 }
@@ -47,15 +46,15 @@ std::shared_ptr<MembraneTerm> makeNamedMembrane(const TermSetup& s, const char* 
 }
 
 /// Bending with every boundary edge moment-free (second_order_free): faces with one and with two minimized edges.
-EnergyTermPtr makeSecondOrderFreeBending(const TermSetup& s, const char* name, bool staged = false) {
-  auto term = makeNamedBending(s, name, staged);
+EnergyTermPtr makeSecondOrderFreeBending(const TermSetup& s, const char* name) {
+  auto term = makeNamedBending(s, name);
   term->setEdgeRule(std::vector<char>(static_cast<std::size_t>(s.mesh.numVertices()), 1), EdgeRule::SecondOrderFree);
   return term;
 }
 
 /// Bending with the first boundary edge under `rule` (energies/shell/edge_rules.h), the others free.
-EnergyTermPtr makeRuledBending(const TermSetup& s, EdgeRule rule, const char* name, bool staged = false) {
-  auto term = makeNamedBending(s, name, staged);
+EnergyTermPtr makeRuledBending(const TermSetup& s, EdgeRule rule, const char* name) {
+  auto term = makeNamedBending(s, name);
   term->setEdgeRule(firstBoundaryEdgeMask(s), rule);
   return term;
 }
@@ -95,8 +94,6 @@ StiffnessDampingTerms dampingTerms(const TermSetup& s, bool staged = false) {
   if (staged) {
     t.membrane->setStaged(true);
     t.membrane->setName("membrane_staged_damping");
-    t.bending->setStaged(true);
-    t.bending->setName("bending_staged_damping");
   }
   const Eigen::VectorXd origin = displacedRest(s.mesh, 0.02);
   t.membrane->setStrainOrigin(origin, 0.05 / 0.01);
@@ -135,7 +132,7 @@ std::vector<RegisteredTerm> buildRegistry() {
   return {
       {"membrane", "StVK membrane (staged AD + analytic)",
        [](S s) { return makeMembraneTerm(s.mesh, s.reference, s.material.membraneLambda, s.material.membraneMu); }},
-      {"bending", "StVK bending, Kelvin-inverted mid-edge normals, exact Hessian (staged AD + analytic)",
+      {"bending", "StVK bending, Kelvin-inverted mid-edge normals, exact Hessian (stage graph, AD + analytic)",
        [](S s) {
          return makeBendingTerm(s.mesh, s.topology, s.reference, s.material.bendingAlpha, s.material.bendingBeta);
        }},
@@ -191,29 +188,12 @@ std::vector<RegisteredTerm> buildRegistry() {
        [](S s) { return EnergyTermPtr(dampingTerms(s).membrane); }},
       {"bending_damping", "bending stiffness damping (origin x_prev, scale beta_R/dt)",
        [](S s) { return EnergyTermPtr(dampingTerms(s).bending); }},
-      // The same shell terms on the stage framework (BendingTerm/MembraneTerm::setStaged): every edge rule, both
-      // Hessians and the moved origin of stiffness damping.
+      // The membrane on its stage graph (MembraneTerm::setStaged), also with the moved origin of stiffness damping
+      // (the bending term above is always one: every edge rule, both Hessians).
       {"membrane_staged", "membrane on the stage framework (metric, density)",
        [](S s) { return EnergyTermPtr(makeNamedMembrane(s, "membrane_staged", true)); }},
-      {"bending_staged", "bending on the stage framework (face normal, mid-edge normal, b, density), exact Hessian",
-       [](S s) { return EnergyTermPtr(makeNamedBending(s, "bending_staged", true)); }},
-      {"bending_staged_gauss_newton", "staged bending with the Gauss-Newton Hessian (a model: checked PSD)",
-       [](S s) { return EnergyTermPtr(makeNamedBending(s, "bending_staged_gauss_newton", true)); }, gaussNewton(),
-       false},
-      {"bending_staged_clamped", "staged bending, one boundary edge under the reference_clamp rule",
-       [](S s) { return makeRuledBending(s, EdgeRule::ReferenceClamp, "bending_staged_clamped", true); }},
-      {"bending_staged_mirrored_clamp", "staged bending, one boundary edge under the mirrored_clamp rule",
-       [](S s) { return makeRuledBending(s, EdgeRule::MirroredClamp, "bending_staged_mirrored_clamp", true); }},
-      {"bending_staged_second_order_free", "staged bending with every boundary edge second_order_free",
-       [](S s) { return makeSecondOrderFreeBending(s, "bending_staged_second_order_free", true); }},
-      {"bending_staged_second_order_free_gauss_newton",
-       "staged second_order_free bending with the Gauss-Newton Hessian (a model: checked PSD)",
-       [](S s) { return makeSecondOrderFreeBending(s, "bending_staged_second_order_free_gauss_newton", true); },
-       gaussNewton(), false},
       {"membrane_staged_damping", "staged membrane stiffness damping (origin x_prev, scale beta_R/dt)",
        [](S s) { return EnergyTermPtr(dampingTerms(s, true).membrane); }},
-      {"bending_staged_damping", "staged bending stiffness damping (origin x_prev, scale beta_R/dt)",
-       [](S s) { return EnergyTermPtr(dampingTerms(s, true).bending); }},
       {"end_moment", "end moment -lambda M theta on a boundary edge (no hand derivatives)", makeSampleEndMoment},
       // Example of a term written without hand derivatives, registered in one line (energies/examples/).
       {"seam_spring", "edge springs", [](S s) { return makeSeamSpringTerm(s.mesh, edgePairs(s.topology), 10.0); }},

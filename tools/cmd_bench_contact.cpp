@@ -64,7 +64,7 @@ struct ContactBenchOptions {
   std::string ordering = "auto";          // LinearSolverOptions::ordering
   std::string oneRingParts = "auto";      // LinearSolverOptions::oneRingParts
   int referenceIterations = 0;            // > 0: a reference run with up to this many Newton iterations a step
-  std::string evaluator = "scene";        // scene | handChained | staged | stagedBending
+  std::string evaluator = "scene";        // scene | perFace | staged (the membrane's)
   bool termSplit = false;                 // each term's time by request kind
   std::string json;
 };
@@ -97,15 +97,14 @@ bool keptStep(int step, int steps, int stride) { return step % stride == 0 || st
 
 /// The scene's system with its evaluator and boundary-edge rules, as `jetshell run` applies them, and the Hessian
 /// pattern of the variant.
-/// `evaluator` (--evaluator) other than "scene" replaces the scene's: handChained, staged (membrane and bending on
-/// the stage framework) or stagedBending (the bending alone on it, the membrane on its default).
+/// `evaluator` (--evaluator) other than "scene" replaces the scene's membrane evaluator: perFace or staged (the
+/// membrane on its stage graph; the bending term is always on its own).
 std::unique_ptr<ShellSystem> sceneSystem(const Scene& scene, const ShellProblem& problem, bool growOnly,
                                          const std::string& evaluator) {
   auto system = std::make_unique<ShellSystem>(problem, AnalysisKind::Dynamics);
   selectSceneEvaluator(scene, *system);
   if (evaluator != "scene") {
     for (const std::shared_ptr<MembraneTerm>& t : system->membraneTerms) t->setStaged(evaluator == "staged");
-    for (const std::shared_ptr<BendingTerm>& t : system->bendingTerms) t->setStaged(evaluator != "handChained");
   }
   addSceneEdgeRules(scene, problem, *system);
   system->objective().setGrowOnlyPattern(growOnly);
@@ -466,9 +465,9 @@ const RegisterSubcommand registerBenchContact("bench contact", [](CLI::App& app,
                   "its positions (every few steps and at the last)")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--evaluator", opts->evaluator,
-                  "The membrane's and bending's evaluator: the scene's (default), handChained, staged (both on the stage "
-                  "framework), or stagedBending (the bending alone on it)")
-      ->check(CLI::IsMember({"scene", "handChained", "staged", "stagedBending"}));
+                  "The membrane's evaluator: the scene's (default), perFace (one composed stage per face) or staged (its "
+                  "stage graph); the bending term has one, its stage graph")
+      ->check(CLI::IsMember({"scene", "perFace", "staged"}));
   cmd->add_flag("--term-split", opts->termSplit,
                 "Each term's calls and time per call by request: value, with gradient, with Hessian, projected");
   cmd->add_option("--json", opts->json, "Write the figures as JSON")->check(outputFile());

@@ -1,8 +1,10 @@
 // `jetshell bench elements`: per-face cost of the shell energies (value, gradient, Hessian with assembly into
 // the cached pattern) on a 200×200-square grid bent into a wavy shape, for the AD and analytic paths, exact
 // and Gauss–Newton bending Hessians, 1 thread and all threads. Medians of repeats; peak RSS reported.
-// --staged adds *_staged rows: the same energies on the stage framework (BendingTerm/MembraneTerm::setStaged),
-// measured in the same run, so that their ratio to the hand-chained evaluators means something on a busy machine.
+// The bending term is a stage graph (energies/shell/bending_graph.cpp); the membrane's default is one composed
+// stage per face. --staged adds the rows membrane_staged and shell_staged: the membrane on its stage graph
+// (MembraneTerm::setStaged), measured in the same run, so that their ratio to the default means something on a
+// busy machine.
 // With more than one thread, the speed-up of the shell rows is also timed in interleaved pairs on the wall clock.
 // --straight-line adds the row shell_straight (1 thread, exact Hessian): the same stages with the chain rule
 // written out for this one graph (tools/bench/straight_line_shell.h), what the stage framework is measured against.
@@ -50,7 +52,7 @@ struct BenchOptions {
   std::string term;  // empty = all
   std::string path;  // empty = both
   int threads = 0;   // 0 = 1 and all
-  bool staged = false;  // also the *_staged rows (the stage framework), in the same run
+  bool staged = false;  // also the rows membrane_staged, shell_staged (the membrane on its stage graph)
   bool straightLine = false;  // also the shell_straight row (tools/bench/straight_line_shell.h)
   std::string projection = "none";  // every element Hessian projected so (the targets: none)
 };
@@ -71,7 +73,7 @@ double nowNs() {
 /// A term on the stage framework against the same energy as one nested-Jet element, value + gradient + exact
 /// Hessian with assembly, per stencil, 1 thread (CPU time of the thread):
 ///   `--term hinge`:   the user's hinge-bending term (energies/examples/hinge_bending.h; 12-dof stencils);
-///   `--term midedge`: the mid-edge bending term on the stage framework (BendingTerm::setStaged, Jets; 18-dof
+///   `--term midedge`: the mid-edge bending term on the stage framework (its stage graph, Jets; 18-dof
 ///                     stencils) against its whole-stencil nested-Jet reference (makeBendingTermNestedJet).
 int runNestedBench(const BenchOptions& o) {
   const bool hinge = o.term == "hinge";
@@ -85,7 +87,6 @@ int runNestedBench(const BenchOptions& o) {
     nested = makeHingeBendingNestedJet(mesh, topo, 1.0);
   } else {
     staged = makeBendingTerm(mesh, topo, ref, 0.3, 0.7);
-    std::static_pointer_cast<BendingTerm>(staged)->setStaged(true);
     nested = makeBendingTermNestedJet(mesh, topo, ref, 0.3, 0.7);
   }
   HessianAssembler assembler;
@@ -197,12 +198,9 @@ int runBench(const BenchOptions& o) {
   auto membrane = makeMembraneTerm(mesh, ref, mat.membraneLambda, mat.membraneMu);
   auto bending = makeBendingTerm(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
   std::shared_ptr<MembraneTerm> membraneStaged;
-  std::shared_ptr<BendingTerm> bendingStaged;
   if (o.staged) {
     membraneStaged = std::make_shared<MembraneTerm>(mesh, ref, mat.membraneLambda, mat.membraneMu);
     membraneStaged->setStaged(true);
-    bendingStaged = std::make_shared<BendingTerm>(mesh, topo, ref, mat.bendingAlpha, mat.bendingBeta);
-    bendingStaged->setStaged(true);
   }
   std::unique_ptr<StraightLineShell> straight;
   if (o.straightLine)
@@ -218,13 +216,12 @@ int runBench(const BenchOptions& o) {
               "load average at start %.2f\n",
               mesh.numFaces(), mesh.numVertices(), static_cast<long>(assembler.matrix().nonZeros()),
               static_cast<double>(assembler.memoryBytes()) / 1e6, loadStart);
-  const StageWindowPlan* stagedPlan = bendingStaged ? bendingStaged->windowPlan() : nullptr;
-  if (stagedPlan != nullptr && !stagedPlan->empty()) {
-    // The staged bending's window plan: elements deferred to after the lanes and nodes forwarded before them.
-    const StageWindowPlan& plan = *stagedPlan;
+  const StageWindowPlan& plan = std::static_pointer_cast<BendingTerm>(bending)->windowPlan();
+  if (!plan.empty()) {
+    // The bending graph's window plan: elements deferred to after the lanes and nodes forwarded before them.
     std::size_t cross = 0;
     for (const std::vector<int>& nodes : plan.cross) cross += nodes.size();
-    std::printf("staged bending's window plan: %zu lanes (%zu and %zu a phase), %zu of %d elements deferred, %zu "
+    std::printf("bending graph's window plan: %zu lanes (%zu and %zu a phase), %zu of %d elements deferred, %zu "
                 "cross nodes (forwarded before the lanes, gathered after them)\n",
                 plan.lanes.size(), plan.phaseLanes[0].size(), plan.phaseLanes[1].size(), plan.deferred.size(),
                 mesh.numFaces(), cross);
@@ -328,8 +325,7 @@ int runBench(const BenchOptions& o) {
                              {"shell", {{membrane.get(), slotM}, {bending.get(), slotB}}}};
   if (o.staged) {
     cases.push_back({"membrane_staged", {{membraneStaged.get(), slotM}}});
-    cases.push_back({"bending_staged", {{bendingStaged.get(), slotB}}});
-    cases.push_back({"shell_staged", {{membraneStaged.get(), slotM}, {bendingStaged.get(), slotB}}});
+    cases.push_back({"shell_staged", {{membraneStaged.get(), slotM}, {bending.get(), slotB}}});
   }
   if (straight) cases.push_back({"shell_straight", {}});
   std::printf("\n%-15s %-9s %-13s %7s %12s %12s %12s\n", "term", "path", "bending H", "threads", "value ns",
@@ -376,16 +372,15 @@ int runBench(const BenchOptions& o) {
   // Lines whose rows this run did not measure (another --threads, --path or --term) are left out, not printed
   // as nan.
   if (std::isfinite(an1))
-    std::printf("  hand-chained analytic, 1 thread: %.0f ns/face%s\n", an1,
-                target(" (target <= 1000 on the stage framework)"));
+    std::printf("  analytic, 1 thread: %.0f ns/face%s\n", an1, target(" (target <= 1000)"));
   const double stagedAn1 = find("shell_staged", "analytic", "exact", 1);
   if (std::isfinite(stagedAn1))
-    std::printf("  stage framework analytic, 1 thread: %.0f ns/face%s\n", stagedAn1, target(" (target <= 1000)"));
+    std::printf("  membrane's stage graph, analytic, 1 thread: %.0f ns/face\n", stagedAn1);
   if (std::isfinite(an1) && std::isfinite(ad1))
     std::printf("  AD / analytic, 1 thread, ratio of the table's medians: %.2f\n", ad1 / an1);
   for (int t : threadCounts) {
     const double anT = find("shell", "analytic", "exact", t);
-    if (t > 1 && std::isfinite(anT)) std::printf("  hand-chained analytic, %d threads: %.0f ns/face\n", t, anT);
+    if (t > 1 && std::isfinite(anT)) std::printf("  analytic, %d threads: %.0f ns/face\n", t, anT);
   }
   PairedRatio handRatio, stagedRatio;
   const bool bothPaths = o.path.empty() && (o.threads <= 1);
@@ -437,7 +432,7 @@ int runBench(const BenchOptions& o) {
   for (const char* path : {"analytic", "ad"}) {
     const double hand = find("shell", path, "exact", 1), staged = find("shell_staged", path, "exact", 1);
     if (std::isfinite(hand) && std::isfinite(staged))
-      std::printf("  stage framework / hand-chained, %s, 1 thread: %.2f (%.0f vs %.0f ns/face)\n", path, staged / hand,
+      std::printf("  membrane's stage graph / per face, %s, 1 thread: %.2f (%.0f vs %.0f ns/face)\n", path, staged / hand,
                   staged, hand);
   }
   // The framework against the same stages chained by hand for this graph, interleaved (CPU time of the thread).
@@ -458,15 +453,15 @@ int runBench(const BenchOptions& o) {
   }
   const double stagedAd = find("shell_staged", "ad", "exact", 1), stagedAn = find("shell_staged", "analytic", "exact", 1);
   if (std::isfinite(stagedAd) && std::isfinite(stagedAn)) {
-    std::printf("  stage framework, AD / analytic twins, 1 thread, ratio of the table's medians: %.2f\n",
+    std::printf("  membrane's stage graph, AD / analytic twins, 1 thread, ratio of the table's medians: %.2f\n",
                 stagedAd / stagedAn);
     if (bothPaths) {
       stagedRatio = pairedRatio(termsOf("shell_staged"));
-      printPaired("stage framework, AD / analytic twins", stagedRatio);
+      printPaired("membrane's stage graph, AD / analytic twins", stagedRatio);
     }
   }
   std::printf("  peak resident memory: %.0f MB (target <= 300%s)\n", peakRssMb(),
-              o.staged ? "; this run also holds the staged terms and their caches" : "");
+              o.staged ? "; this run also holds the staged membrane and its caches" : "");
   const double loadEnd = loadAverage();
   std::printf("load average at end: %.2f\n", loadEnd);
 
@@ -523,11 +518,11 @@ const RegisterSubcommand registerBenchElements("bench elements", [](CLI::App& ap
                  "Timed repeats per figure (the median is reported); interleaved AD/analytic pairs for the ratio (at least 5)")
       ->check(CLI::Range(1, 100));
   el->add_option("--json", opts->json, "Write the figures as a JSON list")->check(outputFile());
-  el->add_option("--term", opts->term, "Only this term and its staged twin (hinge, midedge: a staged term against the same energy as one nested-Jet "
+  el->add_option("--term", opts->term, "Only this term and its membrane_staged/shell_staged twin (hinge, midedge: a staged term against the same energy as one nested-Jet "
                  "element; stage-jets: the shell's Jet-differentiated stages at two dual widths)")->check(CLI::IsMember({"membrane", "bending", "shell", "hinge", "midedge", "stage-jets"}));
   el->add_option("--path", opts->path, "Only this derivative path")->check(CLI::IsMember({"ad", "analytic"}));
   el->add_flag("--staged", opts->staged,
-               "Also the same energies on the stage framework (rows *_staged), with their ratio to the default");
+               "Also the membrane on its stage graph (rows membrane_staged, shell_staged), with their ratio to the default");
   el->add_flag("--straight-line", opts->straightLine,
                "Also the shell as one straight-line element per face on the same stages (row shell_straight, 1 "
                "thread, exact Hessian): the reference the stage framework is measured against");

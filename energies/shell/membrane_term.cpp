@@ -33,7 +33,7 @@ void MembraneTerm::setStaged(bool staged) {
   graph_->finalize();
   graphEvaluator_ = std::make_unique<StageGraphEvaluator<Graph>>(*graph_);
   // The graph's elements are translation invariant, so a block reaches the projector over (e0, e1): the split
-  // into in-plane and normal parts applies as in the hand-chained element.
+  // into in-plane and normal parts applies as in the per-face element.
   graphEvaluator_->setElementProjector([](const Eigen::VectorXd& x, int, const int* ids, Eigen::Matrix<double, 6, 6>& He,
                                           PsdProjection mode) {
     const Eigen::Vector3d x0 = x.segment<3>(3 * ids[0]);

@@ -49,7 +49,7 @@ class MembraneTerm : public EnergyTerm {
   /// scales with β_R / betaR relative to the scale given to setStrainOrigin.
   void makeStiffnessDamping(double betaR);
 
-  /// Evaluates on the stage framework instead of the hand-chained element (same energy, to rounding).
+  /// Evaluates on the stage framework instead of one composed stage per face (same energy, to rounding).
   void setStaged(bool staged);
   bool staged() const { return staged_; }
 

@@ -118,8 +118,8 @@ struct StencilEdges {
 
 /// Everything the bending energy of one face sees, from the 6 stencil positions x (18 values: the face's
 /// vertices 0,1,2, then the opposite vertices across edges 0,1,2). A boundary edge's opposite vertex is
-/// ignored and the missing normal comes from the edge's rule. The staged evaluator in
-/// energies/shell/bending_term.cpp differentiates the same pieces separately; this composite serves the value,
+/// ignored and the missing normal comes from the edge's rule. The bending term's stage graph
+/// (energies/shell/bending_graph.cpp) differentiates the same pieces separately; this composite serves the value,
 /// the reference state, parameter derivatives and the whole-stencil nested-Jet reference in the checks.
 template <typename T>
 void stencilSecondFundamentalForm(const T* x, const StencilEdges& edges, T b[3]) {

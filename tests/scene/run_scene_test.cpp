@@ -744,7 +744,7 @@ TEST_CASE("run: a snap-through that load control jumps over is reported") {
                     [](const std::string& w) { return w.find("changed abruptly") != std::string::npos; }));
 }
 
-TEST_CASE("run: the staged evaluator gives the hand-chained run's answer", "[staged]") {
+TEST_CASE("run: the membrane's staged evaluator gives the per-face run's answer", "[staged]") {
   // A static strip with a mirrored clamp and moment-free free edges (the scene defaults), to the elastica's tip.
   Scene scene = loadSceneFile(std::string(JETSHELL_SOURCE_DIR) + "/examples/cantilever_strip.json");
   auto tip = [&](const std::string& evaluator) {
@@ -757,7 +757,7 @@ TEST_CASE("run: the staged evaluator gives the hand-chained run's answer", "[sta
     const nlohmann::json s = readJson(fs::path(o.outputDirectory) / "summary.json");
     return s.at("probes").begin()->get<std::vector<double>>();
   };
-  const std::vector<double> hand = tip("handChained"), staged = tip("staged");
+  const std::vector<double> hand = tip("perFace"), staged = tip("staged");
   REQUIRE(hand.size() == 3);
   for (int c = 0; c < 3; ++c) CHECK(staged[c] == Approx(hand[c]).epsilon(1e-8).margin(1e-12));
 }

@@ -155,6 +155,15 @@ TEST_CASE("scene: transforms place actors and loads are spread as asked") {
   CHECK(m.appliedForces[3 * 10 + 2] > m.appliedForces[3 * 0 + 2]);
 }
 
+TEST_CASE("scene: the membrane's evaluator, and its former name handChained for perFace") {
+  Json s = baseScene();
+  CHECK(sceneFromJson(s, tempDir()).solver.evaluator == "perFace");
+  for (const char* given : {"perFace", "handChained", "staged"}) {
+    s["solver"] = {{"evaluator", given}};
+    CHECK(sceneFromJson(s, tempDir()).solver.evaluator == (std::string(given) == "staged" ? "staged" : "perFace"));
+  }
+}
+
 TEST_CASE("scene: several actors stack into one set of unknowns") {
   Json s = baseScene();
   Json second = s["actors"][0];
@@ -244,7 +253,8 @@ TEST_CASE("scene: malformed scenes give one clear line naming the field") {
         "/solver/lineSearch: \"wolf\" is not one of \"default\", \"none\", \"armijo\", \"residual\", \"wolfe\" "
         "(did you mean \"wolfe\"?)");
   CHECK(errorAfter([](Json& s) { s["solver"] = {{"evaluator", "stages"}}; }) ==
-        "/solver/evaluator: \"stages\" is not one of \"handChained\", \"staged\" (did you mean \"staged\"?)");
+        "/solver/evaluator: \"stages\" is not one of \"perFace\", \"staged\", \"handChained\" (did you mean "
+        "\"staged\"?)");
   CHECK(errorAfter([](Json& s) { s["solver"] = {{"fallbackBendingHessian", "gauss"}}; }) ==
         "/solver/fallbackBendingHessian: \"gauss\" is not one of \"exact\", \"gaussNewton\"");
   CHECK(errorAfter([](Json& s) { s["actors"].push_back({{"type", "sphere"}, {"radius", -1}}); }) ==

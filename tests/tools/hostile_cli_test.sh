@@ -84,7 +84,7 @@ expect 2 "--json: /nonexistent/x.json: cannot write (no directory '/nonexistent'
 expect 2 "--png: /dev/null: not a regular file" -- "$js" render x.vtu --png /dev/null
 expect 2 "--steps: Value 0 not in range 1 to 10000000" -- "$js" run examples/cantilever_strip.json --steps 0
 expect 2 "--reference-iterations: Value 0 not in range 1 to 1000" -- "$js" bench contact --reference-iterations 0
-expect 2 "--evaluator: x not in {scene,handChained,staged,stagedBending}" -- "$js" bench contact --evaluator x
+expect 2 "--evaluator: x not in {scene,perFace,staged}" -- "$js" bench contact --evaluator x
 expect 2 "--projection: not with --term hinge" -- "$js" bench elements --term hinge --projection clamp
 expect 2 "--term stage-jets: takes --n, --repeats and --json only" -- "$js" bench elements --term stage-jets --staged
 expect 2 "--garment: not with --term midedge, which runs on the grid only" -- "$js" bench elements --term midedge --garment 4

@@ -244,7 +244,7 @@ void validate(const Scene& scene) {
   requireOneOf(s.bendingHessian, {"exact", "gaussNewton"}, "/solver/bendingHessian");
   requireOneOf(s.fallbackBendingHessian, {"exact", "gaussNewton"}, "/solver/fallbackBendingHessian");
   requireOneOf(s.frictionHessian, {"exact", "majorizer"}, "/solver/frictionHessian");
-  requireOneOf(s.evaluator, {"handChained", "staged"}, "/solver/evaluator");
+  requireOneOf(s.evaluator, {"perFace", "staged"}, "/solver/evaluator");
   check::atLeast(s.threads, 0, "/solver/threads");
   check::atMost(s.threads, limits.maxThreads, "/solver/threads");
   check::atLeast(scene.outputs.frameStride, 1, "/outputs/frameStride");

@@ -113,7 +113,7 @@ struct SolverSettings {
   std::string bendingHessian = "exact";      // exact | gaussNewton
   std::string fallbackBendingHessian = "exact";  // time steps: exact | gaussNewton (NewtonOptions)
   std::string frictionHessian = "exact";     // exact | majorizer (core/term.h, energies/contact/contact_ramp.h)
-  std::string evaluator = "handChained";     // membrane and bending: handChained | staged (tools/scene/scene_evaluator.h)
+  std::string evaluator = "perFace";         // the membrane's: perFace | staged (tools/scene/scene_evaluator.h)
   int threads = 0;                           // 0: all cores
   /// Dynamics: take the last iterate when Newton reaches maxIterations (the spec engine's behaviour, with 4)
   /// instead of cutting the time step.

@@ -5,7 +5,6 @@ namespace jetshell {
 void selectSceneEvaluator(const Scene& scene, ShellSystem& system) {
   const bool staged = scene.solver.evaluator == "staged";
   for (const std::shared_ptr<MembraneTerm>& t : system.membraneTerms) t->setStaged(staged);
-  for (const std::shared_ptr<BendingTerm>& t : system.bendingTerms) t->setStaged(staged);
 }
 
 }  // namespace jetshell

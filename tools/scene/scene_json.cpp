@@ -635,7 +635,9 @@ SolverSettings readSolver(const Value& v) {
   s.fallbackBendingHessian =
       o.choice("fallbackBendingHessian", {"exact", "gaussNewton"}, s.fallbackBendingHessian);
   s.frictionHessian = o.choice("frictionHessian", {"exact", "majorizer"}, s.frictionHessian);
-  s.evaluator = o.choice("evaluator", {"handChained", "staged"}, s.evaluator);
+  // "handChained": perFace's name before the bending term lost its hand-chained evaluator (older scenes).
+  s.evaluator = o.choice("evaluator", {"perFace", "staged", "handChained"}, s.evaluator);
+  if (s.evaluator == "handChained") s.evaluator = "perFace";
   s.acceptIterationCap = o.boolean("acceptIterationCap", s.acceptIterationCap);
   s.threads = o.integer("threads", s.threads, 0, inputLimits().maxThreads);
   return s;

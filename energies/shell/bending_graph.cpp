@@ -1,4 +1,4 @@
-// The bending term's staged evaluator (BendingTerm::setStaged): the energy as a stage graph
+// The bending term's energy, gradient and Hessian: the energy as a stage graph
 // (core/stage_graph.h, the layers declared in bending_term.h). Per face f (vertices 0, 1, 2 of the stencil,
 // then the opposite vertex across each edge i as 3 + i):
 //   n_f = FaceNormal(x1 − x0, x2 − x0)                  per face, in its own vertex order
@@ -14,11 +14,6 @@
 #include "energies/shell/bending_term.h"
 
 namespace jetshell {
-
-void BendingTerm::setStaged(bool staged) {
-  staged_ = staged;
-  if (staged && !graph_) buildGraph();
-}
 
 void BendingTerm::buildGraph() {
   const int nf = static_cast<int>(F_.rows()), ne = topo_.numEdges();
@@ -59,7 +54,16 @@ void BendingTerm::bindStages() {
   density.quadratic = nullptr;
 }
 
-double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+double BendingTerm::evaluate(const Eigen::VectorXd& x, const EvalRequest& request, const EvalOptions& options) {
+  // A Gauss–Newton block Jᵀ W'' J is positive semi-definite by construction (W'' is, for every admissible material
+  // and edge rule: the ruled densities are Schur complements of convex quadratics), so it is never projected.
+  // Projecting it would cost an eigendecomposition per block for nothing: its rank is 3, so the Cholesky test in
+  // edge space (core/psd_projection.h) fails on every one.
+  if (options.hessianModel == HessianModel::GaussNewton && options.projection != PsdProjection::None) {
+    EvalOptions unprojected = options;
+    unprojected.projection = PsdProjection::None;
+    return evaluate(x, request, unprojected);
+  }
   // The analytic twin of a face with moment-free edges reads its ruled quadratic. On the Jets, a Hessian takes
   // every face's density Hessian from its ruled quadratic (itself from Jets, once per α, β and rules: the density
   // is a quadratic in b), and first-order Jets give the value and gradient (core/stage.h, per-entity quadratic).
@@ -71,8 +75,8 @@ double BendingTerm::evaluateStaged(const Eigen::VectorXd& x, const EvalRequest& 
   return graphEvaluator_->evaluate(x, request, options, schedule_, elementEnergy_);
 }
 
-void BendingTerm::stagedCurvatureOrigin(const Eigen::VectorXd& xOrigin) {
-  // From the very stages evaluateStaged() runs, so that κ vanishes at the origin: to the bit without fused
+void BendingTerm::graphCurvatureOrigin(const Eigen::VectorXd& xOrigin) {
+  // From the very stages evaluate() runs, so that κ vanishes at the origin: to the bit without fused
   // multiply-adds, to round-off with them (-march=native; StageGraphEvaluator::localValues).
   bindStages();
   graphEvaluator_->localValues<3>(xOrigin, [&](int f, const double* b) {
