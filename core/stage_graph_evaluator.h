@@ -11,8 +11,8 @@
 // Jacobians formed; on the analytic path through the stages' pullback twins where declared, whose forward passes
 // then compute values only: pulls); with a Hessian, from the root's total Jacobian. An element's curvature goes
 // in 3×3 blocks of its slots: only the upper triangle's unless a projection needs the whole block. The contracted
-// exact Hessian of a translation-invariant graph (kWhole, the shell's terms) is formed by whole elements instead
-// (elementWhole): the Shared layers keep their Jacobians only, and each element forms the totals of the nodes it
+// exact Hessian of a translation-invariant graph (kWhole, the shell's terms), and its Gauss–Newton Hessian (the
+// root's curvature only), are formed by whole elements instead (elementWhole): the Shared layers keep their Jacobians only, and each element forms the totals of the nodes it
 // reads stored by coordinate (one row per working coordinate, padded to whole vectors; a layer of leaves only that
 // no curvature reads forms none, its readers composing its Jacobian into theirs: kComposedLeaves) and adds every
 // curvature term as products of those into one full block, of which the element's upper triangle is kept
@@ -98,9 +98,10 @@ class StageGraphEvaluator {
     mode.contracted = wantH && mode.exact && !mode.full;
     mode.sharedHessians = wantH && mode.exact && mode.full;
     mode.pullback = wantG && !wantH && options.path == DerivativePath::Analytic;
-    // The contracted Hessian by whole elements forms every total inside the element (elementWhole): the Shared
-    // layers keep their Jacobians only.
-    if (kWhole && mode.contracted) mode.totals = false;
+    // A Hessian without projection (the contracted exact one, or Gauss–Newton) by whole elements forms every total
+    // inside the element (elementWhole): the Shared layers keep their Jacobians only, no totals stored.
+    mode.whole = kWhole && wantH && !mode.full;
+    if (mode.whole) mode.totals = false;
     if constexpr (kHasShared) {
       // A mesh with a window plan: the contracted Hessian's sweeps, or a gradient's, in windows, while their data
       // are in cache.
@@ -162,6 +163,7 @@ class StageGraphEvaluator {
     bool contracted = false;      // exact, Shared curvature added once per node (no projection)
     bool sharedHessians = false;  // exact per-element Hessian: the Shared stages' Hessians are kept
     bool pullback = false;        // analytic, and Jacobians read only as Jᵀw̄ (pulls)
+    bool whole = false;           // a Hessian without projection of a translation-invariant graph (elementWhole)
   };
   /// Whether layer I's adjoints are pulled back through its stage's pullback twin (core/stage.h): when the
   /// stage declares one, on the analytic path, where nothing reads its Jacobian but Jᵀw̄ (a gradient alone; the
@@ -878,7 +880,7 @@ class StageGraphEvaluator {
                                         PsdProjection own, bool wantG, bool wantH, Gradient& gradient,
                                         Hessian& hessian) {
     if constexpr (kWhole) {
-      if (wantH && mode.contracted) return elementWhole(x, e, mode, wantG, gradient, hessian);
+      if (wantH && mode.whole) return elementWhole(x, e, mode, wantG, gradient, hessian);
     }
     ElementState s;
     forwardLocals<kRoot>(x, e, mode, s);
@@ -1133,10 +1135,11 @@ class StageGraphEvaluator {
     });
   }
 
-  /// Element e's energy, gradient and contracted exact Hessian (Shared adjoints gathered) by whole element: the
-  /// totals of the Shared nodes it reads and of its Local nodes by coordinate over the padded working rows, each
-  /// Local node's curvature (its own adjoint) and each owned Shared node's (its total adjoint) added as products
-  /// of those into one full Rw × Rw block, expanded to the base slot at the end.
+  /// Element e's energy, gradient and contracted exact Hessian (Shared adjoints gathered), or its Gauss–Newton
+  /// Hessian (the root's curvature alone: mode.exact false), by whole element: the totals of the Shared nodes it
+  /// reads and of its Local nodes by coordinate over the padded working rows, each Local node's curvature (its own
+  /// adjoint) and each owned Shared node's (its total adjoint) added as products of those into one full Rw × Rw
+  /// block, expanded to the base slot at the end.
   double elementWhole(const Eigen::VectorXd& x, int e, const Mode& mode, bool wantG, Gradient& gradient,
                       Hessian& hessian) {
     Mode local = mode;
@@ -1175,15 +1178,16 @@ class StageGraphEvaluator {
         LocalNode<I>& node = std::get<I>(s.nodes);
         const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
         Eigen::Matrix<double, S::N, S::N> C;
-        if (contract<I>(node.adjoint.data(), &node.d.hessians, C))
+        // Gauss–Newton: the root's curvature only.
+        if ((mode.exact || I == kRoot) && contract<I>(node.adjoint.data(), &node.d.hessians, C))
           addWholeCurvature<I>(C, localSlots<I, true>(e),
                                [&](auto group) -> const auto& { return localInputTotal<I>(T, e, inputIndex, group); }, H);
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
         sendToLocalInputs<I>(zbar, s);
       }
     });
-    // The Shared nodes the element owns, each with its total adjoint.
-    forEachLayer([&](auto layer) {
+    // The Shared nodes the element owns, each with its total adjoint (exact only: Gauss–Newton gathers none).
+    if (mode.exact) forEachLayer([&](auto layer) {
       constexpr int I = decltype(layer)::value;
       using S = Shape<I>;
       using Stage = typename S::Stage;
