@@ -127,11 +127,14 @@ class StageGraphEvaluator {
     }
     // With an element projector the element projects its own block; the loop then projects nothing.
     const PsdProjection own = projector_ && mode.full ? options.projection : PsdProjection::None;
-    return runElementLoop<K>(graph_.elements(), schedule, x, request,
-                             own == PsdProjection::None ? options.projection : PsdProjection::None, elementEnergy,
-                             [&](int e, const int* ids, bool g_, bool h_, Gradient& g, Hessian& H) {
-                               return element(x, e, ids, mode, own, g_, h_, g, H);
-                             });
+    const double energy =
+        runElementLoop<K>(graph_.elements(), schedule, x, request,
+                          own == PsdProjection::None ? options.projection : PsdProjection::None, elementEnergy,
+                          [&](int e, const int* ids, bool g_, bool h_, Gradient& g, Hessian& H) {
+                            return element(x, e, ids, mode, own, g_, h_, g, H);
+                          });
+    if (mode.full) releaseProjectedBuffers();
+    return energy;
   }
 
   /// The values of Local layer L at every element of x (no derivatives), serially: store(e, y) with y its M
@@ -350,6 +353,20 @@ class StageGraphEvaluator {
       } else {
         constexpr int Ml = Shape<l>::M;
         T.noalias() += J.template middleCols<Ml>(off).lazyProduct(std::get<l>(s->nodes).total);
+      }
+    });
+  }
+
+  /// The Shared layers' total Jacobians and stage Hessians, which only a projected Hessian keeps (an unprojected one
+  /// forms its totals inside the element, elementWhole), released after it: the solver's factorization, which
+  /// follows, then does not find them resident (kilobytes per face; BENCHMARKS.md, session 103).
+  void releaseProjectedBuffers() {
+    forEachLayer([&](auto layer) {
+      constexpr int I = decltype(layer)::value;
+      if constexpr (Shape<I>::kShared) {
+        SharedBuffers<I>& b = buffers<I>();
+        decltype(b.total)().swap(b.total);
+        decltype(b.hessian)().swap(b.hessian);
       }
     });
   }
