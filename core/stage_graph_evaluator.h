@@ -12,11 +12,12 @@
 // then compute values only: pulls); with a Hessian, from the root's total Jacobian. An element's curvature goes
 // in 3×3 blocks of its slots: only the upper triangle's unless a projection needs the whole block. The contracted
 // exact Hessian of a translation-invariant graph (kWhole, the shell's terms), and its Gauss–Newton Hessian (the
-// root's curvature only), are formed by whole elements instead (elementWhole): the Shared layers keep their Jacobians only, and each element forms the totals of the nodes it
-// reads stored by coordinate (one row per working coordinate, padded to whole vectors; a layer of leaves only that
-// no curvature reads forms none, its readers composing its Jacobian into theirs: kComposedLeaves) and adds every
-// curvature term as products of those into one full block, of which the element's upper triangle is kept
-// (BENCHMARKS.md, sessions 88 and 101).
+// root's curvature only), are formed by whole elements instead (elementWhole): the Shared layers keep their
+// Jacobians only, and each element forms the totals of the nodes it reads stored by coordinate (one row per working
+// coordinate, padded to whole vectors; a layer of leaves only that no curvature reads forms none, its readers
+// composing its Jacobian into theirs: kComposedLeaves) and adds every curvature term as products of those into one
+// full block, of which the element's upper triangle is kept (BENCHMARKS.md, sessions 88, 101 and 103). Only a
+// projected Hessian stores the Shared layers' totals and stage Hessians, released when it ends.
 // Buffers per Shared layer (value, local Jacobian, total Jacobian, stage Hessians, adjoint) are sized on first
 // use and reused; an element's Local nodes live on its thread's stack. The contracted exact Hessian and a gradient
 // alone, on a graph with a window plan (core/stage_window_plan.h), run their sweeps lane by lane and window by

@@ -9,8 +9,8 @@
 //                               moment-free edge only,
 //   minimizedOverMomentFreeEdges(κ, minimized, G)  the face's density minimized over the boundary mid-edge
 //                               normals' components across its moment-free edges, in closed form.
-// The bending term's stage graph (energies/shell/bending_graph.cpp) differentiates both with Jets as stages (the ghost as a
-// 3 → 3 stage, the minimized density as the face's 3 → 1 density stage), so a rule needs no derivatives.
+// The bending term's stage graph (energies/shell/bending_graph.cpp) differentiates both with Jets as stages (the
+// ghost as a 3 → 3 stage, the minimized density as the face's 3 → 1 density stage), so a rule needs no derivatives.
 //
 // The rules:
 //   page_free          n_ghost = n: n̄ = n (the page's free edge; first order on twisted and bent patches)
