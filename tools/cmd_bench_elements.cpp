@@ -382,7 +382,7 @@ int runBench(const BenchOptions& o) {
     const double anT = find("shell", "analytic", "exact", t);
     if (t > 1 && std::isfinite(anT)) std::printf("  analytic, %d threads: %.0f ns/face\n", t, anT);
   }
-  PairedRatio handRatio, stagedRatio;
+  PairedRatio shellRatio, stagedRatio;
   const bool bothPaths = o.path.empty() && (o.threads <= 1);
   auto printPaired = [&target](const char* what, const PairedRatio& p) {
     std::printf("  %s, 1 thread: %.2f (median of %d interleaved pairs, range %.2f-%.2f%s)\n", what, p.median, p.pairs,
@@ -394,8 +394,8 @@ int runBench(const BenchOptions& o) {
     return std::vector<std::pair<EnergyTerm*, int>>{};
   };
   if (bothPaths && (o.term.empty() || o.term == "shell")) {
-    handRatio = pairedRatio(termsOf("shell"));
-    printPaired("AD / analytic", handRatio);
+    shellRatio = pairedRatio(termsOf("shell"));
+    printPaired("AD / analytic", shellRatio);
   }
   // The speed-up of each measured shell row (another --path or --term leaves some out: none printed as nan).
   if (threadCounts.size() > 1)
@@ -430,10 +430,10 @@ int runBench(const BenchOptions& o) {
   if (std::isfinite(gnBending) && std::isfinite(exactBending))
     std::printf("  Gauss-Newton bending / exact bending, analytic, 1 thread: %.2f\n", gnBending / exactBending);
   for (const char* path : {"analytic", "ad"}) {
-    const double hand = find("shell", path, "exact", 1), staged = find("shell_staged", path, "exact", 1);
-    if (std::isfinite(hand) && std::isfinite(staged))
-      std::printf("  membrane's stage graph / per face, %s, 1 thread: %.2f (%.0f vs %.0f ns/face)\n", path, staged / hand,
-                  staged, hand);
+    const double perFace = find("shell", path, "exact", 1), staged = find("shell_staged", path, "exact", 1);
+    if (std::isfinite(perFace) && std::isfinite(staged))
+      std::printf("  membrane's stage graph / per face, %s, 1 thread: %.2f (%.0f vs %.0f ns/face)\n", path,
+                  staged / perFace, staged, perFace);
   }
   // The framework against the same stages chained by hand for this graph, interleaved (CPU time of the thread).
   std::vector<std::pair<std::string, PairedRatio>> straightRatios;
@@ -486,7 +486,7 @@ int runBench(const BenchOptions& o) {
                                 (o.shuffleFaces ? ", faces shuffled" : "")},
                    {"projection", toString(projection)},
                    {"load_average_start", loadStart}, {"load_average_end", loadEnd}});
-    for (const auto& [name, p] : {std::pair<const char*, PairedRatio>{"shell", handRatio}, {"shell_staged", stagedRatio}})
+    for (const auto& [name, p] : {std::pair<const char*, PairedRatio>{"shell", shellRatio}, {"shell_staged", stagedRatio}})
       if (p.pairs > 0)
         out.push_back({{"term", name}, {"ad_over_analytic_interleaved", p.median}, {"low", p.low}, {"high", p.high},
                        {"pairs", p.pairs}, {"threads", 1}});

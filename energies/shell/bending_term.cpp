@@ -14,7 +14,6 @@
 #include <Eigen/Geometry>
 
 #include <array>
-#include <cstdint>
 
 namespace jetshell {
 namespace {
