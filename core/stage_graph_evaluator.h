@@ -17,7 +17,10 @@
 // coordinate, padded to whole vectors; a layer of leaves only that no curvature reads forms none, its readers
 // composing its Jacobian into theirs: kComposedLeaves) and adds every curvature term as products of those into one
 // full block, of which the element's upper triangle is kept (BENCHMARKS.md, sessions 88, 101 and 103). Only a
-// projected Hessian stores the Shared layers' totals and stage Hessians, released when it ends.
+// projected Hessian stores the Shared layers' totals and stage Hessians, released when it ends. A node's curvature
+// C = Σ_k w_k ∇²y_k is contracted in core/stage_contraction.h and added to the element's block by
+// core/stage_block_curvature.h (3×3 blocks of its slots) or core/stage_whole_curvature.h (the whole block); this
+// file holds the sweeps, the buffers and the chain rule's totals.
 // Buffers per Shared layer (value, local Jacobian, total Jacobian, stage Hessians, adjoint) are sized on first
 // use and reused; an element's Local nodes live on its thread's stack. The contracted exact Hessian and a gradient
 // alone, on a graph with a window plan (core/stage_window_plan.h), run their sweeps lane by lane and window by
@@ -29,7 +32,9 @@
 #include "core/flatten.h"
 #include "core/parallel_errors.h"
 #include "core/psd_projection.h"
+#include "core/stage_block_curvature.h"
 #include "core/stage_graph.h"
+#include "core/stage_whole_curvature.h"
 #include "core/term.h"
 
 #include <Eigen/Core>
@@ -439,272 +444,6 @@ class StageGraphEvaluator {
   /// An element slot's working slot: itself, or (reduced) its reduced coordinate, slot − 1; negative: none
   /// (an absent vertex, or the base slot 0, whose rows follow from the others').
   static constexpr int workSlot(int slot, bool reduced) { return reduced ? (slot >= 1 ? slot - 1 : -1) : slot; }
-  /// The slots a group of layer I spans in the working coordinates: a Local group the element's working slots,
-  /// a leaf or Shared group its support.
-  template <int I>
-  static constexpr int groupWidth(int g) {
-    using S = Shape<I>;
-    const auto k = static_cast<std::size_t>(g);
-    return S::Groups::layer[k] >= 0 && !S::Groups::fromShared[k] ? Kw : S::Groups::support[k];
-  }
-
-  /// Adds M (3×3, the block of element slots (r, c)) to H: every block when Full, else only the upper
-  /// triangle's, M going to (c, r) transposed when r > c. `mirror`: the block stands for its transpose at
-  /// (c, r) too (added as Mᵀ there).
-  template <bool Full>
-  JETSHELL_INLINE static void addBlock(int r, int c, const Eigen::Matrix3d& M, bool mirror, WorkHessian& H) {
-    if constexpr (Full) {
-      H.template block<3, 3>(3 * r, 3 * c) += M;
-      if (mirror) H.template block<3, 3>(3 * c, 3 * r) += M.transpose();
-    } else {
-      if (r < c) {
-        H.template block<3, 3>(3 * r, 3 * c) += M;
-      } else if (r > c) {
-        if (mirror) H.template block<3, 3>(3 * c, 3 * r) += M.transpose();
-      } else {
-        H.template block<3, 3>(3 * r, 3 * r) += M;
-        if (mirror) H.template block<3, 3>(3 * r, 3 * r) += M.transpose();
-      }
-    }
-  }
-
-  /// What each block C_ab of a node's contracted Hessian can be: for a stage declaring constant Hessians, zero
-  /// (a bilinear stage couples only some of its input groups), diagonal (every entry on the block's diagonal, as
-  /// for a dot product of two groups: C_ab Z_b is then a row scaling) or dense; for any other stage, dense.
-  enum class BlockKind : std::int8_t { Zero, Diagonal, Dense };
-  template <int I>
-  static const std::array<BlockKind, Shape<I>::G * Shape<I>::G>& blockKinds() {
-    using S = Shape<I>;
-    static const std::array<BlockKind, S::G * S::G> kinds = [] {
-      std::array<BlockKind, S::G * S::G> m{};
-      if constexpr (HasConstantHessian<typename S::Stage>::value) {
-        m.fill(BlockKind::Zero);
-        const auto& c = constantStageHessians<typename S::Stage>();
-        for (int e = 0; e < c.numEntries; ++e) {
-          const auto& t = c.entries[static_cast<std::size_t>(e)];
-          int a = 0, b = 0;
-          while (S::offset(a + 1) <= t.i) ++a;
-          while (S::offset(b + 1) <= t.j) ++b;
-          BlockKind& k = m[static_cast<std::size_t>(a * S::G + b)];
-          const bool diagonal = S::Groups::size[static_cast<std::size_t>(a)] == S::Groups::size[static_cast<std::size_t>(b)] &&
-                                t.i - S::offset(a) == t.j - S::offset(b);
-          if (k == BlockKind::Zero) k = diagonal ? BlockKind::Diagonal : BlockKind::Dense;
-          else if (!diagonal) k = BlockKind::Dense;
-        }
-      } else {
-        m.fill(BlockKind::Dense);
-      }
-      return m;
-    }();
-    return kinds;
-  }
-
-  /// Y = C_ab Z_b over b's support slots: a leaf's Z is ±I (its columns are ±C_ab); a From group's T scaled by
-  /// rows when the block is diagonal.
-  template <int I, int a, int b, typename Cab, typename Totals, typename Y>
-  JETSHELL_INLINE static void curvatureColumns(const Cab& C, BlockKind kind, Totals&& total, Y& out) {
-    using S = Shape<I>;
-    if constexpr (S::Groups::layer[b] < 0) {
-      if constexpr (S::Groups::isDifference[b]) {
-        out.template middleCols<3>(0) = -C;  // x_j − x_i: −I at i (slot 0), +I at j (slot 1)
-        out.template middleCols<3>(3) = C;
-      } else {
-        out = C;
-      }
-    } else {
-      if constexpr (S::Groups::size[a] == S::Groups::size[b]) {
-        if (kind == BlockKind::Diagonal) {
-          out.noalias() = C.diagonal().asDiagonal() * total(std::integral_constant<int, b>());
-          return;
-        }
-      }
-      out.noalias() = C.lazyProduct(total(std::integral_constant<int, b>()));
-    }
-  }
-
-  /// H += the node's curvature Zᵀ C Z (C = Σ_k w_k ∇²y_k, N×N) in element coordinates, block by block: per
-  /// pair of input groups a ≤ b with C_ab possibly nonzero, Y = C_ab Z_b over b's support slots, then per pair
-  /// of support slots the 3×3 block Z_a(·, slot)ᵀ Y(·, slot') at their element slots; a leaf group a's pairs
-  /// with the later groups through its strip (addLeafStrip). `slot[g]` maps group g's support slots to the
-  /// element's (−1: none); `total(group)` gives a From group's T.
-  template <int I, bool Full, typename Totals>
-  JETSHELL_INLINE static void addCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
-                           const std::array<Slots, Shape<I>::G>& slot, Totals&& total, WorkHessian& H) {
-    using S = Shape<I>;
-    const auto& kinds = blockKinds<I>();
-    forEachGroup<I>([&](auto groupA) {
-      constexpr int a = decltype(groupA)::value;
-      constexpr int na = S::Groups::size[a], oa = S::offset(a), la = S::Groups::layer[a], wa = groupWidth<I>(a);
-      if constexpr (la < 0) addLeafStrip<I, a, Full>(C, slot, total, H);
-      forEachGroup<I>([&](auto groupB) {
-        constexpr int b = decltype(groupB)::value;
-        // A leaf's pairs with later groups went into its strip.
-        if constexpr (b == a || (b > a && la >= 0)) {
-          const BlockKind kind = kinds[static_cast<std::size_t>(a * S::G + b)];
-          if (kind == BlockKind::Zero) return;
-          constexpr int nb = S::Groups::size[b], ob = S::offset(b);
-          constexpr int wb = groupWidth<I>(b);
-          const auto Cab = C.template block<na, nb>(oa, ob);
-          Eigen::Matrix<double, na, 3 * wb> Y;
-          curvatureColumns<I, a, b>(Cab, kind, total, Y);
-          constexpr bool same = a == b;
-          // A From group's blocks all at once, Z_aᵀ Y = (Z_aᵀ) Y with Z_aᵀ stored by columns: each column of the
-          // product is a combination of Z_aᵀ's columns, which vectorizes (Z_a(·, slot)ᵀ Y(·, slot') per block
-          // ran as scalar 3×3×3 products).
-          using Product = std::conditional_t<(la >= 0), Eigen::Matrix<double, 3 * wa, 3 * wb>, Eigen::Matrix<double, 1, 1>>;
-          Product P;
-          if constexpr (la >= 0) {
-            const Eigen::Matrix<double, 3 * wa, na> Zt = total(groupA).transpose();
-            // A Local group spans the element's stencil in its own order (its slots are 0 … K−1), so Z_aᵀ C_aa Z_a
-            // is the element block itself, symmetric: added whole when Full, else by column panels down to the
-            // diagonal block (the lower triangle is never read), each panel one fixed-size product.
-            if constexpr (same && !S::Groups::fromShared[a]) {
-              if constexpr (Full) {
-                H.noalias() += Zt.lazyProduct(Y);
-              } else {
-                forEachImpl(
-                    [&](auto column) {
-                      constexpr int c = decltype(column)::value, rows = 3 * (c + 1);
-                      H.template block<rows, 3>(0, 3 * c).noalias() +=
-                          Zt.template topRows<rows>().lazyProduct(Y.template middleCols<3>(3 * c));
-                    },
-                    std::make_integer_sequence<int, wa>());
-              }
-              return;
-            }
-            P.noalias() = Zt.lazyProduct(Y);
-          }
-          for (int sa = 0; sa < wa; ++sa) {
-            const int r = slot[a][static_cast<std::size_t>(sa)];
-            if (r < 0) continue;
-            for (int sb = same ? sa : 0; sb < wb; ++sb) {
-              const int c = slot[b][static_cast<std::size_t>(sb)];
-              if (c < 0) continue;
-              Eigen::Matrix3d M;
-              if constexpr (la < 0) {
-                const double sign = S::Groups::isDifference[a] && sa == 0 ? -1.0 : 1.0;
-                M = sign * Y.template block<3, 3>(0, 3 * sb);
-              } else {
-                M = P.template block<3, 3>(3 * sa, 3 * sb);
-              }
-              // Within one group the pair (sa, sb), sb > sa, stands for (sb, sa) too: Z_aᵀ C_aa Z_a is symmetric.
-              addBlock<Full>(r, c, M, !same || sb != sa, H);
-            }
-          }
-        }
-      });
-    });
-  }
-
-  /// A leaf group a's pairs with the later groups b > a, S = Σ_b Z_aᵀ C_ab Z_b (and its transpose): Z_a is ±I at
-  /// a's one or two slots, so S is the strip R = Σ_b C_ab Z_b (na × the working columns) in a's rows, added once
-  /// per row and column block instead of once per pair and support slot (a bilinear stage such as the second
-  /// fundamental form couples each edge vector with several normals).
-  template <int I, int a, bool Full, typename Totals>
-  JETSHELL_INLINE static void addLeafStrip(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
-                           const std::array<Slots, Shape<I>::G>& slot, Totals&& total, WorkHessian& H) {
-    using S = Shape<I>;
-    constexpr int na = S::Groups::size[a], oa = S::offset(a);
-    static_assert(na == 3, "a leaf group is one vertex's three coordinates");
-    const auto& kinds = blockKinds<I>();
-    Eigen::Matrix<double, 3, Dw> R;
-    std::array<bool, Kw> touched{};
-    bool any = false;
-    forEachGroup<I>([&](auto groupB) {
-      constexpr int b = decltype(groupB)::value;
-      if constexpr (b > a) {
-        const BlockKind kind = kinds[static_cast<std::size_t>(a * S::G + b)];
-        if (kind == BlockKind::Zero) return;
-        constexpr int nb = S::Groups::size[b], wb = groupWidth<I>(b);
-        Eigen::Matrix<double, 3, 3 * wb> Y;
-        curvatureColumns<I, a, b>(C.template block<na, nb>(oa, S::offset(b)), kind, total, Y);
-        if (!any) R.setZero();
-        any = true;
-        for (int sb = 0; sb < wb; ++sb) {
-          const int c = slot[b][static_cast<std::size_t>(sb)];
-          if (c < 0) continue;
-          R.template middleCols<3>(3 * c) += Y.template middleCols<3>(3 * sb);
-          touched[static_cast<std::size_t>(c)] = true;
-        }
-      }
-    });
-    if (!any) return;
-    constexpr int rows = S::Groups::isDifference[a] ? 2 : 1;
-    for (int sa = 0; sa < rows; ++sa) {
-      const int r = slot[a][static_cast<std::size_t>(sa)];
-      if (r < 0) continue;
-      const double sign = S::Groups::isDifference[a] && sa == 0 ? -1.0 : 1.0;
-      for (int c = 0; c < Kw; ++c) {
-        if (!touched[static_cast<std::size_t>(c)]) continue;
-        const Eigen::Matrix3d M = sign * R.template middleCols<3>(3 * c);
-        addBlock<Full>(r, c, M, true, H);
-      }
-    }
-  }
-
-  /// A constant-Hessian stage's entries in the blocks C_ab with a ≤ b.
-  template <int I>
-  struct UpperEntries {
-    std::vector<typename ConstantStageHessians<typename Shape<I>::Stage>::Entry> entries;
-  };
-  template <int I>
-  static const UpperEntries<I>& upperEntries() {
-    using S = Shape<I>;
-    static const UpperEntries<I> u = [] {
-      UpperEntries<I> r;
-      const auto& c = constantStageHessians<typename S::Stage>();
-      const auto groupOf = [](int i) {
-        int a = 0;
-        while (S::offset(a + 1) <= i) ++a;
-        return a;
-      };
-      for (int e = 0; e < c.numEntries; ++e) {
-        const auto& t = c.entries[static_cast<std::size_t>(e)];
-        const int a = groupOf(t.i), b = groupOf(t.j);
-        if (a > b) continue;
-        r.entries.push_back(t);
-      }
-      return r;
-    }();
-    return u;
-  }
-
-  /// C = Σ_k w_k ∇²y_k from the node's Hessians (a stage with constant Hessians: from their nonzero entries);
-  /// false when there is no curvature (an affine stage, a zero adjoint).
-  template <int I>
-  JETSHELL_INLINE static bool contract(const double* w, const std::array<Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>, Shape<I>::M>* h,
-                       Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C) {
-    using Stage = typename Shape<I>::Stage;
-    bool any = false;
-    for (int k = 0; k < Shape<I>::M; ++k) any = any || w[k] != 0.0;
-    if (!any) return false;
-    if constexpr (IsAffineStage<Stage>::value) {
-      return false;
-    } else if constexpr (HasConstantHessian<Stage>::value) {
-      // Only the blocks addCurvature reads (a ≤ b, possibly nonzero) are formed.
-      const UpperEntries<I>& u = upperEntries<I>();
-      if (u.entries.empty()) return false;
-      const auto& kinds = blockKinds<I>();
-      forEachGroup<I>([&](auto groupA) {
-        constexpr int a = decltype(groupA)::value;
-        forEachGroup<I>([&](auto groupB) {
-          constexpr int b = decltype(groupB)::value;
-          if constexpr (a <= b)
-            if (kinds[static_cast<std::size_t>(a * Shape<I>::G + b)] != BlockKind::Zero)
-              C.template block<Shape<I>::Groups::size[a], Shape<I>::Groups::size[b]>(Shape<I>::offset(a), Shape<I>::offset(b)).setZero();
-        });
-      });
-      for (const auto& t : u.entries) C(t.i, t.j) += w[t.k] * t.h;
-      return true;
-    } else {
-      if (h == nullptr) return false;
-      C.noalias() = w[0] * (*h)[0];
-      for (int k = 1; k < Shape<I>::M; ++k)
-        if (w[k] != 0.0) C.noalias() += w[k] * (*h)[static_cast<std::size_t>(k)];
-      return true;
-    }
-  }
-
   /// The element slots of every group of Local node I of element e; `reduced`: the working slots (workSlot; a
   /// Local group's are 0 … Kw−1).
   template <int I, bool reduced>
@@ -795,7 +534,7 @@ class StageGraphEvaluator {
     } else {
       Eigen::Matrix<double, S::N, S::N> C;
       if (given == nullptr) {
-        if (!contract<I>(w, h, C)) return;
+        if (!contractCurvature<Shape<I>>(w, h, C)) return;
         given = &C;
       }
       const InputRef* in = inputs<I>(entity);
@@ -804,9 +543,9 @@ class StageGraphEvaluator {
         return buffers<l>().total[static_cast<std::size_t>(in[decltype(group)::value].a)];
       };
       if (mode.full) {
-        addCurvature<I, true>(*given, sharedSlots<I, kReduced>(listed), total, H);
+        addNodeCurvature<Shape<I>, Kw, true>(*given, sharedSlots<I, kReduced>(listed), total, H);
       } else {
-        addCurvature<I, false>(*given, sharedSlots<I, kReduced>(listed), total, H);
+        addNodeCurvature<Shape<I>, Kw, false>(*given, sharedSlots<I, kReduced>(listed), total, H);
       }
     }
   }
@@ -852,11 +591,11 @@ class StageGraphEvaluator {
               return std::get<l>(s.nodes).total;
             }
           };
-          if (contract<I>(node.adjoint.data(), &node.d.hessians, C)) {
+          if (contractCurvature<Shape<I>>(node.adjoint.data(), &node.d.hessians, C)) {
             if (mode.full) {
-              addCurvature<I, true>(C, slot, total, *H);
+              addNodeCurvature<Shape<I>, Kw, true>(C, slot, total, *H);
             } else {
-              addCurvature<I, false>(C, slot, total, *H);
+              addNodeCurvature<Shape<I>, Kw, false>(C, slot, total, *H);
             }
           }
         }
@@ -998,26 +737,6 @@ class StageGraphEvaluator {
   /// Per layer: the totals by coordinate of the element's nodes (Shared: of each node in the element's list).
   using WholeTotals = typename WholeTuples<Seq>::Type;
 
-  /// T += sign · Jᵀ in the rows of working slot w (a leaf's part of a total stored by coordinate).
-  template <typename JBlock, typename Total>
-  JETSHELL_INLINE static void addLeafRows(int w, double sign, const JBlock& J, Total& T) {
-    if (w < 0) return;
-    for (int c = 0; c < Total::ColsAtCompileTime; ++c)
-      for (int r = 0; r < 3; ++r) T(3 * w + r, c) += sign * J(c, r);
-  }
-
-  /// T += J_gᵀ of leaf group g of a layer-L node in its slots' rows (a Difference: + at its second vertex's, −
-  /// at its first's). J: the node's Jacobian, or a reader's composed with it (any row count).
-  template <int L, int g, typename Jac, typename Total>
-  JETSHELL_INLINE static void addLeafGroup(const Jac& J, const Slots& slot, Total& T) {
-    const auto Jg = J.template middleCols<3>(Shape<L>::offset(g));
-    if constexpr (Shape<L>::Groups::isDifference[g]) {
-      addLeafRows(slot[1], 1.0, Jg, T);
-      addLeafRows(slot[0], -1.0, Jg, T);
-    } else {
-      addLeafRows(slot[0], 1.0, Jg, T);
-    }
-  }
   /// A From group's input of a kComposedLeaves layer l, whose totals are not formed: its Jacobian and the
   /// working slots of its groups in the element.
   template <int l>
@@ -1038,118 +757,19 @@ class StageGraphEvaluator {
       constexpr int g = decltype(group)::value;
       constexpr int l = S::Groups::layer[g], off = S::offset(g);
       if constexpr (l < 0) {
-        addLeafGroup<I, g>(J, slot[g], T);
+        addLeafGroup<Shape<I>, g>(J, slot[g], T);
       } else if constexpr (kComposedLeaves<l>) {
         constexpr int Ml = Shape<l>::M;
         const LeafInput<l> in = input(group);
         const Eigen::Matrix<double, S::M, Shape<l>::N> Jc = J.template middleCols<Ml>(off).lazyProduct(in.jacobian);
         forEachGroup<l>([&](auto inner) {
           constexpr int h = decltype(inner)::value;
-          addLeafGroup<l, h>(Jc, in.slot[h], T);
+          addLeafGroup<Shape<l>, h>(Jc, in.slot[h], T);
         });
       } else {
         constexpr int Ml = Shape<l>::M;
         T.noalias() += input(group).lazyProduct(J.template middleCols<Ml>(off).transpose());
       }
-    });
-  }
-
-  /// H += Σ over the group pairs of C = Σ_k w_k ∇²y_k of a node of layer I, its groups' totals by coordinate given
-  /// by total(group) (From groups) and its leaves' working slots by slot: From–From pairs as products of totals,
-  /// each leaf's pairs with the From groups as one strip R = Σ_b T_b C_(b, leaf) added to the leaf's columns and,
-  /// transposed, rows, leaf–leaf pairs as 3×3 blocks. Full and symmetric. Only the blocks C_ab with a ≤ b are read
-  /// (contract() forms no others).
-  template <int I, typename Totals>
-  JETSHELL_INLINE static void addWholeCurvature(const Eigen::Matrix<double, Shape<I>::N, Shape<I>::N>& C,
-                                                const std::array<Slots, Shape<I>::G>& slot, Totals&& total,
-                                                WholeBlock& H) {
-    using S = Shape<I>;
-    const auto& kinds = blockKinds<I>();
-    forEachGroup<I>([&](auto groupA) {
-      constexpr int a = decltype(groupA)::value;
-      constexpr int na = S::Groups::size[a], oa = S::offset(a);
-      constexpr bool leafA = S::Groups::layer[a] < 0;
-      if constexpr (leafA) {
-        // The leaf's strip over every From group b (C_(b, a) = C_abᵀ read from the block with the smaller index).
-        RowTotal<3> R;
-        bool any = false;
-        forEachGroup<I>([&](auto groupB) {
-          constexpr int b = decltype(groupB)::value;
-          if constexpr (S::Groups::layer[b] >= 0) {
-            constexpr int lo = a < b ? a : b, hi = a < b ? b : a;
-            const BlockKind kind = kinds[static_cast<std::size_t>(lo * S::G + hi)];
-            if (kind == BlockKind::Zero) return;
-            constexpr int nb = S::Groups::size[b];
-            const auto Cba = [&] {
-              if constexpr (b < a) {
-                return C.template block<nb, 3>(S::offset(b), oa);
-              } else {
-                return C.template block<3, nb>(oa, S::offset(b)).transpose();
-              }
-            }();
-            if (!any) R.setZero();
-            any = true;
-            if constexpr (nb == 3) {
-              if (kind == BlockKind::Diagonal) {
-                for (int j = 0; j < 3; ++j) R.col(j) += Cba(j, j) * total(groupB).col(j);
-                return;
-              }
-            }
-            R.noalias() += total(groupB).lazyProduct(Cba);
-          }
-        });
-        if (any) {
-          constexpr int rows = S::Groups::isDifference[a] ? 2 : 1;
-          for (int t = 0; t < rows; ++t) {
-            const int w = slot[a][static_cast<std::size_t>(t)];
-            if (w < 0) continue;
-            const double sign = S::Groups::isDifference[a] && t == 0 ? -1.0 : 1.0;
-            H.template middleCols<3>(3 * w) += sign * R;
-            H.template middleRows<3>(3 * w) += sign * R.transpose();
-          }
-        }
-      }
-      forEachGroup<I>([&](auto groupB) {
-        constexpr int b = decltype(groupB)::value;
-        constexpr bool leafB = S::Groups::layer[b] < 0;
-        if constexpr (b >= a && leafA == leafB) {
-          const BlockKind kind = kinds[static_cast<std::size_t>(a * S::G + b)];
-          if (kind == BlockKind::Zero) return;
-          constexpr int nb = S::Groups::size[b], ob = S::offset(b);
-          const auto Cab = C.template block<na, nb>(oa, ob);
-          if constexpr (!leafA) {
-            // Z_aᵀ C_ab Z_b with Z_g = T_gᵀ: (T_a C_ab) T_bᵀ, and its transpose for a ≠ b.
-            RowTotal<nb> P;
-            if (kind == BlockKind::Diagonal) {
-              for (int j = 0; j < nb; ++j) P.col(j) = Cab(j, j) * total(groupA).col(j);
-            } else {
-              P.noalias() = total(groupA).lazyProduct(Cab);
-            }
-            if constexpr (a == b) {
-              H.noalias() += P.lazyProduct(total(groupB).transpose());
-            } else {
-              const WholeBlock X = P.lazyProduct(total(groupB).transpose());
-              H += X + X.transpose();
-            }
-          } else {
-            // Two leaves: ±C_ab at each pair of their slots (and its transpose for a ≠ b).
-            constexpr int ra = S::Groups::isDifference[a] ? 2 : 1, rb = S::Groups::isDifference[b] ? 2 : 1;
-            const Eigen::Matrix3d M = Cab;
-            for (int i = 0; i < ra; ++i) {
-              const int wa = slot[a][static_cast<std::size_t>(i)];
-              if (wa < 0) continue;
-              const double sa = S::Groups::isDifference[a] && i == 0 ? -1.0 : 1.0;
-              for (int j = 0; j < rb; ++j) {
-                const int wb = slot[b][static_cast<std::size_t>(j)];
-                if (wb < 0) continue;
-                const double sb = S::Groups::isDifference[b] && j == 0 ? -1.0 : 1.0;
-                H.template block<3, 3>(3 * wa, 3 * wb) += (sa * sb) * M;
-                if constexpr (a != b) H.template block<3, 3>(3 * wb, 3 * wa) += (sa * sb) * M.transpose();
-              }
-            }
-          }
-        }
-      });
     });
   }
 
@@ -1197,8 +817,8 @@ class StageGraphEvaluator {
         const std::int8_t* inputIndex = graph_.tables(I).elementInputs.data() + static_cast<std::size_t>(e) * S::G;
         Eigen::Matrix<double, S::N, S::N> C;
         // Gauss–Newton: the root's curvature only.
-        if ((mode.exact || I == kRoot) && contract<I>(node.adjoint.data(), &node.d.hessians, C))
-          addWholeCurvature<I>(C, localSlots<I, true>(e),
+        if ((mode.exact || I == kRoot) && contractCurvature<Shape<I>>(node.adjoint.data(), &node.d.hessians, C))
+          addWholeCurvature<Shape<I>>(C, localSlots<I, true>(e),
                                [&](auto group) -> const auto& { return localInputTotal<I>(T, e, inputIndex, group); }, H);
         const Eigen::Matrix<double, S::N, 1> zbar = node.d.jacobian.transpose() * node.adjoint;
         sendToLocalInputs<I>(zbar, s);
@@ -1215,28 +835,18 @@ class StageGraphEvaluator {
           Eigen::Matrix<double, S::N, S::N> C;
           bool any;
           if constexpr (HasConstantHessian<Stage>::value) {
-            any = contract<I>(w, nullptr, C);
+            any = contractCurvature<Shape<I>>(w, nullptr, C);
           } else {
             any = contractShared<I>(x, entity, w, mode, C);
           }
           if (!any) return;
-          addWholeCurvature<I>(C, sharedSlots<I, true>(listed),
+          addWholeCurvature<Shape<I>>(C, sharedSlots<I, true>(listed),
                                [&](auto group) -> const auto& { return sharedInputTotal<I>(T, e, listed, entity, group); }, H);
         });
       }
     });
-    expandWholeUpper(H, hessian);
+    expandWholeUpper<Kw>(H, hessian);
     return std::get<kRoot>(s.nodes).d.value[0];
-  }
-
-  /// The element block's upper triangle from the whole block H over slots 1 … K−1: those slots' blocks on and
-  /// above the diagonal as they are, the base's row and own block from H (completeTranslationInvariantRow,
-  /// core/psd_projection.h). The lower triangle is not written: the assembly reads the upper one, and a
-  /// projection, which reads the whole block, never takes this path (a contracted Hessian has none).
-  static void expandWholeUpper(const WholeBlock& H, Hessian& hessian) {
-    for (int c = 0; c < Kw; ++c)
-      for (int r = 0; r <= c; ++r) hessian.template block<3, 3>(3 + 3 * r, 3 + 3 * c) = H.template block<3, 3>(3 * r, 3 * c);
-    completeTranslationInvariantRow(H, hessian);
   }
 
   /// A From group's total by coordinate for the Shared node `entity` of layer I at `listed` in the layer's element
