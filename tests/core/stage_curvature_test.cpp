@@ -14,8 +14,9 @@
 #include <cmath>
 #include <cstdint>
 
-using namespace jetshell;
-
+// A named namespace: the unity build puts test files into one translation unit, where other files' anonymous
+// namespaces already hold stages of the same names.
+namespace jetshell::stage_curvature_test {
 namespace {
 
 // Layer 0 (Local): p = f(e, v) from a vertex difference e and a vertex v.
@@ -207,3 +208,5 @@ TEST_CASE("stage whole curvature: the element's upper triangle from the block ov
       CHECK((H.block<3, 3>(3 * r, 3 * c) - expected.block<3, 3>(3 * r, 3 * c)).cwiseAbs().maxCoeff() <=
             1e-14 * expected.cwiseAbs().maxCoeff());
 }
+
+}  // namespace jetshell::stage_curvature_test
