@@ -22,6 +22,13 @@ namespace jetshell {
 /// (a bilinear stage couples only some of its input groups), diagonal (every entry on the block's diagonal, as
 /// for a dot product of two groups: C_ab Z_b is then a row scaling) or dense; for any other stage, dense.
 enum class BlockKind : std::int8_t { Zero, Diagonal, Dense };
+/// The input group of a node of shape S that holds its stage input i.
+template <typename S>
+constexpr int groupOfInput(int i) {
+  int a = 0;
+  while (S::offset(a + 1) <= i) ++a;
+  return a;
+}
 template <typename S>
 const std::array<BlockKind, S::G * S::G>& blockKinds() {
   static const std::array<BlockKind, S::G * S::G> kinds = [] {
@@ -31,9 +38,7 @@ const std::array<BlockKind, S::G * S::G>& blockKinds() {
       const auto& c = constantStageHessians<typename S::Stage>();
       for (int e = 0; e < c.numEntries; ++e) {
         const auto& t = c.entries[static_cast<std::size_t>(e)];
-        int a = 0, b = 0;
-        while (S::offset(a + 1) <= t.i) ++a;
-        while (S::offset(b + 1) <= t.j) ++b;
+        const int a = groupOfInput<S>(t.i), b = groupOfInput<S>(t.j);
         BlockKind& k = m[static_cast<std::size_t>(a * S::G + b)];
         const bool diagonal = S::Groups::size[static_cast<std::size_t>(a)] == S::Groups::size[static_cast<std::size_t>(b)] &&
                               t.i - S::offset(a) == t.j - S::offset(b);
@@ -58,14 +63,9 @@ const UpperEntries<S>& upperEntries() {
   static const UpperEntries<S> u = [] {
     UpperEntries<S> r;
     const auto& c = constantStageHessians<typename S::Stage>();
-    const auto groupOf = [](int i) {
-      int a = 0;
-      while (S::offset(a + 1) <= i) ++a;
-      return a;
-    };
     for (int e = 0; e < c.numEntries; ++e) {
       const auto& t = c.entries[static_cast<std::size_t>(e)];
-      const int a = groupOf(t.i), b = groupOf(t.j);
+      const int a = groupOfInput<S>(t.i), b = groupOfInput<S>(t.j);
       if (a > b) continue;
       r.entries.push_back(t);
     }
@@ -74,8 +74,9 @@ const UpperEntries<S>& upperEntries() {
   return u;
 }
 
-/// C = Σ_k w_k ∇²y_k of a node of shape S (its layer's StageGraph::Shape) from its stage's Hessians (a stage with constant Hessians: from their nonzero entries);
-/// false when there is no curvature (an affine stage, a zero adjoint).
+/// C = Σ_k w_k ∇²y_k of a node of shape S (its layer's StageGraph::Shape) from its stage's Hessians (a stage with
+/// constant Hessians: from their nonzero entries); false when there is no curvature (an affine stage, a zero
+/// adjoint).
 template <typename S>
 JETSHELL_INLINE bool contractCurvature(const double* w, const std::array<Eigen::Matrix<double, S::N, S::N>, S::M>* h,
                                        Eigen::Matrix<double, S::N, S::N>& C) {
