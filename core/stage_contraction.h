@@ -55,23 +55,17 @@ const std::array<BlockKind, S::G * S::G>& blockKinds() {
 
 /// A constant-Hessian stage's entries in the blocks C_ab with a ≤ b.
 template <typename S>
-struct UpperEntries {
-  std::vector<typename ConstantStageHessians<typename S::Stage>::Entry> entries;
-};
-template <typename S>
-const UpperEntries<S>& upperEntries() {
-  static const UpperEntries<S> u = [] {
-    UpperEntries<S> r;
+const std::vector<typename ConstantStageHessians<typename S::Stage>::Entry>& upperEntries() {
+  static const auto entries = [] {
+    std::vector<typename ConstantStageHessians<typename S::Stage>::Entry> r;
     const auto& c = constantStageHessians<typename S::Stage>();
     for (int e = 0; e < c.numEntries; ++e) {
       const auto& t = c.entries[static_cast<std::size_t>(e)];
-      const int a = groupOfInput<S>(t.i), b = groupOfInput<S>(t.j);
-      if (a > b) continue;
-      r.entries.push_back(t);
+      if (groupOfInput<S>(t.i) <= groupOfInput<S>(t.j)) r.push_back(t);
     }
     return r;
   }();
-  return u;
+  return entries;
 }
 
 /// C = Σ_k w_k ∇²y_k of a node of shape S (its layer's StageGraph::Shape) from its stage's Hessians (a stage with
@@ -88,8 +82,8 @@ JETSHELL_INLINE bool contractCurvature(const double* w, const std::array<Eigen::
     return false;
   } else if constexpr (HasConstantHessian<Stage>::value) {
     // Only the blocks addNodeCurvature and addWholeCurvature read (a ≤ b, possibly nonzero) are formed.
-    const UpperEntries<S>& u = upperEntries<S>();
-    if (u.entries.empty()) return false;
+    const auto& entries = upperEntries<S>();
+    if (entries.empty()) return false;
     const auto& kinds = blockKinds<S>();
     forEachIndex<S::G>([&](auto groupA) {
       constexpr int a = decltype(groupA)::value;
@@ -100,7 +94,7 @@ JETSHELL_INLINE bool contractCurvature(const double* w, const std::array<Eigen::
             C.template block<S::Groups::size[a], S::Groups::size[b]>(S::offset(a), S::offset(b)).setZero();
       });
     });
-    for (const auto& t : u.entries) C(t.i, t.j) += w[t.k] * t.h;
+    for (const auto& t : entries) C(t.i, t.j) += w[t.k] * t.h;
     return true;
   } else {
     if (h == nullptr) return false;
