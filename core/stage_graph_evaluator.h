@@ -384,7 +384,9 @@ class StageGraphEvaluator {
     SharedBuffers<I>& b = buffers<I>();
     const auto n = static_cast<std::size_t>(graph_.tables(I).count);
     b.value.resize(n);
-    if (mode.order >= 1) b.jacobian.resize(n);
+    // Zeros, not Eigen's uninitialized coefficients: an affine stage compares the stored Jacobian with the new one
+    // before writing it (forwardSharedNode), so the first evaluation must not read indeterminate values.
+    if (mode.order >= 1) b.jacobian.resize(n, Eigen::Matrix<double, S::M, S::N>::Zero());
     if (mode.totals) b.total.resize(n);
     const bool hessians = mode.sharedHessians && !HasConstantHessian<typename S::Stage>::value &&
                           !IsAffineStage<typename S::Stage>::value;
