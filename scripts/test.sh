@@ -42,6 +42,12 @@ configure() {
   cmake -G Ninja -S . -B "$dir" "$@"
 }
 
+# testNames DIR [ctest options]: the names of the tests CTest lists in a build directory, one a line, sorted.
+testNames() {
+  local dir="$1"; shift
+  (cd "$dir" && ctest -N "$@") | sed -n 's/^ *Test *#[0-9]*: //p' | LC_ALL=C sort
+}
+
 # The sanitizer pass builds the test program and the corpus replays, not the `jetshell` program (its parsers are
 # fuzzed, and its subcommands' set-up runs in tests/tools/subcommand_test.cpp), and runs the unit suites, not the
 # long numerical runs (each over 4 s in Release): the stress matrix gives every cell a wall-clock budget, which
@@ -52,7 +58,7 @@ sanitizeTargets=(jetshell_tests obj_replay scene_replay sdf_replay vtu_replay fi
 # With --all the main pass runs these; a test named here must be in a file CMakeLists.txt lists in
 # JETSHELL_LONG_ONLY_TESTS (coveredOnce below fails otherwise).
 sanitizeExclude="^(check_derivatives|check_parameter_derivatives|hostile_cli|interrupt_during_cut_step|stress_quick"
-sanitizeExclude+="|bench_contact_reference"
+sanitizeExclude+="|bench_contact_reference|memcheck_.*"
 sanitizeExclude+="|accuracy: .*|contact dynamics: .*|tshirt: .*|run: every example .*"
 sanitizeExclude+="|dynamics: a stiff sheet.s loosely solved steps .*"
 # Time steps of two sheets run twice with and without the unprojected Hessian (0.7 s in Release).
@@ -88,7 +94,7 @@ sanitizeLong() {
       env "${sanitizeEnv[@]}" ctest --output-on-failure -j"$jobs" --timeout 2400 -R "$sanitizeExclude")
 }
 
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh --tests
 if [ "$long" -eq 1 ]; then
   sanitizeLong
   exit $?
@@ -102,6 +108,12 @@ longOnly=OFF
 configure "$build" -DCMAKE_BUILD_TYPE=Release -DJETSHELL_NATIVE=OFF "${unity[@]}" -DJETSHELL_LONG_TESTS_ONLY="$longOnly"
 cmake --build "$build" -j"$jobs"
 (cd "$build" && ctest --output-on-failure -j"$jobs" --timeout 900)
+# The memcheck tests exist only where CMake found valgrind, which install-deps.sh --tests installs: a CI run
+# without it would pass without the check.
+if [ "$all" -eq 1 ] && [ "$(testNames "$build" | grep -c '^memcheck_')" -ne 2 ]; then
+  echo "test.sh: the main pass lacks its two memcheck tests (valgrind not found when $build was configured)"
+  exit 1
+fi
 echo "test.sh: set-up, build and main suite took ${SECONDS} s"
 [ "$all" -eq 1 ] || exit 0
 
@@ -134,11 +146,6 @@ fuzz() {
     fi
   done
   return $status
-}
-# testNames DIR [ctest options]: the names of the tests CTest lists in a build directory, one a line, sorted.
-testNames() {
-  local dir="$1"; shift
-  (cd "$dir" && ctest -N "$@") | sed -n 's/^ *Test *#[0-9]*: //p' | LC_ALL=C sort
 }
 # Every test the sanitizer pass leaves out must be in the main pass's program (a test added to sanitizeExclude in a
 # file that JETSHELL_LONG_MIXED_TESTS does not list would otherwise run in neither pass).
