@@ -5,7 +5,7 @@
 #   derivatives  one derivative check of every registered term (random configurations)
 #   runs         the element bench on a small grid (membrane, bending and the shell on both derivative paths, the
 #                stage framework and the straight-line reference) and two time steps of a cloth on a turning tray
-#                (inertia, damping, gravity, contact and friction with a solid)
+#                (inertia, gravity, contact and friction with a turning solid)
 # Each run must exit 0 with no memcheck report (memcheck makes it exit 99 when it reports one).
 # Usage: memcheck_test.sh path/to/jetshell path/to/examples derivatives|runs
 set -u
