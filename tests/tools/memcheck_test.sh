@@ -4,8 +4,9 @@
 # Two groups of short runs, one CTest test each so that they run side by side:
 #   derivatives  one derivative check of every registered term (random configurations)
 #   runs         the element bench on a small grid (membrane, bending and the shell on both derivative paths, the
-#                stage framework and the straight-line reference) and two time steps of a cloth on a turning tray
-#                (inertia, gravity, contact and friction with a turning solid)
+#                stage framework and the straight-line reference), on a grid just large enough for the bending
+#                term's window plan (its windowed sweeps, 4 lanes on two threads), and two time steps of a cloth
+#                on a turning tray (inertia, gravity, contact and friction with a turning solid)
 # Each run must exit 0 with no memcheck report (memcheck makes it exit 99 when it reports one).
 # Usage: memcheck_test.sh path/to/jetshell path/to/examples derivatives|runs
 set -u
@@ -37,6 +38,7 @@ case "$group" in
     ;;
   runs)
     check bench -- "$js" bench elements --n 4 --repeats 1 --term shell --staged --straight-line
+    check windows -- "$js" bench elements --n 91 --repeats 1 --term bending --path analytic --threads 2
     check tray -- "$js" run "$examples/cloth_on_turntable.json" --steps 2 --quiet --no-pictures -o "$dir/tray"
     ;;
   *)
