@@ -252,6 +252,25 @@ TEST_CASE("output: an atomic write replaces only a regular file") {
   CHECK(text == "content");
 }
 
+TEST_CASE("output: a failed atomic write leaves the old file as it was and no temporary file behind") {
+  const std::filesystem::path dir = test::scratchDirectory("atomic_file");
+  std::filesystem::create_directories(dir);
+  const std::string file = (dir / "kept.txt").string();
+  writeFileAtomically(file, "old");
+  // The stream fails part-way (as on a full disk): the write is reported and nothing replaces the file.
+  CHECK_THROWS_WITH(writeFileAtomically(file,
+                                        [](std::ostream& out) {
+                                          out << "new, half";
+                                          out.setstate(std::ios::badbit);
+                                        }),
+                    file + ": write failed (disk full?)");
+  std::ifstream in(file);
+  std::string text;
+  std::getline(in, text);
+  CHECK(text == "old");
+  CHECK(!std::filesystem::exists(file + ".tmp" + std::to_string(::getpid())));
+}
+
 TEST_CASE("output: the interrupt flag is set by a request and cleared on install") {
   installInterruptHandler();
   CHECK(!interruptRequested());

@@ -40,8 +40,8 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
     write(out);
-    out.flush();
-    if (!out) {
+    out.close();  // closed here, not by the destructor, so that a failed close is seen
+    if (out.fail()) {
       std::remove(temporary.c_str());
       throw InputError(path + ": write failed (disk full?)");
     }
