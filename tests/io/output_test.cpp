@@ -269,6 +269,17 @@ TEST_CASE("output: a failed atomic write leaves the old file as it was and no te
   std::getline(in, text);
   CHECK(text == "old");
   CHECK(!std::filesystem::exists(file + ".tmp" + std::to_string(::getpid())));
+  // A writer that throws: the exception comes through, and again the old file stays and no temporary is left.
+  CHECK_THROWS_WITH(writeFileAtomically(file,
+                                        [](std::ostream& out) {
+                                          out << "new, half";
+                                          throw std::runtime_error("the writer gave up");
+                                        }),
+                    "the writer gave up");
+  std::ifstream again(file);
+  std::getline(again, text);
+  CHECK(text == "old");
+  CHECK(!std::filesystem::exists(file + ".tmp" + std::to_string(::getpid())));
 }
 
 TEST_CASE("output: the interrupt flag is set by a request and cleared on install") {

@@ -38,8 +38,18 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   ::close(fd);
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
-    write(out);
+    if (!out) {
+      const std::string reason = std::strerror(errno);
+      std::remove(temporary.c_str());
+      throw InputError(path + ": cannot write (" + reason + ")");
+    }
+    try {
+      write(out);
+    } catch (...) {  // a writer that throws leaves no temporary file behind
+      out.close();
+      std::remove(temporary.c_str());
+      throw;
+    }
     out.close();  // closed here, not by the destructor, so that a failed close is seen
     if (out.fail()) {
       std::remove(temporary.c_str());
