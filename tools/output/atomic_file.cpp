@@ -14,6 +14,20 @@
 
 namespace jetshell {
 
+namespace {
+
+/// A temporary file that is removed when this goes out of scope (a failed write, a writer that throws, a failed
+/// rename), unless it was renamed into place.
+struct RemovedUnlessRenamed {
+  const std::string& name;
+  bool renamed = false;
+  ~RemovedUnlessRenamed() {
+    if (!renamed) std::remove(name.c_str());
+  }
+};
+
+}  // namespace
+
 void checkOutputFile(const std::string& path) {
   if (path.empty()) throw InputError("an output file name must not be empty");
   // The rename would replace whatever the path names: a device such as /dev/null (as root), a FIFO, a link.
@@ -36,31 +50,17 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0644);
   if (fd < 0) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
   ::close(fd);
+  RemovedUnlessRenamed cleanup{temporary};  // every way out below but the rename leaves no temporary file
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      const std::string reason = std::strerror(errno);
-      std::remove(temporary.c_str());
-      throw InputError(path + ": cannot write (" + reason + ")");
-    }
-    try {
-      write(out);
-    } catch (...) {  // a writer that throws leaves no temporary file behind
-      out.close();
-      std::remove(temporary.c_str());
-      throw;
-    }
+    if (!out) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
+    write(out);
     out.close();  // closed here, not by the destructor, so that a failed close is seen
-    if (out.fail()) {
-      std::remove(temporary.c_str());
-      throw InputError(path + ": write failed (disk full?)");
-    }
+    if (out.fail()) throw InputError(path + ": write failed (disk full?)");
   }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temporary.c_str());
-    throw InputError(path + ": cannot replace (" + reason + ")");
-  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0)
+    throw InputError(path + ": cannot replace (" + std::strerror(errno) + ")");
+  cleanup.renamed = true;
 }
 
 void writeFileAtomically(const std::string& path, const std::string& content) {
