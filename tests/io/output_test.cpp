@@ -35,6 +35,13 @@ fs::path scratch(const std::string& name) {
   return dir / name;
 }
 
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 VtuFrame hemisphereFrame() {
   const TriMesh m = makeHemisphere(1.0, 6, 16);
   VtuFrame f;
@@ -253,10 +260,12 @@ TEST_CASE("output: an atomic write replaces only a regular file") {
 }
 
 TEST_CASE("output: a failed atomic write leaves the old file as it was and no temporary file behind") {
-  const std::filesystem::path dir = test::scratchDirectory("atomic_file");
-  std::filesystem::create_directories(dir);
-  const std::string file = (dir / "kept.txt").string();
+  const std::string file = scratch("kept.txt").string();
   writeFileAtomically(file, "old");
+  const auto keptAsItWas = [&] {
+    CHECK(readText(file) == "old");
+    CHECK(!fs::exists(file + ".tmp" + std::to_string(::getpid())));
+  };
   // The stream fails part-way (as on a full disk): the write is reported and nothing replaces the file.
   CHECK_THROWS_WITH(writeFileAtomically(file,
                                         [](std::ostream& out) {
@@ -264,11 +273,7 @@ TEST_CASE("output: a failed atomic write leaves the old file as it was and no te
                                           out.setstate(std::ios::badbit);
                                         }),
                     file + ": write failed (disk full?)");
-  std::ifstream in(file);
-  std::string text;
-  std::getline(in, text);
-  CHECK(text == "old");
-  CHECK(!std::filesystem::exists(file + ".tmp" + std::to_string(::getpid())));
+  keptAsItWas();
   // A writer that throws: the exception comes through, and again the old file stays and no temporary is left.
   CHECK_THROWS_WITH(writeFileAtomically(file,
                                         [](std::ostream& out) {
@@ -276,10 +281,7 @@ TEST_CASE("output: a failed atomic write leaves the old file as it was and no te
                                           throw std::runtime_error("the writer gave up");
                                         }),
                     "the writer gave up");
-  std::ifstream again(file);
-  std::getline(again, text);
-  CHECK(text == "old");
-  CHECK(!std::filesystem::exists(file + ".tmp" + std::to_string(::getpid())));
+  keptAsItWas();
 }
 
 TEST_CASE("output: the interrupt flag is set by a request and cleared on install") {
@@ -332,13 +334,6 @@ TEST_CASE("render: a frame becomes a PNG with the mesh in the middle") {
 }
 
 namespace {
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 ino_t inode(const fs::path& path) {
   struct stat st {};
